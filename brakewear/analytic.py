@@ -1,0 +1,118 @@
+"""Closed-form reference solutions (../shared/REFERENCES.md), tested on their own.
+
+All functions take and return SI units and accept NumPy arrays where a
+coordinate is an argument.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "effective_modulus",
+    "thick_cylinder_coefficients",
+    "thick_cylinder_stress",
+    "thick_cylinder_displacement",
+    "hertz_sphere",
+    "hertz_sphere_pressure",
+    "hertz_cylinder",
+    "flat_punch_pressure",
+    "flat_punch_settlement",
+    "uniform_wear_pressure",
+    "uniform_wear_torque",
+    "uniform_pressure_effective_radius",
+    "slab_temperature",
+    "semi_infinite_surface_temperature",
+]
+
+
+def effective_modulus(E1: float, nu1: float, E2: float = np.inf, nu2: float = 0.0) -> float:
+    """Contact modulus ``E*``: 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (E2 = inf: rigid)."""
+    inv = (1.0 - nu1 ** 2) / E1 + (0.0 if np.isinf(E2) else (1.0 - nu2 ** 2) / E2)
+    return 1.0 / inv
+
+
+# ------------------------------------------------------------ elasticity ---
+
+def thick_cylinder_coefficients(a: float, b: float, p_i: float) -> tuple[float, float]:
+    """Lamé coefficients ``A, B`` of a thick cylinder a < r < b under internal pressure."""
+    A = p_i * a ** 2 / (b ** 2 - a ** 2)
+    B = p_i * a ** 2 * b ** 2 / (b ** 2 - a ** 2)
+    return A, B
+
+
+def thick_cylinder_stress(r, a: float, b: float, p_i: float):
+    """(sigma_r, sigma_theta) at radius ``r``."""
+    A, B = thick_cylinder_coefficients(a, b, p_i)
+    r = np.asarray(r, dtype=float)
+    return A - B / r ** 2, A + B / r ** 2
+
+
+def thick_cylinder_displacement(r, a: float, b: float, p_i: float, E: float, nu: float):
+    """Radial displacement ``u_r(r)`` in plane strain."""
+    A, B = thick_cylinder_coefficients(a, b, p_i)
+    r = np.asarray(r, dtype=float)
+    return (1.0 + nu) / E * ((1.0 - 2.0 * nu) * A * r + B / r)
+
+
+# --------------------------------------------------------------- contact ---
+
+def hertz_sphere(F: float, R: float, Es: float) -> dict:
+    """Sphere of radius ``R`` on a flat under force ``F``: contact radius ``a``,
+    peak pressure ``p0`` and approach ``delta``."""
+    a = (3.0 * F * R / (4.0 * Es)) ** (1.0 / 3.0)
+    return {"a": a, "p0": 3.0 * F / (2.0 * np.pi * a ** 2), "delta": a ** 2 / R}
+
+
+def hertz_sphere_pressure(r, F: float, R: float, Es: float):
+    """Hertz pressure p(r) = p0 sqrt(1 - r^2/a^2), zero outside the contact."""
+    h = hertz_sphere(F, R, Es)
+    r = np.asarray(r, dtype=float)
+    return h["p0"] * np.sqrt(np.clip(1.0 - (r / h["a"]) ** 2, 0.0, None))
+
+
+def hertz_cylinder(P: float, R: float, Es: float) -> dict:
+    """Cylinder on a flat, force per unit length ``P`` (plane strain): half-width, peak."""
+    a = np.sqrt(4.0 * P * R / (np.pi * Es))
+    return {"a": a, "p0": 2.0 * P / (np.pi * a)}
+
+
+def flat_punch_pressure(r, F: float, a: float):
+    """Rigid flat circular punch: p(r) = F / (2 pi a sqrt(a^2 - r^2)), r < a."""
+    r = np.asarray(r, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(r < a, F / (2.0 * np.pi * a * np.sqrt(a ** 2 - r ** 2)), 0.0)
+
+
+def flat_punch_settlement(F: float, a: float, Es: float) -> float:
+    """Settlement of a rigid flat punch: delta = F / (2 a E*)."""
+    return F / (2.0 * a * Es)
+
+
+# ------------------------------------------------------------------ wear ---
+
+def uniform_wear_pressure(r, F: float, theta: float, ri: float, ro: float):
+    """Steady uniform-wear pressure of an annular-sector pad: p = F / (theta (ro - ri) r)."""
+    return F / (theta * (ro - ri) * np.asarray(r, dtype=float))
+
+
+def uniform_wear_torque(F: float, mu: float, ri: float, ro: float) -> float:
+    """Braking torque per face under uniform wear: mu F (ro + ri) / 2."""
+    return mu * F * (ro + ri) / 2.0
+
+
+def uniform_pressure_effective_radius(ri: float, ro: float) -> float:
+    """Effective friction radius under uniform pressure: (2/3)(ro^3 - ri^3)/(ro^2 - ri^2)."""
+    return 2.0 / 3.0 * (ro ** 3 - ri ** 3) / (ro ** 2 - ri ** 2)
+
+
+# ------------------------------------------------------------------ heat ---
+
+def slab_temperature(x, q: float, L: float, kappa: float, T0: float = 0.0):
+    """Steady slab, flux ``q`` into x = 0, T = T0 at x = L: T0 + q (L - x) / kappa."""
+    return T0 + q * (L - np.asarray(x, dtype=float)) / kappa
+
+
+def semi_infinite_surface_temperature(t, q: float, kappa: float, rho: float, c: float,
+                                      T0: float = 0.0):
+    """Surface temperature of a half-space under constant flux: T0 + 2 q sqrt(t / (pi kappa rho c))."""
+    return T0 + 2.0 * q * np.sqrt(np.asarray(t, dtype=float) / (np.pi * kappa * rho * c))

@@ -1,0 +1,366 @@
+"""Linear elasticity of brake components: scikit-fem forms and fast assembly.
+
+Two ways to the same stiffness matrix:
+
+* :func:`elasticity_form` -- a plain scikit-fem ``BilinearForm`` for an
+  anisotropic Voigt stiffness ``C`` (isotropic and transversely isotropic are
+  special cases).  It is the reference, readable and general.
+* :func:`assemble_stiffness` -- the production path.  It takes the basis
+  function gradients, quadrature weights and DOF numbering from a scikit-fem
+  ``Basis`` (chunk by chunk, via ``Basis(..., elements=chunk)``), forms all
+  element matrices of a chunk at once as ``B^T C B`` with batched matrix
+  products, and adds them into a 3x3-block (BSR) matrix whose sparsity
+  pattern is computed once per mesh (:class:`BlockPattern`).  No per-element
+  temporaries outlive a chunk, so peak memory is the matrix plus one chunk.
+  The tests check it against :func:`elasticity_form` to round-off.
+
+DOF numbering everywhere is scikit-fem's for ``ElementVector``: scalar DOF
+``s`` (a vertex, or an edge for P2) owns vector DOFs ``3 s + i``, i = x, y, z.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Iterable, Sequence
+
+import numpy as np
+import scipy.sparse as sp
+import skfem as fem
+from skfem.helpers import dot, sym_grad
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "lame_parameters",
+    "scalar_element",
+    "voigt_strain",
+    "elasticity_form",
+    "thermal_strain_form",
+    "traction_form",
+    "pressure_form",
+    "BlockPattern",
+    "assemble_stiffness",
+    "assemble_traction",
+    "assemble_pressure",
+    "boundary_dofs",
+    "apply_dirichlet",
+    "element_stress",
+    "nodal_stress",
+    "von_mises",
+]
+
+Groups = Sequence[tuple[np.ndarray | None, np.ndarray]]
+
+
+def lame_parameters(E: float, nu: float) -> tuple[float, float]:
+    """Lamé's lambda and mu from Young's modulus and Poisson's ratio."""
+    return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))
+
+
+def scalar_element(mesh: fem.Mesh) -> fem.Element:
+    """The scalar Lagrange element matching a tetrahedral mesh's order."""
+    if isinstance(mesh, fem.MeshTet2):
+        return fem.ElementTetP2()
+    if isinstance(mesh, fem.MeshTet1):
+        return fem.ElementTetP1()
+    raise TypeError(f"unsupported mesh type {type(mesh).__name__}; need MeshTet or MeshTet2")
+
+
+def _intorder(elem: fem.Element) -> int:
+    # grad(u) . C grad(v) is a polynomial of degree 2 (p - 1); on a curved P2
+    # mesh the mapping adds degree, for which 2p is a safe, common choice
+    return 2 * (elem.maxdeg - 1) if elem.maxdeg > 1 else 1
+
+
+# ----------------------------------------------------------------- forms ---
+
+def voigt_strain(u) -> list:
+    """Strain of a skfem vector field in Voigt order, engineering shear."""
+    e = sym_grad(u)
+    return [e[0, 0], e[1, 1], e[2, 2], 2 * e[1, 2], 2 * e[0, 2], 2 * e[0, 1]]
+
+
+def elasticity_form(C: np.ndarray) -> fem.BilinearForm:
+    """``BilinearForm`` of ``eps(u) : C : eps(v)`` for a 6x6 Voigt stiffness ``C``."""
+    C = np.asarray(C, dtype=float)
+
+    @fem.BilinearForm
+    def form(u, v, w):
+        eu, ev = voigt_strain(u), voigt_strain(v)
+        return sum(C[i, j] * eu[j] * ev[i] for i in range(6) for j in range(6) if C[i, j] != 0.0)
+
+    return form
+
+
+def thermal_strain_form(C: np.ndarray, alpha: float) -> fem.LinearForm:
+    """Load of a thermal strain ``alpha dT I``; ``dT`` arrives as ``w['dT']``.
+
+    ``int eps(v) : C : (alpha dT I)``; with this load a free body under a
+    uniform ``dT`` expands stress-free.
+    """
+    s = np.asarray(C, dtype=float) @ np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]) * alpha
+
+    @fem.LinearForm
+    def form(v, w):
+        ev = voigt_strain(v)
+        return w["dT"] * sum(s[i] * ev[i] for i in range(6) if s[i] != 0.0)
+
+    return form
+
+
+def traction_form(t: Sequence[float]) -> fem.LinearForm:
+    """Facet ``LinearForm`` of a constant traction vector ``t`` (Pa)."""
+    tv = np.asarray(t, dtype=float)
+
+    @fem.LinearForm
+    def form(v, w):
+        return tv[0] * v[0] + tv[1] * v[1] + tv[2] * v[2]
+
+    return form
+
+
+def pressure_form(p: float) -> fem.LinearForm:
+    """Facet ``LinearForm`` of a pressure ``p`` (Pa) acting against the outward normal."""
+
+    @fem.LinearForm
+    def form(v, w):
+        return -p * dot(w.n, v)
+
+    return form
+
+
+# --------------------------------------------------------- fast assembly ---
+
+@dataclass
+class BlockPattern:
+    """Node-level sparsity of a vector FE matrix on one mesh, built once.
+
+    ``indptr``/``indices`` describe the scalar (node-to-node) graph; the vector
+    matrix is stored as BSR with 3x3 blocks on that graph.  ``keys`` are the
+    sorted global keys ``row * n + col`` used to locate element entries.
+    """
+
+    n: int
+    indptr: np.ndarray
+    indices: np.ndarray
+    keys: np.ndarray
+
+    @classmethod
+    def from_element_dofs(cls, sdofs: np.ndarray, n: int, chunk: int = 200_000) -> "BlockPattern":
+        nb, ne = sdofs.shape
+        graph = None
+        for s in range(0, ne, chunk):
+            d = sdofs[:, s:s + chunk]
+            rows = np.repeat(d, nb, axis=0).ravel()
+            cols = np.tile(d, (nb, 1)).ravel()
+            g = sp.csr_matrix((np.ones(rows.size, dtype=np.int8), (rows, cols)), shape=(n, n))
+            g.data[:] = 1
+            graph = g if graph is None else graph + g
+            graph.data[:] = 1
+        graph.sort_indices()
+        rowi = np.repeat(np.arange(n, dtype=np.int64), np.diff(graph.indptr))
+        keys = rowi * n + graph.indices
+        return cls(n, graph.indptr.astype(np.int64), graph.indices.astype(np.int32), keys)
+
+    @property
+    def nnzb(self) -> int:
+        return self.indices.size
+
+    def positions(self, d: np.ndarray) -> np.ndarray:
+        """Block positions of all (a, b) pairs of element DOFs ``d`` (nb, ne) -> (ne, nb, nb)."""
+        k = d.T[:, :, None].astype(np.int64) * self.n + d.T[:, None, :]
+        return np.searchsorted(self.keys, k)
+
+
+def _as_groups(mesh: fem.Mesh, materials) -> list[tuple[np.ndarray | None, np.ndarray]]:
+    """Normalise ``materials`` to a list of (element indices or None, 6x6 C)."""
+    if hasattr(materials, "voigt"):
+        return [(None, materials.voigt())]
+    arr = np.asarray(materials) if not isinstance(materials, (list, tuple)) else None
+    if arr is not None and arr.shape == (6, 6):
+        return [(None, arr.astype(float))]
+    out = []
+    for elems, mat in materials:
+        C = mat.voigt() if hasattr(mat, "voigt") else np.asarray(mat, dtype=float)
+        out.append((None if elems is None else np.asarray(elems), C))
+    return out
+
+
+def _chunk_matrices(basis: fem.CellBasis, C: np.ndarray) -> np.ndarray:
+    """Element stiffness matrices (ne, 3nb, 3nb) of one chunk, from skfem's basis."""
+    nb = len(basis.basis)
+    G = np.stack([basis.basis[a][0].grad for a in range(nb)])  # (nb, 3, ne, nq)
+    ne, nq = basis.dx.shape
+    Bm = np.zeros((ne, nq, 6, 3 * nb))
+    g = G.transpose(2, 3, 1, 0)  # (ne, nq, 3, nb)
+    ix = 3 * np.arange(nb)
+    Bm[:, :, 0, ix] = g[:, :, 0]
+    Bm[:, :, 1, ix + 1] = g[:, :, 1]
+    Bm[:, :, 2, ix + 2] = g[:, :, 2]
+    Bm[:, :, 3, ix + 1] = g[:, :, 2]
+    Bm[:, :, 3, ix + 2] = g[:, :, 1]
+    Bm[:, :, 4, ix] = g[:, :, 2]
+    Bm[:, :, 4, ix + 2] = g[:, :, 0]
+    Bm[:, :, 5, ix] = g[:, :, 1]
+    Bm[:, :, 5, ix + 1] = g[:, :, 0]
+    CB = np.matmul(C, Bm)
+    Bm *= basis.dx[:, :, None, None]
+    K = np.matmul(Bm.transpose(0, 1, 3, 2), CB)
+    return K.sum(axis=1) if nq > 1 else K[:, 0]
+
+
+def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None = None,
+                       chunk: int = 150_000, intorder: int | None = None
+                       ) -> tuple[sp.bsr_matrix, BlockPattern]:
+    """Assemble the elastic stiffness as a 3x3-block BSR matrix.
+
+    Parameters
+    ----------
+    mesh
+        ``MeshTet`` (P1) or ``MeshTet2`` (P2, isoparametric).
+    materials
+        A material (anything with ``voigt()``), a 6x6 Voigt matrix, or a list
+        of ``(element_indices, material_or_C)`` covering the mesh.
+    pattern
+        The mesh's :class:`BlockPattern` from an earlier call (reuse it when
+        only coefficients or coordinates change).
+    chunk
+        Elements per chunk; bounds the temporary memory.
+
+    Returns
+    -------
+    K, pattern
+    """
+    elem = scalar_element(mesh)
+    groups = _as_groups(mesh, materials)
+    q = _intorder(elem) if intorder is None else intorder
+    if pattern is None:
+        sd = fem.Dofs(mesh, elem)
+        pattern = BlockPattern.from_element_dofs(sd.element_dofs, sd.N)
+    nb = elem.refdom.nnodes * elem.nodal_dofs + elem.refdom.nedges * elem.edge_dofs
+    acc = np.zeros((9, pattern.nnzb))
+    covered = 0
+    for elems, C in groups:
+        idx = np.arange(mesh.nelements) if elems is None else elems
+        covered += idx.size
+        for s in range(0, idx.size, chunk):
+            part = idx[s:s + chunk]
+            basis = fem.Basis(mesh, elem, intorder=q, elements=part)
+            Ke = _chunk_matrices(basis, C).reshape(part.size, nb, 3, nb, 3)
+            pos = pattern.positions(basis.element_dofs).ravel()
+            for i in range(3):
+                for j in range(3):
+                    acc[3 * i + j] += np.bincount(pos, weights=Ke[:, :, i, :, j].ravel(),
+                                                  minlength=pattern.nnzb)
+            del Ke, pos, basis
+    if covered != mesh.nelements:
+        raise ValueError(f"assemble_stiffness: the material groups cover {covered} elements, "
+                         f"the mesh has {mesh.nelements}; every element needs one material")
+    data = acc.T.reshape(-1, 3, 3)
+    N = 3 * pattern.n
+    K = sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))
+    return K, pattern
+
+
+def _vector_facet_basis(mesh: fem.Mesh, facets) -> fem.FacetBasis:
+    elem = fem.ElementVector(scalar_element(mesh))
+    return fem.FacetBasis(mesh, elem, facets=facets, intorder=2 * elem.maxdeg)
+
+
+def assemble_traction(mesh: fem.Mesh, facets, t: Sequence[float]) -> np.ndarray:
+    """Load vector of a constant traction ``t`` on named facets (or facet indices)."""
+    return traction_form(t).assemble(_vector_facet_basis(mesh, facets))
+
+
+def assemble_pressure(mesh: fem.Mesh, facets, p: float) -> np.ndarray:
+    """Load vector of a pressure ``p`` pushing against the outward normal of ``facets``."""
+    return pressure_form(p).assemble(_vector_facet_basis(mesh, facets))
+
+
+def boundary_dofs(mesh: fem.Mesh, facets, components: Iterable[int] = (0, 1, 2)) -> np.ndarray:
+    """Vector DOFs of the given components on named facets (or facet indices)."""
+    if isinstance(facets, str):
+        if facets not in (mesh.boundaries or {}):
+            raise KeyError(f"mesh has no facets named {facets!r}; named facets: "
+                           f"{sorted(mesh.boundaries or {})}")
+        facets = mesh.boundaries[facets]
+    # vertices of the facets, plus edge DOFs for P2, in scalar numbering
+    sdofs = fem.Dofs(mesh, scalar_element(mesh)).get_facet_dofs(np.asarray(facets)).all()
+    comps = np.asarray(list(components), dtype=np.int64)
+    return (3 * sdofs[:, None] + comps[None, :]).ravel()
+
+
+def apply_dirichlet(K: sp.spmatrix, f: np.ndarray, dofs: np.ndarray,
+                    values: np.ndarray | float = 0.0) -> tuple[sp.spmatrix, np.ndarray]:
+    """Impose ``u[dofs] = values`` symmetrically, keeping size and block structure.
+
+    Rows and columns of ``dofs`` are zeroed, their diagonal keeps its value
+    (so the scaling of the system is not disturbed) and the right-hand side
+    carries the prescribed values.  Returns new arrays; ``K`` and ``f`` are
+    not modified.
+    """
+    dofs = np.asarray(dofs, dtype=np.int64)
+    N = K.shape[0]
+    u0 = np.zeros(N)
+    u0[dofs] = values
+    fixed = np.zeros(N, dtype=bool)
+    fixed[dofs] = True
+    f_new = np.asarray(f, dtype=float) - K @ u0
+    if sp.isspmatrix_bsr(K) or isinstance(K, sp.bsr_array):
+        R, Cb = K.blocksize
+        nbr = K.shape[0] // R
+        brow = np.repeat(np.arange(nbr), np.diff(K.indptr))
+        rmask = fixed[R * brow[:, None] + np.arange(R)]
+        cmask = fixed[Cb * K.indices[:, None] + np.arange(Cb)]
+        diag = K.diagonal()
+        data = K.data.copy()
+        data[rmask[:, :, None] | cmask[:, None, :]] = 0.0
+        K_new = sp.bsr_matrix((data, K.indices.copy(), K.indptr.copy()), shape=K.shape)
+        K_new = K_new + sp.bsr_matrix(sp.diags(np.where(fixed, diag, 0.0)).tocsr(), blocksize=(R, Cb))
+    else:
+        K = K.tocsr()
+        diag = K.diagonal()
+        keep = sp.diags((~fixed).astype(float))
+        K_new = (keep @ K @ keep + sp.diags(np.where(fixed, diag, 0.0))).tocsr()
+    f_new[fixed] = diag[fixed] * u0[fixed]
+    return K_new, f_new
+
+
+# ------------------------------------------------------ stress recovery ---
+
+def element_stress(mesh: fem.Mesh, u: np.ndarray, materials) -> np.ndarray:
+    """Stress at each element's quadrature-point average, Voigt order (6, nelements)."""
+    elem = scalar_element(mesh)
+    out = np.zeros((6, mesh.nelements))
+    for elems, C in _as_groups(mesh, materials):
+        idx = np.arange(mesh.nelements) if elems is None else elems
+        basis = fem.Basis(mesh, elem, intorder=1 if elem.maxdeg == 1 else 2, elements=idx)
+        nb = len(basis.basis)
+        G = np.stack([basis.basis[a][0].grad for a in range(nb)])  # (nb, 3, ne, nq)
+        ue = u[3 * basis.element_dofs[:, None, :] + np.arange(3)[None, :, None]]  # (nb, 3, ne)
+        H = np.einsum("ajeq,aie->ijeq", G, ue)  # du_i/dx_j
+        eps = np.stack([H[0, 0], H[1, 1], H[2, 2], H[1, 2] + H[2, 1], H[0, 2] + H[2, 0],
+                        H[0, 1] + H[1, 0]])
+        w = basis.dx / basis.dx.sum(axis=1, keepdims=True)
+        out[:, idx] = C @ (eps * w[None]).sum(axis=2)
+    return out
+
+
+def nodal_stress(mesh: fem.Mesh, sigma_e: np.ndarray) -> np.ndarray:
+    """Volume-weighted average of element stresses at the mesh vertices (6, nvertices)."""
+    vol = fem.Basis(mesh, fem.ElementTetP1() if not isinstance(mesh, fem.MeshTet2) else fem.ElementTetP2(),
+                    intorder=1).dx.sum(axis=1)
+    t = mesh.t[:4]
+    num = np.zeros((6, mesh.nvertices))
+    den = np.zeros(mesh.nvertices)
+    for a in range(4):
+        np.add.at(den, t[a], vol)
+        for k in range(6):
+            np.add.at(num[k], t[a], vol * sigma_e[k])
+    return num / np.maximum(den, 1e-300)
+
+
+def von_mises(s: np.ndarray) -> np.ndarray:
+    """Von Mises equivalent stress of Voigt stresses (6, ...)."""
+    return np.sqrt(0.5 * ((s[0] - s[1]) ** 2 + (s[1] - s[2]) ** 2 + (s[2] - s[0]) ** 2)
+                   + 3.0 * (s[3] ** 2 + s[4] ** 2 + s[5] ** 2))
