@@ -1,0 +1,264 @@
+"""Pictures: pyvista off-screen renderings of meshes and fields (PNG files).
+
+Nothing here is needed to compute; figures only call down into the meshes.
+pyvista renders off-screen (``pyvista.OFF_SCREEN = True``) so no display is
+needed.
+"""
+from __future__ import annotations
+
+import logging
+from os import PathLike
+from pathlib import Path
+from typing import Mapping, Sequence
+
+import numpy as np
+import skfem as fem
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["skfem_to_pyvista", "facets_to_pyvista", "plot_named_surfaces", "plot_field"]
+
+# VTK cell type of a linear tetrahedron / triangle
+_VTK_TETRA = 10
+_VTK_TRIANGLE = 5
+
+
+def _pv():
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    return pv
+
+
+def skfem_to_pyvista(mesh: fem.Mesh, point_data: Mapping[str, np.ndarray] | None = None):
+    """A pyvista ``UnstructuredGrid`` of the (P1 vertices of the) tetrahedra of ``mesh``.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshTet or skfem.MeshTet2
+        For ``MeshTet2`` only the vertices and straight-sided cells are used.
+    point_data : dict, optional
+        Nodal arrays (vertex values first; longer P2 arrays are cut).
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+    """
+    pv = _pv()
+    nv = int(mesh.t.max()) + 1
+    t = mesh.t
+    cells = np.vstack([np.full(t.shape[1], t.shape[0]), t]).T.ravel()
+    grid = pv.UnstructuredGrid(cells, np.full(t.shape[1], _VTK_TETRA, dtype=np.uint8),
+                               np.ascontiguousarray(mesh.p[:, :nv].T))
+    for k, v in (point_data or {}).items():
+        grid.point_data[k] = np.asarray(v)[:nv]
+    return grid
+
+
+def facets_to_pyvista(mesh: fem.Mesh, facets: np.ndarray, shift: Sequence[float] = (0, 0, 0)):
+    """A pyvista ``PolyData`` of the triangular facets ``facets`` of ``mesh``."""
+    pv = _pv()
+    f = mesh.facets[:, np.asarray(facets, dtype=np.int64)]
+    used, inv = np.unique(f, return_inverse=True)
+    pts = mesh.p[:, used].T + np.asarray(shift, dtype=float)
+    faces = np.vstack([np.full(f.shape[1], 3), inv.reshape(f.shape)]).T.ravel()
+    return pv.PolyData(np.ascontiguousarray(pts), faces)
+
+
+def _exclusive_labels(mesh: fem.Mesh) -> dict[str, np.ndarray]:
+    """Each boundary facet once, under the smallest named set that holds it
+    (so ``piston_face`` shows on top of ``back`` and ``abutment`` on the ends)."""
+    sets = {k: np.asarray(v, dtype=np.int64) for k, v in (mesh.boundaries or {}).items()}
+    label = {}
+    for name in sorted(sets, key=lambda k: -len(sets[k])):
+        for f in sets[name]:
+            label[f] = name
+    out: dict[str, list] = {k: [] for k in sets}
+    for f, name in label.items():
+        out[name].append(f)
+    return {k: np.array(v, dtype=np.int64) for k, v in out.items() if v}
+
+
+# distinct colours for up to 20 named surfaces (a categorical palette)
+_PALETTE = [
+    (0.12, 0.47, 0.71), (1.00, 0.50, 0.05), (0.17, 0.63, 0.17), (0.84, 0.15, 0.16),
+    (0.58, 0.40, 0.74), (0.55, 0.34, 0.29), (0.89, 0.47, 0.76), (0.50, 0.50, 0.50),
+    (0.74, 0.74, 0.13), (0.09, 0.75, 0.81), (0.98, 0.85, 0.20), (0.40, 0.76, 0.65),
+    (0.00, 0.20, 0.50), (0.99, 0.55, 0.38), (0.60, 0.00, 0.30), (0.65, 0.85, 0.33),
+    (0.20, 0.20, 0.20), (0.70, 0.70, 1.00), (0.50, 0.25, 0.00), (1.00, 0.75, 0.80),
+]
+
+_DEFAULT_SHIFT = {"rotor": -0.02, "pad": 0.0, "piston": 0.02}
+
+
+def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
+                        title: str | None = None, explode: Mapping[str, float] | None = None,
+                        window_size: tuple[int, int] = (2000, 800)) -> Path:
+    """Picture every named facet set of every mesh in its own colour, with a legend.
+
+    Two views of the same exploded assembly: from above (rotor friction
+    face, pad back and ends, piston) and from below with the rotor left out
+    (pad friction face, piston face); the legend has its own panel.
+
+    Parameters
+    ----------
+    meshes : dict of str to skfem.Mesh
+        Body name -> mesh with named boundaries (e.g. :func:`brake_meshes`).
+    path
+        PNG file to write.
+    title : str, optional
+        Figure title.
+    explode : dict of str to float, optional
+        z shift of each body in the picture (m); default rotor -20 mm,
+        pad 0, piston +20 mm.
+    window_size : (int, int)
+        Image size in pixels.
+
+    Returns
+    -------
+    pathlib.Path
+        The PNG written.
+    """
+    pv = _pv()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    explode = dict(_DEFAULT_SHIFT if explode is None else explode)
+    pieces = []  # (body, name, polydata, colour)
+    for body, mesh in meshes.items():
+        shift = (0.0, 0.0, explode.get(body, 0.0))
+        labels = _exclusive_labels(mesh)
+        if not labels:
+            logger.warning("plot_named_surfaces: mesh %r has no named facets", body)
+        for name in sorted(labels):
+            colour = _PALETTE[len(pieces) % len(_PALETTE)]
+            pieces.append((body, name, facets_to_pyvista(mesh, labels[name], shift), colour))
+    if not pieces:
+        raise ValueError("plot_named_surfaces: none of the meshes has named facets")
+
+    def box(items):
+        b = np.array([pd.bounds for _, _, pd, _ in items])
+        return b[:, 0::2].min(axis=0), b[:, 1::2].max(axis=0)
+
+    pl = pv.Plotter(off_screen=True, shape=(1, 3), col_weights=[1.0, 1.0, 0.42],
+                    window_size=list(window_size), border=False, lighting="three lights")
+    pad_items = [pc for pc in pieces if pc[0] == "pad"]
+    views = [
+        ("seen from the piston side", None, (0.35, -1.0, 0.45), 2.4),
+        ("seen from the rotor side (rotor hidden)", "rotor", (0.55, -1.0, -0.45), 1.1),
+    ]
+    for col, (subtitle, hide, direction, zoom) in enumerate(views):
+        pl.subplot(0, col)
+        shown = [pc for pc in pieces if pc[0] != hide] or pieces
+        for body, name, pd, colour in shown:
+            pl.add_mesh(pd, color=colour, show_edges=True, edge_color=(0.15, 0.15, 0.15),
+                        line_width=0.2)
+        lo, hi = box(shown)
+        d = np.asarray(direction, dtype=float)
+        d /= np.linalg.norm(d)
+        focus = 0.5 * (lo + hi)
+        pl.camera.focal_point = tuple(focus)
+        pl.camera.position = tuple(focus + np.linalg.norm(hi - lo) * d)
+        pl.camera.up = (0.0, 0.0, 1.0)
+        pl.reset_camera()  # keeps the direction, frames everything shown
+        if hide is None and pad_items:
+            # then move the view (not its direction) onto the pad
+            plo, phi = box(pad_items)
+            move = 0.5 * (plo + phi) - np.asarray(pl.camera.focal_point)
+            pl.camera.focal_point = tuple(np.asarray(pl.camera.focal_point) + move)
+            pl.camera.position = tuple(np.asarray(pl.camera.position) + move)
+        pl.camera.zoom(zoom)
+        pl.add_text(subtitle, position="upper_edge", font_size=12, color="black")
+    pl.subplot(0, 2)
+    if title:
+        pl.add_text(title, position="upper_left", font_size=14, color="black")
+    legend = [[f"{body}: {name}", colour] for body, name, _, colour in pieces]
+    pl.add_legend(legend, bcolor=(1.0, 1.0, 1.0), border=False, size=(0.95, 0.8),
+                  loc="center left", face="rectangle")
+    pl.set_background("white")
+    pl.screenshot(str(path))
+    pl.close()
+    logger.info("wrote %s", path)
+    return path
+
+
+def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: str,
+               label: str | None = None, cmap: str = "viridis",
+               clim: tuple[float, float] | None = None, warp: np.ndarray | None = None,
+               warp_scale: float = 1.0, view: Sequence[float] = (1.0, -0.9, 0.9),
+               facets: np.ndarray | str | None = None,
+               window_size: tuple[int, int] = (1200, 900)) -> Path:
+    """Picture a nodal scalar field on the surface of a mesh.
+
+    Parameters
+    ----------
+    mesh : skfem.Mesh
+        Tetrahedral mesh (P2 meshes are drawn with their vertices).
+    values : ndarray
+        One value per vertex (longer P2 arrays are cut to the vertices).
+    path
+        PNG file to write.
+    title : str
+        Figure title.
+    label : str, optional
+        Colour-bar label (default ``title``).
+    cmap : str
+        Matplotlib colour map name.
+    clim : (float, float), optional
+        Colour range; default the range of ``values``.
+    warp : ndarray, optional
+        Vertex displacements (3, nvertices) (or (3, ndofs) for P2) to draw the
+        deformed shape, scaled by ``warp_scale``.
+    view : sequence of 3 floats
+        Direction from the centre of the mesh to the camera.
+    facets : ndarray or str, optional
+        Only draw these facets (indices, or the name of a boundary), e.g.
+        ``"friction"`` for a contact-pressure map; default the whole surface.
+    window_size : (int, int)
+        Image size in pixels.
+
+    Returns
+    -------
+    pathlib.Path
+        The PNG written.
+    """
+    pv = _pv()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    nv = int(mesh.t.max()) + 1
+    values = np.asarray(values, dtype=float)
+    if values.shape[0] < nv:
+        raise ValueError(f"plot_field: values has {values.shape[0]} entries; need one per "
+                         f"vertex ({nv})")
+    values = values[:nv]
+    if isinstance(facets, str):
+        if facets not in (mesh.boundaries or {}):
+            raise ValueError(f"plot_field: mesh has no boundary {facets!r}; its boundaries: "
+                             f"{sorted(mesh.boundaries or {})}")
+        facets = mesh.boundaries[facets]
+    if facets is None:
+        facets = mesh.boundary_facets()
+    f = mesh.facets[:, np.asarray(facets, dtype=np.int64)]
+    used, inv = np.unique(f, return_inverse=True)
+    pts = mesh.p[:, used].T.copy()
+    if warp is not None:
+        pts += warp_scale * np.asarray(warp)[:, :nv][:, used].T
+    faces = np.vstack([np.full(f.shape[1], 3), inv.reshape(f.shape)]).T.ravel()
+    surf = pv.PolyData(np.ascontiguousarray(pts), faces)
+    label = title if label is None else label
+    surf.point_data[label] = values[used]
+    pl = pv.Plotter(off_screen=True, window_size=list(window_size), lighting="three lights")
+    pl.add_mesh(surf, scalars=label, cmap=cmap, clim=clim, show_edges=False,
+                scalar_bar_args={"title": label, "color": "black", "vertical": True})
+    pl.add_text(title, position="upper_edge", font_size=12, color="black")
+    b = np.array(surf.bounds)
+    focus = 0.5 * (b[0::2] + b[1::2])
+    d = np.asarray(view, dtype=float)
+    d /= np.linalg.norm(d)
+    pl.camera.focal_point = tuple(focus)
+    pl.camera.position = tuple(focus + 1.6 * np.linalg.norm(b[1::2] - b[0::2]) * d)
+    pl.camera.up = (0.0, 0.0, 1.0) if abs(d[2]) < 0.99 else (0.0, 1.0, 0.0)
+    pl.set_background("white")
+    pl.screenshot(str(path))
+    pl.close()
+    logger.info("wrote %s", path)
+    return path

@@ -1,0 +1,1 @@
+"""Brake geometry definitions (TOML) shipped with brakewear as package data."""
