@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -172,8 +173,11 @@ class AMGSolver:
             x = np.zeros_like(b)
             self.info = SolveInfo(0, [0.0], True, self.setup_s, 0.0)
             return x
-        x, flag = pyamg.krylov.cg(op, b, x0=x0, tol=self.tol, maxiter=self.maxiter,
-                                  M=self.M, residuals=res)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            x, flag = pyamg.krylov.cg(op, b, x0=x0, tol=self.tol, maxiter=self.maxiter,
+                                      M=self.M, residuals=res)
+        notes = " ".join(str(w.message).strip() for w in caught)
         dt = time.perf_counter() - t0
         # the true residual decides, not the recurrence
         rel = np.linalg.norm(b - op @ x) / np.linalg.norm(b)
@@ -183,7 +187,8 @@ class AMGSolver:
                 f"AMG-CG did not converge: relative residual {rel:.3e} after {len(res) - 1} "
                 f"iterations (tol {self.tol:.1e}, maxiter {self.maxiter}, "
                 f"mean reduction per iteration {self.info.convergence_factor:.3f}). "
-                "Is the body constrained against rigid motion? Is the matrix SPD?",
+                + (f"pyamg: {notes} " if notes else "")
+                + "Is the body constrained against rigid motion? Is the matrix SPD?",
                 self.info,
             )
         logger.debug("AMG-CG: %d iterations, relative residual %.2e, %.2f s",

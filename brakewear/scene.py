@@ -1,0 +1,245 @@
+"""A brake model: components, the interfaces between them, and their loads.
+
+:class:`BrakeModel` builds only what it is asked for: the bodies named in
+``bodies`` are meshed and assembled (once; the stiffness matrices and their
+sparsity patterns are kept for reuse), the piston is either a body tied to
+the backplate or just a traction over its footprint, and the pad is tied to
+the rotor.  This is the ground floor the contact and wear loops stand on.
+
+Global numbering: the scalar DOFs of the bodies are stacked in the order of
+``bodies``; vector DOF ``3 s + i`` as everywhere in brakewear.
+"""
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import skfem as fem
+
+from .contact import project_nodes, surface_nodes, tie_prolongation, tributary_areas
+from .elasticity import (BlockPattern, apply_dirichlet, assemble_stiffness, assemble_traction,
+                         boundary_dofs, element_stress, nodal_stress, von_mises)
+from .geometry import BrakeGeometry, load_geometry
+from .mesh import component_materials, element_materials, pad_mesh, piston_mesh, rotor_mesh
+from .solvers import amg_solver
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["BrakeModel", "StaticResult", "SceneError"]
+
+_MESHERS = {"rotor": rotor_mesh, "pad": pad_mesh, "piston": piston_mesh}
+
+
+class SceneError(ValueError):
+    """A scene asks for something inconsistent (names the option and the allowed values)."""
+
+
+@dataclass
+class StaticResult:
+    """Result of a static solve of the brake under a line pressure."""
+
+    u: dict                      # body -> displacement (3 N_body,) in DOF order 3 s + i
+    interface_nodes: np.ndarray  # pad vertex indices on the friction face
+    interface_force: np.ndarray  # (3, n) force the rotor exerts on each pad friction node (N)
+    interface_pressure: np.ndarray  # (n,) normal pressure at those nodes (Pa)
+    clamp_force: float           # line pressure x hydraulic piston area (N)
+    info: dict = field(default_factory=dict)
+
+    @property
+    def normal_force(self) -> float:
+        return float(self.interface_force[2].sum())
+
+
+class BrakeModel:
+    """The default brake (or any geometry file) as a set of tied bodies.
+
+    Parameters
+    ----------
+    geometry
+        A :class:`BrakeGeometry` or the name/path of a geometry file.
+    piston
+        ``"traction"`` (default: the clamp force as a uniform traction on the
+        backplate's piston footprint -- no piston mesh) or ``"body"`` (the
+        piston meshed and tied to the backplate, hydraulic pressure on its
+        back face).
+    size, order
+        Mesh size (m) and element order; default from the geometry file.
+    """
+
+    def __init__(self, geometry: BrakeGeometry | str = "default", piston: str = "traction",
+                 size: float | None = None, order: int | None = None):
+        if piston not in ("traction", "body"):
+            raise SceneError(f"piston = {piston!r} is not allowed; allowed: 'traction', 'body'")
+        self.geometry = geometry if isinstance(geometry, BrakeGeometry) else load_geometry(geometry)
+        order = self.geometry.mesh.order if order is None else order
+        if order != 1:
+            raise SceneError(f"order = {order}: tied pad-rotor interfaces support P1 meshes only "
+                             "(order = 1); P2 is available for single bodies")
+        self.piston = piston
+        self.bodies = ("rotor", "pad", "piston") if piston == "body" else ("rotor", "pad")
+        t0 = time.perf_counter()
+        self.meshes = {b: _MESHERS[b](self.geometry, size=size, order=order) for b in self.bodies}
+        mats = component_materials(self.geometry)
+        self.materials = {b: element_materials(self.meshes[b], mats[b]) for b in self.bodies}
+        self.timings = {"mesh_s": time.perf_counter() - t0}
+        offs, n = {}, 0
+        for b in self.bodies:
+            offs[b] = n
+            n += self.meshes[b].nvertices
+        self.offsets, self.n_nodes = offs, n
+        self._K: dict[str, sp.spmatrix] = {}
+        self._patterns: dict[str, BlockPattern] = {}
+
+    # ------------------------------------------------------------ pieces --
+    @property
+    def dofs(self) -> int:
+        return 3 * self.n_nodes
+
+    def stiffness(self, body: str) -> sp.spmatrix:
+        """The body's stiffness (assembled on first use, then reused)."""
+        if body not in self._K:
+            K, pat = assemble_stiffness(self.meshes[body], self.materials[body],
+                                        pattern=self._patterns.get(body))
+            self._K[body], self._patterns[body] = K, pat
+        return self._K[body]
+
+    def _gdofs(self, body: str, local: np.ndarray) -> np.ndarray:
+        return np.asarray(local) + 3 * self.offsets[body]
+
+    def coordinates(self) -> np.ndarray:
+        return np.hstack([self.meshes[b].p for b in self.bodies])
+
+    def ties(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """(slave nodes, master nodes (3, n), weights (3, n)) in global node numbers."""
+        out = []
+        pairs = [("pad", "friction", "rotor", "friction")]
+        if self.piston == "body":
+            pairs.append(("piston", "piston_face", "pad", "back"))
+        for sb, sf, mb, mf in pairs:
+            smesh, mmesh = self.meshes[sb], self.meshes[mb]
+            slave = surface_nodes(smesh, sf)
+            proj = project_nodes(smesh.p[:, slave], mmesh, mf,
+                                 search_radius=0.5 * self.geometry.mesh.size + 1e-9)
+            out.append((slave + self.offsets[sb], proj.nodes + self.offsets[mb], proj.weights))
+        return out
+
+    def loads(self, line_pressure: float) -> np.ndarray:
+        """Global load vector for a line pressure (Pa); the clamp force is p A_bore."""
+        F = line_pressure * self.geometry.piston.hydraulic_area
+        f = np.zeros(self.dofs)
+        if self.piston == "body":
+            m, name, body = self.meshes["piston"], "piston_back", "piston"
+        else:
+            m, name, body = self.meshes["pad"], "piston_face", "pad"
+        area = tributary_areas(m, name).sum()
+        fb = assemble_traction(m, name, (0.0, 0.0, -F / area))
+        f[3 * self.offsets[body]:3 * self.offsets[body] + fb.size] = fb
+        return f
+
+    def fixed_dofs(self) -> np.ndarray:
+        """Supports: rotor clamped at its hat radius, mid-plane symmetry,
+        pad held in-plane at its abutments, piston guided by its bore."""
+        parts = [self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "rotor_clamp")),
+                 self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "midplane", [2])),
+                 self._gdofs("pad", boundary_dofs(self.meshes["pad"], "abutment", [0, 1]))]
+        if self.piston == "body":
+            pm = self.meshes["piston"]
+            side = boundary_dofs(pm, "piston_side", [0, 1])
+            # the rim of the piston face is tied to the backplate, not guided
+            side = side[~np.isin(side // 3, surface_nodes(pm, "piston_face"))]
+            parts.append(self._gdofs("piston", side))
+        return np.unique(np.concatenate(parts))
+
+    # ------------------------------------------------------------- solve --
+    def solve_tied(self, line_pressure: float = 1e6, tol: float = 1e-10) -> StaticResult:
+        """Static solve with the pad tied to the rotor under ``line_pressure`` (Pa)."""
+        if not np.isfinite(line_pressure) or line_pressure <= 0:
+            raise SceneError(f"line_pressure = {line_pressure!r} Pa is not allowed; need > 0")
+        t0 = time.perf_counter()
+        K = sp.block_diag([self.stiffness(b).tocsr() for b in self.bodies], format="csr")
+        t_asm = time.perf_counter() - t0
+        f = self.loads(line_pressure)
+        ties = self.ties()
+        slave = np.concatenate([s for s, _, _ in ties])
+        Pn, retained = tie_prolongation(self.n_nodes, slave,
+                                        np.hstack([m for _, m, _ in ties]),
+                                        np.hstack([w for _, _, w in ties]))
+        P = sp.kron(Pn, sp.identity(3), format="csr")
+        Kr = (P.T @ K @ P).tobsr(blocksize=(3, 3))
+        fr = P.T @ f
+        fixed = self.fixed_dofs()
+        col = -np.ones(self.n_nodes, dtype=np.int64)
+        col[retained] = np.arange(retained.size)
+        node, comp = fixed // 3, fixed % 3
+        if np.any(col[node] < 0):
+            raise SceneError("a supported DOF lies on a tied (eliminated) node; "
+                             "supports and ties must not overlap")
+        fixed_r = 3 * col[node] + comp
+        Kd, fd = apply_dirichlet(Kr, fr, fixed_r)
+        t1 = time.perf_counter()
+        solver = amg_solver(Kd, coords=self.coordinates()[:, retained], fixed=fixed_r, tol=tol)
+        ur = solver.solve(fd)
+        t2 = time.perf_counter()
+        u = P @ ur
+        # reaction (constraint) forces on the pad's friction nodes = interface forces
+        pad_slave = ties[0][0]
+        r = (K @ u - f).reshape(-1, 3)[pad_slave].T
+        local = pad_slave - self.offsets["pad"]
+        area = tributary_areas(self.meshes["pad"], "friction", local)
+        F = line_pressure * self.geometry.piston.hydraulic_area
+        res = StaticResult(
+            u={b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].nvertices)]
+               for b in self.bodies},
+            interface_nodes=local, interface_force=r, interface_pressure=r[2] / area,
+            clamp_force=F,
+            info={"dofs": int(self.dofs), "reduced_dofs": int(Kd.shape[0]),
+                  "iterations": int(solver.info.iterations),
+                  "relative_residual": float(solver.info.relative_residual),
+                  "assemble_s": t_asm + (t1 - t0 - t_asm), "amg_setup_s": solver.setup_s,
+                  "solve_s": solver.info.solve_s, "total_s": t2 - t0, **self.timings},
+        )
+        logger.info("tied solve: %d DOFs, %d CG iterations, %.2f s", self.dofs,
+                    solver.info.iterations, t2 - t0)
+        return res
+
+    def stresses(self, result: StaticResult) -> dict:
+        """Nodal von Mises stress per body (Pa)."""
+        out = {}
+        for b in self.bodies:
+            se = element_stress(self.meshes[b], result.u[b], self.materials[b])
+            out[b] = von_mises(nodal_stress(self.meshes[b], se))
+        return out
+
+    def summary(self, result: StaticResult) -> dict:
+        """A JSON-ready summary of a static solve."""
+        g = self.geometry
+        pad = self.meshes["pad"]
+        x = pad.p[:, result.interface_nodes]
+        fz = result.interface_force[2]
+        r = np.hypot(x[0], x[1])
+        th = np.arctan2(x[1], x[0])
+        p = result.interface_pressure
+        vm = self.stresses(result)
+        return {
+            "geometry": str(g.source),
+            "line_pressure_Pa": result.clamp_force / g.piston.hydraulic_area,
+            "clamp_force_N": float(result.clamp_force),
+            "interface": {
+                "normal_force_N": float(result.normal_force),
+                "force_balance_error": abs(result.normal_force - result.clamp_force)
+                / result.clamp_force,
+                "pressure_max_Pa": float(p.max()), "pressure_mean_Pa": float(
+                    fz.sum() / tributary_areas(pad, "friction", result.interface_nodes).sum()),
+                "pressure_min_Pa": float(p.min()),
+                "centre_of_pressure_r_m": float((fz * r).sum() / fz.sum()),
+                "centre_of_pressure_theta_deg": float(np.degrees((fz * th).sum() / fz.sum())),
+            },
+            "bodies": {b: {"nodes": int(self.meshes[b].nvertices),
+                           "elements": int(self.meshes[b].nelements),
+                           "max_displacement_m": float(np.abs(result.u[b]).max()),
+                           "max_von_mises_Pa": float(vm[b].max())} for b in self.bodies},
+            "solver": result.info,
+        }

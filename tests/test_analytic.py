@@ -1,0 +1,71 @@
+"""The closed forms checked on their own: round trips, equilibrium, integrals."""
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from brakewear import analytic as an
+
+
+def test_effective_modulus_limits():
+    assert an.effective_modulus(100e9, 0.3) == pytest.approx(100e9 / 0.91)
+    # two identical bodies: half the single-body value
+    assert an.effective_modulus(1e9, 0.25, 1e9, 0.25) == pytest.approx(0.5e9 / (1 - 0.0625))
+
+
+def test_hertz_sphere_round_trip_and_load_integral():
+    F, R, Es = 100.0, 0.01, 100e9
+    h = an.hertz_sphere(F, R, Es)
+    assert 4 * Es * h["a"] ** 3 / (3 * R) == pytest.approx(F, rel=1e-12)
+    load, _ = quad(lambda r: an.hertz_sphere_pressure(r, F, R, Es) * 2 * np.pi * r, 0, h["a"])
+    assert load == pytest.approx(F, rel=1e-8), f"integral of p = {load}"
+    assert h["delta"] == pytest.approx(h["a"] ** 2 / R)
+
+
+def test_hertz_cylinder_load_integral():
+    P, R, Es = 1e4, 0.02, 70e9
+    h = an.hertz_cylinder(P, R, Es)
+    load, _ = quad(lambda x: h["p0"] * np.sqrt(1 - (x / h["a"]) ** 2), -h["a"], h["a"])
+    assert load == pytest.approx(P, rel=1e-8)
+
+
+def test_flat_punch_load_integral():
+    F, a = 50.0, 0.005
+    # substitute r = a sin(phi) to remove the edge singularity
+    load, _ = quad(lambda ph: an.flat_punch_pressure(a * np.sin(ph), F, a) * 2 * np.pi
+                   * a * np.sin(ph) * a * np.cos(ph), 0, np.pi / 2 * (1 - 1e-12))
+    assert load == pytest.approx(F, rel=1e-6)
+    assert an.flat_punch_settlement(F, a, 1e9) == pytest.approx(F / (2 * a * 1e9))
+
+
+def test_thick_cylinder_equilibrium_and_boundaries():
+    a, b, p, E, nu = 0.09, 0.15, 1e7, 110e9, 0.27
+    r = np.linspace(a, b, 201)
+    sr, st = an.thick_cylinder_stress(r, a, b, p)
+    assert sr[0] == pytest.approx(-p) and abs(sr[-1]) < 1e-6 * p
+    dsr = np.gradient(sr, r, edge_order=2)
+    assert np.max(np.abs(dsr + (sr - st) / r)) < 1e-3 * p / (b - a)
+    # Hooke in plane strain: eps_theta = u/r
+    u = an.thick_cylinder_displacement(r, a, b, p, E, nu)
+    sz = nu * (sr + st)
+    assert np.allclose(u / r, (st - nu * (sr + sz)) / E, rtol=1e-12)
+
+
+def test_uniform_wear_pressure_integrates_to_force_and_torque():
+    F, th, ri, ro, mu = 3000.0, np.radians(55), 0.095, 0.138, 0.4
+    load, _ = quad(lambda r: an.uniform_wear_pressure(r, F, th, ri, ro) * th * r, ri, ro)
+    assert load == pytest.approx(F, rel=1e-10)
+    torque, _ = quad(lambda r: mu * an.uniform_wear_pressure(r, F, th, ri, ro) * th * r * r, ri, ro)
+    assert torque == pytest.approx(an.uniform_wear_torque(F, mu, ri, ro), rel=1e-10)
+    # uniform pressure acts further out than uniform wear; both -> r as the ring gets thin
+    assert an.uniform_pressure_effective_radius(ri, ro) > (ri + ro) / 2
+    assert an.uniform_pressure_effective_radius(0.1, 0.1 + 1e-7) == pytest.approx(0.1, rel=1e-6)
+
+
+def test_heat_references():
+    q, L, k = 1e5, 0.01, 50.0
+    x = np.linspace(0, L, 11)
+    T = an.slab_temperature(x, q, L, k, T0=20.0)
+    assert T[-1] == pytest.approx(20.0) and -k * np.gradient(T, x)[0] == pytest.approx(q)
+    # semi-infinite surface temperature grows with sqrt(t)
+    T1, T4 = an.semi_infinite_surface_temperature([1.0, 4.0], q, 50.0, 7200.0, 500.0)
+    assert T4 / T1 == pytest.approx(2.0)

@@ -1,0 +1,74 @@
+"""pyamg solver: convergence factor, agreement with a direct solve, failures raise."""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from brakewear.elasticity import apply_dirichlet, assemble_pressure, assemble_stiffness, boundary_dofs
+from brakewear.materials import get_material
+from brakewear.mesh import annulus_mesh
+from brakewear.solvers import (ConvergenceError, amg_solver, direct_solve, rigid_body_modes)
+
+
+@pytest.fixture(scope="module")
+def ring():
+    m = annulus_mesh(0.09, 0.15, 0.012, 10, 120, 4)
+    K, _ = assemble_stiffness(m, get_material("grey_cast_iron"))
+    f = assemble_pressure(m, "top", 1e6)
+    fixed = boundary_dofs(m, "inner")
+    Kd, fd = apply_dirichlet(K, f, fixed)
+    return m, K, Kd, fd, fixed
+
+
+def test_amg_matches_direct_and_converges_fast(ring):
+    m, K, Kd, fd, fixed = ring
+    s = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-10)
+    u = s.solve(fd)
+    ud = direct_solve(Kd, fd)
+    err = np.abs(u - ud).max() / np.abs(ud).max()
+    assert err < 1e-7, f"AMG vs direct: {err:.2e}"
+    factor = s.info.convergence_factor
+    assert factor < 0.6, f"mean residual reduction per iteration {factor:.3f}"
+    assert s.info.converged and s.info.relative_residual < 1e-10
+
+
+@pytest.mark.filterwarnings("ignore:Having less target vectors")
+def test_near_nullspace_pays(ring):
+    m, K, Kd, fd, fixed = ring
+    with_b = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8)
+    with_b.solve(fd)
+    without = amg_solver(Kd, B=np.ones((Kd.shape[0], 1)), tol=1e-8, maxiter=2000)
+    without.solve(fd)
+    assert with_b.info.iterations < without.info.iterations, (
+        f"rigid-body modes: {with_b.info.iterations} its, constant only: {without.info.iterations}")
+
+
+def test_hierarchy_reuse_on_changed_matrix(ring):
+    m, K, Kd, fd, fixed = ring
+    s = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-10)
+    u1 = s.solve(fd)
+    K2 = Kd * 1.05  # a stiffer material: the old hierarchy still preconditions well
+    u2 = s.solve(fd, A=K2)
+    assert s.builds == 1
+    assert np.allclose(u2 * 1.05, u1, rtol=1e-6, atol=1e-9 * np.abs(u1).max())
+
+
+def test_unconstrained_body_raises_with_figures():
+    m = annulus_mesh(0.09, 0.15, 0.012, 3, 24, 2)
+    K, _ = assemble_stiffness(m, get_material("grey_cast_iron"))
+    f = assemble_pressure(m, "top", 1e6)  # net force on a floating body: no solution
+    s = amg_solver(K.tocsr(), coords=m.p, tol=1e-10, maxiter=30)
+    with pytest.raises(ConvergenceError, match="relative residual") as e:
+        s.solve(f)
+    assert "rigid motion" in str(e.value)
+    assert not e.value.info.converged and e.value.info.relative_residual > 1e-10
+
+
+def test_direct_refuses_large_systems():
+    A = sp.identity(200_000, format="csr")
+    with pytest.raises(ValueError, match="max_dofs"):
+        direct_solve(A, np.ones(200_000))
+
+
+def test_rigid_body_modes_zero_fixed_rows():
+    B = rigid_body_modes(np.random.default_rng(1).normal(size=(3, 10)), fixed=np.array([0, 4]))
+    assert B.shape == (30, 6) and np.all(B[[0, 4]] == 0) and np.linalg.matrix_rank(B) == 6
