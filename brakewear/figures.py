@@ -255,7 +255,7 @@ def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: 
     d = np.asarray(view, dtype=float)
     d /= np.linalg.norm(d)
     pl.camera.focal_point = tuple(focus)
-    pl.camera.position = tuple(focus + 1.6 * np.linalg.norm(b[1::2] - b[0::2]) * d)
+    pl.camera.position = tuple(focus + 2.0 * np.linalg.norm(b[1::2] - b[0::2]) * d)  # margin for the title
     pl.camera.up = (0.0, 0.0, 1.0) if abs(d[2]) < 0.99 else (0.0, 1.0, 0.0)
     pl.set_background("white")
     pl.screenshot(str(path))
