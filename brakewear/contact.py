@@ -16,7 +16,8 @@ contact, where only the normal component is tied on the active set.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -27,6 +28,13 @@ logger = logging.getLogger(__name__)
 
 __all__ = [
     "ContactSearchError",
+    "ContactLostError",
+    "ActiveSetError",
+    "ContactPair",
+    "ContactResult",
+    "pair_to_surface",
+    "pair_to_rigid",
+    "solve_contact",
     "Projection",
     "facet_normals",
     "project_nodes",
@@ -179,3 +187,453 @@ def tie_prolongation(n_nodes: int, slave: np.ndarray, master_nodes: np.ndarray,
     vals = np.concatenate([np.ones(retained.size), weights.T.ravel()])
     P = sp.csr_matrix((vals, (rows, cols)), shape=(n_nodes, retained.size))
     return P, retained
+
+
+# ------------------------------------------------------------------ contact --
+
+class ContactLostError(RuntimeError):
+    """No node is left in contact: the load separates the bodies."""
+
+
+class ActiveSetError(RuntimeError):
+    """The active-set iteration did not settle (names its figures)."""
+
+
+@dataclass
+class ContactPair:
+    """A slave node set against a master surface (deformable or rigid).
+
+    All node indices are global (stacked bodies).  ``coupling`` (sparse,
+    n_slave x n_nodes) expresses the master displacement seen by each slave
+    node as a weighted sum of master nodes (rows sum to one); a rigid master
+    has ``coupling = None``.  ``normal`` is the master's outward unit normal
+    (pointing toward the slave), ``g0`` the initial normal gap (> 0 open).
+    Friction: the master drags the slave along ``drag`` (unit tangential
+    vectors, e.g. the rotor's surface velocity at the slave node) with a
+    traction ``mu p``; the master gets the opposite.
+    """
+
+    slave: np.ndarray
+    area: np.ndarray
+    normal: np.ndarray
+    g0: np.ndarray
+    coupling: sp.csr_matrix | None = None
+    mu: float = 0.0
+    drag: np.ndarray | None = None
+    name: str = "contact"
+
+    def __post_init__(self):
+        n = self.slave.size
+        if self.mu < 0 or not np.isfinite(self.mu):
+            raise ValueError(f"{self.name}: friction coefficient mu = {self.mu!r}; need mu >= 0")
+        if self.mu > 0 and (self.drag is None or self.drag.shape != (3, n)):
+            raise ValueError(f"{self.name}: mu > 0 needs a drag direction (3, {n}) per slave node")
+        for key in ("area", "g0"):
+            if getattr(self, key).shape != (n,):
+                raise ValueError(f"{self.name}: {key} must have shape ({n},)")
+        if self.coupling is not None:
+            self.coupling = sp.csr_matrix(self.coupling)
+
+    @property
+    def rigid(self) -> bool:
+        return self.coupling is None
+
+
+def mortar_coupling(slave_mesh: fem.Mesh, slave_facets, slave: np.ndarray,
+                    master_mesh: fem.Mesh, master_facets, n_master_nodes: int,
+                    level: int = 2, search_radius: float | None = None):
+    """Segment-weighted coupling: ``W[s, m] = int phi_s psi_m dA / int phi_s dA``.
+
+    ``phi_s`` are the slave surface's linear shape functions, ``psi_m`` the
+    master's, evaluated at the projections of ``4**level`` points per slave
+    facet (centroids of a regular subdivision).  With this coupling a uniform
+    contact pressure maps to the consistent nodal loads of the master mesh,
+    which is what one-point projection misses on non-matching meshes.
+    Returns (W (n_slave x n_master_nodes), weak gap (n_slave,), area (n_slave,)).
+    """
+    if isinstance(slave_facets, str):
+        slave_facets = slave_mesh.boundaries[slave_facets]
+    # barycentric centroids of the subdivision of the reference triangle
+    m = 2 ** level
+    pts = []
+    for i in range(m):
+        for j in range(m - i):
+            pts.append(((i + 1 / 3) / m, (j + 1 / 3) / m))          # upward triangles
+            if i + j < m - 1:
+                pts.append(((i + 2 / 3) / m, (j + 2 / 3) / m))      # downward triangles
+    lam = np.array([[1 - a - b, a, b] for a, b in pts]).T          # (3, nq), equal weights
+    nq = lam.shape[1]
+    f = slave_mesh.facets[:, slave_facets]
+    X = slave_mesh.p[:, f]                                          # (3 coords, 3 verts, nf)
+    area = 0.5 * np.linalg.norm(np.cross(X[:, 1] - X[:, 0], X[:, 2] - X[:, 0], axis=0), axis=0)
+    xq = np.einsum("avf,vq->afq", X, lam).reshape(3, -1)            # (3, nf * nq)
+    pr = project_nodes(xq, master_mesh, master_facets, search_radius=search_radius)
+    wq = np.repeat(area / nq, nq).reshape(-1, nq).ravel()           # weight of each point
+    col = -np.ones(slave_mesh.nvertices, dtype=np.int64)
+    col[slave] = np.arange(slave.size)
+    rows, cols, vals = [], [], []
+    gap_num = np.zeros(slave.size)
+    den = np.zeros(slave.size)
+    phi = lam[:, None, :].repeat(f.shape[1], axis=1).reshape(3, -1)
+    fv = np.repeat(f, nq, axis=1)                                   # slave vertex per point
+    for a in range(3):
+        sa = col[fv[a]]
+        wa = wq * phi[a]
+        np.add.at(den, sa, wa)
+        np.add.at(gap_num, sa, wa * pr.gap)
+        for b in range(3):
+            rows.append(sa)
+            cols.append(pr.nodes[b])
+            vals.append(wa * pr.weights[b])
+    W = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(slave.size, n_master_nodes))
+    W = sp.diags(1.0 / den) @ W
+    return W.tocsr(), gap_num / den, den
+
+
+def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
+                    master_mesh: fem.Mesh, master_facets, master_offset: int,
+                    mu: float = 0.0, drag=None, search_radius: float | None = None,
+                    exclude: np.ndarray | None = None, method: str = "segment",
+                    level: int = 2, n_nodes: int | None = None,
+                    name: str = "contact") -> ContactPair:
+    """A contact pair between two meshed bodies (offsets = first global node of each).
+
+    ``method``: ``"node"`` -- classic one-pass node-to-surface (each slave
+    node coupled to the master at its own projection); ``"segment"`` (default)
+    -- the coupling weighted over each slave node's tributary area
+    (:func:`mortar_coupling`, ``4**level`` points per slave facet), which
+    passes the contact patch test on non-matching meshes.  ``drag`` is a
+    callable ``x (3, n) -> (3, n)`` giving the master's surface velocity
+    direction at slave positions (used when ``mu > 0``).  ``exclude`` lists
+    slave-local vertex indices to leave out; ``n_nodes`` is the global node
+    count (default: just enough for the master).
+    """
+    if method not in ("node", "segment"):
+        raise ValueError(f"{name}: method = {method!r}; allowed: 'node', 'segment'")
+    slave = surface_nodes(slave_mesh, slave_facets)
+    N = (max(master_offset + master_mesh.nvertices, slave_offset + slave_mesh.nvertices)
+         if n_nodes is None else n_nodes)
+    x = slave_mesh.p[:, slave]
+    pr = project_nodes(x, master_mesh, master_facets, search_radius=search_radius)
+    if method == "node":
+        area = tributary_areas(slave_mesh, slave_facets, slave)
+        rows = np.repeat(np.arange(slave.size), 3)
+        W = sp.csr_matrix((pr.weights.T.ravel(), (rows, pr.nodes.T.ravel() + master_offset)),
+                          shape=(slave.size, N))
+        g0 = pr.gap
+    else:
+        W, g0, area = mortar_coupling(slave_mesh, slave_facets, slave, master_mesh, master_facets,
+                                      master_mesh.nvertices, level, search_radius)
+        W = sp.csr_matrix((W.data, W.indices + master_offset, W.indptr), shape=(slave.size, N))
+    if exclude is not None:
+        keep = ~np.isin(slave, exclude)
+        slave, area, g0, W = slave[keep], area[keep], g0[keep], W[keep]
+        pr.normal = pr.normal[:, keep]
+    d = _unit_tangential(drag(slave_mesh.p[:, slave]), pr.normal) if mu > 0 else None
+    return ContactPair(slave + slave_offset, area, pr.normal, g0, W, mu, d, name)
+
+
+def pair_to_rigid(slave_mesh: fem.Mesh, slave_facets, slave_offset: int, height,
+                  side: int = 1, mu: float = 0.0, drag=None,
+                  exclude: np.ndarray | None = None, name: str = "rigid contact") -> ContactPair:
+    """A contact pair against a rigid surface ``z = height(x, y)``.
+
+    ``side = +1``: the rigid body lies below the surface (normal +z);
+    ``side = -1``: above it (normal -z).  Gaps are measured along z, the
+    small-slope approximation that Hertz theory also makes.
+    """
+    if side not in (1, -1):
+        raise ValueError(f"{name}: side = {side!r}; allowed: +1 (rigid below), -1 (rigid above)")
+    slave = surface_nodes(slave_mesh, slave_facets)
+    area = tributary_areas(slave_mesh, slave_facets, slave)
+    if exclude is not None:
+        keep = ~np.isin(slave, exclude)
+        slave, area = slave[keep], area[keep]
+    x = slave_mesh.p[:, slave]
+    normal = np.zeros_like(x)
+    normal[2] = side
+    g0 = side * (x[2] - np.asarray(height(x[0], x[1]), dtype=float))
+    d = _unit_tangential(drag(x), normal) if mu > 0 else None
+    return ContactPair(slave + slave_offset, area, normal, g0, None, mu, d, name)
+
+
+def _unit_tangential(v: np.ndarray, n: np.ndarray) -> np.ndarray:
+    v = np.asarray(v, dtype=float)
+    v = v - n * np.einsum("ij,ij->j", v, n)
+    norm = np.linalg.norm(v, axis=0)
+    if np.any(norm == 0):
+        raise ValueError("drag direction is zero or normal to the surface at some slave node "
+                         "(e.g. a node on the rotor axis)")
+    return v / norm
+
+
+@dataclass
+class ContactResult:
+    """Contact solution: displacements and, per pair, the nodal contact state."""
+
+    u: np.ndarray
+    pressure: list       # per pair: (ns,) normal pressure (Pa), 0 where open
+    force: list          # per pair: (ns,) normal nodal force (N)
+    gap: list            # per pair: (ns,) normal gap after deformation (m)
+    active: list         # per pair: (ns,) bool, in contact
+    friction: list       # per pair: (3, ns) tangential nodal force on the slave (N)
+    info: dict = field(default_factory=dict)
+
+
+def _local_frames(n: np.ndarray):
+    """For each normal: the DOF slot that becomes the eliminated (dummy) one
+    (the dominant axis) and the tangential directions of the other two slots."""
+    k = np.argmax(np.abs(n), axis=0)
+    slots = np.array([[1, 2], [0, 2], [0, 1]])[k]  # (ns, 2) retained global axes
+    T = np.zeros((2, 3, n.shape[1]))
+    for a in range(2):
+        e = np.zeros_like(n)
+        e[slots[:, a], np.arange(n.shape[1])] = 1.0
+        T[a] = e - n * np.einsum("ij,ij->j", e, n)  # e_j minus its normal part
+    return k, slots, T
+
+
+def _prolongation(N: int, pairs, active):
+    """``u = P x + c`` for the active constraints; also the dummy DOFs."""
+    elim = []
+    rows, cols, vals = [], [], []
+    c = np.zeros(N)
+    for pr, act in zip(pairs, active):
+        s = pr.slave[act]
+        if s.size == 0:
+            continue
+        n = pr.normal[:, act]
+        k, slots, T = _local_frames(n)
+        elim.append(3 * s + k)
+        for a in range(2):
+            for i in range(3):
+                rows.append(3 * s + i)
+                cols.append(3 * s + slots[:, a])
+                vals.append(T[a, i])
+        if not pr.rigid:
+            Wc = pr.coupling[np.nonzero(act)[0]].tocoo()
+            sr, mr, w = s[Wc.row], Wc.col, Wc.data
+            nr = n[:, Wc.row]
+            for i in range(3):
+                for j in range(3):
+                    v = nr[i] * w * nr[j]
+                    nz = v != 0
+                    rows.append((3 * sr + i)[nz])
+                    cols.append((3 * mr + j)[nz])
+                    vals.append(v[nz])
+        for i in range(3):
+            c[3 * s + i] = -pr.g0[act] * n[i]
+    elim = np.concatenate(elim) if elim else np.zeros(0, dtype=np.int64)
+    slave_dofs = np.concatenate([3 * pr.slave[act][:, None] + np.arange(3)
+                                 for pr, act in zip(pairs, active)]).ravel() \
+        if any(a.any() for a in active) else np.zeros(0, dtype=np.int64)
+    keep = np.ones(N, dtype=bool)
+    keep[slave_dofs] = False
+    idx = np.nonzero(keep)[0]
+    rows.append(idx)
+    cols.append(idx)
+    vals.append(np.ones(idx.size))
+    P = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(N, N))
+    return P, c, elim
+
+
+def _friction_load(N: int, pairs, lam) -> np.ndarray:
+    f = np.zeros(N)
+    for pr, l in zip(pairs, lam):
+        if pr.mu == 0 or not np.any(l):
+            continue
+        t = pr.mu * l * pr.drag  # (3, ns) on the slave
+        for i in range(3):
+            np.add.at(f, 3 * pr.slave + i, t[i])
+            if not pr.rigid:
+                f[i::3] -= pr.coupling.T @ t[i]
+    return f
+
+
+def _gaps(u: np.ndarray, pr: ContactPair) -> np.ndarray:
+    us = u.reshape(-1, 3)[pr.slave].T
+    if pr.rigid:
+        rel = us
+    else:
+        um = u.reshape(-1, 3)
+        rel = us - (pr.coupling @ um).T
+    return pr.g0 + np.einsum("ij,ij->j", pr.normal, rel)
+
+
+def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.ndarray,
+                  pairs: list, fixed_values: np.ndarray | float = 0.0, tol: float = 1e-9, gap_tol: float | None = None,
+                  max_iter: int = 60, friction_tol: float = 1e-9, linear: str = "amg",
+                  initial_active: list | None = None, solver=None) -> ContactResult:
+    """Frictional node-to-surface contact by active sets on an eliminated system.
+
+    Parameters
+    ----------
+    K, f
+        Global stiffness (all bodies, DOF ``3 node + i``) and load.
+    fixed, fixed_values
+        Supported DOFs and their prescribed displacements (default 0).  A
+        supported normal DOF on an active slave node is refused.
+    coords
+        Node coordinates (3, n_nodes) for the rigid-body near-nullspace.
+    pairs
+        :class:`ContactPair` list.
+    tol
+        Relative residual of each linear solve.
+    gap_tol
+        Penetration tolerated before a node is activated; default 1e-10 times
+        the model size.
+    linear
+        ``"amg"`` (pyamg CG, hierarchy reused across iterations) or
+        ``"direct"`` (small systems).
+
+    The active set follows the primal-dual rule (a node in contact stays if
+    its multiplier is compressive, an open node enters if it penetrates).
+    If an active set repeats (cycling), the update turns conservative: add
+    penetrating nodes, release only the most tensile one per iteration.
+    Friction (known slip direction) is a fixed point on the multipliers,
+    converged to ``friction_tol`` together with the active set.
+    """
+    from .elasticity import apply_dirichlet
+    from .solvers import amg_solver, direct_solve
+
+    t_start = time.perf_counter()
+    K = K.tocsr()
+    N = K.shape[0]
+    f = np.asarray(f, dtype=float)
+    fixed = np.asarray(fixed, dtype=np.int64)
+    fvals = np.broadcast_to(np.asarray(fixed_values, dtype=float), fixed.shape)
+    fixed, first = np.unique(fixed, return_index=True)
+    fvals = fvals[first]
+    size = float(np.linalg.norm(coords.max(axis=1) - coords.min(axis=1)))
+    gap_tol = 1e-10 * size if gap_tol is None else gap_tol
+    if linear not in ("amg", "direct"):
+        raise ValueError(f"linear = {linear!r}; allowed: 'amg', 'direct'")
+    if initial_active is None:
+        active = [pr.g0 <= gap_tol for pr in pairs]
+        if not any(a.any() for a in active):  # first touch: the closest nodes
+            gmin = min(pr.g0.min() for pr in pairs)
+            active = [pr.g0 <= gmin + gap_tol for pr in pairs]
+    else:
+        active = [np.asarray(a, dtype=bool).copy() for a in initial_active]
+    lam = [np.zeros(pr.slave.size) for pr in pairs]
+    seen = set()
+    conservative = False
+    x = None
+    lin_its, builds, history = 0, 0, []
+    diagK = K.diagonal()
+    for it in range(1, max_iter + 1):
+        if not any(a.any() for a in active):
+            raise ContactLostError(
+                f"no node is in contact after {it - 1} active-set iteration(s): the load "
+                f"separates the bodies (net load {f.reshape(-1, 3).sum(axis=0)} N). A contact "
+                "solve needs a load that presses the surfaces together.")
+        P, c, elim = _prolongation(N, pairs, active)
+        clash = np.intersect1d(elim, fixed)
+        if clash.size:
+            raise ValueError(f"{clash.size} supported DOF(s) are the normal DOF of a contact node "
+                             f"(first: DOF {clash[0]}); a node cannot be both supported and in "
+                             "contact along the normal")
+        fr = _friction_load(N, pairs, lam)
+        A = (P.T @ K @ P).tocsr()
+        A = A + sp.csr_matrix((diagK[elim], (elim, elim)), shape=(N, N))
+        b = P.T @ (f + fr - K @ c)
+        b[elim] = 0.0
+        Ad, bd = apply_dirichlet(A.tobsr(blocksize=(3, 3)), b, fixed, fvals)
+        if linear == "direct":
+            x = direct_solve(Ad, bd)
+        else:
+            if solver is None:
+                B = _reduced_modes(coords, pairs, active, fixed)
+                solver = amg_solver(Ad, B=B, tol=tol)
+                builds += 1
+                ref_its = None
+                x = solver.solve(bd)
+            else:
+                x = solver.solve(bd, x0=x, A=Ad)
+                if ref_its is not None and solver.info.iterations > 2 * ref_its + 10:
+                    solver.B = _reduced_modes(coords, pairs, active, fixed)
+                    solver.rebuild(Ad)
+                    builds += 1
+                    x = solver.solve(bd, x0=x)
+            if ref_its is None:
+                ref_its = max(solver.info.iterations, 1)
+            lin_its += solver.info.iterations
+        u = P @ x + c
+        r = (K @ u - f - fr).reshape(-1, 3)
+        new_lam = [np.where(a, np.einsum("ij,ij->j", pr.normal, r[pr.slave].T), 0.0)
+                   for pr, a in zip(pairs, active)]
+        gaps = [np.where(a, 0.0, _gaps(u, pr)) for pr, a in zip(pairs, active)]
+        ltol = [1e-12 * max(np.abs(l).max(), 1e-300) for l in new_lam]
+        if conservative:
+            new_active = _conservative_update(active, new_lam, gaps, gap_tol, ltol)
+        else:
+            new_active = [(a & (l > -lt)) | (~a & (g < -gap_tol))
+                          for a, l, g, lt in zip(active, new_lam, gaps, ltol)]
+        dl = max((np.abs(nl - l).max() / max(np.abs(nl).max(), 1e-300)
+                  for nl, l, pr in zip(new_lam, lam, pairs) if pr.mu > 0), default=0.0)
+        lam = new_lam
+        same = all(np.array_equal(a, b2) for a, b2 in zip(active, new_active))
+        history.append(int(sum(a.sum() for a in active)))
+        if same and dl <= friction_tol:
+            break
+        key = b"".join(np.packbits(a).tobytes() for a in new_active)
+        if not same and key in seen and not conservative:
+            logger.info("active set cycles after %d iterations; switching to conservative "
+                        "updates", it)
+            conservative = True
+            new_active = _conservative_update(active, lam, gaps, gap_tol, ltol)
+        seen.add(b"".join(np.packbits(a).tobytes() for a in active))
+        active = new_active
+    else:
+        raise ActiveSetError(
+            f"active set did not settle in {max_iter} iterations (active counts "
+            f"{history[-6:]}, last multiplier change {dl:.2e}, conservative={conservative})")
+    # final state and the checks every solve must pass
+    gaps = [_gaps(u, pr) for pr in pairs]
+    fric = [pr.mu * l * pr.drag if pr.mu > 0 else np.zeros((3, pr.slave.size))
+            for pr, l in zip(pairs, lam)]
+    pressure = [l / pr.area for l, pr in zip(lam, pairs)]
+    info = {
+        "active_set_iterations": it, "linear_iterations": lin_its, "amg_builds": builds,
+        "conservative": conservative, "active_counts": history,
+        "normal_force": [float(l.sum()) for l in lam],
+        "min_multiplier": min(float(l.min()) for l in lam),
+        "min_gap": min(float(g.min()) for g in gaps),
+        "max_complementarity": max(float(np.abs(l * g).max()) for l, g in zip(lam, gaps)),
+        "gap_tol": gap_tol, "time_s": time.perf_counter() - t_start,
+    }
+    if info["min_gap"] < -max(gap_tol, 1e-10 * size):
+        raise ActiveSetError(f"penetration {info['min_gap']:.3e} m exceeds the gap tolerance "
+                             f"{gap_tol:.1e} m after convergence")
+    return ContactResult(u, pressure, lam, gaps, active, fric, info)
+
+
+def _conservative_update(active, lam, gaps, gap_tol, ltol):
+    """Add every penetrating node; if none, release the single most tensile one."""
+    pen = [(~a) & (g < -gap_tol) for a, g in zip(active, gaps)]
+    if any(p.any() for p in pen):
+        return [a | p for a, p in zip(active, pen)]
+    worst, where = 0.0, None
+    for i, (a, l, lt) in enumerate(zip(active, lam, ltol)):
+        if a.any():
+            j = int(np.argmin(np.where(a, l, np.inf)))
+            if l[j] < -lt and l[j] < worst:
+                worst, where = l[j], (i, j)
+    new = [a.copy() for a in active]
+    if where is not None:
+        new[where[0]][where[1]] = False
+    return new
+
+
+def _reduced_modes(coords, pairs, active, fixed):
+    from .solvers import rigid_body_modes
+
+    B = rigid_body_modes(coords, fixed)
+    for pr, act in zip(pairs, active):
+        s = pr.slave[act]
+        if s.size:
+            k = np.argmax(np.abs(pr.normal[:, act]), axis=0)
+            B[3 * s + k] = 0.0
+    return B
