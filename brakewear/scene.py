@@ -19,7 +19,8 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from .contact import project_nodes, surface_nodes, tie_prolongation, tributary_areas
+from .contact import (ContactPair, pair_to_rigid, pair_to_surface, project_nodes, solve_contact,
+                      surface_nodes, tie_prolongation, tributary_areas)
 from .elasticity import (BlockPattern, apply_dirichlet, assemble_stiffness, assemble_traction,
                          boundary_dofs, element_stress, nodal_stress, von_mises)
 from .geometry import BrakeGeometry, load_geometry
@@ -47,6 +48,7 @@ class StaticResult:
     interface_pressure: np.ndarray  # (n,) normal pressure at those nodes (Pa)
     clamp_force: float           # line pressure x hydraulic piston area (N)
     info: dict = field(default_factory=dict)
+    active: np.ndarray | None = None  # contact status per interface node (contact solves)
 
     @property
     def normal_force(self) -> float:
@@ -60,6 +62,9 @@ class BrakeModel:
     ----------
     geometry
         A :class:`BrakeGeometry` or the name/path of a geometry file.
+    rotor
+        ``"elastic"`` (meshed, clamped at its hat radius) or ``"rigid"`` (the
+        plane z = 0; nothing meshed).
     piston
         ``"traction"`` (default: the clamp force as a uniform traction on the
         backplate's piston footprint -- no piston mesh) or ``"body"`` (the
@@ -70,16 +75,21 @@ class BrakeModel:
     """
 
     def __init__(self, geometry: BrakeGeometry | str = "default", piston: str = "traction",
-                 size: float | None = None, order: int | None = None):
+                 size: float | None = None, order: int | None = None, rotor: str = "elastic"):
         if piston not in ("traction", "body"):
             raise SceneError(f"piston = {piston!r} is not allowed; allowed: 'traction', 'body'")
+        if rotor not in ("elastic", "rigid"):
+            raise SceneError(f"rotor = {rotor!r} is not allowed; allowed: 'elastic', 'rigid'")
+        self.rotor = rotor
         self.geometry = geometry if isinstance(geometry, BrakeGeometry) else load_geometry(geometry)
         order = self.geometry.mesh.order if order is None else order
         if order != 1:
             raise SceneError(f"order = {order}: tied pad-rotor interfaces support P1 meshes only "
                              "(order = 1); P2 is available for single bodies")
         self.piston = piston
-        self.bodies = ("rotor", "pad", "piston") if piston == "body" else ("rotor", "pad")
+        # a rigid rotor is the plane z = 0, not a mesh
+        self.bodies = (("rotor",) if rotor == "elastic" else ()) + ("pad",) + (
+            ("piston",) if piston == "body" else ())
         t0 = time.perf_counter()
         self.meshes = {b: _MESHERS[b](self.geometry, size=size, order=order) for b in self.bodies}
         mats = component_materials(self.geometry)
@@ -112,10 +122,14 @@ class BrakeModel:
     def coordinates(self) -> np.ndarray:
         return np.hstack([self.meshes[b].p for b in self.bodies])
 
-    def ties(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-        """(slave nodes, master nodes (3, n), weights (3, n)) in global node numbers."""
+    def ties(self, interface: bool = True) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """(slave nodes, master nodes (3, n), weights (3, n)) in global node numbers.
+
+        ``interface`` includes the pad-rotor tie (elastic rotor only).
+        """
         out = []
-        pairs = [("pad", "friction", "rotor", "friction")]
+        pairs = [("pad", "friction", "rotor", "friction")] if (
+            interface and self.rotor == "elastic") else []
         if self.piston == "body":
             pairs.append(("piston", "piston_face", "pad", "back"))
         for sb, sf, mb, mf in pairs:
@@ -142,9 +156,10 @@ class BrakeModel:
     def fixed_dofs(self) -> np.ndarray:
         """Supports: rotor clamped at its hat radius, mid-plane symmetry,
         pad held in-plane at its abutments, piston guided by its bore."""
-        parts = [self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "rotor_clamp")),
-                 self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "midplane", [2])),
-                 self._gdofs("pad", boundary_dofs(self.meshes["pad"], "abutment", [0, 1]))]
+        parts = [self._gdofs("pad", boundary_dofs(self.meshes["pad"], "abutment", [0, 1]))]
+        if self.rotor == "elastic":
+            parts += [self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "rotor_clamp")),
+                      self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "midplane", [2]))]
         if self.piston == "body":
             pm = self.meshes["piston"]
             side = boundary_dofs(pm, "piston_side", [0, 1])
@@ -154,56 +169,129 @@ class BrakeModel:
         return np.unique(np.concatenate(parts))
 
     # ------------------------------------------------------------- solve --
-    def solve_tied(self, line_pressure: float = 1e6, tol: float = 1e-10) -> StaticResult:
-        """Static solve with the pad tied to the rotor under ``line_pressure`` (Pa)."""
-        if not np.isfinite(line_pressure) or line_pressure <= 0:
-            raise SceneError(f"line_pressure = {line_pressure!r} Pa is not allowed; need > 0")
-        t0 = time.perf_counter()
+    def _reduced(self, tie_interface: bool):
+        """Global K, f-independent tie elimination: (K, P, retained nodes, node -> retained)."""
         K = sp.block_diag([self.stiffness(b).tocsr() for b in self.bodies], format="csr")
-        t_asm = time.perf_counter() - t0
-        f = self.loads(line_pressure)
-        ties = self.ties()
-        slave = np.concatenate([s for s, _, _ in ties])
-        Pn, retained = tie_prolongation(self.n_nodes, slave,
-                                        np.hstack([m for _, m, _ in ties]),
-                                        np.hstack([w for _, _, w in ties]))
+        ties = self.ties(interface=tie_interface)
+        if ties:
+            Pn, retained = tie_prolongation(self.n_nodes, np.concatenate([s for s, _, _ in ties]),
+                                            np.hstack([m for _, m, _ in ties]),
+                                            np.hstack([w for _, _, w in ties]))
+        else:
+            Pn, retained = sp.identity(self.n_nodes, format="csr"), np.arange(self.n_nodes)
         P = sp.kron(Pn, sp.identity(3), format="csr")
-        Kr = (P.T @ K @ P).tobsr(blocksize=(3, 3))
-        fr = P.T @ f
-        fixed = self.fixed_dofs()
         col = -np.ones(self.n_nodes, dtype=np.int64)
         col[retained] = np.arange(retained.size)
+        return K, P, retained, col
+
+    def _reduced_fixed(self, col: np.ndarray, extra: np.ndarray | None = None) -> np.ndarray:
+        fixed = self.fixed_dofs() if extra is None else np.union1d(self.fixed_dofs(), extra)
         node, comp = fixed // 3, fixed % 3
         if np.any(col[node] < 0):
             raise SceneError("a supported DOF lies on a tied (eliminated) node; "
                              "supports and ties must not overlap")
-        fixed_r = 3 * col[node] + comp
-        Kd, fd = apply_dirichlet(Kr, fr, fixed_r)
+        return 3 * col[node] + comp
+
+    @staticmethod
+    def _check_pressure(line_pressure: float) -> None:
+        if not np.isfinite(line_pressure) or line_pressure <= 0:
+            raise SceneError(f"line_pressure = {line_pressure!r} Pa is not allowed; need > 0")
+
+    def solve_tied(self, line_pressure: float = 1e6, tol: float = 1e-10) -> StaticResult:
+        """Static solve with the pad tied to the rotor under ``line_pressure`` (Pa).
+
+        With a rigid rotor the pad's friction face is held fixed instead.
+        """
+        self._check_pressure(line_pressure)
+        t0 = time.perf_counter()
+        K, P, retained, col = self._reduced(tie_interface=True)
+        t_asm = time.perf_counter() - t0
+        f = self.loads(line_pressure)
+        pad_nodes = surface_nodes(self.meshes["pad"], "friction")
+        extra = None
+        if self.rotor == "rigid":
+            extra = (3 * (pad_nodes + self.offsets["pad"])[:, None] + np.arange(3)).ravel()
+        fixed_r = self._reduced_fixed(col, extra)
+        Kd, fd = apply_dirichlet((P.T @ K @ P).tobsr(blocksize=(3, 3)), P.T @ f, fixed_r)
         t1 = time.perf_counter()
         solver = amg_solver(Kd, coords=self.coordinates()[:, retained], fixed=fixed_r, tol=tol)
         ur = solver.solve(fd)
         t2 = time.perf_counter()
         u = P @ ur
         # reaction (constraint) forces on the pad's friction nodes = interface forces
-        pad_slave = ties[0][0]
-        r = (K @ u - f).reshape(-1, 3)[pad_slave].T
-        local = pad_slave - self.offsets["pad"]
-        area = tributary_areas(self.meshes["pad"], "friction", local)
+        glob = pad_nodes + self.offsets["pad"]
+        r = (K @ u - f).reshape(-1, 3)[glob].T
+        area = tributary_areas(self.meshes["pad"], "friction", pad_nodes)
         F = line_pressure * self.geometry.piston.hydraulic_area
         res = StaticResult(
-            u={b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].nvertices)]
-               for b in self.bodies},
-            interface_nodes=local, interface_force=r, interface_pressure=r[2] / area,
-            clamp_force=F,
-            info={"dofs": int(self.dofs), "reduced_dofs": int(Kd.shape[0]),
+            u=self._split(u), interface_nodes=pad_nodes, interface_force=r,
+            interface_pressure=r[2] / area, clamp_force=F,
+            info={"interface": "tied", "rotor": self.rotor, "dofs": int(self.dofs),
+                  "reduced_dofs": int(Kd.shape[0]),
                   "iterations": int(solver.info.iterations),
                   "relative_residual": float(solver.info.relative_residual),
-                  "assemble_s": t_asm + (t1 - t0 - t_asm), "amg_setup_s": solver.setup_s,
+                  "assemble_s": t1 - t0, "amg_setup_s": solver.setup_s,
                   "solve_s": solver.info.solve_s, "total_s": t2 - t0, **self.timings},
         )
         logger.info("tied solve: %d DOFs, %d CG iterations, %.2f s", self.dofs,
                     solver.info.iterations, t2 - t0)
         return res
+
+    def _split(self, u: np.ndarray) -> dict:
+        return {b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].nvertices)]
+                for b in self.bodies}
+
+    def contact_pair(self, mu: float = 0.0, method: str = "segment") -> ContactPair:
+        """The pad-rotor contact pair in global node numbers (rotor turning in +theta)."""
+        drag = lambda x: np.vstack([-x[1], x[0], np.zeros_like(x[0])])  # noqa: E731
+        pad, off = self.meshes["pad"], self.offsets["pad"]
+        if self.rotor == "rigid":
+            return pair_to_rigid(pad, "friction", off, height=lambda x, y: np.zeros_like(x),
+                                 side=1, mu=mu, drag=drag, name="pad-rotor")
+        return pair_to_surface(pad, "friction", off, self.meshes["rotor"], "friction",
+                               self.offsets["rotor"], mu=mu, drag=drag, method=method,
+                               n_nodes=self.n_nodes,
+                               search_radius=2.0 * self.geometry.mesh.size + 1e-9,
+                               name="pad-rotor")
+
+    def solve_contact(self, line_pressure: float = 1e6, mu: float = 0.0,
+                      method: str = "segment", tol: float = 1e-9,
+                      linear: str = "amg") -> StaticResult:
+        """Frictional contact of pad and rotor under ``line_pressure`` (Pa).
+
+        Sliding friction ``mu p`` drags the pad along the rotor's velocity
+        (+theta); equal and opposite on the rotor.  Returns the nodal contact
+        pressure on the pad's friction face (zero where it lifts off).
+        """
+        self._check_pressure(line_pressure)
+        if not (np.isfinite(mu) and mu >= 0):
+            raise SceneError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0")
+        t0 = time.perf_counter()
+        K, P, retained, col = self._reduced(tie_interface=False)
+        f = self.loads(line_pressure)
+        fixed_r = self._reduced_fixed(col)
+        pair = self.contact_pair(mu, method)
+        pair.slave = col[pair.slave]
+        if pair.coupling is not None:
+            pair.coupling = pair.coupling[:, retained].tocsr()
+        Kr = (P.T @ K @ P).tocsr()
+        t1 = time.perf_counter()
+        cres = solve_contact(Kr, P.T @ f, fixed_r, self.coordinates()[:, retained], [pair],
+                             tol=tol, linear=linear)
+        u = P @ cres.u
+        lam = cres.force[0]
+        force = pair.normal * lam + cres.friction[0]
+        F = line_pressure * self.geometry.piston.hydraulic_area
+        pad_nodes = surface_nodes(self.meshes["pad"], "friction")
+        info = {"interface": f"contact ({method})", "rotor": self.rotor, "mu": mu,
+                "dofs": int(self.dofs), "assemble_s": t1 - t0, "total_s":
+                time.perf_counter() - t0, **{k: v for k, v in cres.info.items()
+                                             if k != "active_counts"}, **self.timings}
+        logger.info("contact solve: %d DOFs, %d active-set iterations, %.2f s", self.dofs,
+                    cres.info["active_set_iterations"], info["total_s"])
+        return StaticResult(u=self._split(u), interface_nodes=pad_nodes, interface_force=force,
+                            interface_pressure=cres.pressure[0], clamp_force=F, info=info,
+                            active=cres.active[0])
 
     def stresses(self, result: StaticResult) -> dict:
         """Nodal von Mises stress per body (Pa)."""
