@@ -608,11 +608,8 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
                for pr, a in zip(pairs, active)]
         gaps = [np.where(a, 0.0, _gaps(u, pr)) for pr, a in zip(pairs, active)]
         ltol = [1e-12 * max(np.abs(l).max(), 1e-300) for l in lam]
-        if conservative:
-            new_active = _conservative_update(active, lam, gaps, gap_tol, ltol)
-        else:
-            new_active = [(a & (l > -lt)) | (~a & (g < -gap_tol))
-                          for a, l, g, lt in zip(active, lam, gaps, ltol)]
+        update = _conservative_update if conservative else _pdas_update
+        new_active = update(active, lam, gaps, gap_tol, ltol)
         same = all(np.array_equal(a, b2) for a, b2 in zip(active, new_active))
         history.append(int(sum(a.sum() for a in active)))
         if same:
@@ -664,6 +661,11 @@ def _reduce(K: sp.csr_matrix, P: sp.csr_matrix, rows: np.ndarray):
     KD = (K[:, rows] @ Dr).tocsr()
     DKD = (Dr.T @ (K[rows][:, rows] @ Dr)).tocsr()
     return (K + KD + KD.T + DKD).tocsr(), None
+
+
+def _pdas_update(active, lam, gaps, gap_tol, ltol):
+    """Primal-dual active set: stay if compressive, enter if penetrating."""
+    return [(a & (l > -lt)) | (~a & (g < -gap_tol)) for a, l, g, lt in zip(active, lam, gaps, ltol)]
 
 
 def _conservative_update(active, lam, gaps, gap_tol, ltol):
