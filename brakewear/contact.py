@@ -306,7 +306,8 @@ def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
     passes the contact patch test on non-matching meshes.  ``drag`` is a
     callable ``x (3, n) -> (3, n)`` giving the master's surface velocity
     direction at slave positions (used when ``mu > 0``).  ``exclude`` lists
-    slave-local vertex indices to leave out; ``n_nodes`` is the global node
+    vertex indices of the slave mesh to leave out (e.g. nodes with supported
+    normal DOFs); ``n_nodes`` is the global node
     count (default: just enough for the master).
     """
     if method not in ("node", "segment"):
@@ -341,7 +342,8 @@ def pair_to_rigid(slave_mesh: fem.Mesh, slave_facets, slave_offset: int, height,
 
     ``side = +1``: the rigid body lies below the surface (normal +z);
     ``side = -1``: above it (normal -z).  Gaps are measured along z, the
-    small-slope approximation that Hertz theory also makes.
+    small-slope approximation that Hertz theory also makes.  ``exclude``
+    lists vertex indices of the slave mesh to leave out.
     """
     if side not in (1, -1):
         raise ValueError(f"{name}: side = {side!r}; allowed: +1 (rigid below), -1 (rigid above)")
@@ -485,7 +487,7 @@ def _gaps(u: np.ndarray, pr: ContactPair) -> np.ndarray:
 
 def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.ndarray,
                   pairs: list, fixed_values: np.ndarray | float = 0.0, tol: float = 1e-9, gap_tol: float | None = None,
-                  max_iter: int = 60, linear: str = "amg",
+                  max_iter: int = 60, linear: str = "amg", release_tol: float = 1e-6,
                   initial_active: list | None = None, solver=None) -> ContactResult:
     """Frictional node-to-surface contact by active sets on an eliminated system.
 
@@ -508,6 +510,10 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     linear
         ``"amg"`` (pyamg CG, hierarchy reused across iterations) or
         ``"direct"`` (small systems).
+    release_tol
+        A contact node is released only if its multiplier is below
+        ``-release_tol * max |lambda|``: a margin above the linear solver's
+        noise, without which nodes at the contact edge can flip forever.
 
     The active set follows the primal-dual rule (a node in contact stays if
     its multiplier is compressive, an open node enters if it penetrates).
@@ -607,7 +613,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
         lam = [np.where(a, np.einsum("ij,ij->j", pr.normal, r[pr.slave].T), 0.0)
                for pr, a in zip(pairs, active)]
         gaps = [np.where(a, 0.0, _gaps(u, pr)) for pr, a in zip(pairs, active)]
-        ltol = [1e-12 * max(np.abs(l).max(), 1e-300) for l in lam]
+        ltol = [release_tol * max(np.abs(l).max(), 1e-300) for l in lam]
         update = _conservative_update if conservative else _pdas_update
         new_active = update(active, lam, gaps, gap_tol, ltol)
         same = all(np.array_equal(a, b2) for a, b2 in zip(active, new_active))
