@@ -20,6 +20,9 @@ DOF numbering everywhere is scikit-fem's for ``ElementVector``: scalar DOF
 from __future__ import annotations
 
 import logging
+import os
+from collections import deque
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Iterable, Sequence
 
@@ -27,6 +30,8 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 from skfem.helpers import dot, sym_grad
+
+from .mesh import _ensure_topology
 
 logger = logging.getLogger(__name__)
 
@@ -49,6 +54,10 @@ __all__ = [
     "von_mises",
 ]
 
+#: Worker threads of :func:`assemble_stiffness` (element matrices of the next
+#: chunks are computed while the current ones are added into the matrix).
+_ASSEMBLY_THREADS = min(2, os.cpu_count() or 1)
+
 Groups = Sequence[tuple[np.ndarray | None, np.ndarray]]
 
 
@@ -67,9 +76,10 @@ def scalar_element(mesh: fem.Mesh) -> fem.Element:
 
 
 def _intorder(elem: fem.Element) -> int:
-    # grad(u) . C grad(v) is a polynomial of degree 2 (p - 1); on a curved P2
-    # mesh the mapping adds degree, for which 2p is a safe, common choice
-    return 2 * (elem.maxdeg - 1) if elem.maxdeg > 1 else 1
+    # P1: the integrand is constant, one point is exact.  P2 meshes here are
+    # isoparametric (curved), where the integrand is rational: degree 4 makes
+    # the quadrature error negligible against the discretisation error.
+    return 1 if elem.maxdeg == 1 else 2 * elem.maxdeg
 
 
 # ----------------------------------------------------------------- forms ---
@@ -166,10 +176,26 @@ class BlockPattern:
     def nnzb(self) -> int:
         return self.indices.size
 
-    def positions(self, d: np.ndarray) -> np.ndarray:
-        """Block positions of all (a, b) pairs of element DOFs ``d`` (nb, ne) -> (ne, nb, nb)."""
-        k = d.T[:, :, None].astype(np.int64) * self.n + d.T[:, None, :]
-        return np.searchsorted(self.keys, k)
+    def lookup(self) -> sp.csr_matrix:
+        """The node graph as CSR whose values are the block positions (for :meth:`positions`)."""
+        return sp.csr_matrix((np.arange(self.nnzb, dtype=np.int64), self.indices, self.indptr),
+                             shape=(self.n, self.n))
+
+    def positions(self, d: np.ndarray, lookup: sp.csr_matrix | None = None) -> np.ndarray:
+        """Block positions of all (a, b) pairs of element DOFs ``d`` (nb, ne) -> (ne, nb, nb).
+
+        Looked up row by row in the CSR graph (``lookup``, from :meth:`lookup`;
+        built here if not given): each search runs over one short row instead
+        of the whole key array.
+        """
+        nb, ne = d.shape
+        if lookup is None:
+            lookup = self.lookup()
+        dT = np.ascontiguousarray(d.T)
+        rows = np.repeat(dT, nb, axis=1).ravel()
+        cols = np.tile(dT, (1, nb)).ravel()
+        pos = np.asarray(lookup[rows, cols]).ravel()
+        return pos.reshape(ne, nb, nb)
 
 
 def _as_groups(mesh: fem.Mesh, materials) -> list[tuple[np.ndarray | None, np.ndarray]]:
@@ -186,27 +212,49 @@ def _as_groups(mesh: fem.Mesh, materials) -> list[tuple[np.ndarray | None, np.nd
     return out
 
 
+# Voigt index of the strain component (k, l): 0 xx, 1 yy, 2 zz, 3 yz, 4 xz, 5 xy
+_VOIGT = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]])
+
+
+def _tensor_matrix(C: np.ndarray) -> np.ndarray:
+    """``M[(i, j), (k, l)] = C[v(i, k), v(j, l)]``, the 9x9 coupling of gradients.
+
+    With engineering shear strains, the element matrix entry between
+    component ``i`` of shape function ``a`` and component ``j`` of ``b`` is
+    ``sum_kl grad_k(phi_a) M[(i, j), (k, l)] grad_l(phi_b)``.
+    """
+    C = np.asarray(C, dtype=float)
+    i, j, k, l = np.meshgrid(*(np.arange(3),) * 4, indexing="ij")
+    return C[_VOIGT[i, k], _VOIGT[j, l]].reshape(9, 9)
+
+
 def _chunk_matrices(basis: fem.CellBasis, C: np.ndarray) -> np.ndarray:
     """Element stiffness matrices (ne, 3nb, 3nb) of one chunk, from skfem's basis."""
     nb = len(basis.basis)
-    G = np.stack([basis.basis[a][0].grad for a in range(nb)])  # (nb, 3, ne, nq)
+    ne = basis.dx.shape[0]
+    KT = _chunk_blocks(basis, _tensor_matrix(C))  # (9, ne, nb, nb)
+    return KT.reshape(3, 3, ne, nb, nb).transpose(2, 3, 0, 4, 1).reshape(ne, 3 * nb, 3 * nb)
+
+
+def _chunk_blocks(basis: fem.CellBasis, M: np.ndarray) -> np.ndarray:
+    """Element matrices of one chunk by component pair: (9, ne, nb, nb), row ``3 i + j``.
+
+    The gradient products ``dx g_a[k] g_b[l]`` of all quadrature points are
+    summed first (9 numbers per pair of shape functions), then one matrix
+    product with the 9x9 material coupling ``M`` gives all components: a
+    single BLAS call per chunk instead of a small matrix product per element.
+    """
+    nb = len(basis.basis)
     ne, nq = basis.dx.shape
-    Bm = np.zeros((ne, nq, 6, 3 * nb))
-    g = G.transpose(2, 3, 1, 0)  # (ne, nq, 3, nb)
-    ix = 3 * np.arange(nb)
-    Bm[:, :, 0, ix] = g[:, :, 0]
-    Bm[:, :, 1, ix + 1] = g[:, :, 1]
-    Bm[:, :, 2, ix + 2] = g[:, :, 2]
-    Bm[:, :, 3, ix + 1] = g[:, :, 2]
-    Bm[:, :, 3, ix + 2] = g[:, :, 1]
-    Bm[:, :, 4, ix] = g[:, :, 2]
-    Bm[:, :, 4, ix + 2] = g[:, :, 0]
-    Bm[:, :, 5, ix] = g[:, :, 1]
-    Bm[:, :, 5, ix + 1] = g[:, :, 0]
-    CB = np.matmul(C, Bm)
-    Bm *= basis.dx[:, :, None, None]
-    K = np.matmul(Bm.transpose(0, 1, 3, 2), CB)
-    return K.sum(axis=1) if nq > 1 else K[:, 0]
+    G = np.stack([basis.basis[a][0].grad for a in range(nb)])  # (nb, 3, ne, nq)
+    P = np.zeros((3, 3, ne, nb, nb))
+    for q in range(nq):
+        g = np.ascontiguousarray(G[:, :, :, q].transpose(1, 2, 0))  # (3, ne, nb)
+        gw = g * basis.dx[None, :, q, None]
+        for k in range(3):
+            # P[k, l, e, a, b] += dx g[k, e, a] g[l, e, b]
+            P[k] += gw[k, None, :, :, None] * g[:, :, None, :]
+    return (M @ P.reshape(9, -1)).reshape(9, ne, nb, nb)
 
 
 def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None = None,
@@ -225,46 +273,93 @@ def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None =
         The mesh's :class:`BlockPattern` from an earlier call (reuse it when
         only coefficients or coordinates change).
     chunk
-        Elements per chunk; bounds the temporary memory.
+        Largest number of elements per chunk; bounds the temporary memory
+        (chunks are also capped at about 64 MB of element matrices).
 
     Returns
     -------
     K, pattern
+
+    Notes
+    -----
+    Elements are processed in the order of their lowest DOF, so a chunk
+    touches a narrow band of matrix rows on a mesh with local numbering and
+    its scatter-add (``np.bincount``) works on that band only.
     """
     elem = scalar_element(mesh)
     groups = _as_groups(mesh, materials)
     q = _intorder(elem) if intorder is None else intorder
+    # one Dofs for all chunks, and no global DOF locations per chunk: both
+    # would otherwise be recomputed for the whole mesh by every chunk's Basis
+    sd = fem.Dofs(mesh, elem)
     if pattern is None:
-        sd = fem.Dofs(mesh, elem)
         pattern = BlockPattern.from_element_dofs(sd.element_dofs, sd.N)
     nb = elem.refdom.nnodes * elem.nodal_dofs + elem.refdom.nedges * elem.edge_dofs
-    acc = np.zeros((9, pattern.nnzb))
+    chunk = int(max(1, min(chunk, 8_000_000 // (9 * nb * nb))))
+    data = np.zeros((pattern.nnzb, 3, 3))
+    lookup = pattern.lookup()
+
+    def compute(part, M):
+        basis = fem.CellBasis(mesh, elem, intorder=q, elements=part, dofs=sd,
+                              disable_doflocs=True)
+        KT = _chunk_blocks(basis, M).reshape(9, -1)
+        pos = pattern.positions(basis.element_dofs, lookup).ravel()
+        return KT, pos
+
+    def add(KT, pos):
+        lo, hi = int(pos.min()), int(pos.max()) + 1
+        pos -= lo
+        band = data[lo:hi]
+        for i in range(3):
+            for j in range(3):
+                band[:, i, j] += np.bincount(pos, weights=KT[3 * i + j], minlength=hi - lo)
+
+    tasks = []
     covered = 0
     for elems, C in groups:
-        idx = np.arange(mesh.nelements) if elems is None else elems
+        idx = np.arange(mesh.nelements) if elems is None else np.asarray(elems)
         covered += idx.size
-        for s in range(0, idx.size, chunk):
-            part = idx[s:s + chunk]
-            basis = fem.Basis(mesh, elem, intorder=q, elements=part)
-            Ke = _chunk_matrices(basis, C).reshape(part.size, nb, 3, nb, 3)
-            pos = pattern.positions(basis.element_dofs).ravel()
-            for i in range(3):
-                for j in range(3):
-                    acc[3 * i + j] += np.bincount(pos, weights=Ke[:, :, i, :, j].ravel(),
-                                                  minlength=pattern.nnzb)
-            del Ke, pos, basis
+        M = _tensor_matrix(C)
+        # local chunks: sort the elements by their lowest vertex
+        idx = idx[np.argsort(mesh.t[:, idx].min(axis=0), kind="stable")]
+        tasks += [(idx[s:s + chunk], M) for s in range(0, idx.size, chunk)]
+    threads = min(_ASSEMBLY_THREADS, len(tasks))
+    if threads > 1:
+        # skfem's affine mapping fills its per-element arrays lazily, which is
+        # not thread-safe: fill them here, before any worker runs
+        mapping = mesh._mapping()
+        for name in ("A", "b", "detA", "invA"):
+            getattr(mapping, name, None)
+    if threads <= 1:
+        for part, M in tasks:
+            add(*compute(part, M))
+    else:
+        # element matrices of the next chunks are computed in worker threads
+        # (NumPy and BLAS release the GIL) while this thread adds the last
+        # ones; at most threads + 1 chunks are alive at a time
+        with ThreadPoolExecutor(threads) as pool:
+            pending: deque = deque()
+            for part, M in tasks:
+                pending.append(pool.submit(compute, part, M))
+                if len(pending) > threads:
+                    add(*pending.popleft().result())
+            while pending:
+                add(*pending.popleft().result())
     if covered != mesh.nelements:
         raise ValueError(f"assemble_stiffness: the material groups cover {covered} elements, "
                          f"the mesh has {mesh.nelements}; every element needs one material")
-    data = acc.T.reshape(-1, 3, 3)
     N = 3 * pattern.n
     K = sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))
     return K, pattern
 
 
 def _vector_facet_basis(mesh: fem.Mesh, facets) -> fem.FacetBasis:
+    # FacetBasis needs the facet-to-element maps of the whole mesh: build them
+    # by the fast route if the mesh does not carry them yet
+    _ensure_topology(mesh)
     elem = fem.ElementVector(scalar_element(mesh))
-    return fem.FacetBasis(mesh, elem, facets=facets, intorder=2 * elem.maxdeg)
+    return fem.FacetBasis(mesh, elem, facets=facets, intorder=2 * elem.maxdeg,
+                          disable_doflocs=True)
 
 
 def assemble_traction(mesh: fem.Mesh, facets, t: Sequence[float]) -> np.ndarray:
@@ -284,10 +379,64 @@ def boundary_dofs(mesh: fem.Mesh, facets, components: Iterable[int] = (0, 1, 2))
             raise KeyError(f"mesh has no facets named {facets!r}; named facets: "
                            f"{sorted(mesh.boundaries or {})}")
         facets = mesh.boundaries[facets]
-    # vertices of the facets, plus edge DOFs for P2, in scalar numbering
-    sdofs = fem.Dofs(mesh, scalar_element(mesh)).get_facet_dofs(np.asarray(facets)).all()
+    facets = np.asarray(facets)
+    if isinstance(scalar_element(mesh), fem.ElementTetP1):
+        # P1: the scalar DOFs are the vertices of the facets, in ascending
+        # order (what skfem's Dofs gives, without building all mesh edges)
+        sdofs = np.unique(_ensure_topology(mesh).facets[:, facets])
+    else:
+        # vertices of the facets plus edge DOFs for P2, in scalar numbering
+        sdofs = fem.Dofs(mesh, scalar_element(mesh)).get_facet_dofs(facets).all()
     comps = np.asarray(list(components), dtype=np.int64)
     return (3 * sdofs[:, None] + comps[None, :]).ravel()
+
+
+def _dirichlet_bsr(K: sp.bsr_matrix, fixed: np.ndarray) -> tuple[sp.bsr_matrix, np.ndarray]:
+    """Zero rows/columns ``fixed`` of a square-block BSR matrix, keep their diagonal.
+
+    Same result as adding the diagonal back with a BSR sum (all-zero blocks
+    dropped), but touches only the blocks of fixed nodes and copies the big
+    arrays once.
+    """
+    R = K.blocksize[0]
+    nbr = K.shape[0] // R
+    diag = K.diagonal()
+    nodes = fixed.reshape(nbr, R).any(axis=1)
+    counts = np.diff(K.indptr)
+    brow = np.repeat(np.arange(nbr, dtype=K.indices.dtype), counts)
+    cand = np.flatnonzero(nodes[brow] | nodes[K.indices])
+    cb, cc = brow[cand], K.indices[cand]
+    sub = K.data[cand].copy()
+    rmask = fixed[R * cb[:, None] + np.arange(R)]
+    cmask = fixed[R * cc[:, None] + np.arange(R)]
+    sub[rmask[:, :, None] | cmask[:, None, :]] = 0.0
+    on_diag = cb == cc
+    if np.count_nonzero(on_diag & nodes[cb]) != np.count_nonzero(nodes):
+        # a fixed node without a diagonal block: the general route adds one
+        K_new = K.copy()
+        K_new.data[cand] = sub
+        K_new = K_new + sp.bsr_matrix(sp.diags(np.where(fixed, diag, 0.0)).tocsr(),
+                                      blocksize=(R, R))
+        return K_new, diag
+    for c in range(R):
+        r = R * cb + c
+        sel = on_diag & fixed[r]
+        sub[sel, c, c] = diag[r[sel]]
+    keep = K.data.reshape(K.data.shape[0], -1).any(axis=1)
+    keep[cand] = sub.reshape(sub.shape[0], -1).any(axis=1)
+    if keep.all():
+        data = K.data.copy()
+        data[cand] = sub
+        indices, indptr = K.indices.copy(), K.indptr.copy()
+    else:
+        newpos = np.cumsum(keep) - 1
+        data = K.data[keep]
+        kc = keep[cand]
+        data[newpos[cand[kc]]] = sub[kc]
+        indices = K.indices[keep]
+        indptr = np.zeros_like(K.indptr)
+        np.cumsum(np.bincount(brow[keep], minlength=nbr), out=indptr[1:])
+    return sp.bsr_matrix((data, indices, indptr), shape=K.shape), diag
 
 
 def apply_dirichlet(K: sp.spmatrix, f: np.ndarray, dofs: np.ndarray,
@@ -306,7 +455,9 @@ def apply_dirichlet(K: sp.spmatrix, f: np.ndarray, dofs: np.ndarray,
     fixed = np.zeros(N, dtype=bool)
     fixed[dofs] = True
     f_new = np.asarray(f, dtype=float) - K @ u0
-    if sp.isspmatrix_bsr(K) or isinstance(K, sp.bsr_array):
+    if (sp.isspmatrix_bsr(K) or isinstance(K, sp.bsr_array)) and K.blocksize[0] == K.blocksize[1]:
+        K_new, diag = _dirichlet_bsr(K, fixed)
+    elif sp.isspmatrix_bsr(K) or isinstance(K, sp.bsr_array):
         R, Cb = K.blocksize
         nbr = K.shape[0] // R
         brow = np.repeat(np.arange(nbr), np.diff(K.indptr))

@@ -112,6 +112,85 @@ def structured_tets(x: np.ndarray, y: np.ndarray, z: np.ndarray,
     return p, t
 
 
+_TOPOLOGY_CACHE = ("_facets", "_t2f", "_f2t", "_edges", "_t2e")
+
+
+def _ensure_topology(mesh: fem.Mesh) -> fem.Mesh:
+    """Fill skfem's cached ``facets``, ``t2f`` and ``f2t`` of a tetrahedral mesh.
+
+    Gives exactly what skfem computes lazily (facets as sorted vertex
+    triples in lexicographic order, ``t2f`` per local facet, ``f2t`` with -1
+    outside), but sorts one int64 key per facet instead of running
+    ``np.unique(axis=1)`` over vertex triples, several times faster on a big
+    mesh.  Returns ``mesh`` (modified in place); leaves it alone if the
+    caches exist or the key would overflow.
+    """
+    if hasattr(mesh, "_facets") and hasattr(mesh, "_f2t"):
+        return mesh
+    t = mesh.t
+    n = int(t.max()) + 1
+    if not isinstance(mesh, (fem.MeshTet1, fem.MeshTet2)) or float(n) ** 3 >= 2.0 ** 62:
+        return mesh
+    ne = t.shape[1]
+    fidx = mesh.elem.refdom.facets
+    f = np.sort(np.hstack([t[ix] for ix in fidx]), axis=0)
+    key = (f[0].astype(np.int64) * n + f[1]) * n + f[2]
+    order = np.argsort(key)
+    ks = key[order]
+    new = np.empty(ks.size, dtype=bool)
+    new[0] = True
+    np.not_equal(ks[1:], ks[:-1], out=new[1:])
+    del ks
+    starts = np.flatnonzero(new)
+    # first and last occurrence (in skfem's local-facet-major order) of each facet
+    first = np.minimum.reduceat(order, starts)
+    last = np.maximum.reduceat(order, starts)
+    inv = np.empty(key.size, dtype=np.intp)
+    inv[order] = np.cumsum(new) - 1
+    del order, new, key
+    f2t = np.empty((2, starts.size), dtype=np.int32)
+    f2t[0] = first % ne
+    f2t[1] = np.where(first == last, -1, last % ne)
+    mesh._facets = np.ascontiguousarray(f[:, first])
+    mesh._t2f = inv.reshape(len(fidx), ne)
+    mesh._f2t = f2t
+    return mesh
+
+
+def _keep_topology(new: fem.Mesh, old: fem.Mesh) -> fem.Mesh:
+    """Carry skfem's cached topology over to a copy with the same ``t`` (the
+    copies made by ``with_boundaries``/``with_subdomains`` start empty)."""
+    if new.t is old.t or np.array_equal(new.t, old.t):
+        for name in _TOPOLOGY_CACHE:
+            if hasattr(old, name) and not hasattr(new, name):
+                setattr(new, name, getattr(old, name))
+    return new
+
+
+def _with_boundaries(mesh: fem.Mesh, boundaries: dict) -> fem.Mesh:
+    """``mesh.with_boundaries(boundaries)`` (boundary facets only), faster.
+
+    The topology is built by the fast route and kept by the copy; the
+    midpoints of the boundary facets are computed once for all tests instead
+    of those of every facet once per test.  Same facet sets as skfem's.
+    """
+    _ensure_topology(mesh)
+    sets = {}
+    if any(callable(v) for v in boundaries.values()):
+        bf = np.nonzero(mesh.f2t[1] == -1)[0].astype(np.int32)
+        midp = mesh.p[:, mesh.facets[:, bf]].mean(axis=1)
+        for name, test in boundaries.items():
+            if callable(test):
+                sets[name] = bf[np.asarray(test(midp), dtype=bool)]
+    sets = {name: sets.get(name, test) for name, test in boundaries.items()}
+    return _keep_topology(mesh.with_boundaries(sets), mesh)
+
+
+def _with_subdomains(mesh: fem.Mesh, subdomains: dict) -> fem.Mesh:
+    """``mesh.with_subdomains``; the copy keeps the cached topology."""
+    return _keep_topology(mesh.with_subdomains(subdomains), mesh)
+
+
 def cylindrical(p: np.ndarray) -> np.ndarray:
     """Map parametric (r, theta, z) to Cartesian (x, y, z)."""
     r, th, z = p
@@ -188,7 +267,7 @@ def annulus_mesh(ri: float, ro: float, height: float, nr: int, ntheta: int, nz: 
         for key, ang in (("theta0", theta0), ("theta1", theta0 + angle)):
             n = np.array([-np.sin(ang), np.cos(ang)])
             names[key] = (lambda X, n=n: np.abs(n[0] * X[0] + n[1] * X[1]) < 1e-6 * ro)
-    return m.with_boundaries(names)
+    return _with_boundaries(m, names)
 
 
 # ----------------------------------------------------------------------------
@@ -283,13 +362,13 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     def side(X):
         return (np.abs(X[2]) > tol) & (np.abs(X[2] + half) > tol)
 
-    m = m.with_boundaries({
+    m = _with_boundaries(m, {
         "friction": lambda X: np.abs(X[2]) < tol,
         "midplane": lambda X: np.abs(X[2] + half) < tol,
         "rotor_clamp": lambda X: side(X) & (np.hypot(X[0], X[1]) < rmid),
         "outer": lambda X: side(X) & (np.hypot(X[0], X[1]) > rmid),
     })
-    m = m.with_subdomains({"rotor": np.arange(m.t.shape[1])})
+    m = _with_subdomains(m, {"rotor": np.arange(m.t.shape[1])})
     logger.debug("rotor mesh: %d nodes, %d elements (order %d)", m.p.shape[1], m.t.shape[1], order)
     return m
 
@@ -347,7 +426,7 @@ def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None =
     def flat(X):
         return (np.abs(X[2]) < tol) | (np.abs(X[2] - top) < tol) | lead(X) | trail(X)
 
-    m = m.with_boundaries({
+    m = _with_boundaries(m, {
         "friction": lambda X: np.abs(X[2]) < tol,
         "back": lambda X: np.abs(X[2] - top) < tol,
         "piston_face": lambda X: (np.abs(X[2] - top) < tol) & (np.hypot(X[0] - xc, X[1] - yc) < a),
@@ -357,7 +436,7 @@ def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None =
         "inner": lambda X: ~flat(X) & (np.hypot(X[0], X[1]) < rmid),
         "outer": lambda X: ~flat(X) & (np.hypot(X[0], X[1]) > rmid),
     })
-    m = m.with_subdomains({
+    m = _with_subdomains(m, {
         "friction_layer": lambda X: X[2] < tf,
         "backplate": lambda X: X[2] > tf,
     })
@@ -439,12 +518,12 @@ def piston_mesh(geom: BrakeGeometry, size: float | None = None, order: int | Non
         mid[:2, wall] = np.array([[xc], [yc]]) + R * d / np.hypot(d[0], d[1])
         m = fem.MeshTet2(np.hstack([p, mid]), t)
     tol = 1e-9 * z1
-    m = m.with_boundaries({
+    m = _with_boundaries(m, {
         "piston_face": lambda X: np.abs(X[2] - z0) < tol,
         "piston_back": lambda X: np.abs(X[2] - z1) < tol,
         "piston_side": lambda X: (np.abs(X[2] - z0) > tol) & (np.abs(X[2] - z1) > tol),
     })
-    m = m.with_subdomains({"piston": np.arange(m.t.shape[1])})
+    m = _with_subdomains(m, {"piston": np.arange(m.t.shape[1])})
     logger.debug("piston mesh: %d nodes, %d elements (order %d)", m.p.shape[1], m.t.shape[1], order)
     return m
 
@@ -605,7 +684,7 @@ def read_mesh(path: str | PathLike, required: Sequence[str] | None = None) -> fe
     if p.shape[0] != 3:
         raise MeshFileError(f"{path}: points have {p.shape[0]} coordinates; need 3")
     t = _oriented(p, renum[t_all])
-    mesh = fem.MeshTet(p, t)
+    mesh = _ensure_topology(fem.MeshTet(p, t))
     names = {}
     for key, vals in (mio.field_data or {}).items():
         arr = np.atleast_1d(vals)
@@ -670,9 +749,9 @@ def read_mesh(path: str | PathLike, required: Sequence[str] | None = None) -> fe
     boundaries.update({k: np.asarray(v, dtype=np.int64) for k, v in enc_b.items()})
     subdomains.update(enc_s)
     if boundaries:
-        mesh = mesh.with_boundaries(boundaries)
+        mesh = _with_boundaries(mesh, boundaries)
     if subdomains:
-        mesh = mesh.with_subdomains(subdomains)
+        mesh = _with_subdomains(mesh, subdomains)
     if required:
         miss = [nm for nm in required if nm not in boundaries]
         if miss:

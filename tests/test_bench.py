@@ -1,0 +1,95 @@
+"""The elasticity benchmark on a tiny size: keys, types, AMG against direct, JSON output."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import skfem as fem
+
+from brakewear import bench
+from brakewear.elasticity import assemble_stiffness, elasticity_form, scalar_element, _intorder
+from brakewear.mesh import annulus_mesh
+
+KEYS = {"dofs": int, "mesh_s": float, "assemble_s": float, "amg_setup_s": float, "solve_s": float,
+        "total_s": float, "iterations": int, "rel_residual": float, "peak_rss_mb": float,
+        "direct_s": float, "direct_max_diff": float, "total_exponent": float}
+
+
+@pytest.fixture(scope="module")
+def rows():
+    return bench.bench_elasticity(sizes=(2000, 4000), direct_max_dofs=10_000)
+
+
+def test_rows_keys_and_types(rows):
+    assert len(rows) == 2
+    for row in rows:
+        for key, typ in KEYS.items():
+            assert isinstance(row[key], typ), (key, row[key])
+        assert abs(row["total_s"] - (row["assemble_s"] + row["amg_setup_s"] + row["solve_s"])) < 1e-9
+        assert row["rel_residual"] <= 1e-7
+        assert row["iterations"] >= 1
+        assert row["peak_rss_mb"] > 10
+        assert 0.5 * row["target_dofs"] < row["dofs"] < 2 * row["target_dofs"]
+    assert rows[0]["dofs"] < rows[1]["dofs"]
+
+
+def test_amg_matches_direct(rows):
+    for row in rows:
+        assert row["direct_max_diff"] < 1e-6
+
+
+def test_direct_skipped_above_limit():
+    row = bench.run_elasticity_case(3000, direct_max_dofs=100)
+    assert row["direct_s"] is None and row["direct_max_diff"] is None
+
+
+def test_fit_exponent():
+    rows = [{"dofs": n, "total_s": 2e-6 * n ** 1.1} for n in (1e4, 1e5, 1e6)]
+    assert bench.fit_exponent(rows) == pytest.approx(1.1)
+    assert bench.fit_exponent(rows[:1]) is None
+
+
+def test_table(rows):
+    text = bench.format_table(rows)
+    assert "dofs" in text and "dofs^" in text
+    assert str(rows[0]["dofs"]) in text
+
+
+def test_cli_json_lines():
+    out = subprocess.run([sys.executable, "-m", "brakewear.bench", "elasticity", "--json",
+                          "--sizes", "1500", "--direct-max", "5000"],
+                         capture_output=True, text=True, check=True).stdout
+    lines = [json.loads(line) for line in out.splitlines() if line.strip()]
+    assert len(lines) == 1
+    assert lines[0]["direct_max_diff"] < 1e-6
+    assert set(KEYS) - {"total_exponent"} <= set(lines[0])
+
+
+def test_bench_parser():
+    import argparse
+
+    # as brakewear.cli wires it: the bench command's subparsers
+    ap = argparse.ArgumentParser()
+    sub = ap.add_subparsers(dest="command")
+    b = sub.add_parser("bench")
+    bench.add_bench_parser(b.add_subparsers(dest="bench", required=True))
+    args = ap.parse_args(["bench", "elasticity", "--json", "--sizes", "3e4", "1e5",
+                          "--direct-max", "5000"])
+    assert args.json and args.sizes == [3e4, 1e5] and args.direct_max == 5000
+    assert args.bench == "elasticity" and args.func is bench.run_bench
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_fast_assembly_matches_bilinear_form(order):
+    # the chunked assembly against skfem's BilinearForm, anisotropic C, small chunks
+    rng = np.random.default_rng(3)
+    A = rng.random((6, 6))
+    C = A @ A.T + 6 * np.eye(6)
+    m = annulus_mesh(0.09, 0.15, 0.01, 2, 8, 2, angle=np.pi / 2, order=order)
+    K, pattern = assemble_stiffness(m, C, chunk=29)
+    elem = scalar_element(m)
+    ref = elasticity_form(C).assemble(fem.Basis(m, fem.ElementVector(elem), intorder=_intorder(elem)))
+    assert abs(K - ref).max() <= 1e-12 * abs(ref).max()
+    K2, _ = assemble_stiffness(m, C, pattern=pattern)
+    assert abs(K2 - K).max() <= 1e-12 * abs(ref).max()
