@@ -44,6 +44,8 @@ __all__ = [
     "load_geometry",
     "geometry_from_dict",
     "available_geometries",
+    "geometry_dir",
+    "geometry_file",
     "LENGTH_UNITS",
     "ANGLE_UNITS",
     "MODULUS_UNITS",
@@ -320,10 +322,29 @@ class _Checker:
         return f"{v_si / ANGLE_UNITS[u]:.6g} {u}"
 
 
+def geometry_dir():
+    """The folder of the packaged geometry files.
+
+    Installed, the top-level ``geometry/`` folder is the package
+    ``brakewear.geometries`` (setup.cfg maps it).  Imported from a source
+    checkout (e.g. ``python -m pytest`` at the repository root puts the
+    source tree first on ``sys.path``) that package does not exist, and the
+    files are read from ``geometry/`` beside the ``brakewear`` folder.
+    """
+    try:
+        return importlib.resources.files("brakewear.geometries")
+    except ModuleNotFoundError:
+        return Path(__file__).resolve().parent.parent / "geometry"
+
+
+def geometry_file(name: str = "default"):
+    """The packaged geometry file of a name (a Traversable; may not exist)."""
+    return geometry_dir() / f"{name}.toml"
+
+
 def available_geometries() -> list[str]:
-    """Names of the geometry files shipped in ``brakewear.geometries``."""
-    root = importlib.resources.files("brakewear.geometries")
-    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))
+    """Names of the geometry files shipped with brakewear."""
+    return sorted(p.name[:-5] for p in geometry_dir().iterdir() if p.name.endswith(".toml"))
 
 
 def load_geometry(path_or_name: str | PathLike = "default") -> BrakeGeometry:
@@ -356,7 +377,7 @@ def load_geometry(path_or_name: str | PathLike = "default") -> BrakeGeometry:
         except OSError as exc:
             raise GeometryError(f"{source}: cannot read geometry file ({exc})") from None
     else:
-        res = importlib.resources.files("brakewear.geometries") / f"{s}.toml"
+        res = geometry_file(s)
         source = f"brakewear.geometries/{s}.toml"
         if not res.is_file():
             raise GeometryError(

@@ -14,8 +14,8 @@ def test_demo_writes_summary_vtu_and_figures(tmp_path, capsys):
 
 
 def test_demo_bad_geometry_exits_2(tmp_path, capsys):
-    import importlib.resources
-    text = (importlib.resources.files("brakewear.geometries") / "default.toml").read_text()
+    from brakewear.geometry import geometry_file
+    text = (geometry_file("default")).read_text()
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("inner_radius = 90.0", "inner_radius = -5.0"))
     assert main(["demo", "--geometry", str(bad), "--out", str(tmp_path / "o")]) == 2

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import copy
-import importlib.resources
 import math
 
 import pytest
@@ -13,14 +12,14 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 import brakewear.mesh as bmesh
-from brakewear.geometry import (BrakeGeometry, GeometryError, available_geometries,
+from brakewear.geometry import (BrakeGeometry, GeometryError, available_geometries, geometry_file,
                                 geometry_from_dict, load_geometry)
 from brakewear.materials import MATERIALS
 
 
 @pytest.fixture(scope="module")
 def default_dict():
-    res = importlib.resources.files("brakewear.geometries") / "default.toml"
+    res = geometry_file("default")
     return tomllib.loads(res.read_text())
 
 
@@ -191,7 +190,7 @@ def test_file_errors(tmp_path, default_dict):
     with pytest.raises(GeometryError, match="packaged geometries: .*default"):
         load_geometry("no_such_brake")
     f = tmp_path / "mine.toml"
-    text = (importlib.resources.files("brakewear.geometries") / "default.toml").read_text()
+    text = (geometry_file("default")).read_text()
     f.write_text(text.replace("inner_radius = 95.0", "inner_radius = 140.0"))
     with pytest.raises(GeometryError) as info:
         load_geometry(str(f))
@@ -206,7 +205,7 @@ def test_errors_come_before_meshing(tmp_path, monkeypatch):
     for name in ("structured_tets", "mapped_mesh", "brake_meshes", "rotor_mesh", "pad_mesh"):
         monkeypatch.setattr(bmesh, name, boom)
     f = tmp_path / "bad.toml"
-    text = (importlib.resources.files("brakewear.geometries") / "default.toml").read_text()
+    text = (geometry_file("default")).read_text()
     f.write_text(text.replace("arc_angle = 55.0", "arc_angle = 190.0"))
     with pytest.raises(GeometryError, match="pad.arc_angle"):
         load_geometry(f)
