@@ -486,7 +486,8 @@ def _gaps(u: np.ndarray, pr: ContactPair) -> np.ndarray:
 
 
 def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.ndarray,
-                  pairs: list, fixed_values: np.ndarray | float = 0.0, tol: float = 1e-9, gap_tol: float | None = None,
+                  pairs: list, fixed_values: np.ndarray | float = 0.0, tol: float = 1e-9,
+                  gap_tol: float | None = None,
                   max_iter: int = 60, linear: str = "amg", release_tol: float = 1e-6,
                   initial_active: list | None = None, solver=None) -> ContactResult:
     """Frictional node-to-surface contact by active sets on an eliminated system.
@@ -551,7 +552,6 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     x = None
     lin_its, builds, history = 0, 0, []
     diagK = K.diagonal()
-    I = sp.identity(N, format="csr")
     frictional = any(pr.mu > 0 for pr in pairs)
     # inexact phase: while the active set moves, each solve only has to cut its
     # warm-start residual by 1e-3; once it stops moving, a tight solve confirms it
@@ -569,7 +569,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
             raise ValueError(f"{clash.size} supported DOF(s) are the normal DOF of a contact node "
                              f"(first: DOF {clash[0]}); a node cannot be both supported and in "
                              "contact along the normal")
-        A, _ = _reduce(K, P, np.flatnonzero(np.diff((P - I).tocsr().indptr)))
+        A = _reduce(K, P)
         A = A + sp.csr_matrix((diagK[elim], (elim, elim)), shape=(N, N))
         b = P.T @ (f - K @ c)
         if frictional:
@@ -655,18 +655,20 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     return ContactResult(u, pressure, lam, gaps, active, fric, info)
 
 
-def _reduce(K: sp.csr_matrix, P: sp.csr_matrix, rows: np.ndarray):
-    """``P^T K P`` for ``P`` = identity except in ``rows``, without full-size products.
+def _reduce(K: sp.csr_matrix, P: sp.csr_matrix) -> sp.csr_matrix:
+    """``P^T K P`` for a ``P`` that is the identity but in a few rows, without full-size products.
 
-    With ``D = P - I`` (nonzero only in ``rows``) and symmetric ``K``:
-    ``P^T K P = K + K D + (K D)^T + D^T K D``; every product involves only
-    the rows of the constrained DOFs.  Returns (P^T K P, None).
+    With ``D = P - I`` (nonzero only in the constrained rows) and symmetric
+    ``K``: ``P^T K P = K + K D + (K D)^T + D^T K D``; every product involves
+    only the rows of the constrained DOFs.
     """
     D = (P - sp.identity(K.shape[0], format="csr")).tocsr()
+    D.eliminate_zeros()
+    rows = np.flatnonzero(np.diff(D.indptr))
     Dr = D[rows]
     KD = (K[:, rows] @ Dr).tocsr()
     DKD = (Dr.T @ (K[rows][:, rows] @ Dr)).tocsr()
-    return (K + KD + KD.T + DKD).tocsr(), None
+    return (K + KD + KD.T + DKD).tocsr()
 
 
 def _pdas_update(active, lam, gaps, gap_tol, ltol):
