@@ -1,4 +1,4 @@
-"""Benchmarks: ``brakewear bench elasticity [--json]``.
+"""Benchmarks: ``brakewear bench elasticity|contact [--json]``.
 
 The elasticity benchmark solves a realistic static case at several sizes:
 the friction-ring half of the default rotor (inner/outer radius and half
@@ -33,6 +33,33 @@ is cached between sizes.  Measured per size:
 
 Run ``python -m brakewear.bench elasticity [--json] [--sizes 3e4 1e5 ...]``;
 ``brakewear bench elasticity`` is the same through the main CLI.
+
+Contact (``brakewear bench contact [--json] [--sizes 5e4 1.5e5 5e5] [--cases
+hertz brake] [--direct-max N] [--repeats N]``): each case and size in a fresh
+process (after a tiny warm-up case), measured after assembly:
+
+``hertz``
+    the Hertz model of :mod:`brakewear.verification` (rigid sphere on a
+    quarter block, Boussinesq far field), ``h/a`` chosen for the DOF count.
+    ``contact_solve_s`` is the first, cold :func:`~brakewear.contact.solve_contact`
+    of the far-field force iteration (active set from the initial gaps);
+    ``contact_outer_s`` all of them; ``p0_error``/``a_error`` at convergence.
+    ``elasticity_solve_s``: AMG setup + CG of the same stiffness with the final
+    contact nodes held along z by Dirichlet conditions (same tolerance 1e-10).
+``brake``
+    the default brake, elastic rotor, 1 MPa line pressure, ``mu = 0.4``: the
+    steps of :meth:`BrakeModel.solve_contact`, ``contact_solve_s`` the
+    ``solve_contact`` call.  ``elasticity_solve_s``: the AMG setup + CG of
+    :meth:`BrakeModel.solve_tied` (pad tied to the rotor; its assembly excluded).
+
+``ratio`` = contact / elasticity.  Up to ``direct_max_dofs`` the saddle-point
+system at the converged active set (:func:`kkt_system`) is factorised and
+solved with SuperLU (``direct_kkt_superlu_s``) and, if the optional
+benchmark-only package ``pypardiso`` (MKL PARDISO) is installed, PARDISO
+(``direct_kkt_pardiso_s``; None without it); ``direct_kkt_s`` is the faster,
+``kkt_multiplier_diff`` its ``max|lambda_kkt - lambda| / max|lambda|``
+against ``solve_contact``, ``speedup_vs_direct = direct_kkt_s /
+contact_solve_s``.  pypardiso is not a runtime dependency of brakewear.
 """
 from __future__ import annotations
 
@@ -62,6 +89,13 @@ __all__ = [
     "add_bench_parser",
     "run_bench",
     "main",
+    "CONTACT_SIZES",
+    "CONTACT_CASES",
+    "brake_resolution",
+    "kkt_system",
+    "run_contact_case",
+    "bench_contact",
+    "format_contact_table",
 ]
 
 #: Target DOF counts of ``brakewear bench elasticity``.
@@ -267,6 +301,336 @@ def format_table(rows: Sequence[dict]) -> str:
     return "\n".join(out)
 
 
+# ============================================================== contact ===
+#
+# ``brakewear bench contact``: see the module docstring's Contact part.
+
+#: Target DOF counts and cases of ``brakewear bench contact``.
+CONTACT_SIZES = (50e3, 150e3, 500e3)
+CONTACT_CASES = ("hertz", "brake")
+#: Largest system whose KKT system is also factorised (SuperLU and PARDISO).
+CONTACT_DIRECT_MAX = 200_000
+#: Brake case: line pressure (Pa), friction coefficient and contact tolerance.
+BRAKE_PRESSURE = 1.0e6
+BRAKE_MU = 0.4
+BRAKE_TOL = 1e-9
+_BRAKE_REF = (0.0025, 81_570)  # default mesh size (m) and its DOF count
+
+_CONTACT_TIME_KEYS = ("assemble_s", "contact_solve_s", "elasticity_solve_s", "dirichlet_s",
+                      "direct_kkt_superlu_s", "direct_kkt_pardiso_s", "direct_kkt_s",
+                      "contact_outer_s")
+
+
+def brake_resolution(target_dofs: float) -> tuple[float, "object"]:
+    """Mesh size (m) of the default brake with about ``target_dofs`` DOFs and the model."""
+    from .scene import BrakeModel
+
+    size = _BRAKE_REF[0] * (_BRAKE_REF[1] / float(target_dofs)) ** (1.0 / 3.0)
+    model = BrakeModel(size=size, rotor="elastic")
+    for _ in range(2):
+        err = model.dofs / float(target_dofs)
+        if abs(math.log(err)) < 0.06:
+            break
+        size *= err ** (1.0 / 3.0)
+        model = BrakeModel(size=size, rotor="elastic")
+    return size, model
+
+
+def kkt_system(K, f, fixed, fixed_values, pair, active):
+    """The saddle-point system at a fixed active set, Dirichlet DOFs removed.
+
+    Unknowns ``(u_free, lambda)`` (``lambda`` = normal contact force of each
+    active slave node, > 0 in compression)::
+
+        [ K_ff   -(C_f^T + G_f) ] [u]   [ f_f - K_fc u_c      ]
+        [ -C_f    0             ] [l] = [ g0 + C_c u_c        ]
+
+    ``C`` (one row per active slave node) is the normal gap ``n . (u_s - sum
+    W u_m)`` including the coupling to the master nodes, ``G`` the sliding
+    friction load per unit normal force (drag on the slave, opposite on its
+    masters).  Without friction the matrix is symmetric (indefinite).
+    Returns (matrix CSR, rhs, free DOFs, active slave indices).
+    """
+    import scipy.sparse as sp
+
+    from .contact import _friction_operators
+
+    N = K.shape[0]
+    idx = np.flatnonzero(active)
+    s, n = pair.slave[idx], pair.normal[:, idx]
+    k = np.arange(idx.size)
+    rows, cols, vals = [], [], []
+    for i in range(3):
+        rows.append(k)
+        cols.append(3 * s + i)
+        vals.append(n[i])
+    if not pair.rigid:
+        Wc = pair.coupling[idx].tocoo()
+        for i in range(3):
+            rows.append(Wc.row)
+            cols.append(3 * Wc.col + i)
+            vals.append(-Wc.data * n[i, Wc.row])
+    C = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(idx.size, N))
+    B = C.T.tocsr()
+    if pair.mu > 0:
+        G, _ = _friction_operators(N, [pair], [np.asarray(active, dtype=bool)])
+        B = (B + G).tocsr()
+    isfixed = np.zeros(N, dtype=bool)
+    isfixed[fixed] = True
+    free = np.flatnonzero(~isfixed)
+    uc = np.zeros(N)
+    uc[fixed] = fixed_values
+    K = K.tocsr()
+    Kf = K[free][:, free]
+    rhs_u = (np.asarray(f, dtype=float) - K @ uc)[free]
+    rhs_l = pair.g0[idx] + C @ uc
+    M = sp.bmat([[Kf, -B[free]], [-C[:, free], None]], format="csr")
+    return M, np.concatenate([rhs_u, rhs_l]), free, idx
+
+
+def _kkt_solves(M, rhs, n_u: int, lam_ref: np.ndarray, row: dict, superlu: bool = True) -> None:
+    """Factorise and solve the KKT system with SuperLU and (if installed) PARDISO."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    scale = max(np.abs(lam_ref).max(), 1e-300)
+    best = None
+    if superlu:
+        t0 = time.perf_counter()
+        lu = spla.splu(sp.csc_matrix(M))
+        x = lu.solve(rhs)
+        row["direct_kkt_superlu_s"] = time.perf_counter() - t0
+        del lu
+        row["kkt_multiplier_diff_superlu"] = float(np.abs(x[n_u:] - lam_ref).max() / scale)
+        best = ("superlu", row["direct_kkt_superlu_s"], row["kkt_multiplier_diff_superlu"])
+    try:
+        import pypardiso  # optional, benchmark only (MKL PARDISO); not a runtime dependency
+    except ImportError:
+        pypardiso = None
+    if pypardiso is not None:
+        solver = pypardiso.PyPardisoSolver()  # mtype 11: real unsymmetric
+        t0 = time.perf_counter()
+        x = solver.solve(sp.csr_matrix(M), rhs)  # analysis + factorisation + solve
+        row["direct_kkt_pardiso_s"] = time.perf_counter() - t0
+        solver.free_memory(everything=True)
+        row["kkt_multiplier_diff_pardiso"] = float(np.abs(x[n_u:] - lam_ref).max() / scale)
+        if best is None or row["direct_kkt_pardiso_s"] < best[1]:
+            best = ("pardiso", row["direct_kkt_pardiso_s"], row["kkt_multiplier_diff_pardiso"])
+    if best is not None:
+        row["direct_kkt_solver"], row["direct_kkt_s"], row["kkt_multiplier_diff"] = best
+
+
+def _contact_row_base(case: str, target: float) -> dict:
+    row = {"case": case, "target_dofs": int(target)}
+    for k in ("direct_kkt_superlu_s", "direct_kkt_pardiso_s", "direct_kkt_s", "direct_kkt_solver",
+              "kkt_multiplier_diff", "kkt_multiplier_diff_superlu", "kkt_multiplier_diff_pardiso",
+              "kkt_size", "p0_error", "a_error", "speedup_vs_direct"):
+        row[k] = None
+    return row
+
+
+def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> dict:
+    from .elasticity import apply_dirichlet
+    from .solvers import amg_solver
+    from .verification import GAP_TOL, DELTA, hertz_problem, hertz_resolution, solve_problem
+
+    row = _contact_row_base("hertz", target)
+    ha = hertz_resolution(target)
+    prob = hertz_problem(ha)
+    pair = prob.pair
+    row.update({"dofs": prob.dofs, "h_over_a": ha, "assemble_s": prob.setup_s,
+                "slave_nodes": int(pair.slave.size)})
+    t0 = time.perf_counter()
+    out, res, F_bc = solve_problem(prob, linear="amg")
+    row["contact_outer_s"] = time.perf_counter() - t0
+    row.update({
+        "contact_solve_s": out["solve_s"][0],
+        "active_set_iterations": int(out["active_set_iterations_per_solve"][0]),
+        "linear_iterations": int(out["linear_iterations_per_solve"][0]),
+        "outer_iterations": int(out["outer_iterations"]),
+        "outer_solve_s": [float(v) for v in out["solve_s"]],
+        "outer_active_set_iterations": [int(v) for v in out["active_set_iterations_per_solve"]],
+        "outer_linear_iterations": [int(v) for v in out["linear_iterations_per_solve"]],
+        "n_active": int(res.active[0].sum()), "amg_builds_last": int(res.info["amg_builds"]),
+        "p0_error": float(out["p0_err"]), "a_error": float(out["a_err"]),
+        "l2_error": float(out["l2_err"]), "gap_tol": GAP_TOL * DELTA,
+    })
+    # the same stiffness with the final contact nodes held along the normal (z)
+    act = res.active[0]
+    s = pair.slave[act]
+    zdofs = 3 * s + 2
+    fixed = np.concatenate([prob.fixed, zdofs])
+    vals = np.concatenate([prob.fixed_values(F_bc), pair.g0[act] / -pair.normal[2, act]])
+    t0 = time.perf_counter()
+    Kd, fd = apply_dirichlet(prob.K.tobsr(blocksize=(3, 3)), np.zeros(prob.dofs), fixed, vals)
+    row["dirichlet_s"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    solver = amg_solver(Kd, coords=prob.mesh.p, fixed=fixed, tol=1e-10)
+    u = solver.solve(fd)
+    row["elasticity_solve_s"] = time.perf_counter() - t0
+    row["elasticity_iterations"] = int(solver.info.iterations)
+    row["elasticity_kind"] = ("AMG setup + CG (tol 1e-10) of the same K, final contact nodes "
+                              "held along z, far field as in the last contact solve")
+    row["elasticity_vs_contact_diff"] = float(np.abs(u - res.u).max() / np.abs(res.u).max())
+    del solver, Kd
+    row["peak_rss_mb"] = _peak_rss_mb()
+    if prob.dofs <= direct_max_dofs:
+        M, rhs, free, idx = kkt_system(prob.K, np.zeros(prob.dofs), prob.fixed,
+                                       prob.fixed_values(F_bc), pair, act)
+        row["kkt_size"] = int(M.shape[0])
+        _kkt_solves(M, rhs, free.size, res.force[0][idx], row,
+                    superlu=prob.dofs <= superlu_max_dofs)
+    return row
+
+
+def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> dict:
+    from .contact import solve_contact
+
+    row = _contact_row_base("brake", target)
+    t0 = time.perf_counter()
+    size, model = brake_resolution(target)
+    row.update({"dofs": int(model.dofs), "size_m": size, "mesh_s": time.perf_counter() - t0,
+                "mu": BRAKE_MU, "line_pressure_pa": BRAKE_PRESSURE})
+    # exactly BrakeModel.solve_contact's steps, kept apart to reach K, the pair and the result
+    t0 = time.perf_counter()
+    K, P, retained, col = model._reduced(tie_interface=False)
+    f = model.loads(BRAKE_PRESSURE)
+    fixed_r = model._reduced_fixed(col)
+    pair = model.contact_pair(BRAKE_MU, "segment")
+    pair.slave = col[pair.slave]
+    if pair.coupling is not None:
+        pair.coupling = pair.coupling[:, retained].tocsr()
+    Kr = (P.T @ K @ P).tocsr()
+    fr = P.T @ f
+    coords = model.coordinates()[:, retained]
+    row["assemble_s"] = time.perf_counter() - t0
+    row["slave_nodes"] = int(pair.slave.size)
+    t0 = time.perf_counter()
+    res = solve_contact(Kr, fr, fixed_r, coords, [pair], tol=BRAKE_TOL, linear="amg")
+    row["contact_solve_s"] = time.perf_counter() - t0
+    row.update({"active_set_iterations": int(res.info["active_set_iterations"]),
+                "linear_iterations": int(res.info["linear_iterations"]),
+                "amg_builds": int(res.info["amg_builds"]),
+                "active_counts": [int(v) for v in res.info["active_counts"]],
+                "n_active": int(res.active[0].sum()),
+                "normal_force_n": float(res.info["normal_force"][0])})
+    tied = model.solve_tied(BRAKE_PRESSURE, tol=BRAKE_TOL)
+    row["elasticity_solve_s"] = float(tied.info["amg_setup_s"] + tied.info["solve_s"])
+    row["elasticity_iterations"] = int(tied.info["iterations"])
+    row["dirichlet_s"] = None
+    row["elasticity_kind"] = ("BrakeModel.solve_tied (pad tied to rotor), AMG setup + CG "
+                              "(tol 1e-9), its assembly excluded")
+    del tied
+    row["peak_rss_mb"] = _peak_rss_mb()
+    if model.dofs <= direct_max_dofs:
+        M, rhs, free, idx = kkt_system(Kr, fr, fixed_r, 0.0, pair, res.active[0])
+        row["kkt_size"] = int(M.shape[0])
+        _kkt_solves(M, rhs, free.size, res.force[0][idx], row,
+                    superlu=model.dofs <= superlu_max_dofs)
+    return row
+
+
+def run_contact_case(case: str, target_dofs: float, direct_max_dofs: int = CONTACT_DIRECT_MAX,
+                     superlu_max_dofs: int | None = None) -> dict:
+    """Build and solve one contact case (``"hertz"`` or ``"brake"``) in this process."""
+    superlu_max_dofs = direct_max_dofs if superlu_max_dofs is None else superlu_max_dofs
+    if case == "hertz":
+        row = _run_hertz(target_dofs, direct_max_dofs, superlu_max_dofs)
+    elif case == "brake":
+        row = _run_brake(target_dofs, direct_max_dofs, superlu_max_dofs)
+    else:
+        raise ValueError(f"case = {case!r}; allowed: {', '.join(CONTACT_CASES)}")
+    row["ratio"] = row["contact_solve_s"] / row["elasticity_solve_s"]
+    if row.get("direct_kkt_s") is not None:
+        row["speedup_vs_direct"] = row["direct_kkt_s"] / row["contact_solve_s"]
+    return row
+
+
+def _run_contact_child(case: str, target: float, direct_max_dofs: int,
+                       superlu_max_dofs: int | None) -> dict:
+    cmd = [sys.executable, "-m", "brakewear.bench", "--_child",
+           json.dumps({"bench": "contact", "case": case, "target": float(target),
+                       "direct_max_dofs": int(direct_max_dofs),
+                       "superlu_max_dofs": None if superlu_max_dofs is None
+                       else int(superlu_max_dofs)})]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("{")]
+    if proc.returncode != 0 or not lines:
+        raise RuntimeError(f"contact benchmark child ({case}, {target:.0f} DOFs) failed "
+                           f"(exit {proc.returncode}):\n{proc.stderr.strip()[-2000:]}")
+    return json.loads(lines[-1])
+
+
+def _median_contact_row(runs: list[dict]) -> dict:
+    row = dict(runs[0])
+    for k in _CONTACT_TIME_KEYS + ("peak_rss_mb",):
+        vals = [r[k] for r in runs if r.get(k) is not None]
+        if vals:
+            row[k] = float(statistics.median(vals))
+    row["ratio"] = row["contact_solve_s"] / row["elasticity_solve_s"]
+    if row.get("direct_kkt_s") is not None:
+        row["speedup_vs_direct"] = row["direct_kkt_s"] / row["contact_solve_s"]
+    row["repeats"] = len(runs)
+    if len(runs) > 1:
+        row["contact_solve_s_runs"] = [r["contact_solve_s"] for r in runs]
+        row["elasticity_solve_s_runs"] = [r["elasticity_solve_s"] for r in runs]
+        row["ratio_runs"] = [r["ratio"] for r in runs]
+    return row
+
+
+def bench_contact(sizes: Sequence[float] = CONTACT_SIZES, cases: Sequence[str] = CONTACT_CASES,
+                  direct_max_dofs: float = CONTACT_DIRECT_MAX, repeats: int = 1,
+                  superlu_max_dofs: float | None = None, progress=None) -> list[dict]:
+    """Run the contact benchmark: one dict per case and size, each in fresh processes
+    (medians over ``repeats``).  A case that fails gives a row with ``error``."""
+    for case in cases:
+        if case not in CONTACT_CASES:
+            raise ValueError(f"case = {case!r}; allowed: {', '.join(CONTACT_CASES)}")
+    rows = []
+    for case in cases:
+        for target in sizes:
+            runs = []
+            try:
+                for rep in range(max(1, int(repeats))):
+                    logger.info("bench contact: %s, %.0f DOFs, run %d of %d", case, target,
+                                rep + 1, repeats)
+                    runs.append(_run_contact_child(case, target, int(direct_max_dofs),
+                                                   None if superlu_max_dofs is None
+                                                   else int(superlu_max_dofs)))
+                row = _median_contact_row(runs)
+            except RuntimeError as exc:
+                logger.warning("bench contact: %s at %.0f DOFs failed: %s", case, target, exc)
+                row = {"case": case, "target_dofs": int(target), "error": str(exc)[-500:]}
+            rows.append(row)
+            if progress is not None:
+                progress(row)
+    return rows
+
+
+def format_contact_table(rows: Sequence[dict]) -> str:
+    """The contact rows as a readable text table."""
+    head = (f"{'case':<6} {'dofs':>8} {'contact s':>9} {'elast s':>8} {'ratio':>6} {'AS its':>6} "
+            f"{'lin its':>7} {'SuperLU s':>9} {'PARDISO s':>9} {'speed-up':>8} {'lam diff':>8} "
+            f"{'p0 err':>8} {'a err':>8}")
+    out = [head, "-" * len(head)]
+    for r in rows:
+        if "error" in r:
+            out.append(f"{r['case']:<6} {r['target_dofs']:>8d} failed: {r['error'][-200:]}")
+            continue
+        out.append(f"{r['case']:<6} {r['dofs']:>8d} {r['contact_solve_s']:>9.2f} "
+                   f"{r['elasticity_solve_s']:>8.2f} {r['ratio']:>6.2f} "
+                   f"{r['active_set_iterations']:>6d} {r['linear_iterations']:>7d} "
+                   f"{_fmt(r.get('direct_kkt_superlu_s'), '9.2f'):>9} "
+                   f"{_fmt(r.get('direct_kkt_pardiso_s'), '9.2f'):>9} "
+                   f"{_fmt(r.get('speedup_vs_direct'), '8.1f'):>8} "
+                   f"{_fmt(r.get('kkt_multiplier_diff'), '8.1e'):>8} "
+                   f"{_fmt(r.get('p0_error'), '+8.3f'):>8} {_fmt(r.get('a_error'), '+8.3f'):>8}")
+    out.append("ratio = contact / elasticity solve; speed-up = best direct KKT / contact solve; "
+               "lam diff = max|lam_kkt - lam| / max|lam|")
+    return "\n".join(out)
+
+
 # ------------------------------------------------------------------ CLI ---
 
 def _add_elasticity_args(p: argparse.ArgumentParser) -> None:
@@ -283,9 +647,10 @@ def _add_elasticity_args(p: argparse.ArgumentParser) -> None:
 
 def add_bench_parser(subparsers) -> None:
     """Register the benchmarks as sub-commands of ``subparsers`` (the ``bench`` command's):
-    ``elasticity [--json] [--sizes ...] [--direct-max N] [--repeats N]``.
+    ``elasticity [--json] [--sizes ...] [--direct-max N] [--repeats N]`` and
+    ``contact [--json] [--sizes ...] [--cases hertz brake] [--direct-max N] [--repeats N]``.
 
-    ``brakewear bench elasticity`` is then run by :func:`run_bench` (also set
+    ``brakewear bench elasticity|contact`` is then run by :func:`run_bench` (also set
     as the ``func`` default of the parsed arguments).
     """
     e = subparsers.add_parser("elasticity", help="P1 elasticity: assembly, AMG setup and solve, memory",
@@ -293,12 +658,34 @@ def add_bench_parser(subparsers) -> None:
                                           "clamped inside, pad pressure; each size in a fresh process.")
     _add_elasticity_args(e)
     e.set_defaults(func=run_bench)
+    c = subparsers.add_parser("contact", help="contact solve against one elasticity solve and "
+                                              "direct KKT solvers",
+                              description="Contact benchmark: Hertz (rigid sphere on a quarter "
+                                          "block) and the default brake (mu = 0.4, elastic "
+                                          "rotor); each case and size in a fresh process.")
+    c.add_argument("--json", action="store_true",
+                   help="one JSON object per case, size and line instead of a table")
+    c.add_argument("--sizes", type=float, nargs="+", default=list(CONTACT_SIZES), metavar="DOFS",
+                   help="target DOF counts (default: 5e4 1.5e5 5e5)")
+    c.add_argument("--cases", nargs="+", default=list(CONTACT_CASES), choices=CONTACT_CASES,
+                   help="cases to run (default: hertz brake)")
+    c.add_argument("--direct-max", type=float, default=CONTACT_DIRECT_MAX, dest="direct_max",
+                   metavar="DOFS", help="largest model whose KKT system is also factorised "
+                                        "(default 200000: the 150k-class sizes)")
+    c.add_argument("--superlu-max", type=float, default=None, dest="superlu_max", metavar="DOFS",
+                   help="largest model for SuperLU on the KKT system (default: --direct-max)")
+    c.add_argument("--repeats", type=int, default=1,
+                   help="fresh processes per case and size; timings are medians (default 1)")
+    c.set_defaults(bench="contact", func=run_bench)
 
 
 def run_bench(args: argparse.Namespace) -> int:
     """Run the benchmark chosen by ``args`` and print a table or JSON lines; exit code."""
-    if getattr(args, "bench", "elasticity") != "elasticity":
-        print(f"unknown benchmark {args.bench!r}; available: elasticity", file=sys.stderr)
+    which = getattr(args, "bench", "elasticity")
+    if which == "contact":
+        return _run_contact_bench(args)
+    if which != "elasticity":
+        print(f"unknown benchmark {args.bench!r}; available: elasticity, contact", file=sys.stderr)
         return 2
     if not args.json:
         print(f"brakewear bench elasticity: {os.cpu_count()} CPUs, Python {platform.python_version()}, "
@@ -325,10 +712,47 @@ def run_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def _run_contact_bench(args: argparse.Namespace) -> int:
+    if not args.json:
+        print(f"brakewear bench contact: {os.cpu_count()} CPUs, Python {platform.python_version()}, "
+              f"cases {' '.join(args.cases)}, sizes {' '.join(f'{s:.0f}' for s in args.sizes)}",
+              flush=True)
+
+    def progress(row):
+        if args.json:
+            print(json.dumps(row), flush=True)
+        elif "error" in row:
+            print(f"  {row['case']} {row['target_dofs']}: failed", flush=True)
+        else:
+            print(f"  {row['case']} {row['dofs']} DOFs: contact {row['contact_solve_s']:.2f} s, "
+                  f"ratio {row['ratio']:.2f}", flush=True)
+
+    rows = bench_contact(args.sizes, args.cases, args.direct_max, args.repeats,
+                         superlu_max_dofs=args.superlu_max, progress=progress)
+    if not args.json:
+        print(format_contact_table(rows))
+    return 1 if any("error" in r for r in rows) else 0
+
+
+def _contact_child(opts: dict) -> int:
+    if opts.get("warmup", True):
+        # imports and first calls on a tiny model, outside the timings
+        if opts["case"] == "hertz":
+            run_contact_case("hertz", 3000, 0)
+        else:
+            run_contact_case("brake", 8000, 0)
+    row = run_contact_case(opts["case"], opts["target"], opts["direct_max_dofs"],
+                           opts.get("superlu_max_dofs"))
+    print(json.dumps(row), flush=True)
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv[:1] == ["--_child"]:
         opts = json.loads(argv[1])
+        if opts.get("bench") == "contact":
+            return _contact_child(opts)
         if opts.get("warmup", True):
             # first calls pay for imports and library set-up; a tiny case
             # takes them so that the timed run measures the work itself

@@ -552,6 +552,10 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     x = None
     lin_its, builds, history = 0, 0, []
     diagK = K.diagonal()
+    is_fixed = np.zeros(N, dtype=bool)
+    is_fixed[fixed] = True
+    u_fixed = np.zeros(N)
+    u_fixed[fixed] = fvals
     frictional = any(pr.mu > 0 for pr in pairs)
     # inexact phase: while the active set moves, each solve only has to cut its
     # warm-start residual by 1e-3; once it stops moving, a tight solve confirms it
@@ -581,7 +585,15 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
             b = b + PG @ (S @ (K @ c - f))
         b[elim] = 0.0
         Ad, bd = apply_dirichlet(A.tobsr(blocksize=(3, 3)), b, fixed, fvals)
-        Aop = apply_dirichlet((A - E).tocsr(), b, fixed, fvals)[0] if frictional else Ad
+        Aop = Ad
+        if frictional:
+            # the friction term with the supports applied: rows and columns of
+            # supported DOFs dropped, their prescribed values moved to the rhs
+            Ec = E.tocoo()
+            keep = ~is_fixed[Ec.row] & ~is_fixed[Ec.col]
+            Ed = sp.csr_matrix((Ec.data[keep], (Ec.row[keep], Ec.col[keep])), shape=(N, N))
+            Aop = (Ad.tocsr() - Ed).tocsr()
+            bd = bd + np.where(is_fixed, 0.0, E @ u_fixed)
         if linear == "direct":
             x = direct_solve(Aop, bd)
         else:
@@ -628,6 +640,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
             logger.info("active set cycles after %d iterations; switching to conservative "
                         "updates", it)
             conservative = True
+            tight = True  # a loose solve's noise is what lets an edge node flip forever
             new_active = _conservative_update(active, lam, gaps, gap_tol, ltol)
         seen.add(b"".join(np.packbits(a).tobytes() for a in active))
         active = new_active

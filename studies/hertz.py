@@ -1,39 +1,9 @@
 """Hertz: a rigid sphere pressed into an elastic half-space, 3D quarter model.
 
-Set-up (REFERENCES.md, "Hertz, sphere on a flat"):
-
-* A rigid sphere of radius ``R`` sits above the block ``0 < x, y < L``,
-  ``-L < z < 0`` (a quarter of the half-space; symmetry ``u_x = 0`` on
-  ``x = 0`` and ``u_y = 0`` on ``y = 0``).  Its lower surface is
-  ``z = R - sqrt(R^2 - r^2) - delta``: the approach ``delta`` is prescribed,
-  the force ``F`` (full model: four times the quarter's contact force) comes
-  out.  Frictionless node-to-rigid contact on the top face
-  (:func:`brakewear.contact.pair_to_rigid`, gaps along z, the small-slope
-  approximation Hertz also makes).  With ``a/R = 0.01`` the sphere differs
-  from Hertz's paraboloid by ``(a/R)^2/4 ~ 3e-5`` in relative terms.
-* The block truncates the half-space.  Its far faces (``x = L``, ``y = L``,
-  ``z = -L``) carry the Boussinesq displacement of a point force ``F`` (the
-  half-space solution far from the patch), so the truncation error falls as
-  ``(a/L)^2`` instead of ``a/L`` and the approach is measured against points
-  at infinity, as in Hertz's theory.  ``F`` is an output: it is found by a
-  secant iteration on ``F_bc = F(F_bc)`` (the problem is affine in ``F_bc``
-  for a fixed active set, so 3-4 solves converge to 1e-9).
-* Mesh: a tensor grid (Kuhn-split tetrahedra, P1) with uniform spacing ``h``
-  over ``[0, 1.25 a]`` in x and y and ``[0, 0.5 a]`` in depth, geometric
-  growth (factor ``GROWTH``) beyond, out to ``L = 12 a``.
-
-Measured against Hertz at the computed ``F``:
-
-* peak pressure ``p0_h``: the nodal pressure of the node at the origin
-  (nodal force over its tributary area, ``ContactResult.pressure``);
-* contact radius ``a_h``: least-squares fit of ``p^2 = c + m r^2`` (Hertz:
-  ``p0^2 (1 - r^2/a^2)``) over the active nodes with ``r < 0.85 a``, so
-  ``a_h^2 = -c / m`` -- uses the whole patch rather than the last active
-  node, whose position is only known to within ``h``;
-* approach: ``delta`` against ``a(F)^2 / R``;
-* L2 pressure error over the top face:
-  ``sqrt(sum A_s (p_s - p_H(r_s))^2 / sum A_s p_H(r_s)^2)`` with tributary
-  areas ``A_s``.
+The model (set-up, far-field conditions, mesh, measured errors) lives in
+:mod:`brakewear.verification`, so that ``brakewear bench contact`` can use it
+from an installed package; its names are re-exported here.  This script
+runs the convergence study.
 
 Run ``python studies/hertz.py [--out DIR]``: prints the table and writes
 ``hertz_convergence.csv``/``.png`` and ``hertz_pressure.png``.
@@ -43,225 +13,18 @@ from __future__ import annotations
 import argparse
 import csv
 import logging
-import time
 from pathlib import Path
 
 import numpy as np
 
-from brakewear.analytic import effective_modulus, hertz_sphere, hertz_sphere_pressure
-from brakewear.contact import pair_to_rigid, solve_contact
-from brakewear.elasticity import assemble_stiffness, boundary_dofs
-from brakewear.materials import Isotropic
-from brakewear.mesh import _KUHN, mapped_mesh, structured_tets
+from brakewear.analytic import hertz_sphere_pressure
+from brakewear.verification import (A0, DELTA, ES, FINE_XY, FINE_Z, FIT_R, GAP_TOL,  # noqa: F401
+                                    GROWTH, L_OVER_A, MATERIAL, R, HertzProblem, axis,
+                                    block_mesh, boussinesq, hertz_dofs, hertz_problem,
+                                    hertz_resolution, measure, mirrored_tets, solve,
+                                    solve_problem, sphere_height)
 
 logger = logging.getLogger(__name__)
-
-MATERIAL = Isotropic(E=210e9, nu=0.3, name="steel")
-R = 0.01            # sphere radius (m)
-A0 = 1e-4           # design contact radius (m), a/R = 0.01
-ES = effective_modulus(MATERIAL.E, MATERIAL.nu)   # rigid sphere: E / (1 - nu^2)
-DELTA = A0 ** 2 / R  # prescribed approach: Hertz's a(F(delta)) = A0
-L_OVER_A = 12.0     # block size / contact radius
-FINE_XY = 1.25      # uniform spacing out to this multiple of a in x and y
-FINE_Z = 0.5        # ... and to this depth / a
-GROWTH = 1.2        # cell growth factor beyond the fine region
-FIT_R = 0.85        # contact-radius fit over r < FIT_R a
-# penetration tolerated before a node is activated, relative to the approach: the
-# default (1e-10 x model size = 2e-7 delta) and the fixed multiplier tolerance
-# (1e-12 max) are below the AMG solver noise of a node at
-# the contact edge, whose gap and multiplier are both ~0, and the set cycles
-GAP_TOL = 1e-4
-
-
-# ----------------------------------------------------------------- fields --
-
-def boussinesq(x: np.ndarray, F: float, E: float = MATERIAL.E, nu: float = MATERIAL.nu) -> np.ndarray:
-    """Displacement (3, n) of a half-space z < 0 under a point force ``F`` at
-    the origin pressing into the body (along -z).
-
-    Johnson, Contact Mechanics, eq. 3.20, with depth ``d = -z`` and ``u_d``
-    positive into the body (our ``u_z = -u_d``)::
-
-        u_d = F/(4 pi G) [2 (1 - nu)/rho + d^2/rho^3]
-        u_r = F/(4 pi G) [r d/rho^3 - (1 - 2 nu)/(rho (rho + d))] r
-
-    (radial component positive outward; on the surface it points inward).
-    """
-    x = np.asarray(x, dtype=float)
-    G = E / (2.0 * (1.0 + nu))
-    d = -x[2]
-    r2 = x[0] ** 2 + x[1] ** 2
-    rho = np.sqrt(r2 + d ** 2)
-    c = F / (4.0 * np.pi * G)
-    ud = c * (2.0 * (1.0 - nu) / rho + d ** 2 / rho ** 3)
-    ur_over_r = c * (d / rho ** 3 - (1.0 - 2.0 * nu) / (rho * (rho + d)))
-    return np.vstack([ur_over_r * x[0], ur_over_r * x[1], -ud])
-
-
-def sphere_height(delta: float, profile: str = "sphere"):
-    """Lower surface of the rigid indenter, ``z(x, y)``, after the approach ``delta``."""
-    if profile == "sphere":
-        return lambda x, y: R - np.sqrt(R ** 2 - (x ** 2 + y ** 2)) - delta
-    if profile == "paraboloid":
-        return lambda x, y: (x ** 2 + y ** 2) / (2.0 * R) - delta
-    raise ValueError(f"profile = {profile!r}; allowed: 'sphere', 'paraboloid'")
-
-
-# ------------------------------------------------------------------- mesh --
-
-def axis(h: float, fine: float, length: float, growth: float | None = None) -> np.ndarray:
-    """Nodes from 0 to ``length``: spacing ``h`` up to ``fine`` (rounded up
-    to a whole number of cells), then cells growing by ``growth``."""
-    growth = GROWTH if growth is None else growth
-    nf = int(np.ceil(fine / h - 1e-9))
-    x = list(np.arange(nf + 1) * h)
-    size = h
-    while x[-1] + size * growth * (1.0 + growth) / 2.0 < length:  # room for one more + the end
-        size *= growth
-        x.append(x[-1] + size)
-    x = np.array(x + [length])
-    return x
-
-
-def mirrored_tets(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Tetrahedra on the tensor grid, each hexahedron Kuhn-split and reflected
-    in every axis along which its index is odd.
-
-    Neighbouring hexahedra are mirror images across their shared face, so the
-    mesh is conforming and is its own mirror image across every grid plane:
-    reflected across the symmetry planes it continues the same pattern.
-    """
-    p, _ = structured_tets(x, y, z)
-    nx, ny, nz = len(x), len(y), len(z)
-    idx = np.arange(nx * ny * nz).reshape(nx, ny, nz)
-    i, j, k = (c.ravel() for c in np.meshgrid(np.arange(nx - 1), np.arange(ny - 1),
-                                               np.arange(nz - 1), indexing="ij"))
-    tets = []
-    for path in _KUHN:
-        tets.append(np.vstack([idx[i + (dx ^ (i & 1)), j + (dy ^ (j & 1)), k + (dz ^ (k & 1))]
-                               for dx, dy, dz in path]))
-    return p, np.hstack(tets)
-
-
-def block_mesh(h: float, a: float = A0, split: str = "kuhn", model: str = "quarter"):
-    """The block with named faces, element size ``h`` at the patch
-    (``model``: ``"quarter"`` 0 < x, y < L or ``"full"`` -L < x, y < L)."""
-    L = L_OVER_A * a
-    xs = axis(h, FINE_XY * a, L)
-    if model == "full":
-        xs = np.concatenate([-xs[::-1], xs[1:]])
-    elif model != "quarter":
-        raise ValueError(f"model = {model!r}; allowed: 'quarter', 'full'")
-    zs = -axis(h, FINE_Z * a, L)[::-1]
-    if split == "mirrored":
-        p, t = mirrored_tets(xs, xs, zs)
-    elif split == "kuhn":
-        p, t = structured_tets(xs, xs, zs)
-    else:
-        raise ValueError(f"split = {split!r}; allowed: 'mirrored', 'kuhn'")
-    m = mapped_mesh(p, t, lambda q: q)
-    tol = 1e-9 * L
-    return m.with_boundaries({
-        "top": lambda q: q[2] > -tol,
-        "bottom": lambda q: q[2] < -L + tol,
-        "x0": lambda q: q[0] < tol,
-        "y0": lambda q: q[1] < tol,
-        "xL": lambda q: np.abs(q[0]) > L - tol,
-        "yL": lambda q: np.abs(q[1]) > L - tol,
-    })
-
-
-# ------------------------------------------------------------------ solve --
-
-def solve(h_over_a: float, linear: str | None = None, profile: str = "sphere",
-          model: str = "quarter", split: str = "kuhn",
-          outer_tol: float = 1e-9, max_outer: int = 8) -> dict:
-    """Solve with element size ``h = h_over_a * a`` at the patch; errors against Hertz."""
-    t0 = time.perf_counter()
-    h = h_over_a * A0
-    m = block_mesh(h, split=split, model=model)
-    copies = 4.0 if model == "quarter" else 1.0
-    K, _ = assemble_stiffness(m, MATERIAL)
-    N = K.shape[0]
-    if linear is None:
-        linear = "direct" if N < 20_000 else "amg"  # SuperLU: 90 s at 43k DOFs, AMG 16 s
-    sym = (np.concatenate([boundary_dofs(m, "x0", [0]), boundary_dofs(m, "y0", [1])])
-           if model == "quarter" else np.zeros(0, dtype=np.int64))
-    far = np.concatenate([boundary_dofs(m, name) for name in ("xL", "yL", "bottom")])
-    far_nodes = np.unique(far // 3)
-    pair = pair_to_rigid(m, "top", 0, height=sphere_height(DELTA, profile), side=-1,
-                         exclude=far_nodes, name="hertz")
-    fixed = np.concatenate([sym, far])
-    f = np.zeros(N)
-    t_setup = time.perf_counter() - t0
-
-    def run(F_bc, active):
-        vals = np.concatenate([np.zeros(sym.size),
-                               boussinesq(m.p[:, far // 3], F_bc)[far % 3, np.arange(far.size)]])
-        res = solve_contact(K, f, fixed, m.p, [pair], fixed_values=vals, linear=linear,
-                            tol=1e-10, gap_tol=GAP_TOL * DELTA, initial_active=active)
-        return res, copies * float(res.force[0].sum())
-
-    # secant iteration on F_bc = F_out(F_bc), starting from Hertz's F(delta)
-    F_bc = 4.0 / 3.0 * ES * np.sqrt(R) * DELTA ** 1.5
-    hist, active, as_its = [], None, []
-    for k in range(max_outer):
-        res, F_out = run(F_bc, active)
-        active = res.active
-        as_its.append(res.info["active_set_iterations"])
-        hist.append((F_bc, F_out))
-        logger.info("outer %d: F_bc %.9g N -> F %.9g N", k + 1, F_bc, F_out)
-        if abs(F_out - F_bc) <= outer_tol * abs(F_out):
-            break
-        if len(hist) == 1:
-            F_bc = F_out
-        else:
-            (x0, g0), (x1, g1) = hist[-2], hist[-1]
-            s = (g1 - g0) / (x1 - x0)
-            F_bc = x1 + (g1 - x1) / (1.0 - s)
-    else:
-        logger.warning("Boussinesq force iteration: |F - F_bc| / F = %.2e after %d solves",
-                       abs(F_out - F_bc) / abs(F_out), max_outer)
-    F = F_out
-    dt = time.perf_counter() - t0
-    out = measure(m, pair, res, F)
-    out.update({
-        "h_over_a": h_over_a, "dofs": N, "nodes": m.nvertices, "elements": m.nelements,
-        "linear": linear, "time_s": dt, "setup_s": t_setup,
-        "outer_iterations": len(hist), "active_set_iterations": int(sum(as_its)),
-        "outer_residual": abs(F_out - F_bc) / abs(F_out),
-        "F": F, "F_hertz_delta": 4.0 / 3.0 * ES * np.sqrt(R) * DELTA ** 1.5,
-    })
-    logger.info("hertz h/a=%.4g: %d dofs, %.1f s, p0 %.2e a %.2e delta %.2e L2 %.2e",
-                h_over_a, N, dt, out["p0_err"], out["a_err"], out["delta_err"], out["l2_err"])
-    return out
-
-
-def measure(m, pair, res, F: float) -> dict:
-    """Errors of the contact solution against Hertz at the computed force ``F``."""
-    hz = hertz_sphere(F, R, ES)
-    xs = m.p[:, pair.slave]
-    r = np.hypot(xs[0], xs[1])
-    p = res.pressure[0]
-    act = res.active[0]
-    origin = int(np.argmin(r))
-    assert r[origin] < 1e-12 * A0, "the origin must be a slave node"
-    p0_h = float(p[origin])
-    sel = act & (r < FIT_R * hz["a"])
-    slope, icpt = np.polyfit(r[sel] ** 2, p[sel] ** 2, 1)
-    a_h = float(np.sqrt(-icpt / slope))
-    ph = hertz_sphere_pressure(r, F, R, ES)
-    A = pair.area
-    l2 = float(np.sqrt(np.sum(A * (p - ph) ** 2) / np.sum(A * ph ** 2)))
-    return {
-        "p0_err": p0_h / hz["p0"] - 1.0, "a_err": a_h / hz["a"] - 1.0,
-        "delta_err": DELTA / hz["delta"] - 1.0, "l2_err": l2,
-        "p0_h": p0_h, "p0": hz["p0"], "a_h": a_h, "a": hz["a"], "delta": DELTA,
-        "n_active": int(act.sum()), "a_fit_points": int(sel.sum()),
-        "profile": {"x": xs[0], "y": xs[1], "r": r, "p": p, "p_hertz": ph, "area": A,
-                    "active": act},
-    }
-
 
 def rate(h, e) -> float:
     """Observed rate: slope of log(error) against log(h)."""

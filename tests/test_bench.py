@@ -93,3 +93,78 @@ def test_fast_assembly_matches_bilinear_form(order):
     assert abs(K - ref).max() <= 1e-12 * abs(ref).max()
     K2, _ = assemble_stiffness(m, C, pattern=pattern)
     assert abs(K2 - K).max() <= 1e-12 * abs(ref).max()
+
+
+# ------------------------------------------------------------- contact bench --
+
+CONTACT_KEYS = {"case": str, "dofs": int, "contact_solve_s": float, "elasticity_solve_s": float,
+                "ratio": float, "active_set_iterations": int, "linear_iterations": int,
+                "direct_kkt_superlu_s": float, "direct_kkt_s": float, "kkt_multiplier_diff": float,
+                "assemble_s": float, "peak_rss_mb": float}
+
+
+@pytest.fixture(scope="module")
+def contact_rows():
+    return bench.bench_contact(sizes=(4000,), cases=("hertz", "brake"), direct_max_dofs=20_000)
+
+
+def test_contact_rows_keys_and_types(contact_rows):
+    assert [r["case"] for r in contact_rows] == ["hertz", "brake"]
+    for row in contact_rows:
+        assert "error" not in row, row.get("error")
+        for key, typ in CONTACT_KEYS.items():
+            assert isinstance(row[key], typ), (row["case"], key, row[key])
+        assert "direct_kkt_pardiso_s" in row  # None where pypardiso is not installed
+        assert row["ratio"] == pytest.approx(row["contact_solve_s"] / row["elasticity_solve_s"])
+        assert row["active_set_iterations"] >= 1 and row["linear_iterations"] >= 1
+        # the KKT system at the converged active set gives solve_contact's multipliers
+        assert row["kkt_multiplier_diff"] < 1e-5
+        assert 0.4 * row["target_dofs"] < row["dofs"] < 2.5 * row["target_dofs"]
+    hertz, brake = contact_rows
+    assert isinstance(hertz["p0_error"], float) and isinstance(hertz["a_error"], float)
+    assert brake["p0_error"] is None and brake["a_error"] is None
+    assert "case" in bench.format_contact_table(contact_rows)
+
+
+def test_contact_direct_skipped_above_limit():
+    row = bench.run_contact_case("hertz", 3000, direct_max_dofs=100)
+    assert row["direct_kkt_s"] is None and row["direct_kkt_superlu_s"] is None
+    assert row["direct_kkt_pardiso_s"] is None and row["speedup_vs_direct"] is None
+
+
+def test_contact_kkt_system_matches_contact_solve():
+    from brakewear.contact import solve_contact
+    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+
+    prob = hertz_problem(0.5)
+    vals = prob.fixed_values(hertz_force())
+    res = solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair],
+                        fixed_values=vals, linear="direct", gap_tol=GAP_TOL * DELTA)
+    M, rhs, free, idx = bench.kkt_system(prob.K, np.zeros(prob.dofs), prob.fixed, vals,
+                                         prob.pair, res.active[0])
+    import scipy.sparse.linalg as spla
+
+    x = spla.spsolve(M.tocsc(), rhs)
+    np.testing.assert_allclose(x[:free.size], res.u[free], atol=1e-10 * np.abs(res.u).max())
+    np.testing.assert_allclose(x[free.size:], res.force[0][idx],
+                               atol=1e-8 * np.abs(res.force[0]).max())
+    assert abs(M - M.T).max() <= 1e-12 * abs(M).max()  # frictionless: symmetric
+
+
+def test_contact_cli_json_and_parser():
+    import argparse
+
+    ap = argparse.ArgumentParser()
+    sub = ap.add_subparsers(dest="command")
+    b = sub.add_parser("bench")
+    bench.add_bench_parser(b.add_subparsers(dest="bench", required=True))
+    args = ap.parse_args(["bench", "contact", "--json", "--sizes", "5e4", "--cases", "hertz",
+                          "--direct-max", "1e4", "--repeats", "2"])
+    assert args.bench == "contact" and args.func is bench.run_bench
+    assert args.sizes == [5e4] and args.cases == ["hertz"] and args.direct_max == 1e4
+    assert args.repeats == 2 and args.json
+    out = subprocess.run([sys.executable, "-m", "brakewear.bench", "contact", "--json",
+                          "--sizes", "3000", "--cases", "hertz", "--direct-max", "0"],
+                         capture_output=True, text=True, check=True).stdout
+    lines = [json.loads(line) for line in out.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0]["case"] == "hertz" and lines[0]["direct_kkt_s"] is None
