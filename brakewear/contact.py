@@ -612,7 +612,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
                     solver.tol = max(tol, 1e-4)
                 else:
                     r0 = np.linalg.norm(bd - Aop @ x) / max(np.linalg.norm(bd), 1e-300)
-                    solver.tol = max(tol, 1e-2 * r0)
+                    solver.tol = max(tol, _INEXACT * r0)
             x = solver.solve(bd, x0=x, A=Aop, krylov="gmres" if frictional else "cg")
             if ref_its is None:
                 ref_its = max(solver.info.iterations, 1)
@@ -682,6 +682,9 @@ def _reduce(K: sp.csr_matrix, P: sp.csr_matrix) -> sp.csr_matrix:
     KD = (K[:, rows] @ Dr).tocsr()
     DKD = (Dr.T @ (K[rows][:, rows] @ Dr)).tocsr()
     return (K + KD + KD.T + DKD).tocsr()
+
+
+_INEXACT = 1e-2  # intermediate solves cut their warm-start residual by this factor
 
 
 def _pdas_update(active, lam, gaps, gap_tol, ltol):

@@ -16,7 +16,8 @@ import skfem as fem
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["skfem_to_pyvista", "facets_to_pyvista", "plot_named_surfaces", "plot_field"]
+__all__ = ["skfem_to_pyvista", "facets_to_pyvista", "plot_named_surfaces", "plot_field",
+           "label_log_axis"]
 
 # VTK cell type of a linear tetrahedron / triangle
 _VTK_TETRA = 10
@@ -262,3 +263,13 @@ def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: 
     pl.close()
     logger.info("wrote %s", path)
     return path
+
+
+def label_log_axis(axis, ticks) -> None:
+    """Put plain-number labels at ``ticks`` on a logarithmic matplotlib axis
+    (``ax.xaxis``), without the minor labels that collide at small ranges."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+
+    axis.set_major_locator(FixedLocator(list(ticks)))
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.3g}"))
+    axis.set_minor_formatter(NullFormatter())

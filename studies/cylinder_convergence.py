@@ -19,6 +19,7 @@ import numpy as np
 import skfem as fem
 
 from brakewear.analytic import thick_cylinder_displacement
+from brakewear.figures import label_log_axis
 from brakewear.elasticity import (apply_dirichlet, assemble_pressure, assemble_stiffness,
                                   boundary_dofs, scalar_element)
 from brakewear.materials import Isotropic
@@ -132,7 +133,6 @@ def main(ns_p1=(2, 4, 8, 16), ns_p2=(1, 2, 4, 8), out: str | Path | None = None)
 
 def _plot(result: dict, path: Path) -> None:
     import matplotlib
-    import matplotlib.ticker
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -144,11 +144,7 @@ def _plot(result: dict, path: Path) -> None:
                   label=f"P{order} L2 (rate {result[f'p{order}_l2_rate']:.2f})")
         ax.loglog(h, [x["energy"] for x in r], mk + "--",
                   label=f"P{order} energy (rate {result[f'p{order}_energy_rate']:.2f})")
-    from matplotlib.ticker import FixedLocator, NullFormatter
-    hs = sorted({x["h"] * 1e3 for x in result["rows"]})
-    ax.xaxis.set_major_locator(FixedLocator(hs))
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:.3g}"))
-    ax.xaxis.set_minor_formatter(NullFormatter())
+    label_log_axis(ax.xaxis, sorted({x["h"] * 1e3 for x in result["rows"]}))
     ax.set_xlabel("radial element size h (mm)")
     ax.set_ylabel("relative error")
     ax.set_title("Thick-walled cylinder, 3D plane strain: error vs h")

@@ -58,7 +58,7 @@ def _plot_convergence(result: dict, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+    from brakewear.figures import label_log_axis
 
     rows = result["rows"]
     h = np.array([x["h_over_a"] for x in rows])
@@ -68,9 +68,7 @@ def _plot_convergence(result: dict, path: Path) -> None:
     ax.loglog(h, [abs(x["p0_err"]) for x in rows], "s--", label="|peak pressure error|")
     ax.loglog(h, [abs(x["a_err"]) for x in rows], "^--", label="|contact radius error|")
     ax.loglog(h, [abs(x["delta_err"]) for x in rows], "v--", label="|approach error|")
-    ax.xaxis.set_major_locator(FixedLocator(h))
-    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.3g}"))
-    ax.xaxis.set_minor_formatter(NullFormatter())
+    label_log_axis(ax.xaxis, h)
     ax.set_xlabel("element size at the patch h / a")
     ax.set_ylabel("relative error")
     ax.set_title("Hertz sphere on a flat, 3D quarter model (P1)")
