@@ -29,7 +29,7 @@ from .solvers import amg_solver
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["BrakeModel", "StaticResult", "SceneError"]
+__all__ = ["BrakeModel", "StaticResult", "SceneError", "ContactSystem"]
 
 _MESHERS = {"rotor": rotor_mesh, "pad": pad_mesh, "piston": piston_mesh}
 
@@ -53,6 +53,20 @@ class StaticResult:
     @property
     def normal_force(self) -> float:
         return float(self.interface_force[2].sum())
+
+
+@dataclass
+class ContactSystem:
+    """An assembled contact problem (retained-node numbering after ties)."""
+
+    K: sp.csr_matrix
+    f: np.ndarray
+    fixed: np.ndarray
+    coords: np.ndarray
+    pair: ContactPair
+    P: sp.csr_matrix       # retained DOFs -> all DOFs
+    col: np.ndarray        # global node -> retained node (-1: eliminated)
+    clamp_force: float
 
 
 class BrakeModel:
@@ -254,6 +268,26 @@ class BrakeModel:
                                search_radius=2.0 * self.geometry.mesh.size + 1e-9,
                                name="pad-rotor")
 
+    def contact_system(self, line_pressure: float = 1e6, mu: float = 0.0,
+                       method: str = "segment") -> ContactSystem:
+        """The assembled pad-rotor contact problem, ready for :func:`solve_contact`.
+
+        Ties (piston) are already eliminated; node numbers are the retained
+        ones.  A wear loop keeps this and only changes ``pair.g0``.
+        """
+        self._check_pressure(line_pressure)
+        if not (np.isfinite(mu) and mu >= 0):
+            raise SceneError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0")
+        K, P, retained, col = self._reduced(tie_interface=False)
+        f = self.loads(line_pressure)
+        pair = self.contact_pair(mu, method)
+        pair.slave = col[pair.slave]
+        if pair.coupling is not None:
+            pair.coupling = pair.coupling[:, retained].tocsr()
+        return ContactSystem(K=(P.T @ K @ P).tocsr(), f=P.T @ f, fixed=self._reduced_fixed(col),
+                             coords=self.coordinates()[:, retained], pair=pair, P=P,
+                             col=col, clamp_force=line_pressure * self.geometry.piston.hydraulic_area)
+
     def solve_contact(self, line_pressure: float = 1e6, mu: float = 0.0,
                       method: str = "segment", tol: float = 1e-9,
                       linear: str = "amg") -> StaticResult:
@@ -263,35 +297,25 @@ class BrakeModel:
         (+theta); equal and opposite on the rotor.  Returns the nodal contact
         pressure on the pad's friction face (zero where it lifts off).
         """
-        self._check_pressure(line_pressure)
-        if not (np.isfinite(mu) and mu >= 0):
-            raise SceneError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0")
         t0 = time.perf_counter()
-        K, P, retained, col = self._reduced(tie_interface=False)
-        f = self.loads(line_pressure)
-        fixed_r = self._reduced_fixed(col)
-        pair = self.contact_pair(mu, method)
-        pair.slave = col[pair.slave]
-        if pair.coupling is not None:
-            pair.coupling = pair.coupling[:, retained].tocsr()
-        Kr = (P.T @ K @ P).tocsr()
+        cs = self.contact_system(line_pressure, mu, method)
         t1 = time.perf_counter()
-        cres = solve_contact(Kr, P.T @ f, fixed_r, self.coordinates()[:, retained], [pair],
-                             tol=tol, linear=linear)
-        u = P @ cres.u
-        lam = cres.force[0]
-        force = pair.normal * lam + cres.friction[0]
-        F = line_pressure * self.geometry.piston.hydraulic_area
-        pad_nodes = surface_nodes(self.meshes["pad"], "friction")
-        info = {"interface": f"contact ({method})", "rotor": self.rotor, "mu": mu,
-                "dofs": int(self.dofs), "assemble_s": t1 - t0, "total_s":
-                time.perf_counter() - t0, **{k: v for k, v in cres.info.items()
-                                             if k != "active_counts"}, **self.timings}
-        logger.info("contact solve: %d DOFs, %d active-set iterations, %.2f s", self.dofs,
-                    cres.info["active_set_iterations"], info["total_s"])
-        return StaticResult(u=self._split(u), interface_nodes=pad_nodes, interface_force=force,
-                            interface_pressure=cres.pressure[0], clamp_force=F, info=info,
-                            active=cres.active[0])
+        cres = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [cs.pair], tol=tol, linear=linear)
+        return self._contact_result(cs, cres, {"interface": f"contact ({method})", "mu": mu,
+                                               "assemble_s": t1 - t0,
+                                               "total_s": time.perf_counter() - t0})
+
+    def _contact_result(self, cs: ContactSystem, cres, extra: dict) -> StaticResult:
+        u = cs.P @ cres.u
+        force = cs.pair.normal * cres.force[0] + cres.friction[0]
+        info = {"rotor": self.rotor, "dofs": int(self.dofs), **extra,
+                **{k: v for k, v in cres.info.items() if k != "active_counts"}, **self.timings}
+        logger.info("contact solve: %d DOFs, %d active-set iterations", self.dofs,
+                    cres.info["active_set_iterations"])
+        return StaticResult(u=self._split(u),
+                            interface_nodes=surface_nodes(self.meshes["pad"], "friction"),
+                            interface_force=force, interface_pressure=cres.pressure[0],
+                            clamp_force=cs.clamp_force, info=info, active=cres.active[0])
 
     def stresses(self, result: StaticResult) -> dict:
         """Nodal von Mises stress per body (Pa)."""

@@ -72,3 +72,14 @@ def test_direct_refuses_large_systems():
 def test_rigid_body_modes_zero_fixed_rows():
     B = rigid_body_modes(np.random.default_rng(1).normal(size=(3, 10)), fixed=np.array([0, 4]))
     assert B.shape == (30, 6) and np.all(B[[0, 4]] == 0) and np.linalg.matrix_rank(B) == 6
+
+
+def test_solves_are_repeatable_and_leave_the_global_rng_alone(ring):
+    m, K, Kd, fd, fixed = ring
+    np.random.seed(7)
+    expected_next = np.random.rand()
+    np.random.seed(7)
+    u1 = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8).solve(fd)
+    assert np.random.rand() == expected_next, "the build consumed the caller's random numbers"
+    u2 = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8).solve(fd)
+    assert np.array_equal(u1, u2), "two identical solves differ"

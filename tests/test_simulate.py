@@ -1,0 +1,68 @@
+"""The wear loop (gap-offset mode): conservation, resume, step control, bad input."""
+import numpy as np
+import pytest
+
+from brakewear.scene import BrakeModel
+from brakewear.simulate import StepSizeError, wear_history
+from brakewear.wear import WearError, WearLaw
+
+PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return BrakeModel("default", size=8e-3)
+
+
+def test_worn_volume_equals_archard_integral(model):
+    steps = list(wear_history(model, 1e6, 55.0, 1800.0, PAD, ROTOR, steps=4))
+    assert len(steps) == 4 and steps[-1].time == pytest.approx(1800.0)
+    for s in steps:
+        assert abs(s.pad_volume - s.pad_archard) <= 1e-10 * s.pad_archard
+        assert abs(s.rotor_volume - s.rotor_archard) <= 1e-10 * s.rotor_archard
+    # the pad loses k_pad/k_rotor = 10 times the rotor's volume
+    assert steps[-1].pad_volume / steps[-1].rotor_volume == pytest.approx(10.0, rel=1e-10)
+
+
+def test_resume_from_checkpoint_repeats_the_run(model, tmp_path):
+    ck = tmp_path / "run.npz"
+    full = list(wear_history(model, 1e6, 55.0, 3000.0, PAD, ROTOR, steps=6))
+    gen = wear_history(model, 1e6, 55.0, 3000.0, PAD, ROTOR, steps=6, checkpoint=ck, every=2)
+    for s in gen:
+        if s.step == 3:   # "killed" after step 3: the checkpoint holds step 2
+            break
+    rest = list(wear_history(model, 1e6, 55.0, 3000.0, PAD, ROTOR, steps=6, checkpoint=ck,
+                             every=2, resume=True))
+    assert [s.step for s in rest] == [3, 4, 5, 6]
+    a, b = full[-1], rest[-1]
+    assert np.abs(a.pad_wear - b.pad_wear).max() <= 1e-12 * np.abs(a.pad_wear).max()
+    assert np.abs(a.rotor_wear - b.rotor_wear).max() <= 1e-12 * np.abs(a.rotor_wear).max()
+
+
+def test_step_control_rejects_and_recovers(model):
+    # max_dh far too large: the first try would make the pressure jump; it is halved
+    steps = list(wear_history(model, 1e6, 55.0, 7200.0, PAD, ROTOR, max_dh=1e-3, dp_tol=0.25))
+    assert sum(s.rejected for s in steps) > 0
+    assert steps[-1].time == pytest.approx(7200.0)
+
+
+def test_step_control_gives_up_with_its_figures(model):
+    with pytest.raises(StepSizeError, match="halvings"):
+        list(wear_history(model, 1e6, 55.0, 7200.0, PAD, ROTOR, max_dh=1e-3, dp_tol=1e-9,
+                          max_halvings=2))
+
+
+@pytest.mark.parametrize("kw,match", [({"omega": 0.0}, "omega"), ({"omega": -5.0}, "omega"),
+                                      ({"duration": 0.0}, "duration"), ({"steps": 0}, "steps"),
+                                      ({"resume": True}, "checkpoint"),
+                                      ({"max_dh": -1.0}, "max_dh")])
+def test_bad_input_raises_before_solving(model, kw, match):
+    args = dict(model=model, line_pressure=1e6, omega=55.0, duration=100.0, pad_law=PAD)
+    args.update(kw)
+    with pytest.raises(WearError, match=match):
+        next(wear_history(**args))
+
+
+def test_rigid_rotor_is_refused_for_now():
+    with pytest.raises(WearError, match="elastic"):
+        next(wear_history(BrakeModel("default", size=8e-3, rotor="rigid"), 1e6, 55.0, 10.0, PAD))
