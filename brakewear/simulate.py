@@ -61,7 +61,7 @@ def _state_arrays(step: WearStep, active_next: np.ndarray, dt_next: float) -> di
 
 def wear_history(model, line_pressure: float, omega: float, duration: float,
                  pad_law: WearLaw, rotor_law: WearLaw | None = None, mu: float = 0.0,
-                 steps: int | None = None, max_dh: float | None = None, dp_tol: float = 0.25,
+                 steps: int | None = None, max_dh: float | None = None, dp_tol: float = 0.05,
                  checkpoint: str | os.PathLike | None = None, every: int = 10,
                  resume: bool = False, tol: float = 1e-9, max_halvings: int = 12
                  ) -> Iterator[WearStep]:
@@ -82,7 +82,9 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         default 1 % of the friction-layer thickness.
     dp_tol
         Largest accepted change of the pressure field per step, relative to
-        its maximum (automatic control only).
+        its maximum (automatic control only).  0.05 keeps the explicit
+        scheme's short-wavelength modes quiet: with 0.25 the default brake's
+        p r spread fell to 5 % and then grew again to 36 % within two hours.
     checkpoint, every, resume
         ``.npz`` file written every ``every`` accepted steps (and at the end);
         ``resume=True`` continues from it.
