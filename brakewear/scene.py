@@ -17,7 +17,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-import skfem as fem
 
 from .contact import (ContactPair, pair_to_rigid, pair_to_surface, project_nodes, solve_contact,
                       surface_nodes, tie_prolongation, tributary_areas)
@@ -219,7 +218,6 @@ class BrakeModel:
         self._check_pressure(line_pressure)
         t0 = time.perf_counter()
         K, P, retained, col = self._reduced(tie_interface=True)
-        t_asm = time.perf_counter() - t0
         f = self.loads(line_pressure)
         pad_nodes = surface_nodes(self.meshes["pad"], "friction")
         extra = None
