@@ -278,11 +278,11 @@ def _check_wear(name: str, h, n: int, body: str) -> np.ndarray:
                          "'friction')")
     bad = np.nonzero(~np.isfinite(arr))[0]
     if bad.size:
-        raise ValueError(f"{name}[{bad[0]}] = {arr[bad[0]]!r} is not allowed; worn depths must "
+        raise ValueError(f"{name}[{bad[0]}] = {float(arr[bad[0]])!r} is not allowed; worn depths must "
                          f"be finite ({bad.size} are not)")
     neg = np.nonzero(arr < 0)[0]
     if neg.size:
-        raise ValueError(f"{name}[{neg[0]}] = {arr[neg[0]]!r} m is not allowed; worn depths "
+        raise ValueError(f"{name}[{neg[0]}] = {float(arr[neg[0]])!r} m is not allowed; worn depths "
                          f"must be >= 0 (wear removes material; {neg.size} are negative)")
     return arr
 
