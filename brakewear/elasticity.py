@@ -246,6 +246,13 @@ def _chunk_blocks(basis: fem.CellBasis, M: np.ndarray) -> np.ndarray:
     single BLAS call per chunk instead of a small matrix product per element.
     """
     nb = len(basis.basis)
+    ne = basis.dx.shape[0]
+    return (M @ _chunk_products(basis)).reshape(9, ne, nb, nb)
+
+
+def _chunk_products(basis: fem.CellBasis) -> np.ndarray:
+    """``sum_q dx g_a[k] g_b[l]`` of one chunk, shape (9, ne * nb * nb), row ``3 k + l``."""
+    nb = len(basis.basis)
     ne, nq = basis.dx.shape
     G = np.stack([basis.basis[a][0].grad for a in range(nb)])  # (nb, 3, ne, nq)
     P = np.zeros((3, 3, ne, nb, nb))
@@ -255,7 +262,7 @@ def _chunk_blocks(basis: fem.CellBasis, M: np.ndarray) -> np.ndarray:
         for k in range(3):
             # P[k, l, e, a, b] += dx g[k, e, a] g[l, e, b]
             P[k] += gw[k, None, :, :, None] * g[:, :, None, :]
-    return (M @ P.reshape(9, -1)).reshape(9, ne, nb, nb)
+    return P.reshape(9, -1)
 
 
 def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None = None,
@@ -428,6 +435,13 @@ def stiffness_update(K: sp.bsr_matrix, pattern: BlockPattern, old_mesh: fem.Mesh
         return sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))
     sd_old, sd_new = fem.Dofs(old_mesh, elem), fem.Dofs(new_mesh, elem)
     lookup = pattern.lookup()
+
+    def basis(mesh, sd, part):
+        # an affine mapping of the chunk only: the default one would compute
+        # (and keep) the Jacobians of every element of the new mesh
+        mapping = fem.MappingAffine(mesh, tind=part) if mesh.affine else None
+        return fem.CellBasis(mesh, elem, mapping=mapping, intorder=q, elements=part, dofs=sd,
+                             disable_doflocs=True)
     for elems, C in _as_groups(new_mesh, materials):
         idx = np.arange(new_mesh.nelements) if elems is None else np.asarray(elems)
         idx = idx[mask[idx]]
@@ -435,12 +449,12 @@ def stiffness_update(K: sp.bsr_matrix, pattern: BlockPattern, old_mesh: fem.Mesh
         M = _tensor_matrix(C)
         for s in range(0, idx.size, chunk):
             part = idx[s:s + chunk]
-            bn = fem.CellBasis(new_mesh, elem, intorder=q, elements=part, dofs=sd_new,
-                               disable_doflocs=True)
-            bo = fem.CellBasis(old_mesh, elem, intorder=q, elements=part, dofs=sd_old,
-                               disable_doflocs=True)
-            # difference per element first: the unchanged part cancels exactly
-            KT = (_chunk_blocks(bn, M) - _chunk_blocks(bo, M)).reshape(9, -1)
+            bn = basis(new_mesh, sd_new, part)
+            # difference of the gradient products first: one product with M
+            # per chunk, and what did not change cancels before it
+            dP = _chunk_products(bn)
+            dP -= _chunk_products(basis(old_mesh, sd_old, part))
+            KT = M @ dP
             pos = pattern.positions(bn.element_dofs, lookup).ravel()
             lo, hi = int(pos.min()), int(pos.max()) + 1
             pos -= lo
