@@ -255,13 +255,16 @@ def _chunk_products(basis: fem.CellBasis) -> np.ndarray:
     nb = len(basis.basis)
     ne, nq = basis.dx.shape
     G = np.stack([basis.basis[a][0].grad for a in range(nb)])  # (nb, 3, ne, nq)
-    P = np.zeros((3, 3, ne, nb, nb))
+    P = np.empty((3, 3, ne, nb, nb)) if nq == 1 else np.zeros((3, 3, ne, nb, nb))
     for q in range(nq):
         g = np.ascontiguousarray(G[:, :, :, q].transpose(1, 2, 0))  # (3, ne, nb)
         gw = g * basis.dx[None, :, q, None]
         for k in range(3):
             # P[k, l, e, a, b] += dx g[k, e, a] g[l, e, b]
-            P[k] += gw[k, None, :, :, None] * g[:, :, None, :]
+            if nq == 1:  # P1: write in place, no temporary
+                np.multiply(gw[k, None, :, :, None], g[:, :, None, :], out=P[k])
+            else:
+                P[k] += gw[k, None, :, :, None] * g[:, :, None, :]
     return P.reshape(9, -1)
 
 
