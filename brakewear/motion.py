@@ -528,6 +528,77 @@ def measure_cost(size: float | None = None, repeats: int = 3) -> dict:
     return row
 
 
+def quality_curve(fractions=(0.0, 0.25, 0.5, 0.75, 0.9, 0.95), size: float | None = None,
+                  taper: bool = False) -> list[dict]:
+    """Smallest pad element quality of the default brake worn to ``fraction``
+    of its friction layer (uniformly, or tapered from 0 at the leading to
+    ``fraction`` at the trailing edge)."""
+    from .scene import BrakeModel
+
+    model = BrakeModel(size=size)
+    motion = BrakeMotion(model, min_quality=1e-9)
+    tf = model.geometry.pad.friction_thickness
+    x = model.meshes["pad"].p[:, motion.followers["pad"].nodes]
+    th = np.arctan2(x[1], x[0])
+    shape = (th - th.min()) / np.ptp(th) if taper else np.ones_like(th)
+    out = []
+    for f in fractions:
+        st = motion.apply(f * tf * shape)
+        q = element_quality(model.meshes["pad"])
+        out.append({"fraction": float(f), "taper": bool(taper), "min_quality": float(q.min()),
+                    "moved_elements": st["pad"]["moved_elements"]})
+    return out
+
+
+def pad_section_figure(path, fraction: float = 0.5, size: float | None = None) -> dict:
+    """Draw the pad's mesh in the (arc length, z) plane at its mid radius, new
+    and worn (tapered to ``fraction`` of the friction layer at the trailing edge)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .scene import BrakeModel
+
+    model = BrakeModel(size=size)
+    motion = BrakeMotion(model)
+    g = model.geometry.pad
+    x = model.meshes["pad"].p[:, motion.followers["pad"].nodes]
+    th = np.arctan2(x[1], x[0])
+    motion.apply(fraction * g.friction_thickness * (th - th.min()) / np.ptp(th))
+    p0, p1 = motion.reference["pad"], model.meshes["pad"].p
+    r = np.hypot(p0[0], p0[1])
+    radii = np.unique(np.round(r, 9))
+    rk = radii[len(radii) // 2]
+    sel = np.nonzero(np.abs(r - rk) < 1e-9)[0]
+    ang = np.arctan2(p0[1, sel], p0[0, sel])
+    fig, axes = plt.subplots(2, 1, figsize=(9, 4.8), sharex=True)
+    for ax, p, title in ((axes[0], p0, "new"),
+                         (axes[1], p1, f"worn: 0 -> {fraction:g} x friction layer, "
+                                       "leading -> trailing")):
+        s_mm = rk * ang * 1e3
+        z_mm = p[2, sel] * 1e3
+        ua, uz = np.unique(np.round(ang, 9)), np.unique(np.round(p0[2, sel], 9))
+        ia = np.searchsorted(ua, np.round(ang, 9))
+        iz = np.searchsorted(uz, np.round(p0[2, sel], 9))
+        S = np.full((ua.size, uz.size), np.nan)
+        Z = np.full((ua.size, uz.size), np.nan)
+        S[ia, iz], Z[ia, iz] = s_mm, z_mm
+        ax.plot(S, Z, color="0.3", lw=0.6)
+        ax.plot(S.T, Z.T, color="0.3", lw=0.6)
+        ax.axhline(g.friction_thickness * 1e3, color="tab:red", lw=1.0, ls="--",
+                   label="band bottom = backplate interface")
+        ax.set_title(f"pad at r = {rk * 1e3:.1f} mm, {title}", fontsize=9)
+        ax.set_ylabel("z (mm)")
+        ax.set_aspect("equal")
+    axes[0].legend(loc="upper right", fontsize=7)
+    axes[1].set_xlabel("arc length r theta (mm), rotor enters at the left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    q = element_quality(model.meshes["pad"])
+    return {"radius_m": float(rk), "fraction": fraction, "min_quality": float(q.min())}
+
+
 def main(argv=None) -> int:
     """``python -m brakewear.motion [--sizes 2.5e-3 6e-3] [--repeats 3] [--json FILE]``."""
     import argparse
@@ -538,7 +609,23 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", type=float, nargs="+", default=[2.5e-3, 6e-3])
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--json", default=None, help="also write the rows to this file")
+    ap.add_argument("--quality", default=None,
+                    help="write the pad quality against wear (CSV) to this file instead")
+    ap.add_argument("--figure", default=None,
+                    help="draw the pad section worn to half (PNG) to this file instead")
     args = ap.parse_args(argv)
+    if args.quality or args.figure:
+        if args.quality:
+            rows = quality_curve() + quality_curve(taper=True)
+            with open(args.quality, "w") as fh:
+                fh.write("fraction,taper,min_quality,moved_elements\n")
+                for r in rows:
+                    fh.write(f"{r['fraction']},{int(r['taper'])},{r['min_quality']:.6f},"
+                             f"{r['moved_elements']}\n")
+            sys.stdout.write("".join(f"{r}\n" for r in rows))
+        if args.figure:
+            sys.stdout.write(f"{pad_section_figure(args.figure)}\n")
+        return 0
     rows = [measure_cost(s, args.repeats) for s in args.sizes]
     for r in rows:
         sys.stdout.write(
