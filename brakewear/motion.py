@@ -49,8 +49,8 @@ __all__ = [
 ]
 
 #: Smallest accepted element quality (mean ratio, 1 = regular tetrahedron).
-#: The default brake's meshes start at 0.49 (pad) and 0.19 (rotor); the pad
-#: worn to half its friction layer keeps 0.31 (docs/motion.md).  0.02 flags a
+#: The default brake's meshes start at 0.56 (pad) and 0.13 (rotor); the pad
+#: worn to half its friction layer keeps 0.37 (docs/motion.md).  0.02 flags a
 #: tetrahedron some 50 times flatter than it is wide: degenerate.
 DEFAULT_MIN_QUALITY = 0.02
 
@@ -297,8 +297,8 @@ def _check_wear(name: str, h, n: int, body: str) -> np.ndarray:
                          "'friction')")
     bad = np.nonzero(~np.isfinite(arr))[0]
     if bad.size:
-        raise ValueError(f"{name}[{bad[0]}] = {float(arr[bad[0]])!r} is not allowed; worn depths must "
-                         f"be finite ({bad.size} are not)")
+        raise ValueError(f"{name}[{bad[0]}] = {float(arr[bad[0]])!r} is not allowed; worn "
+                         f"depths must be finite ({bad.size} are not)")
     neg = np.nonzero(arr < 0)[0]
     if neg.size:
         raise ValueError(f"{name}[{neg[0]}] = {float(arr[neg[0]])!r} m is not allowed; worn depths "
