@@ -351,3 +351,18 @@ def test_worn_brake_solves_contact():
     lead = res.interface_force[2][th < np.quantile(th, 0.2)].sum()
     trail = res.interface_force[2][th > np.quantile(th, 0.8)].sum()
     assert lead > trail
+
+
+def test_piston_body_tie_survives_the_update():
+    """The backplate does not move, so the piston stays tied to it exactly."""
+    m = _model(piston="body", assemble=False)
+    ties0 = m.ties(interface=False)
+    piston0 = m.meshes["piston"]
+    mo = BrakeMotion(m)
+    mo.apply(_taper(m, 2e-3), _radial(m, 2e-4), step=1)
+    ties1 = m.ties(interface=False)
+    for (s0, n0, w0), (s1, n1, w1) in zip(ties0, ties1):
+        np.testing.assert_array_equal(s0, s1)
+        np.testing.assert_array_equal(n0, n1)
+        np.testing.assert_allclose(w1, w0, rtol=0, atol=1e-14)
+    assert m.meshes["piston"] is piston0 and "piston" not in mo.followers
