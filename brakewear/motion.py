@@ -245,9 +245,14 @@ class SurfaceFollower:
         # depth and lateral position of every node over the surface
         scale = float(np.ptp(p, axis=1).max())
         tol = 1e-9 * scale
-        pr = project_nodes(p, mesh, fac)
-        d = -pr.gap
-        under = (pr.distance <= tol) & (d >= -tol)
+        # in chunks: the candidate search holds (3, n, 12) arrays
+        parts = [project_nodes(p[:, i:i + 50_000], mesh, fac)
+                 for i in range(0, mesh.nvertices, 50_000)]
+        d = -np.concatenate([q.gap for q in parts])
+        dist = np.concatenate([q.distance for q in parts])
+        weights = np.hstack([q.weights for q in parts])
+        fnodes = np.hstack([q.nodes for q in parts])
+        under = (dist <= tol) & (d >= -tol)
         depths = np.unique(np.round(d[under] / tol)) * tol
         if snap:
             deeper = depths[depths >= depth - tol]
@@ -258,12 +263,12 @@ class SurfaceFollower:
         self.depth = depth
         inband = np.nonzero(under & (d < depth - tol))[0]
         w = np.clip(1.0 - np.clip(d[inband], 0.0, None) / depth, 0.0, 1.0)
-        b = pr.weights[:, inband].copy()
+        b = weights[:, inband].copy()
         b[np.abs(b) < 1e-12] = 0.0  # a node under a vertex follows that vertex alone
         b /= b.sum(axis=0, keepdims=True)
         col = -np.ones(mesh.nvertices, dtype=np.int64)
         col[self.nodes] = np.arange(ns)
-        cols = col[pr.nodes[:, inband]]
+        cols = col[fnodes[:, inband]]
         if np.any(cols < 0):  # pragma: no cover - facets' vertices are surface nodes
             raise RuntimeError("follower: a projection landed on a non-surface vertex")
         rows = np.repeat(inband[None, :], 3, axis=0)
