@@ -45,6 +45,7 @@ __all__ = [
     "pressure_form",
     "BlockPattern",
     "assemble_stiffness",
+    "stiffness_update",
     "assemble_traction",
     "assemble_pressure",
     "boundary_dofs",
@@ -245,20 +246,31 @@ def _chunk_blocks(basis: fem.CellBasis, M: np.ndarray) -> np.ndarray:
     single BLAS call per chunk instead of a small matrix product per element.
     """
     nb = len(basis.basis)
+    ne = basis.dx.shape[0]
+    return (M @ _chunk_products(basis)).reshape(9, ne, nb, nb)
+
+
+def _chunk_products(basis: fem.CellBasis) -> np.ndarray:
+    """``sum_q dx g_a[k] g_b[l]`` of one chunk, shape (9, ne * nb * nb), row ``3 k + l``."""
+    nb = len(basis.basis)
     ne, nq = basis.dx.shape
     G = np.stack([basis.basis[a][0].grad for a in range(nb)])  # (nb, 3, ne, nq)
-    P = np.zeros((3, 3, ne, nb, nb))
+    P = np.empty((3, 3, ne, nb, nb)) if nq == 1 else np.zeros((3, 3, ne, nb, nb))
     for q in range(nq):
         g = np.ascontiguousarray(G[:, :, :, q].transpose(1, 2, 0))  # (3, ne, nb)
         gw = g * basis.dx[None, :, q, None]
         for k in range(3):
             # P[k, l, e, a, b] += dx g[k, e, a] g[l, e, b]
-            P[k] += gw[k, None, :, :, None] * g[:, :, None, :]
-    return (M @ P.reshape(9, -1)).reshape(9, ne, nb, nb)
+            if nq == 1:  # P1: write in place, no temporary
+                np.multiply(gw[k, None, :, :, None], g[:, :, None, :], out=P[k])
+            else:
+                P[k] += gw[k, None, :, :, None] * g[:, :, None, :]
+    return P.reshape(9, -1)
 
 
 def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None = None,
-                       chunk: int = 150_000, intorder: int | None = None
+                       chunk: int = 150_000, intorder: int | None = None,
+                       elements: np.ndarray | None = None
                        ) -> tuple[sp.bsr_matrix, BlockPattern]:
     """Assemble the elastic stiffness as a 3x3-block BSR matrix.
 
@@ -275,6 +287,9 @@ def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None =
     chunk
         Largest number of elements per chunk; bounds the temporary memory
         (chunks are also capped at about 64 MB of element matrices).
+    elements
+        Assemble only these elements (indices into ``mesh.t``); the result
+        still has the whole mesh's shape and sparsity pattern.  Default: all.
 
     Returns
     -------
@@ -314,11 +329,14 @@ def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None =
             for j in range(3):
                 band[:, i, j] += np.bincount(pos, weights=KT[3 * i + j], minlength=hi - lo)
 
+    subset = None if elements is None else _element_subset(mesh, elements, "assemble_stiffness")
     tasks = []
     covered = 0
     for elems, C in groups:
         idx = np.arange(mesh.nelements) if elems is None else np.asarray(elems)
         covered += idx.size
+        if subset is not None:
+            idx = idx[subset[idx]]
         M = _tensor_matrix(C)
         # local chunks: sort the elements by their lowest vertex
         idx = idx[np.argsort(mesh.t[:, idx].min(axis=0), kind="stable")]
@@ -351,6 +369,103 @@ def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None =
     N = 3 * pattern.n
     K = sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))
     return K, pattern
+
+
+def _element_subset(mesh: fem.Mesh, elements, who: str) -> np.ndarray:
+    """Boolean mask over ``mesh``'s elements from an index array (checked)."""
+    idx = np.asarray(elements)
+    if idx.ndim != 1 or not (idx.size == 0 or np.issubdtype(idx.dtype, np.integer)):
+        raise ValueError(f"{who}: elements must be a 1-D array of element indices; "
+                         f"got shape {idx.shape}, dtype {idx.dtype}")
+    if idx.size and (idx.min() < 0 or idx.max() >= mesh.nelements):
+        raise ValueError(f"{who}: element index {int(idx.min() if idx.min() < 0 else idx.max())} "
+                         f"is out of range; the mesh has {mesh.nelements} elements")
+    mask = np.zeros(mesh.nelements, dtype=bool)
+    mask[idx] = True
+    return mask
+
+
+def stiffness_update(K: sp.bsr_matrix, pattern: BlockPattern, old_mesh: fem.Mesh,
+                     new_mesh: fem.Mesh, materials, elements: np.ndarray,
+                     chunk: int = 150_000, intorder: int | None = None) -> sp.bsr_matrix:
+    """The stiffness after some elements moved: ``K - K_e(old) + K_e(new)``.
+
+    Only ``elements`` are integrated, on both meshes; their differences are
+    added into a copy of ``K``'s blocks.  Everything else (the pattern, the
+    other elements' contributions) is kept, so the cost is proportional to
+    the number of moved elements plus one copy of ``K``'s data.
+
+    Parameters
+    ----------
+    K, pattern
+        The current stiffness of ``old_mesh`` and its pattern, as returned by
+        :func:`assemble_stiffness` (or an earlier :func:`stiffness_update`).
+    old_mesh, new_mesh
+        The same elements (identical ``t``) before and after the motion.
+    materials
+        As for :func:`assemble_stiffness`.
+    elements
+        Indices of the elements whose vertices moved.  Elements outside this
+        set must have the same coordinates in both meshes, otherwise the
+        result is wrong (not checked: it would cost a full pass).
+
+    Returns
+    -------
+    scipy.sparse.bsr_matrix
+        The stiffness of ``new_mesh``; equal to a full reassembly up to
+        round-off.  ``K`` is not modified.
+    """
+    if old_mesh.t.shape != new_mesh.t.shape or not (
+            old_mesh.t is new_mesh.t or np.array_equal(old_mesh.t, new_mesh.t)):
+        raise ValueError("stiffness_update: old_mesh and new_mesh must have the same elements "
+                         f"(t of shape {old_mesh.t.shape} vs {new_mesh.t.shape} or different "
+                         "connectivity); a remeshed body needs a full assemble_stiffness")
+    if type(old_mesh) is not type(new_mesh):
+        raise ValueError(f"stiffness_update: mesh types differ ({type(old_mesh).__name__} vs "
+                         f"{type(new_mesh).__name__})")
+    N = 3 * pattern.n
+    if K.shape != (N, N) or not (sp.isspmatrix_bsr(K) or isinstance(K, sp.bsr_array)) \
+            or K.blocksize != (3, 3) or K.data.shape[0] != pattern.nnzb:
+        raise ValueError(f"stiffness_update: K (shape {K.shape}, format {K.format}) is not the "
+                         f"3x3-block matrix of this pattern ({N} x {N}, {pattern.nnzb} blocks)")
+    mask = _element_subset(new_mesh, elements, "stiffness_update")
+    elem = scalar_element(new_mesh)
+    q = _intorder(elem) if intorder is None else intorder
+    nb = elem.refdom.nnodes * elem.nodal_dofs + elem.refdom.nedges * elem.edge_dofs
+    chunk = int(max(1, min(chunk, 8_000_000 // (9 * nb * nb))))
+    data = K.data.copy()
+    if not mask.any():
+        return sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))
+    sd_old, sd_new = fem.Dofs(old_mesh, elem), fem.Dofs(new_mesh, elem)
+    lookup = pattern.lookup()
+
+    def basis(mesh, sd, part):
+        # an affine mapping of the chunk only: the default one would compute
+        # (and keep) the Jacobians of every element of the new mesh
+        mapping = fem.MappingAffine(mesh, tind=part) if mesh.affine else None
+        return fem.CellBasis(mesh, elem, mapping=mapping, intorder=q, elements=part, dofs=sd,
+                             disable_doflocs=True)
+    for elems, C in _as_groups(new_mesh, materials):
+        idx = np.arange(new_mesh.nelements) if elems is None else np.asarray(elems)
+        idx = idx[mask[idx]]
+        idx = idx[np.argsort(new_mesh.t[:, idx].min(axis=0), kind="stable")]
+        M = _tensor_matrix(C)
+        for s in range(0, idx.size, chunk):
+            part = idx[s:s + chunk]
+            bn = basis(new_mesh, sd_new, part)
+            # difference of the gradient products first: one product with M
+            # per chunk, and what did not change cancels before it
+            dP = _chunk_products(bn)
+            dP -= _chunk_products(basis(old_mesh, sd_old, part))
+            KT = M @ dP
+            pos = pattern.positions(bn.element_dofs, lookup).ravel()
+            lo, hi = int(pos.min()), int(pos.max()) + 1
+            pos -= lo
+            band = data[lo:hi]
+            for i in range(3):
+                for j in range(3):
+                    band[:, i, j] += np.bincount(pos, weights=KT[3 * i + j], minlength=hi - lo)
+    return sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))
 
 
 def _vector_facet_basis(mesh: fem.Mesh, facets) -> fem.FacetBasis:

@@ -1,0 +1,650 @@
+"""Geometry update of worn surfaces: move the faces, let the layer beneath follow.
+
+The wear loop gives a worn depth ``h >= 0`` at every node of a worn surface
+(the pad's and the rotor's ``friction`` facets).  Two ways to account for it:
+
+* *gap offset* (``brakewear.simulate``): the meshes stay and ``h`` is added to
+  the contact gap -- cheap, valid while ``h`` is far below the element size;
+* *geometry update* (this module): every surface node moves by ``h`` along
+  the inward normal, and the nodes beneath follow with a weight that falls
+  linearly from 1 at the surface to 0 at a chosen depth ``D`` (the *band*).
+  A column of elements inside the band is compressed uniformly by the
+  factor ``1 - h/D``, which is the gentlest compression that moves the face
+  by ``h`` and keeps everything below ``D`` in place.  Elements with a moved
+  vertex are the only ones whose stiffness changes, so only they are
+  integrated again (:func:`brakewear.elasticity.stiffness_update`).
+
+The motion is always computed from the *reference* (unworn) coordinates and
+the *cumulative* wear, so repeated updates do not drift, and a step can be
+redone with other depths.  A quality guard checks every moved element and
+refuses the update (nothing is changed) if one is inverted or degenerate.
+"""
+from __future__ import annotations
+
+import logging
+import sys
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import skfem as fem
+
+from .contact import (facet_normals, mortar_coupling, project_nodes, surface_nodes,
+                      tributary_areas)
+from .elasticity import assemble_stiffness, stiffness_update
+from .mesh import _keep_topology
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "MeshQualityError",
+    "element_volumes",
+    "element_quality",
+    "check_quality",
+    "surface_element_height",
+    "segment_average",
+    "SurfaceFollower",
+    "BrakeMotion",
+    "DEFAULT_MIN_QUALITY",
+]
+
+#: Smallest accepted element quality (mean ratio, 1 = regular tetrahedron).
+#: The default brake's meshes start at 0.56 (pad) and 0.13 (rotor); the pad
+#: worn to half its friction layer keeps 0.37 (docs/motion.md).  A regular
+#: tetrahedron squashed 10x has 0.32, 100x 0.07; 0.02 (about 600x) is degenerate.
+DEFAULT_MIN_QUALITY = 0.02
+
+
+class MeshQualityError(ValueError):
+    """A geometry update would leave an inverted or degenerate element.
+
+    Attributes ``step``, ``body``, ``element`` (index into the body's
+    ``mesh.t``), ``quality`` and ``min_quality`` say which and how bad.
+    """
+
+    def __init__(self, message: str, *, step=None, body: str = "", element: int = -1,
+                 quality: float = float("nan"), min_quality: float = float("nan")):
+        super().__init__(message)
+        self.step, self.body, self.element = step, body, element
+        self.quality, self.min_quality = quality, min_quality
+
+
+# ------------------------------------------------------------ measures --
+
+def _corners(mesh: fem.Mesh) -> np.ndarray:
+    if mesh.t.shape[0] < 4 or mesh.p.shape[0] != 3:
+        raise TypeError(f"need a tetrahedral mesh in 3D; got {type(mesh).__name__} with "
+                        f"t of shape {mesh.t.shape}")
+    return mesh.p[:, mesh.t[:4]]  # (3, 4, ne)
+
+
+def element_volumes(mesh: fem.Mesh) -> np.ndarray:
+    """Signed volume of every tetrahedron (its straight-sided vertex tetrahedron).
+
+    Positive for the orientation brakewear's meshes are built with; negative
+    means inverted.
+    """
+    X = _corners(mesh)
+    a, b, c = X[:, 1] - X[:, 0], X[:, 2] - X[:, 0], X[:, 3] - X[:, 0]
+    return np.einsum("ij,ij->j", a, np.cross(b, c, axis=0)) / 6.0
+
+
+def element_quality(mesh: fem.Mesh) -> np.ndarray:
+    """Signed mean-ratio quality of every tetrahedron.
+
+    ``q = sign(V) 12 (3 |V|)^(2/3) / sum of the six squared edge lengths``:
+    1 for the regular tetrahedron, tending to 0 as the element flattens or
+    degenerates, negative when it is inverted.  It is scale-invariant and
+    sees every way a tetrahedron goes bad (flat, needle, sliver), which a
+    volume ratio alone does not.
+    """
+    X = _corners(mesh)
+    V = element_volumes(mesh)
+    l2 = np.zeros(V.size)
+    for i in range(4):
+        for j in range(i + 1, 4):
+            d = X[:, j] - X[:, i]
+            l2 += np.einsum("ij,ij->j", d, d)
+    return np.sign(V) * 12.0 * np.cbrt(3.0 * np.abs(V)) ** 2 / np.where(l2 > 0, l2, 1.0)
+
+
+def check_quality(mesh: fem.Mesh, body: str = "mesh", step=None,
+                  min_quality: float = DEFAULT_MIN_QUALITY,
+                  elements: np.ndarray | None = None, note: str = "") -> float:
+    """Raise :class:`MeshQualityError` if an element's quality is below ``min_quality``.
+
+    Parameters
+    ----------
+    mesh
+        The tetrahedral mesh to check.
+    body, step
+        Named in the message (the body and the wear step being applied).
+    min_quality
+        Smallest accepted :func:`element_quality`, in (0, 1).
+    elements
+        Check only these elements (e.g. the ones that moved); default all.
+    note
+        Appended to the message (what the caller knows about the cause).
+
+    Returns
+    -------
+    float
+        The smallest quality found (1.0 if no element is checked).
+    """
+    if not (np.isfinite(min_quality) and 0.0 < min_quality < 1.0):
+        raise ValueError(f"min_quality = {min_quality!r} is not allowed; need 0 < min_quality < 1")
+    q = element_quality(mesh)
+    idx = np.arange(mesh.nelements) if elements is None else np.asarray(elements, dtype=np.int64)
+    if idx.size == 0:
+        return 1.0
+    k = int(idx[np.argmin(q[idx])])
+    qmin = float(q[k])
+    if not qmin >= min_quality:
+        what = "inverted" if qmin < 0 else "degenerate" if qmin == 0 else "too flat or distorted"
+        centre = mesh.p[:, mesh.t[:4, k]].mean(axis=1)
+        bad = int(np.count_nonzero(q[idx] < min_quality))
+        where = f"step {step}" if step is not None else "geometry update"
+        raise MeshQualityError(
+            f"{where}: {body} element {k} (centroid {np.array2string(centre, precision=5)} m) "
+            f"has quality {qmin:.3g} ({what}); need >= min_quality {min_quality:g}; "
+            f"{bad} element(s) below the bound" + (f"; {note}" if note else ""),
+            step=step, body=body, element=k, quality=qmin, min_quality=min_quality)
+    return qmin
+
+
+def surface_element_height(mesh: fem.Mesh, facets) -> np.ndarray:
+    """Height of the elements under each node of a surface.
+
+    For every facet of the set, the height of its element over it (the
+    distance from the opposite vertex, ``3 V / A``); per surface node the
+    smallest over its facets.  Returned in the order of
+    :func:`brakewear.contact.surface_nodes`.  A wear step should move a node
+    by a fraction of this, so that the first layer never collapses.
+    """
+    if isinstance(facets, str):
+        if facets not in (mesh.boundaries or {}):
+            raise KeyError(f"mesh has no facets named {facets!r}; named facets: "
+                           f"{sorted(mesh.boundaries or {})}")
+        facets = mesh.boundaries[facets]
+    facets = np.asarray(facets)
+    f = mesh.facets[:, facets]
+    p = mesh.p
+    area = 0.5 * np.linalg.norm(np.cross(p[:, f[1]] - p[:, f[0]], p[:, f[2]] - p[:, f[0]],
+                                         axis=0), axis=0)
+    vol = np.abs(element_volumes(mesh))[mesh.f2t[0, facets]]
+    hf = 3.0 * vol / area
+    out = np.full(mesh.nvertices, np.inf)
+    for a in range(3):
+        np.minimum.at(out, f[a], hf)
+    return out[np.unique(f)]
+
+
+def segment_average(mesh: fem.Mesh, facets="friction", level: int = 2) -> sp.csr_matrix:
+    """The segment (weak) average of a nodal field over a surface, as a matrix.
+
+    ``A[s, a] = int phi_s phi_a dA / int phi_s dA`` over the facets, integrated
+    exactly as :func:`brakewear.contact.mortar_coupling` integrates the weak
+    gap of a ``method="segment"`` pair.  A face worn by the nodal depths
+    ``h`` changes that pair's ``g0`` by ``A @ h`` (not by ``h``: the two differ
+    where ``h`` is not constant, most at the face's edges), so a gap-offset
+    update consistent with the geometry update adds ``A @ h_pad``.  Rows and
+    columns in :func:`brakewear.contact.surface_nodes` order.
+    """
+    nodes = surface_nodes(mesh, facets)
+    W, _, _ = mortar_coupling(mesh, facets, nodes, mesh, facets, mesh.nvertices, level)
+    return W[:, nodes].tocsr()
+
+
+# ------------------------------------------------------------ follower --
+
+class SurfaceFollower:
+    """Moves one worn surface and the band of nodes beneath it.
+
+    Built once on the reference (unworn) mesh: each node at depth ``d < D``
+    below the surface (measured along the surface normal, laterally inside
+    the surface) gets the weights ``(1 - d/D) * b`` on the surface nodes of
+    the facet it projects on (``b`` its barycentric coordinates).  On the
+    structured brake meshes a node lies exactly under a surface node, so
+    ``b`` is one on that node and the motion is per column.
+
+    Parameters
+    ----------
+    mesh
+        The reference mesh (P1 tetrahedra).
+    facets
+        Name (or facet indices) of the worn surface.
+    depth
+        Target band depth ``D`` (m).  With ``snap`` it is raised to the
+        nearest node depth at or below it, so that the band ends on a node
+        layer and the elements beyond it do not move at all.
+    snap
+        See ``depth``.
+    """
+
+    def __init__(self, mesh: fem.Mesh, facets, depth: float, snap: bool = True):
+        if not isinstance(mesh, fem.MeshTet1):
+            raise TypeError(f"SurfaceFollower needs a P1 MeshTet; got {type(mesh).__name__}")
+        depth = float(depth)
+        if not (np.isfinite(depth) and depth > 0):
+            raise ValueError(f"depth = {depth!r} m is not allowed; need a finite band depth > 0")
+        fac = mesh.boundaries[facets] if isinstance(facets, str) else np.asarray(facets)
+        self.nodes = surface_nodes(mesh, fac)
+        ns = self.nodes.size
+        p = mesh.p
+        # outward nodal normals: area-weighted facet normals
+        f = mesh.facets[:, fac]
+        area = 0.5 * np.linalg.norm(np.cross(p[:, f[1]] - p[:, f[0]], p[:, f[2]] - p[:, f[0]],
+                                             axis=0), axis=0)
+        nf = facet_normals(mesh, fac) * area
+        acc = np.zeros((3, mesh.nvertices))
+        for a in range(3):
+            for i in range(3):
+                np.add.at(acc[i], f[a], nf[i])
+        n = acc[:, self.nodes]
+        self.normals = n / np.linalg.norm(n, axis=0)
+        # depth and lateral position of every node over the surface
+        scale = float(np.ptp(p, axis=1).max())
+        tol = 1e-9 * scale
+        # in chunks: the candidate search holds (3, n, 12) arrays
+        parts = [project_nodes(p[:, i:i + 50_000], mesh, fac)
+                 for i in range(0, mesh.nvertices, 50_000)]
+        d = -np.concatenate([q.gap for q in parts])
+        dist = np.concatenate([q.distance for q in parts])
+        weights = np.hstack([q.weights for q in parts])
+        fnodes = np.hstack([q.nodes for q in parts])
+        under = (dist <= tol) & (d >= -tol)
+        depths = np.unique(np.round(d[under] / tol)) * tol
+        if snap:
+            deeper = depths[depths >= depth - tol]
+            if deeper.size == 0:
+                raise ValueError(f"depth = {depth:.6g} m is not allowed: the body is only "
+                                 f"{depths.max():.6g} m deep under this surface")
+            depth = float(d[under][np.argmin(np.abs(d[under] - deeper[0]))])
+        self.depth = depth
+        inband = np.nonzero(under & (d < depth - tol))[0]
+        w = np.clip(1.0 - np.clip(d[inband], 0.0, None) / depth, 0.0, 1.0)
+        b = weights[:, inband].copy()
+        b[np.abs(b) < 1e-12] = 0.0  # a node under a vertex follows that vertex alone
+        b /= b.sum(axis=0, keepdims=True)
+        col = -np.ones(mesh.nvertices, dtype=np.int64)
+        col[self.nodes] = np.arange(ns)
+        cols = col[fnodes[:, inband]]
+        if np.any(cols < 0):  # pragma: no cover - facets' vertices are surface nodes
+            raise RuntimeError("follower: a projection landed on a non-surface vertex")
+        rows = np.repeat(inband[None, :], 3, axis=0)
+        F = sp.csr_matrix(((b * w).ravel(), (rows.ravel(), cols.ravel())),
+                          shape=(mesh.nvertices, ns))
+        F.eliminate_zeros()
+        self.F = F
+        self.band_nodes = inband
+        self.scale = scale
+        logger.debug("follower: %d surface nodes, band depth %.4g m, %d nodes in the band",
+                     ns, depth, inband.size)
+
+    def displacement(self, h: np.ndarray) -> np.ndarray:
+        """Nodal displacement (3, nvertices) for worn depths ``h`` (surface-node order)."""
+        s = -(self.normals * h[None, :])            # inward, by h
+        return np.vstack([self.F @ s[i] for i in range(3)])
+
+
+# -------------------------------------------------------- the brake ---
+
+def _check_wear(name: str, h, n: int, body: str) -> np.ndarray:
+    """Validate a worn-depth array before anything is computed."""
+    try:
+        arr = np.asarray(h, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an array of worn depths (m); got {type(h).__name__}") \
+            from None
+    if arr.shape != (n,):
+        raise ValueError(f"{name} has shape {arr.shape}; need ({n},): one worn depth per node of "
+                         f"the {body}'s friction face, in the order of surface_nodes(mesh, "
+                         "'friction')")
+    bad = np.nonzero(~np.isfinite(arr))[0]
+    if bad.size:
+        raise ValueError(f"{name}[{bad[0]}] = {float(arr[bad[0]])!r} is not allowed; worn "
+                         f"depths must be finite ({bad.size} are not)")
+    neg = np.nonzero(arr < 0)[0]
+    if neg.size:
+        raise ValueError(f"{name}[{neg[0]}] = {float(arr[neg[0]])!r} m is not allowed; worn depths "
+                         f"must be >= 0 (wear removes material; {neg.size} are negative)")
+    return arr
+
+
+def _moved_mesh(mesh: fem.Mesh, p: np.ndarray) -> fem.Mesh:
+    """A new mesh with coordinates ``p`` and everything else of ``mesh``."""
+    new = type(mesh)(p, mesh.t, mesh._boundaries, mesh._subdomains, validate=False)
+    return _keep_topology(new, mesh)
+
+
+class BrakeMotion:
+    """Worn geometry of a :class:`brakewear.scene.BrakeModel`.
+
+    The meshes of ``model`` when this is built are the reference (unworn)
+    geometry.  :meth:`apply` puts the model into the worn geometry for the
+    given *cumulative* depths: new mesh objects in ``model.meshes`` and, for
+    the bodies already assembled, their cached stiffness updated by
+    reintegrating only the elements that moved.  After it,
+    ``model.contact_system(...)`` is the contact problem of the worn brake
+    (its gap ``g0`` holds the wear, since the faces moved apart).
+
+    Parameters
+    ----------
+    model
+        A BrakeModel (P1).  With ``rotor="rigid"`` only the pad moves.
+    pad_depth
+        Band depth under the pad's friction face (m); default the friction
+        layer's thickness, so the backplate never moves.
+    rotor_depth
+        Band depth under the rotor's friction face (m); default a fifth of
+        the meshed half thickness, raised to the next node layer.
+    min_quality
+        Quality guard (see :func:`element_quality`).
+    """
+
+    def __init__(self, model, pad_depth: float | None = None, rotor_depth: float | None = None,
+                 min_quality: float = DEFAULT_MIN_QUALITY):
+        if not (np.isfinite(min_quality) and 0.0 < min_quality < 1.0):
+            raise ValueError(f"min_quality = {min_quality!r} is not allowed; "
+                             "need 0 < min_quality < 1")
+        self.model = model
+        self.min_quality = float(min_quality)
+        g = model.geometry
+        tf = g.pad.friction_thickness
+        pad_depth = tf if pad_depth is None else float(pad_depth)
+        if not (np.isfinite(pad_depth) and 0 < pad_depth <= tf * (1 + 1e-9)):
+            raise ValueError(f"pad_depth = {pad_depth!r} m is not allowed; need 0 < pad_depth <= "
+                             f"the friction layer thickness {tf:g} m (the backplate must not move)")
+        self.followers: dict[str, SurfaceFollower] = {
+            "pad": SurfaceFollower(model.meshes["pad"], "friction", pad_depth)}
+        if "rotor" in model.bodies:
+            half = 0.5 * g.rotor.thickness
+            rotor_depth = 0.2 * half if rotor_depth is None else float(rotor_depth)
+            if not (np.isfinite(rotor_depth) and 0 < rotor_depth <= half * (1 + 1e-9)):
+                raise ValueError(f"rotor_depth = {rotor_depth!r} m is not allowed; need 0 < "
+                                 f"rotor_depth <= the meshed half thickness {half:g} m")
+            self.followers["rotor"] = SurfaceFollower(model.meshes["rotor"], "friction",
+                                                      rotor_depth)
+        self.reference = {b: model.meshes[b].p.copy() for b in self.followers}
+        self.pad_wear = np.zeros(self.followers["pad"].nodes.size)
+        self.rotor_wear = (np.zeros(self.followers["rotor"].nodes.size)
+                           if "rotor" in self.followers else None)
+        self.initial_quality = {b: float(element_quality(model.meshes[b]).min())
+                                for b in self.followers}
+        logger.info("brake motion: bands %s", ", ".join(
+            f"{b} {f.depth * 1e3:.3g} mm ({f.band_nodes.size} nodes)"
+            for b, f in self.followers.items()))
+
+    @property
+    def depths(self) -> dict:
+        """Band depth of each moving body (m)."""
+        return {b: f.depth for b, f in self.followers.items()}
+
+    def surface_heights(self) -> dict:
+        """Current :func:`surface_element_height` of each worn face (m)."""
+        return {b: surface_element_height(self.model.meshes[b], "friction")
+                for b in self.followers}
+
+    def apply(self, pad_wear, rotor_wear=None, step=None, reassembly: str = "partial") -> dict:
+        """Move the worn faces to the cumulative depths given; return figures.
+
+        Parameters
+        ----------
+        pad_wear
+            Worn depth (m, >= 0) of every pad friction node since the
+            reference geometry, in ``surface_nodes(pad, "friction")`` order.
+        rotor_wear
+            The same for the rotor's friction nodes; None means zero.  Must
+            be None (or zero) for a rigid rotor.
+        step
+            Wear step number, named in errors.
+        reassembly
+            ``"partial"`` (default: reintegrate the moved elements only) or
+            ``"full"`` (assemble the whole body again; for checks).
+
+        Returns
+        -------
+        dict
+            ``step``, ``reassembly_s``, ``total_s`` and per moving body
+            ``moved_nodes``, ``moved_elements``, ``elements``,
+            ``min_quality`` (of the moved elements) and ``max_displacement``.
+
+        Raises
+        ------
+        ValueError
+            Wrong length, negative or non-finite depths (nothing changed).
+        MeshQualityError
+            A moved element would be inverted or degenerate (nothing changed).
+        """
+        if reassembly not in ("partial", "full"):
+            raise ValueError(f"reassembly = {reassembly!r} is not allowed; "
+                             "allowed: 'partial', 'full'")
+        t0 = time.perf_counter()
+        wear = {"pad": _check_wear("pad_wear", pad_wear, self.followers["pad"].nodes.size, "pad")}
+        if "rotor" in self.followers:
+            n = self.followers["rotor"].nodes.size
+            wear["rotor"] = np.zeros(n) if rotor_wear is None else _check_wear(
+                "rotor_wear", rotor_wear, n, "rotor")
+        elif rotor_wear is not None and np.any(np.asarray(rotor_wear, dtype=float) != 0):
+            raise ValueError("rotor_wear is not allowed with a rigid rotor (the plane z = 0 does "
+                             "not move); pass None")
+        model = self.model
+        new_meshes, moved_elems, stats = {}, {}, {"step": step}
+        for b, fol in self.followers.items():
+            old = model.meshes[b]
+            p = self.reference[b] + fol.displacement(wear[b])
+            moved_n = np.any(p != old.p, axis=0)
+            me = np.nonzero(moved_n[old.t].any(axis=0))[0]
+            new = _moved_mesh(old, p) if me.size else old
+            qmin = 1.0
+            if me.size:
+                h = wear[b]
+                qmin = check_quality(
+                    new, b, step, self.min_quality, elements=me,
+                    note=f"largest worn depth {h.max():.4g} m against the {b}'s moving band of "
+                         f"{fol.depth:.4g} m" + (" (worn through the band)"
+                                                 if h.max() >= fol.depth else ""))
+            new_meshes[b], moved_elems[b] = new, me
+            stats[b] = {"moved_nodes": int(moved_n.sum()), "moved_elements": int(me.size),
+                        "elements": int(old.nelements), "min_quality": qmin,
+                        "max_displacement": float(np.abs(p - self.reference[b]).max())}
+        # every check passed: assemble, then commit
+        t1 = time.perf_counter()
+        newK = {}
+        for b, new in new_meshes.items():
+            if b not in model._K or moved_elems[b].size == 0:
+                continue
+            if reassembly == "full":
+                newK[b], _ = assemble_stiffness(new, model.materials[b],
+                                                pattern=model._patterns[b])
+            else:
+                newK[b] = stiffness_update(model._K[b], model._patterns[b], model.meshes[b], new,
+                                           model.materials[b], moved_elems[b])
+        t2 = time.perf_counter()
+        for b, new in new_meshes.items():
+            model.meshes[b] = new
+        model._K.update(newK)
+        self.pad_wear = wear["pad"].copy()
+        if "rotor" in wear:
+            self.rotor_wear = wear["rotor"].copy()
+        stats["reassembly"] = reassembly
+        stats["reassembly_s"] = t2 - t1
+        stats["total_s"] = time.perf_counter() - t0
+        logger.info("geometry update%s: %s; reassembly (%s) %.3f s", "" if step is None else
+                    f" step {step}", ", ".join(
+                        f"{b} {stats[b]['moved_elements']}/{stats[b]['elements']} elements moved, "
+                        f"q_min {stats[b]['min_quality']:.3f}" for b in self.followers),
+                    reassembly, t2 - t1)
+        return stats
+
+    def worn_volume(self) -> dict:
+        """Volume removed so far per body, ``sum(h A)`` with the reference tributary areas."""
+        out = {}
+        for b, fol in self.followers.items():
+            ref = _moved_mesh(self.model.meshes[b], self.reference[b])
+            h = self.pad_wear if b == "pad" else self.rotor_wear
+            out[b] = float((h * tributary_areas(ref, "friction", fol.nodes)).sum())
+        return out
+
+
+# ---------------------------------------------------------- measuring --
+
+def measure_cost(size: float | None = None, repeats: int = 3) -> dict:
+    """Time :meth:`BrakeMotion.apply` with partial and with full reassembly.
+
+    The default brake at mesh ``size`` (m), both stiffness matrices cached;
+    wear: the pad tapered 0.5 -> 1.5 mm from leading to trailing edge (every
+    pad friction node moves), the rotor 0.1 mm over the pad's radial track.
+    Steps alternate partial / full (``repeats`` each, slightly deeper every
+    step, so every step moves every band node); medians are reported.
+    """
+    from .scene import BrakeModel
+
+    model = BrakeModel(size=size)
+    t0 = time.perf_counter()
+    for b in model.bodies:
+        model.stiffness(b)
+    t_first = time.perf_counter() - t0
+    motion = BrakeMotion(model)
+    g = model.geometry.pad
+    xp = model.meshes["pad"].p[:, motion.followers["pad"].nodes]
+    th = np.arctan2(xp[1], xp[0])
+    hp = 1e-3 * (0.5 + (th - th.min()) / np.ptp(th))
+    xr = model.meshes["rotor"].p[:, motion.followers["rotor"].nodes]
+    s = (np.hypot(xr[0], xr[1]) - g.inner_radius) / (g.outer_radius - g.inner_radius)
+    hr = np.where((s >= 0) & (s <= 1), 1e-4, 0.0)
+    runs: dict = {"partial": [], "full": []}
+    st = {}
+    for k in range(2 * repeats):
+        mode = ("partial", "full")[k % 2]
+        st = motion.apply(hp * (1 + 0.01 * k), hr * (1 + 0.01 * k), step=k + 1, reassembly=mode)
+        runs[mode].append((st["reassembly_s"], st["total_s"]))
+    row = {"size_m": model.geometry.mesh.size if size is None else float(size),
+           "first_assembly_s": t_first,
+           "dofs": int(model.dofs)}
+    for b in motion.followers:
+        row[f"{b}_moved_elements"] = st[b]["moved_elements"]
+        row[f"{b}_elements"] = st[b]["elements"]
+        row[f"{b}_band_depth_m"] = motion.followers[b].depth
+    for mode, v in runs.items():
+        a = np.median(np.array(v), axis=0)
+        row[f"{mode}_reassembly_s"], row[f"{mode}_apply_s"] = float(a[0]), float(a[1])
+    row["partial_over_full"] = row["partial_apply_s"] / row["full_apply_s"]
+    return row
+
+
+def quality_curve(fractions=(0.0, 0.25, 0.5, 0.75, 0.9, 0.95), size: float | None = None,
+                  taper: bool = False) -> list[dict]:
+    """Smallest pad element quality of the default brake worn to ``fraction``
+    of its friction layer (uniformly, or tapered from 0 at the leading to
+    ``fraction`` at the trailing edge)."""
+    from .scene import BrakeModel
+
+    model = BrakeModel(size=size)
+    motion = BrakeMotion(model, min_quality=1e-9)
+    tf = model.geometry.pad.friction_thickness
+    x = model.meshes["pad"].p[:, motion.followers["pad"].nodes]
+    th = np.arctan2(x[1], x[0])
+    shape = (th - th.min()) / np.ptp(th) if taper else np.ones_like(th)
+    out = []
+    for f in fractions:
+        st = motion.apply(f * tf * shape)
+        q = element_quality(model.meshes["pad"])
+        out.append({"fraction": float(f), "taper": bool(taper), "min_quality": float(q.min()),
+                    "moved_elements": st["pad"]["moved_elements"]})
+    return out
+
+
+def pad_section_figure(path, fraction: float = 0.5, size: float | None = None) -> dict:
+    """Draw the pad's mesh in the (arc length, z) plane at its mid radius, new
+    and worn (tapered to ``fraction`` of the friction layer at the trailing edge)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .scene import BrakeModel
+
+    model = BrakeModel(size=size)
+    motion = BrakeMotion(model)
+    g = model.geometry.pad
+    x = model.meshes["pad"].p[:, motion.followers["pad"].nodes]
+    th = np.arctan2(x[1], x[0])
+    motion.apply(fraction * g.friction_thickness * (th - th.min()) / np.ptp(th))
+    p0, p1 = motion.reference["pad"], model.meshes["pad"].p
+    r = np.hypot(p0[0], p0[1])
+    radii = np.unique(np.round(r, 9))
+    rk = radii[len(radii) // 2]
+    sel = np.nonzero(np.abs(r - rk) < 1e-9)[0]
+    ang = np.arctan2(p0[1, sel], p0[0, sel])
+    fig, axes = plt.subplots(2, 1, figsize=(9, 4.8), sharex=True)
+    for ax, p, title in ((axes[0], p0, "new"),
+                         (axes[1], p1, f"worn: 0 -> {fraction:g} x friction layer, "
+                                       "leading -> trailing")):
+        s_mm = rk * ang * 1e3
+        z_mm = p[2, sel] * 1e3
+        ua, uz = np.unique(np.round(ang, 9)), np.unique(np.round(p0[2, sel], 9))
+        ia = np.searchsorted(ua, np.round(ang, 9))
+        iz = np.searchsorted(uz, np.round(p0[2, sel], 9))
+        S = np.full((ua.size, uz.size), np.nan)
+        Z = np.full((ua.size, uz.size), np.nan)
+        S[ia, iz], Z[ia, iz] = s_mm, z_mm
+        ax.plot(S, Z, color="0.3", lw=0.6)
+        ax.plot(S.T, Z.T, color="0.3", lw=0.6)
+        ax.axhline(g.friction_thickness * 1e3, color="tab:red", lw=1.0, ls="--",
+                   label="band bottom = backplate interface")
+        ax.set_title(f"pad at r = {rk * 1e3:.1f} mm, {title}", fontsize=9)
+        ax.set_ylabel("z (mm)")
+        ax.set_aspect("equal")
+    axes[0].legend(loc="upper right", fontsize=7)
+    axes[1].set_xlabel("arc length r theta (mm), rotor enters at the left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    q = element_quality(model.meshes["pad"])
+    return {"radius_m": float(rk), "fraction": fraction, "min_quality": float(q.min())}
+
+
+def main(argv=None) -> int:
+    """``python -m brakewear.motion [--sizes 2.5e-3 6e-3] [--repeats 3] [--json FILE]``."""
+    import argparse
+    import json
+
+    ap = argparse.ArgumentParser(prog="python -m brakewear.motion",
+                                 description="cost of the worn-geometry update")
+    ap.add_argument("--sizes", type=float, nargs="+", default=[2.5e-3, 6e-3])
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--json", default=None, help="also write the rows to this file")
+    ap.add_argument("--quality", default=None,
+                    help="write the pad quality against wear (CSV) to this file instead")
+    ap.add_argument("--figure", default=None,
+                    help="draw the pad section worn to half (PNG) to this file instead")
+    args = ap.parse_args(argv)
+    if args.quality or args.figure:
+        if args.quality:
+            rows = quality_curve() + quality_curve(taper=True)
+            with open(args.quality, "w") as fh:
+                fh.write("fraction,taper,min_quality,moved_elements\n")
+                for r in rows:
+                    fh.write(f"{r['fraction']},{int(r['taper'])},{r['min_quality']:.6f},"
+                             f"{r['moved_elements']}\n")
+            sys.stdout.write("".join(f"{r}\n" for r in rows))
+        if args.figure:
+            sys.stdout.write(f"{pad_section_figure(args.figure)}\n")
+        return 0
+    rows = [measure_cost(s, args.repeats) for s in args.sizes]
+    for r in rows:
+        sys.stdout.write(
+            f"size {r['size_m'] * 1e3:.2f} mm, {r['dofs']} DOFs: moved pad "
+            f"{r['pad_moved_elements']}/{r['pad_elements']}, rotor {r['rotor_moved_elements']}/"
+            f"{r['rotor_elements']} elements; apply partial {r['partial_apply_s']:.3f} s "
+            f"(reassembly {r['partial_reassembly_s']:.3f}), full {r['full_apply_s']:.3f} s "
+            f"(reassembly {r['full_reassembly_s']:.3f}); ratio {r['partial_over_full']:.2f}; "
+            f"first assembly {r['first_assembly_s']:.3f} s\n")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(rows, fh, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
