@@ -253,8 +253,14 @@ class BrakeModel:
         return {b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].nvertices)]
                 for b in self.bodies}
 
-    def contact_pair(self, mu: float = 0.0, method: str = "segment") -> ContactPair:
-        """The pad-rotor contact pair in global node numbers (rotor turning in +theta)."""
+    def contact_pair(self, mu: float = 0.0, method: str = "segment",
+                     search_radius: float | None = None) -> ContactPair:
+        """The pad-rotor contact pair in global node numbers (rotor turning in +theta).
+
+        ``search_radius`` (m): how far from the rotor face a pad node may lie and
+        still be paired (default twice the mesh size; a worn geometry needs
+        more: the worn depths open the gap).
+        """
         drag = lambda x: np.vstack([-x[1], x[0], np.zeros_like(x[0])])  # noqa: E731
         pad, off = self.meshes["pad"], self.offsets["pad"]
         if self.rotor == "rigid":
@@ -263,11 +269,13 @@ class BrakeModel:
         return pair_to_surface(pad, "friction", off, self.meshes["rotor"], "friction",
                                self.offsets["rotor"], mu=mu, drag=drag, method=method,
                                n_nodes=self.n_nodes,
-                               search_radius=2.0 * self.geometry.mesh.size + 1e-9,
+                               search_radius=(2.0 * self.geometry.mesh.size + 1e-9
+                                              if search_radius is None else search_radius),
                                name="pad-rotor")
 
     def contact_system(self, line_pressure: float = 1e6, mu: float = 0.0,
-                       method: str = "segment") -> ContactSystem:
+                       method: str = "segment", search_radius: float | None = None
+                       ) -> ContactSystem:
         """The assembled pad-rotor contact problem, ready for :func:`solve_contact`.
 
         Ties (piston) are already eliminated; node numbers are the retained
@@ -278,7 +286,7 @@ class BrakeModel:
             raise SceneError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0")
         K, P, retained, col = self._reduced(tie_interface=False)
         f = self.loads(line_pressure)
-        pair = self.contact_pair(mu, method)
+        pair = self.contact_pair(mu, method, search_radius)
         pair.slave = col[pair.slave]
         if pair.coupling is not None:
             pair.coupling = pair.coupling[:, retained].tocsr()

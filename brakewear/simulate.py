@@ -36,6 +36,7 @@ from typing import Iterator
 import numpy as np
 import scipy.sparse as sp
 
+from .compliant import solve_compliant_contact
 from .contact import ContactLostError, solve_contact, surface_nodes, tributary_areas
 from .wear import WearError, WearLaw, rotor_rings, rotor_wear_rate
 
@@ -84,20 +85,15 @@ class FEInterface:
     """
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
-        self.model, self.tol = model, tol
-        self.cs = cs = model.contact_system(line_pressure, mu)
-        self.pair = pair = cs.pair
-        self.g0 = pair.g0.copy()
+        self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
         pad = model.meshes["pad"]
         self.pad_nodes = surface_nodes(pad, "friction")
         self.x = pad.p[:, self.pad_nodes]
         self.r = np.hypot(self.x[0], self.x[1])
-        self.area = pair.area
+        self.area = tributary_areas(pad, "friction", self.pad_nodes)
         if model.rotor == "elastic":
             rotor = model.meshes["rotor"]
             self.rotor_nodes = face = surface_nodes(rotor, "friction")
-            face_r = cs.col[face + model.offsets["rotor"]]      # retained numbering
-            self.W = pair.coupling[:, face_r].tocsr()
             self.ring, _ = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
             self.rotor_area = tributary_areas(rotor, "friction", face)
             self.rotor_x = rotor.p[:, face]
@@ -105,36 +101,61 @@ class FEInterface:
             ring, radii = rotor_rings(self.r)
             edges = np.concatenate([[radii[0]], 0.5 * (radii[1:] + radii[:-1]), [radii[-1]]])
             self.rotor_nodes = None
-            self.W = sp.csr_matrix((np.ones(ring.size), (np.arange(ring.size), ring)),
-                                   shape=(ring.size, radii.size))
             self.ring = np.arange(radii.size)
             self.rotor_area = np.pi * (edges[1:] ** 2 - edges[:-1] ** 2)
             self.rotor_x = np.vstack([radii, np.zeros_like(radii), np.zeros_like(radii)])
+            self._W = sp.csr_matrix((np.ones(ring.size), (np.arange(ring.size), ring)),
+                                    shape=(ring.size, radii.size))
+        self.rebuild()
+
+    def rebuild(self, opening: float = 0.0) -> None:
+        """(Re)build the contact system from the model's current meshes and stiffness.
+
+        ``opening`` (m): the largest gap the worn surfaces have opened; the
+        contact search reaches that much further.
+        """
+        model = self.model
+        radius = 2.0 * model.geometry.mesh.size + 1e-9 + opening
+        self.cs = cs = model.contact_system(self.line_pressure, self.mu, search_radius=radius)
+        self.pair = pair = cs.pair
+        self.g0 = pair.g0.copy()
+        if model.rotor == "elastic":
+            face_r = cs.col[self.rotor_nodes + model.offsets["rotor"]]   # retained numbering
+            self.W = pair.coupling[:, face_r].tocsr()
+        else:
+            self.W = self._W
         # normal stiffness row sums of the pad's friction face (Gershgorin bound
         # of the pressure response to a gap change, used by the stability bound)
         dz = 3 * pair.slave + 2
-        Kzz = cs.K[dz][:, dz]
-        self.normal_stiffness = np.asarray(abs(Kzz).sum(axis=1)).ravel()
+        self.normal_stiffness = np.asarray(abs(cs.K[dz][:, dz]).sum(axis=1)).ravel()
 
-    def solve(self, offset: np.ndarray, active: np.ndarray | None):
-        """Contact solve with ``offset`` (m) added to the initial gap: (pressure, active, info)."""
+    def solve(self, offset: np.ndarray, active: np.ndarray | None, compliance=None):
+        """Contact solve with ``offset`` (m) added to the gap: (pressure, active, info).
+
+        With ``compliance`` (m/Pa per pad node) the interface is a compliant
+        layer: the implicit wear step (:mod:`brakewear.compliant`).
+        """
         self.pair.g0 = self.g0 + offset
+        cs = self.cs
+        if compliance is not None:
+            res = solve_compliant_contact(cs.K, cs.f, cs.fixed, cs.coords, self.pair,
+                                          compliance, initial_active=active, tol=self.tol)
+            return res.pressure, res.active, res.info
         init = None if active is None else [np.asarray(active, dtype=bool)]
-        res = solve_contact(self.cs.K, self.cs.f, self.cs.fixed, self.cs.coords, [self.pair],
-                            tol=self.tol, initial_active=init)
+        res = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
+                            initial_active=init)
         return res.pressure[0], res.active[0], res.info
 
 
-def _state_arrays(step: WearStep, active_next: np.ndarray, dt_next: float) -> dict:
-    return {"step": step.step, "time": step.time, "pad_wear": step.pad_wear,
-            "rotor_wear": step.rotor_wear, "pad_archard": step.pad_archard,
-            "rotor_archard": step.rotor_archard, "active": active_next, "dt_next": dt_next}
+_STATE_KEYS = ("step", "time", "pad_wear", "rotor_wear", "pad_archard", "rotor_archard",
+               "pressure", "active", "dt_next")
 
 
 def wear_history(model, line_pressure: float, omega: float, duration: float,
                  pad_law: WearLaw, rotor_law: WearLaw | None = None, mu: float = 0.0,
-                 steps: int | None = None, max_dh: float | None = None, dp_tol: float = 0.05,
-                 stability: float | None = 1.0,
+                 steps: int | None = None, max_dh: float | None = None,
+                 dh_fraction: float = 0.1, dp_tol: float = 0.05,
+                 stability: float | None = 1.0, scheme: str = "explicit", update: str = "gap",
                  checkpoint: str | os.PathLike | None = None, every: int = 10,
                  resume: bool = False, tol: float = 1e-9, max_halvings: int = 12,
                  interface=None) -> Iterator[WearStep]:
@@ -153,19 +174,32 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     steps
         Fixed number of equal steps (no step control, no stability bound);
         default: automatic step control.
-    max_dh
-        Largest wear (pad + rotor seen by the pad) per step at any pad node (m);
-        default 1 % of the friction-layer thickness.
+    max_dh, dh_fraction
+        Largest wear (pad + rotor seen by the pad) per step at a pad node:
+        ``max_dh`` (m) everywhere, or by default ``dh_fraction`` times the
+        height of the pad element under the node.
     dp_tol
         Largest accepted change of the pressure field per step, relative to
         its maximum (automatic control only).
     stability
-        Fraction of the monotone explicit-Euler bound on the step (automatic
-        control only; None switches it off).  1 keeps every mode of the wear
-        ODE from overshooting; 2 is the stability limit.
+        Explicit scheme: fraction of the monotone explicit-Euler bound on the
+        step (None switches it off).  1 keeps every mode of the wear ODE from
+        overshooting; 2 is the stability limit.
+    scheme
+        ``"explicit"`` (Euler: the pressure at the start of the step) or
+        ``"implicit"`` (backward Euler for the pad: the pressure at the end of
+        the step, solved as contact through the step's wear compliance,
+        :mod:`brakewear.compliant`; unconditionally stable; the rotor's
+        ring-averaged wear stays explicit).  Implicit needs a pad law with a = 1.
+    update
+        ``"gap"`` (the worn depths offset the contact gap; meshes stay) or
+        ``"geometry"`` (after every accepted step both worn faces move and the
+        layers beneath follow, :class:`brakewear.motion.BrakeMotion`; a
+        degenerate element raises :class:`~brakewear.motion.MeshQualityError`
+        naming the step).  Elastic rotor, or rigid rotor (pad moves only).
     checkpoint, every, resume
         ``.npz`` file written every ``every`` accepted steps (and at the end);
-        ``resume=True`` continues from it.
+        ``resume=True`` continues from it (with a freshly built model).
     interface
         The interface model (default: :class:`FEInterface` of ``model``); any
         object with the same attributes (``area``, ``r``, ``W``, ``ring``,
@@ -183,65 +217,94 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         raise WearError(f"resume=True but the checkpoint {checkpoint} does not exist")
     if not (np.isfinite(dp_tol) and dp_tol > 0):
         raise WearError(f"dp_tol = {dp_tol!r} is not allowed; need > 0")
+    if not (np.isfinite(dh_fraction) and dh_fraction > 0):
+        raise WearError(f"dh_fraction = {dh_fraction!r} is not allowed; need > 0")
     if stability is not None and not (np.isfinite(stability) and stability > 0):
         raise WearError(f"stability = {stability!r} is not allowed; need > 0 (or None)")
     if int(every) != every or every < 1:
         raise WearError(f"every = {every!r} is not allowed; need a whole number >= 1")
+    if scheme not in ("explicit", "implicit"):
+        raise WearError(f"scheme = {scheme!r} is not allowed; allowed: 'explicit', 'implicit'")
+    if update not in ("gap", "geometry"):
+        raise WearError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")
     for name, law in (("pad_law", pad_law), ("rotor_law", rotor_law)):
         if law is not None and not isinstance(law, WearLaw):
             raise WearError(f"{name} = {law!r} is not a WearLaw")
-    g = model.geometry
-    max_dh = 0.01 * g.pad.friction_thickness if max_dh is None else float(max_dh)
-    if not max_dh > 0:
+    if scheme == "implicit" and pad_law.a != 1.0:
+        raise WearError(f"scheme = 'implicit' needs a pad wear law linear in p (a = 1); "
+                        f"got a = {pad_law.a}")
+    if max_dh is not None and not (np.isfinite(max_dh) and max_dh > 0):
         raise WearError(f"max_dh = {max_dh!r} m is not allowed; need > 0")
+    if update == "geometry" and interface is not None:
+        raise WearError("update = 'geometry' rebuilds the FE interface; it cannot be combined "
+                        "with a custom interface")
 
     itf = FEInterface(model, line_pressure, mu, tol) if interface is None else interface
-    A_pad, W, ring, A_rot = itf.area, itf.W, itf.ring, itf.rotor_area
+    motion = None
+    if update == "geometry":
+        from .motion import BrakeMotion
+        motion = BrakeMotion(model)
+    A_pad, ring, A_rot = itf.area, itf.ring, itf.rotor_area
     v = omega * itf.r                                  # sliding speed at each pad node
-    r_mean = 0.5 * (g.pad.inner_radius + g.pad.outer_radius)
-    # pressure response to a gap change, per unit area (Pa/m): Gershgorin row sums
-    response = itf.normal_stiffness / A_pad
+    r_mean = 0.5 * (model.geometry.pad.inner_radius + model.geometry.pad.outer_radius)
+    if max_dh is None:
+        from .motion import surface_element_height
+        dh_limit = dh_fraction * surface_element_height(model.meshes["pad"], "friction")
+    else:
+        dh_limit = np.full(A_pad.size, float(max_dh))
 
     state = {"step": 0, "time": 0.0, "pad_wear": np.zeros(A_pad.size),
              "rotor_wear": np.zeros(A_rot.size), "pad_archard": 0.0, "rotor_archard": 0.0,
-             "active": None, "dt_next": duration / steps if steps else None}
+             "pressure": None, "active": None, "dt_next": duration / steps if steps else None}
     if resume:
         with np.load(checkpoint) as d:
-            for k in state:
+            for k in _STATE_KEYS:
                 state[k] = d[k].copy() if d[k].ndim else d[k].item()
         if state["pad_wear"].shape != (A_pad.size,) or state["rotor_wear"].shape != (A_rot.size,):
             raise WearError(f"checkpoint {checkpoint} holds {state['pad_wear'].size} pad and "
                             f"{state['rotor_wear'].size} rotor wear nodes; this model has "
                             f"{A_pad.size} and {A_rot.size}: it belongs to another model")
-        if state["active"].size == 0:
-            state["active"] = None
         if np.isnan(state["dt_next"]):
             state["dt_next"] = None
         logger.info("resumed at step %d, t = %.6g s", state["step"], state["time"])
+    applied = (np.zeros(A_pad.size), np.zeros(A_rot.size))   # wear the meshes already show
 
-    def solve(pad_w, rot_w, active):
+    def move(pad_w, rot_w, step):
+        nonlocal applied
+        motion.apply(pad_w, rot_w if model.rotor == "elastic" else None, step=step)
+        itf.rebuild(opening=float(pad_w.max() + rot_w.max()))
+        applied = (pad_w.copy(), rot_w.copy())
+
+    def solve(pad_w, rot_w, active, eps=None):
         t0 = _time.perf_counter()
-        p, act, _ = itf.solve(pad_w + W @ rot_w, active)
+        offset = (pad_w - applied[0]) + itf.W @ (rot_w - applied[1])
+        p, act, _ = itf.solve(offset, active, compliance=eps)
         return p, act, _time.perf_counter() - t0
 
-    p, act, _ = solve(state["pad_wear"], state["rotor_wear"], state["active"])
+    if motion is not None and state["step"] > 0:
+        move(state["pad_wear"], state["rotor_wear"], state["step"])
+    if state["pressure"] is None:
+        p, act, _ = solve(state["pad_wear"], state["rotor_wear"], None)
+    else:
+        p, act = state["pressure"], state["active"].astype(bool)
     while state["time"] < duration * (1 - 1e-12):
         rate_pad = pad_law.rate(p, v)
         q_rot = rotor_law.rate(p, v) * A_pad if rotor_law is not None else np.zeros_like(p)
-        rate_rot = rotor_wear_rate(q_rot, W, ring, A_rot)
+        rate_rot = rotor_wear_rate(q_rot, itf.W, ring, A_rot)
         remaining = duration - state["time"]
         if steps:
             dt, limit = min(state["dt_next"], remaining), "fixed"
         else:
             cands = {"end": remaining}
-            peak = float((rate_pad + W @ rate_rot).max())
-            if peak > 0:
-                cands["max_dh"] = max_dh / peak
-            if stability is not None:
+            seen = rate_pad + itf.W @ rate_rot
+            if np.any(seen > 0):
+                cands["max_dh"] = float(np.min(dh_limit[seen > 0] / seen[seen > 0]))
+            if stability is not None and scheme == "explicit":
                 # d(rate)/dp of both laws at the current pressure (a p^(a-1) k v^b)
                 slope = _rate_slope(pad_law, p, v) + (
                     _rate_slope(rotor_law, p, v) if rotor_law is not None else 0.0)
-                worst = float((slope * response)[act].max()) if act.any() else 0.0
+                worst = float((slope * itf.normal_stiffness / A_pad)[act].max()) \
+                    if act.any() else 0.0
                 if worst > 0:
                     cands["stability"] = stability / worst
             if state["dt_next"] is not None:
@@ -250,10 +313,17 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             dt = cands[limit]
         rejected, solve_s = 0, 0.0
         while True:
-            pad_w = state["pad_wear"] + rate_pad * dt
             rot_w = state["rotor_wear"] + rate_rot * dt
             try:
-                p_new, act_new, s = solve(pad_w, rot_w, act)
+                if scheme == "explicit":
+                    pad_w = state["pad_wear"] + rate_pad * dt
+                    p_new, act_new, s = solve(pad_w, rot_w, act)
+                    p_rate = p
+                else:   # backward Euler: the pad wears with the end-of-step pressure
+                    eps = dt * pad_law.rate(1.0, v)
+                    p_new, act_new, s = solve(state["pad_wear"], rot_w, act, eps)
+                    pad_w = state["pad_wear"] + eps * p_new
+                    p_rate = p_new
                 solve_s += s
                 change = np.abs(p_new - p).max() / max(p.max(), 1e-300)
                 ok = steps is not None or change <= dp_tol
@@ -269,25 +339,30 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                     f"{dp_tol})")
             dt *= 0.5
         state["pad_wear"], state["rotor_wear"] = pad_w, rot_w
-        state["pad_archard"] += float((rate_pad * A_pad).sum() * dt)
+        state["pad_archard"] += float((pad_law.rate(p_rate, v) * A_pad).sum() * dt)
         state["rotor_archard"] += float(q_rot.sum() * dt)
         state["time"] += dt
         state["step"] += 1
-        # next step: grow again, but never more than doubling the last accepted one
-        state["dt_next"] = (duration / steps) if steps else 2.0 * dt
+        # next step: aim at 0.7 dp_tol (first-order change), never more than doubling
+        state["dt_next"] = (duration / steps) if steps else dt * float(
+            np.clip(0.7 * dp_tol / max(change, 1e-300), 0.25, 2.0))
         record = WearStep(state["step"], state["time"], dt, omega * r_mean * state["time"],
                           p, act, pad_w.copy(), rot_w.copy(),
                           float((pad_w * A_pad).sum()), float((rot_w * A_rot).sum()),
                           state["pad_archard"], state["rotor_archard"], rejected,
                           rejected + 1, solve_s, limit)
-        # the set the current solution started from: solving again from it
-        # repeats the same computation, which is what makes resume exact
-        state["active"] = act
+        if motion is not None:
+            # the worn faces move; the contact of the moved geometry gives the
+            # pressure the next step starts from
+            move(pad_w, rot_w, state["step"])
+            p_new, act_new, s = solve(pad_w, rot_w, act_new)
+            record.contact_solves += 1
+            record.solve_s += s
         p, act = p_new, act_new
+        state["pressure"], state["active"] = p, act
         if checkpoint is not None and (state["step"] % every == 0
                                        or state["time"] >= duration * (1 - 1e-12)):
-            _write_checkpoint(checkpoint, _state_arrays(record, state["active"],
-                                                        state["dt_next"]))
+            _write_checkpoint(checkpoint, {k: state[k] for k in _STATE_KEYS})
         yield record
 
 
