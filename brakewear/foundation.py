@@ -98,6 +98,9 @@ def layer_modulus(material, thickness: float, constrained: bool = True) -> float
 def _positive_array(name: str, value, n: int) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if arr.ndim == 0:
+        if not (np.isfinite(arr) and arr > 0):
+            raise FoundationError(f"{name} = {float(arr)!r} is not allowed; need a finite "
+                                  "value > 0")
         arr = np.full(n, float(arr))
     if arr.shape != (n,):
         raise FoundationError(f"{name} has shape {arr.shape}; need a number or an array of "
@@ -105,7 +108,7 @@ def _positive_array(name: str, value, n: int) -> np.ndarray:
     bad = ~(np.isfinite(arr) & (arr > 0))
     if bad.any():
         i = int(np.nonzero(bad)[0][0])
-        raise FoundationError(f"{name} = {arr[i]!r} at node {i} is not allowed ({int(bad.sum())} "
+        raise FoundationError(f"{name} = {float(arr[i])!r} at node {i} is not allowed ({int(bad.sum())} "
                               "such value(s)); need finite values > 0")
     return arr
 
