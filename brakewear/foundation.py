@@ -198,6 +198,12 @@ class WinklerInterface:
             raise FoundationError(f"xy has shape {xy.shape}; need (2, n) with n >= 3 nodes")
         n = xy.shape[1]
         object.__setattr__(self, "xy", xy)
+        try:
+            from scipy.spatial import ConvexHull
+            eq = ConvexHull(xy.T).equations          # inside: eq[:, :2] x + eq[:, 2] <= 0
+        except Exception as exc:                      # collinear nodes
+            raise FoundationError(f"the interface nodes span no area ({exc})") from None
+        object.__setattr__(self, "_hull", eq)
         object.__setattr__(self, "area", _positive_array("area", self.area, n))
         object.__setattr__(self, "modulus", _positive_array("modulus", self.modulus, n))
         lp = np.asarray(self.load_point, dtype=float)
@@ -334,76 +340,131 @@ class WinklerInterface:
             if not np.all(np.isfinite(gap)):
                 raise FoundationError("gap contains non-finite values")
             g = g + gap
-        # scaled rigid-body basis: q = (w, a L, b L)
-        X = self.xy - self.load_point[:, None]
-        L = float(np.abs(X).max()) or 1.0
-        B = np.column_stack([np.ones(n), X[0] / L, X[1] / L])
-        if mu > 0 and self.lever_arm > 0:
-            e = self.lever_arm * mu * self.drag
-            C = np.column_stack([np.ones(n), (X[0] + e[0]) / L, (X[1] + e[1]) / L])
-        else:
-            C = B
         c = self.area * self.modulus
-        rhs = np.array([force, 0.0, 0.0])
-        scale = force  # residuals are forces and (scaled) moments
-
-        def resid(q):
-            d = B @ q - g
-            return C.T @ (c * np.maximum(d, 0.0)) - rhs, d
-
-        # start: all nodes in contact
-        J_all = C.T @ (c[:, None] * B)
-        q = np.linalg.solve(J_all, rhs + C.T @ (c * g))
-        R, d = resid(q)
-        act = d > 0
-        it = 0
-        converged = False
-        while it < max_iter:
-            it += 1
-            if not act.any():
-                # nothing touches: move the backing until the closest node does
-                q = q.copy()
-                q[0] += -d.max() + 1e-12 * max(np.abs(g).max(), 1e-9)
-                R, d = resid(q)
-                act = d > 0
-            J = C[act].T @ (c[act, None] * B[act])
-            if np.linalg.cond(J) > 1e12:
-                J = J + 1e-10 * J_all  # one or two nodes in contact: a tiny all-node stiffness
-            dq = np.linalg.solve(J, -R)
-            # backtracking on the residual norm (a full step is exact if the set holds)
-            t, r0 = 1.0, np.linalg.norm(R)
-            while True:
-                qn = q + t * dq
-                Rn, dn = resid(qn)
-                if np.linalg.norm(Rn) <= (1 - 1e-4 * t) * r0 or t < 1e-10:
+        X0 = self.xy - self.load_point[:, None]
+        L = float(np.abs(X0).max()) or 1.0
+        if mu > 0 and self.lever_arm > 0:
+            # The friction couple: sum A p (x - x_L + lever mu d) = 0, i.e. the centre
+            # of pressure is x_L - lever mu dbar(p), dbar the pressure-weighted drag.
+            # dbar varies slowly with p (its tangent turns by the shift over the
+            # radius), so a fixed point on the effective load point, each a
+            # frictionless solve, converges fast (factor ~ lever mu / r).
+            lp, q, its = self.load_point.copy(), None, 0
+            for _ in range(100):
+                q, d, k = _frictionless(self.xy, lp, c, g, force, L, q, max_iter, self._hull)
+                its += k
+                fz = c * np.maximum(d, 0.0)
+                new = self.load_point - self.lever_arm * mu * (self.drag * fz).sum(axis=1) / fz.sum()
+                q = q.copy()  # same backing, expressed at the new load point
+                q[0] += (q[1] * (new - lp)[0] + q[2] * (new - lp)[1]) / L
+                step = float(np.abs(new - lp).max())
+                lp = new
+                if step <= 1e-15 * L * 1e2:
                     break
-                t *= 0.5
-            q, R, d = qn, Rn, dn
-            new = d > 0
-            if np.array_equal(new, act) and np.linalg.norm(R) <= tol * scale:
-                converged = True
-                break
-            if t < 1e-10:
-                break  # stalled: no equilibrium nearby
-            act = new
-        rel = float(np.linalg.norm(R) / scale)
-        if not converged or not act.any():
-            span = self.xy.max(axis=1) - self.xy.min(axis=1)
+            else:
+                raise FoundationSolveError(
+                    f"foundation contact: the friction fixed point did not settle in 100 "
+                    f"iterations (last load-line change {step:.2e} m, mu = {mu}, lever_arm = "
+                    f"{self.lever_arm} m)")
+            q, d, k = _frictionless(self.xy, lp, c, g, force, L, q, max_iter, self._hull)
+            it = its + k
+        else:
+            lp = self.load_point
+            q, d, it = _frictionless(self.xy, lp, c, g, force, L, None, max_iter, self._hull)
+        # the approach and tilts of the backing, at the load point
+        tilts = q[1:] / L
+        w = float(q[0] + tilts @ (self.load_point - lp))
+        # residual of the full balance (friction couple included)
+        P = c * np.maximum(d, 0.0)
+        Xr = X0 + (self.lever_arm * mu * self.drag if mu > 0 else 0.0)
+        R = np.array([P.sum() - force, (P * Xr[0]).sum() / L, (P * Xr[1]).sum() / L])
+        rel = float(np.linalg.norm(R) / force)
+        if rel > tol:
             raise FoundationSolveError(
-                f"foundation contact found no equilibrium after {it} iterations: relative "
-                f"residual {rel:.2e}, {int(act.sum())} of {n} nodes in contact. The pad lifts "
-                f"off or tips off its contact: load point {self.load_point} m, friction "
-                f"couple arm lever_arm * mu = {self.lever_arm * mu:.3g} m against a face "
-                f"{span[0]:.3g} x {span[1]:.3g} m, gaps {g.min():.3g}..{g.max():.3g} m.")
+                f"foundation contact: balance residual {rel:.2e} > tol {tol:.1e} after {it} "
+                f"iterations ({int((d > 0).sum())} of {n} nodes in contact)")
         p = self.modulus * np.maximum(d, 0.0)
         Fn = float((self.area * p).sum())
         fr = mu * (self.area * p * self.drag).sum(axis=1) if mu > 0 else np.zeros(2)
         centre = (self.xy * (self.area * p)).sum(axis=1) / Fn
-        res = FoundationResult(p, d > 0, float(q[0]), q[1:] / L, Fn, d, fr, centre, it, rel,
+        res = FoundationResult(p, d > 0, w, tilts, Fn, d, fr, centre, it, rel,
                                time.perf_counter() - t0, self.area)
         logger.debug("foundation solve: %d iterations, %d/%d in contact, residual %.1e",
-                     it, int(act.sum()), n, rel)
+                     it, int((d > 0).sum()), n, rel)
         return res
+
+
+def _frictionless(xy, load_point, c, g, force, L, q0, max_iter, hull=None):
+    """Minimise the convex energy 1/2 sum c max(delta, 0)^2 - F w over the backing
+    q = (w, a L, b L) (delta = B q - g): its gradient is the force and moment
+    balance about ``load_point``.  Semi-smooth Newton on the active set, each
+    step followed by an exact line search (the energy is piecewise quadratic
+    along a line), so it converges from any start and the last step, once the
+    active set repeats, is exact.  Returns (q, delta, iterations).
+
+    A load line outside the convex hull of the nodes cannot be balanced by
+    any compressive pressure: refused at once (the pad would tip off).
+    """
+    n = xy.shape[1]
+    if hull is not None:
+        out = float((hull[:, :2] @ load_point + hull[:, 2]).max())
+        if out > 1e-12 * L:
+            raise FoundationSolveError(
+                f"foundation contact found no equilibrium: the load line (clamp force and "
+                f"friction couple) passes through {load_point} m, {out:.3g} m outside the "
+                "contact face; no compressive pressure can balance it (the pad tips off its "
+                "contact). Check the load point, mu and lever_arm.")
+    X = (xy - load_point[:, None]) / L
+    B = np.column_stack([np.ones(n), X[0], X[1]])
+    rhs = np.array([force, 0.0, 0.0])
+    H_all = B.T @ (c[:, None] * B)
+    q = np.linalg.solve(H_all, rhs + B.T @ (c * g)) if q0 is None else q0
+    d = B @ q - g
+    for it in range(1, max_iter + 1):
+        act = d > 0
+        R = B.T @ (c * np.maximum(d, 0.0)) - rhs
+        if act.any() and np.linalg.norm(R) <= 1e-13 * force:
+            return q, d, it - 1
+        H = B[act].T @ (c[act, None] * B[act])
+        if not act.any() or np.linalg.cond(H) > 1e12:
+            H = H + 1e-8 * H_all  # fewer than three nodes carry: keep the step defined
+        dq = np.linalg.solve(H, -R)
+        t = _line_minimum(d, B @ dq, c, float(rhs @ dq), force, load_point)
+        q = q + t * dq
+        d = B @ q - g
+        R = B.T @ (c * np.maximum(d, 0.0)) - rhs
+        if np.array_equal(d > 0, act) and np.linalg.norm(R) <= 1e-13 * force:
+            return q, d, it
+    raise FoundationSolveError(
+        f"foundation contact found no equilibrium in {max_iter} iterations (relative residual "
+        f"{np.linalg.norm(R) / force:.2e}, {int((d > 0).sum())} of {n} nodes in contact)")
+
+
+def _line_minimum(d, s, c, r0, force, load_point):
+    """Exact minimiser t > 0 of the energy along q + t dq: the root of
+    phi'(t) = sum c s max(d + t s, 0) - r0, a non-decreasing piecewise-linear
+    function (breakpoints where nodes touch or open)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tb = np.where(s != 0, -d / s, np.inf)
+    on0 = (d > 0) | ((d == 0) & (s > 0))
+    A0 = float((c * s * d)[on0].sum())
+    S0 = float((c * s * s)[on0].sum())
+    ev = np.nonzero((tb > 0) & np.isfinite(tb))[0]
+    ev = ev[np.argsort(tb[ev])]
+    sign = np.where(s[ev] > 0, 1.0, -1.0)   # entering (s > 0) or leaving contact
+    A = A0 + np.concatenate([[0.0], np.cumsum(sign * c[ev] * s[ev] * d[ev])])
+    S = S0 + np.concatenate([[0.0], np.cumsum(sign * c[ev] * s[ev] ** 2)])
+    # phi' at the end of each interval (the last one is unbounded)
+    tend = tb[ev]
+    dphi = A[:-1] + tend * S[:-1] - r0
+    k = int(np.argmax(dphi >= 0)) if np.any(dphi >= 0) else ev.size
+    if S[k] <= 0:
+        raise FoundationSolveError(
+            "foundation contact found no equilibrium: the energy decreases without bound "
+            f"along the Newton direction -- the clamp force {force:.4g} N at the load point "
+            f"{load_point} m cannot be balanced by the face (the pad tips off its contact, "
+            "or the load line lies outside the face)")
+    return max((r0 - A[k]) / S[k], 0.0)
 
 
 # ----------------------------------------------------------- calibration --
