@@ -52,6 +52,7 @@ __all__ = [
     "FoundationResult",
     "CalibrationReport",
     "fe_approach",
+    "fe_lever_arm",
     "compare",
     "calibrate",
 ]
@@ -349,25 +350,36 @@ class WinklerInterface:
             # dbar varies slowly with p (its tangent turns by the shift over the
             # radius), so a fixed point on the effective load point, each a
             # frictionless solve, converges fast (factor ~ lever mu / r).
-            lp, q, its = self.load_point.copy(), None, 0
+            lp, q, its, done = self.load_point.copy(), None, 0, False
+            e = self.lever_arm * mu * self.drag
             for _ in range(100):
                 q, d, k = _frictionless(self.xy, lp, c, g, force, L, q, max_iter, self._hull)
                 its += k
                 fz = c * np.maximum(d, 0.0)
-                new = self.load_point - self.lever_arm * mu * (self.drag * fz).sum(axis=1) / fz.sum()
+                new = self.load_point - (e * fz).sum(axis=1) / fz.sum()
                 q = q.copy()  # same backing, expressed at the new load point
                 q[0] += (q[1] * (new - lp)[0] + q[2] * (new - lp)[1]) / L
                 step = float(np.abs(new - lp).max())
                 lp = new
-                if step <= 1e-15 * L * 1e2:
+                if step <= 1e-6 * L:
+                    # close: the exact semi-smooth Newton on the full balance finishes
+                    pol = _polish(self.xy, self.load_point, lp, q, c, g, e, force, L)
+                    if pol is not None:
+                        q, d, k = pol
+                        its += k
+                        lp, done = self.load_point, True
+                        break
+                if step <= 1e-13 * L:
                     break
             else:
                 raise FoundationSolveError(
                     f"foundation contact: the friction fixed point did not settle in 100 "
                     f"iterations (last load-line change {step:.2e} m, mu = {mu}, lever_arm = "
                     f"{self.lever_arm} m)")
-            q, d, k = _frictionless(self.xy, lp, c, g, force, L, q, max_iter, self._hull)
-            it = its + k
+            if not done:
+                q, d, k = _frictionless(self.xy, lp, c, g, force, L, q, max_iter, self._hull)
+                its += k
+            it = its
         else:
             lp = self.load_point
             q, d, it = _frictionless(self.xy, lp, c, g, force, L, None, max_iter, self._hull)
@@ -440,6 +452,33 @@ def _frictionless(xy, load_point, c, g, force, L, q0, max_iter, hull=None):
         f"{np.linalg.norm(R) / force:.2e}, {int((d > 0).sum())} of {n} nodes in contact)")
 
 
+def _polish(xy, load_point, lp, q, c, g, e, force, L, steps: int = 4):
+    """A few exact semi-smooth Newton steps on the full balance (friction couple
+    ``e = lever mu drag`` included) from a backing ``q`` given at ``lp``;
+    returns (q at ``load_point``, delta, steps) or None if it does not settle."""
+    n = xy.shape[1]
+    q = q.copy()
+    q[0] += (q[1] * (load_point - lp)[0] + q[2] * (load_point - lp)[1]) / L
+    X = (xy - load_point[:, None]) / L
+    B = np.column_stack([np.ones(n), X[0], X[1]])
+    C = np.column_stack([np.ones(n), X[0] + e[0] / L, X[1] + e[1] / L])
+    rhs = np.array([force, 0.0, 0.0])
+    act_prev = None
+    for k in range(steps + 1):
+        d = B @ q - g
+        act = d > 0
+        R = C.T @ (c * np.maximum(d, 0.0)) - rhs
+        if np.linalg.norm(R) <= 1e-13 * force and (act_prev is None or
+                                                  np.array_equal(act, act_prev)):
+            return q, d, k
+        if k == steps or act.sum() < 3:
+            return None
+        J = C[act].T @ (c[act, None] * B[act])
+        q = q - np.linalg.solve(J, R)
+        act_prev = act
+    return None
+
+
 def _line_minimum(d, s, c, r0, force, load_point):
     """Exact minimiser t > 0 of the energy along q + t dq: the root of
     phi'(t) = sum c s max(d + t s, 0) - r0, a non-decreasing piecewise-linear
@@ -489,6 +528,7 @@ class CalibrationReport:
 
     def summary(self) -> dict:
         return {"matched": self.matched, "scale": self.scale, "errors": self.errors,
+                "lever_arm_m": self.interface.lever_arm,
                 "winkler": self.winkler, "fe": self.fe, "speed_ratio": self.speed_ratio}
 
 
@@ -501,6 +541,29 @@ def fe_approach(interface: WinklerInterface, fe) -> float:
                               "build it with WinklerInterface.from_model")
     uz = np.asarray(fe.u["pad"]).reshape(-1, 3)[interface.load_nodes, 2]
     return float(-(interface.load_weights * uz).sum())
+
+
+def fe_lever_arm(model, fe) -> float:
+    """Height above the friction face (m) of the line of action of the FE's
+    abutment reaction: ``(sum z_j R_j) . S / |S|^2`` over the pad's abutment
+    nodes, ``R_j`` their in-plane reactions (``K u - f``) and ``S`` the
+    resultant.  Its couple with the friction resultant is what tips the pad
+    (the centre of pressure moves by ``lever mu`` toward the leading edge).
+    Needs a solve with friction (``mu > 0``): without it the resultant vanishes.
+    """
+    from .elasticity import boundary_dofs
+
+    pad, off = model.meshes["pad"], model.offsets["pad"]
+    f = model.loads(fe.clamp_force / model.geometry.piston.hydraulic_area)
+    f = f[3 * off:3 * (off + pad.nvertices)]
+    r = (model.stiffness("pad") @ np.asarray(fe.u["pad"]) - f).reshape(-1, 3)
+    nodes = np.unique(boundary_dofs(pad, "abutment", [0, 1]) // 3)
+    R = r[nodes, :2]
+    S = R.sum(axis=0)
+    if float(S @ S) <= (1e-6 * fe.clamp_force) ** 2:
+        raise FoundationError("the FE abutment reaction has no resultant (a solve without "
+                              "friction?): the lever arm needs mu > 0")
+    return float((pad.p[2, nodes][:, None] * R).sum(axis=0) @ S / (S @ S))
 
 
 def _figures(interface: WinklerInterface, p: np.ndarray, force: float, approach: float) -> dict:
@@ -553,7 +616,7 @@ def compare(interface: WinklerInterface, fe, gap=None) -> dict:
 
 
 def calibrate(interface: WinklerInterface, fe, match: str = "stiffness",
-              model=None) -> CalibrationReport:
+              model=None, lever_arm: str | float = "fe") -> CalibrationReport:
     """Calibrate the foundation modulus against an FE contact solution.
 
     Parameters
@@ -586,7 +649,13 @@ def calibrate(interface: WinklerInterface, fe, match: str = "stiffness",
         friction (and the stiffness), and is right only near the load it was
         calibrated at.
     model
-        The :class:`BrakeModel`; needed for ``match="pressure"`` (FE gaps).
+        The :class:`BrakeModel`; needed for ``match="pressure"`` (FE gaps) and
+        for ``lever_arm="fe"``.
+    lever_arm
+        ``"fe"`` (default): with friction in the FE result and ``model``
+        given, take the friction couple's lever arm from the FE abutment
+        reaction (:func:`fe_lever_arm`); otherwise keep the interface's.  A
+        number sets it.
 
     Returns
     -------
@@ -598,6 +667,14 @@ def calibrate(interface: WinklerInterface, fe, match: str = "stiffness",
         raise FoundationError(f"match = {match!r} is not allowed; allowed: 'stiffness', "
                               "'pressure'")
     lp, mu = _fe_load(interface, fe)
+    if isinstance(lever_arm, str):
+        if lever_arm != "fe":
+            raise FoundationError(f"lever_arm = {lever_arm!r}; allowed: 'fe' or a number (m)")
+        if mu > 0 and model is not None:
+            interface = replace(interface, lever_arm=fe_lever_arm(model, fe),
+                                info={**interface.info, "lever_arm_source": "FE abutment"})
+    else:
+        interface = replace(interface, lever_arm=float(lever_arm))
     w_fe = fe_approach(interface, fe)
     if not w_fe > 0:
         raise FoundationError(f"the FE approach {w_fe:.3e} m is not positive: is this a contact "

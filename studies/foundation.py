@@ -13,12 +13,14 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from brakewear import analytic as an
-from brakewear.foundation import WinklerInterface, calibrate, compare, johnson_modulus
+from brakewear.foundation import (WinklerInterface, calibrate, compare, fe_lever_arm,
+                                  johnson_modulus)
 from brakewear.scene import BrakeModel
 
 
@@ -99,12 +101,13 @@ def main(size_mm: float | None = None, out_data="docs/data", out_fig="docs/figur
         for m in (0.0, mu):
             key = f"{rotor}_mu{m:g}"
             raw = compare(wi, fe[m])
-            st = calibrate(wi, fe[m], "stiffness")
+            st = calibrate(wi, fe[m], "stiffness", model=model)  # FE lever arm if mu > 0
             cases[key] = {"johnson_modulus_Pa_per_m": float(wi.modulus.mean()),
                           "uncalibrated": raw["errors"],
                           "uncalibrated_winkler": raw["winkler"], "fe": raw["fe"],
                           "stiffness_calibrated": st.errors, "stiffness_scale": st.scale,
-                          "calibrated_modulus_Pa_per_m": float(st.interface.modulus.mean())}
+                          "calibrated_modulus_Pa_per_m": float(st.interface.modulus.mean()),
+                          "lever_arm_m": st.interface.lever_arm}
     out["cases"] = cases
     wi = WinklerInterface.from_model(model, rotor="foundation")
     pc = calibrate(wi, fe[0.0], "pressure", model=model)
@@ -132,6 +135,11 @@ def main(size_mm: float | None = None, out_data="docs/data", out_fig="docs/figur
         sh[name] = {"cop_shift_deg": float(th[mu] - th[0.0]),
                     "cop_shift_m": (cop[mu] - cop[0.0]).tolist()}
     sh["lever_arm_model_m"] = sc.interface.lever_arm
+    fel = fe_lever_arm(model, fe[mu])
+    sh["lever_arm_fe_abutment_m"] = fel
+    rl = {m: replace(sc.interface, lever_arm=fel).solve(line_pressure, m).centre for m in (0.0, mu)}
+    sh["winkler_fe_lever"] = {"cop_shift_deg": float(np.degrees(
+        np.arctan2(rl[mu][1], rl[mu][0]) - np.arctan2(rl[0.0][1], rl[0.0][0])))}
     # the lever arm that would give the FE's shift: shift along y = -lever * mu
     sh["lever_arm_fe_effective_m"] = float(-sh["fe"]["cop_shift_m"][1] / mu)
     out["friction_shift"] = sh
@@ -208,7 +216,7 @@ def _figure(path, wi, fe, mu, prof, r_row, lp, g):
         a.set_title(f"{name}, mu = {mu:g} (open nodes: 0)")
         fig.colorbar(sc, ax=a, label="pressure (MPa)", shrink=0.8)
     fig.suptitle(f"Default brake, {lp / 1e6:g} MPa line pressure: FE contact vs Winkler "
-                 "interface (stiffness-calibrated)")
+                 "interface (maps: uniform modulus)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -223,6 +223,23 @@ def test_calibrate_stiffness_report(model, fe, rotor):
                                                          rel=1e-9)
 
 
+def test_lever_arm_from_fe_abutment(model, fe):
+    """The FE abutment reaction acts low on the backplate's end faces; with its
+    height as the lever arm the Winkler friction shift matches the FE's."""
+    from brakewear.foundation import fe_lever_arm
+    g = model.geometry.pad
+    lever = fe_lever_arm(model, fe[0.4])
+    assert g.friction_thickness < lever < g.friction_thickness + 0.5 * g.backplate_thickness
+    wi = WinklerInterface.from_model(model)
+    geo = calibrate(wi, fe[0.4], "stiffness")                 # geometric mid-height
+    cal = calibrate(wi, fe[0.4], "stiffness", model=model)    # FE lever arm
+    assert cal.interface.lever_arm == pytest.approx(lever)
+    assert cal.summary()["lever_arm_m"] == pytest.approx(lever)
+    assert abs(cal.errors["cop_dtheta_deg"]) < 0.5 * abs(geo.errors["cop_dtheta_deg"])
+    with pytest.raises(FoundationError, match="mu > 0"):
+        fe_lever_arm(model, fe[0.0])
+
+
 def test_calibrate_pressure_reproduces_fe_and_reports_elsewhere(model, fe):
     wi = WinklerInterface.from_model(model)
     rep = calibrate(wi, fe[0.0], "pressure", model=model)
