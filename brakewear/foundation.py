@@ -20,11 +20,14 @@ resultant)`` tips the pad toward its leading edge::
     sum_i A_i p_i (y_i - y_L + lever_arm mu d_y,i)  = 0
 
 (``d`` the unit rotor-velocity direction at node i).  The equations are
-piecewise linear in ``(w, a, b)``; a semi-smooth Newton iteration with its
-own active set ``delta_i > 0`` solves them exactly: once the active set
-repeats, the last step solved the linear system of that set, so the
-residual is round-off.  A solve on the default brake's friction face takes
-well under a millisecond.
+piecewise linear in ``(w, a, b)``.  Without friction they are the gradient
+of a convex energy: a semi-smooth Newton iteration with its own active set
+``delta_i > 0`` and an exact line search solves them from any start, and
+exactly -- once the active set repeats, the last step solved that set's
+linear system, so the residual is round-off.  With friction, a fixed point
+on the effective load line (contraction ~ lever_arm mu / r) is finished by
+exact Newton steps on the full balance.  A solve on the default brake's
+friction face takes about a millisecond or less.
 
 The modulus is Johnson's thin-layer formula (:func:`johnson_modulus`;
 :func:`layer_modulus` for a transversely isotropic friction layer) or is
@@ -89,7 +92,8 @@ def layer_modulus(material, thickness: float, constrained: bool = True) -> float
     friction material.  Unconstrained: ``E_normal / h``.
     """
     if not (np.isfinite(thickness) and thickness > 0):
-        raise FoundationError(f"thickness = {thickness!r} m is not allowed; need a finite value > 0")
+        raise FoundationError(f"thickness = {thickness!r} m is not allowed; need a finite "
+                              "value > 0")
     el = getattr(material, "elastic", material)
     if constrained:
         return float(el.voigt()[2, 2]) / thickness
@@ -109,8 +113,8 @@ def _positive_array(name: str, value, n: int) -> np.ndarray:
     bad = ~(np.isfinite(arr) & (arr > 0))
     if bad.any():
         i = int(np.nonzero(bad)[0][0])
-        raise FoundationError(f"{name} = {float(arr[i])!r} at node {i} is not allowed ({int(bad.sum())} "
-                              "such value(s)); need finite values > 0")
+        raise FoundationError(f"{name} = {float(arr[i])!r} at node {i} is not allowed "
+                              f"({int(bad.sum())} such value(s)); need finite values > 0")
     return arr
 
 

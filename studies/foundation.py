@@ -208,8 +208,8 @@ def _figure(path, wi, fe, mu, prof, r_row, lp, g):
     vmax = max(pf.max(), pw.max())
     for j, (p, name) in enumerate(((pf, "FE contact"), (pw, "Winkler"))):
         a = ax[1, j]
-        sc = a.scatter(wi.xy[1] * 1e3, wi.xy[0] * 1e3, c=p, s=max(3.0, 1600.0 / wi.n), cmap="inferno", vmin=0,
-                       vmax=vmax)
+        sc = a.scatter(wi.xy[1] * 1e3, wi.xy[0] * 1e3, c=p, s=max(3.0, 1600.0 / wi.n),
+                       cmap="inferno", vmin=0, vmax=vmax)
         a.set_aspect("equal")
         a.set_xlabel("y (mm), rotor velocity +y")
         a.set_ylabel("x (mm), radial at the pad centre")
