@@ -251,3 +251,26 @@ def test_calibrate_pressure_reproduces_fe_and_reports_elsewhere(model, fe):
     assert 1e-3 < other["errors"]["pressure_l2"] < 0.5, other["errors"]
     with pytest.raises(FoundationError, match="model="):
         calibrate(wi, fe[0.0], "pressure")
+
+
+# ------------------------------------------------------------- study ---
+
+def test_study_runs_on_a_coarse_mesh(tmp_path):
+    """studies/foundation.py end to end (6 mm mesh): files, speed, lever arm."""
+    import importlib.util
+    import json
+    from pathlib import Path
+    spec = importlib.util.spec_from_file_location(
+        "foundation_study", Path(__file__).parents[1] / "studies" / "foundation.py")
+    study = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(study)
+    res = study.main(6.0, out_data=tmp_path, out_fig=tmp_path)
+    saved = json.loads((tmp_path / "foundation_study.json").read_text())
+    assert saved["sphere"]["nodal_solve"]["active_set_is_disc_r_lt_sqrt_2R_delta"]
+    assert min(res["speed_ratio"]["fe_first_over_winkler"].values()) > 100
+    sh = res["friction_shift"]
+    # the FE lever arm brings the Winkler shift closer to the FE's than the geometric one
+    assert (abs(sh["winkler_fe_lever"]["cop_shift_deg"] - sh["fe"]["cop_shift_deg"])
+            < abs(sh["winkler"]["cop_shift_deg"] - sh["fe"]["cop_shift_deg"]))
+    assert (tmp_path / "foundation_pressure.png").stat().st_size > 10_000
+    assert (tmp_path / "foundation_profile.csv").read_text().startswith("theta_deg,")
