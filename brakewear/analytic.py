@@ -116,3 +116,76 @@ def semi_infinite_surface_temperature(t, q: float, kappa: float, rho: float, c: 
                                       T0: float = 0.0):
     """Surface temperature of a half-space under constant flux: T0 + 2 q sqrt(t / (pi kappa rho c))."""
     return T0 + 2.0 * q * np.sqrt(np.asarray(t, dtype=float) / (np.pi * kappa * rho * c))
+
+
+# ======================================================================
+# Elastic foundation (Winkler) -- added with brakewear.foundation (issue 7)
+# ======================================================================
+# Johnson, Contact Mechanics (1985), ch. 9 (section 9.2, "simple elastic
+# foundation"): a layer of thickness h on a rigid base, loaded over its face,
+# responds locally, p = k * (local interference), with
+#   k = E (1 - nu) / ((1 + nu) (1 - 2 nu) h)   thin layer, laterally constrained
+#   k = E / h                                  thin layer, free to expand laterally.
+# A rigid sphere (radius R) pressed a depth delta into such a foundation has
+# interference delta - r^2 / (2 R), hence
+#   contact radius a = sqrt(2 R delta)     (Hertz: a = sqrt(R delta))
+#   p(r) = k (delta - r^2 / (2 R)),  p0 = k delta
+#   F = pi k R delta^2.
+
+__all__ += [
+    "johnson_modulus",
+    "winkler_sphere",
+    "winkler_sphere_pressure",
+    "winkler_sphere_approach",
+]
+
+
+def johnson_modulus(E: float, nu: float, thickness: float, constrained: bool = True) -> float:
+    """Foundation modulus ``k`` (Pa/m) of a thin elastic layer on a rigid base.
+
+    Johnson, Contact Mechanics, ch. 9: ``k = E (1 - nu) / ((1 + nu)(1 - 2 nu) h)``
+    for a layer whose lateral expansion is prevented (thin, bonded layer), and
+    ``k = E / h`` for one that is free to expand.
+
+    Raises
+    ------
+    ValueError
+        If ``E`` or ``thickness`` is not a finite positive number, or ``nu``
+        is outside (-1, 0.5).
+    """
+    for name, val in (("E", E), ("thickness", thickness)):
+        if not (np.isfinite(val) and val > 0):
+            raise ValueError(f"johnson_modulus: {name} = {val!r} is not allowed; need a finite "
+                             "value > 0")
+    if not (-1.0 < nu < 0.5):
+        raise ValueError(f"johnson_modulus: nu = {nu!r} is not allowed; need -1 < nu < 0.5")
+    if constrained:
+        return E * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu) * thickness)
+    return E / thickness
+
+
+def winkler_sphere(R: float, k: float, delta: float | None = None, F: float | None = None) -> dict:
+    """Rigid sphere on a Winkler foundation, given the approach ``delta`` or the load ``F``.
+
+    Returns ``a = sqrt(2 R delta)``, ``p0 = k delta``, ``delta`` and
+    ``F = pi k R delta^2``.  Hertz at the same approach has ``a = sqrt(R delta)``:
+    the foundation's contact is sqrt(2) times wider, because it has no
+    lateral coupling to pull the surface down around the contact.
+    """
+    if (delta is None) == (F is None):
+        raise ValueError("winkler_sphere: give exactly one of delta and F")
+    if delta is None:
+        delta = winkler_sphere_approach(F, R, k)
+    return {"a": np.sqrt(2.0 * R * delta), "p0": k * delta, "delta": delta,
+            "F": np.pi * k * R * delta ** 2}
+
+
+def winkler_sphere_approach(F: float, R: float, k: float) -> float:
+    """Approach of a rigid sphere on a Winkler foundation: delta = sqrt(F / (pi k R))."""
+    return float(np.sqrt(F / (np.pi * k * R)))
+
+
+def winkler_sphere_pressure(r, R: float, k: float, delta: float):
+    """p(r) = k (delta - r^2 / (2 R)) inside the contact, zero outside."""
+    r = np.asarray(r, dtype=float)
+    return k * np.clip(delta - r ** 2 / (2.0 * R), 0.0, None)

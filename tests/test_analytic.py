@@ -69,3 +69,42 @@ def test_heat_references():
     # semi-infinite surface temperature grows with sqrt(t)
     T1, T4 = an.semi_infinite_surface_temperature([1.0, 4.0], q, 50.0, 7200.0, 500.0)
     assert T4 / T1 == pytest.approx(2.0)
+
+
+# ======================================================================
+# Elastic foundation (Winkler) closed forms -- brakewear.foundation, issue 7
+# ======================================================================
+
+def test_johnson_modulus_formulas_and_bad_input():
+    E, nu, h = 3e9, 0.25, 0.01
+    assert an.johnson_modulus(E, nu, h) == pytest.approx(E * 0.75 / (1.25 * 0.5 * h), rel=1e-14)
+    assert an.johnson_modulus(E, nu, h, constrained=False) == pytest.approx(E / h, rel=1e-14)
+    # nu = 0: lateral constraint changes nothing
+    assert an.johnson_modulus(E, 0.0, h) == pytest.approx(E / h, rel=1e-14)
+    # the constrained value is the zz entry of the isotropic stiffness over h
+    from brakewear.materials import Isotropic
+    assert an.johnson_modulus(E, nu, h) == pytest.approx(Isotropic(E, nu).voigt()[2, 2] / h)
+    for bad in ({"E": 0.0}, {"E": -1e9}, {"thickness": 0.0}, {"thickness": -1e-3},
+                {"thickness": np.nan}, {"nu": 0.5}):
+        args = {"E": E, "nu": nu, "thickness": h, **bad}
+        name = next(iter(bad))
+        with pytest.raises(ValueError, match=name):
+            an.johnson_modulus(**args)
+
+
+def test_winkler_sphere_round_trip_load_integral_and_hertz_ratio():
+    R, k, delta = 0.01, 3e11, 2e-6
+    w = an.winkler_sphere(R, k, delta=delta)
+    assert w["a"] == pytest.approx(np.sqrt(2 * R * delta), rel=1e-14)
+    assert an.winkler_sphere(R, k, F=w["F"])["delta"] == pytest.approx(delta, rel=1e-12)
+    load, _ = quad(lambda r: an.winkler_sphere_pressure(r, R, k, delta) * 2 * np.pi * r,
+                   0, w["a"])
+    assert load == pytest.approx(w["F"], rel=1e-10), f"integral of p = {load}"
+    assert an.winkler_sphere_pressure(w["a"] * 1.01, R, k, delta) == 0.0
+    assert an.winkler_sphere_pressure(0.0, R, k, delta) == pytest.approx(w["p0"])
+    # at equal approach the foundation's contact is sqrt(2) times Hertz's
+    Es = 1e9
+    F_h = 4 / 3 * Es * np.sqrt(R) * delta ** 1.5
+    assert w["a"] / an.hertz_sphere(F_h, R, Es)["a"] == pytest.approx(np.sqrt(2), rel=1e-12)
+    with pytest.raises(ValueError, match="exactly one"):
+        an.winkler_sphere(R, k)
