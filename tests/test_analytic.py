@@ -69,3 +69,20 @@ def test_heat_references():
     # semi-infinite surface temperature grows with sqrt(t)
     T1, T4 = an.semi_infinite_surface_temperature([1.0, 4.0], q, 50.0, 7200.0, 500.0)
     assert T4 / T1 == pytest.approx(2.0)
+
+
+def test_semi_infinite_profile_surface_flux_and_energy():
+    q, k, rho, c, t = 2e5, 2.0, 2400.0, 1000.0, 12.0
+    T_surf = an.semi_infinite_surface_temperature(t, q, k, rho, c, T0=300.0)
+    assert an.semi_infinite_temperature(0.0, t, q, k, rho, c, T0=300.0) == pytest.approx(
+        T_surf, rel=1e-14)
+    depth = np.sqrt(k / (rho * c) * t)
+    # Fourier at the surface: -kappa dT/dx = q
+    h = 1e-6 * depth
+    dTdx = (an.semi_infinite_temperature(h, t, q, k, rho, c)
+            - an.semi_infinite_temperature(0.0, t, q, k, rho, c)) / h
+    assert -k * dTdx == pytest.approx(q, rel=1e-5)
+    # all the heat that entered is stored: int rho c (T - T0) dx = q t
+    stored, _ = quad(lambda x: rho * c * an.semi_infinite_temperature(x, t, q, k, rho, c),
+                     0.0, 40 * depth)
+    assert stored == pytest.approx(q * t, rel=1e-8), f"stored {stored} vs q t {q * t}"
