@@ -454,7 +454,7 @@ class HeatConduction:
         # heat leaving through fixed-temperature faces: the reactions
         A = self.K + self.H + (0.0 if dt is None else self.M / dt)
         rhs = F + self.b_amb + (0.0 if dt is None else self.M @ T0 / dt)
-        to_fixed = float(np.sum((A @ T1 - rhs)[self.fixed_mask]))
+        to_fixed = -float(np.sum((A @ T1 - rhs)[self.fixed_mask]))
         heat_in = float(np.sum(F))
         scale = max(abs(heat_in), abs(stored), abs(convected), 1e-300)
         return {"heat_in_W": heat_in, "stored_W": stored, "convected_W": convected,
