@@ -699,6 +699,26 @@ class ThermalModel:
                 "bodies": bodies,
                 "relative_error": max([perr] + [v["relative_error"] for v in bodies.values()])}
 
+    # ----------------------------------------------------------- state --
+    def state_arrays(self) -> dict:
+        """The thermal state for a checkpoint: ``T_<body>`` arrays and ``thermal_time``."""
+        return {**{f"T_{b}": self.T[b].copy() for b in self.bodies},
+                "thermal_time": float(self.time)}
+
+    def load_state(self, arrays: Mapping[str, np.ndarray]) -> None:
+        """Restore :meth:`state_arrays` (e.g. from an ``.npz``); checks the sizes."""
+        for b in self.bodies:
+            key = f"T_{b}"
+            if key not in arrays:
+                raise ThermalError(f"thermal state: {key!r} is missing; keys: {sorted(arrays)}")
+            T = np.asarray(arrays[key], dtype=float)
+            if T.shape != (self.heat[b].n,) or not np.all(np.isfinite(T)) or np.any(T <= 0):
+                raise ThermalError(f"thermal state: {key!r} has shape {T.shape}; need "
+                                   f"({self.heat[b].n},) finite temperatures > 0 K")
+            self.T[b] = T.copy()
+        self.time = float(np.asarray(arrays.get("thermal_time", 0.0)))
+        self._last = None
+
     # ------------------------------------------------------ temperatures --
     def face_temperature(self, body: str = "pad") -> np.ndarray:
         """Temperature (K) at the friction-face nodes of ``body`` (sorted node order)."""

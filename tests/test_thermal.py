@@ -393,3 +393,19 @@ def test_friction_law_fades():
     assert law.mu(np.array([473.15, 673.15, 2000.0])) == pytest.approx([0.45, 0.35, 0.2])
     q = heat_flux(np.array([1e6, -1e5]), np.array([5.0, 5.0]), law.mu(np.array([673.15, 300])))
     assert q == pytest.approx([0.35 * 5e6, 0.0])
+
+
+def test_state_round_trip_repeats_the_run(brake):
+    """Checkpoint and resume: restored state + the same steps = the same temperatures."""
+    m, r = brake
+    a = ThermalModel(m)
+    q = a.flux(r.interface_pressure, MU, OMEGA)
+    a.step(q, 1.0)
+    saved = a.state_arrays()
+    a.step(q, 2.0)
+    b = ThermalModel(m)
+    b.load_state(saved)
+    b.step(q, 2.0)
+    assert all(np.array_equal(a.T[k], b.T[k]) for k in a.bodies) and b.time == a.time == 3.0
+    with pytest.raises(ThermalError, match="'T_pad' has shape"):
+        b.load_state({**saved, "T_pad": np.ones(3)})
