@@ -298,6 +298,10 @@ class HeatConduction:
         early, steep transient free of undershoot).
     name
         Body name used in messages.
+    contact_conductance
+        ``h_c`` (W/m^2 K) on the flux facets, lumped at their nodes: the term
+        ``h_c A_i T_i`` is part of the matrix (``Hc``); the other side's
+        ``h_c A_i T_other`` arrives with the load (:class:`ThermalModel`).
     """
 
     #: factorisations kept per body (one per time step size in use)
@@ -306,7 +310,8 @@ class HeatConduction:
     def __init__(self, mesh: fem.Mesh, materials, flux_facets: str | None = None,
                  convection: Mapping[str, float] | None = None,
                  T_ambient: float = T_AMBIENT_DEFAULT, fixed: Mapping[str, float] | None = None,
-                 mass: str = "consistent", name: str = "body"):
+                 mass: str = "consistent", name: str = "body",
+                 contact_conductance: float = 0.0):
         self.name = name
         if not isinstance(mesh, fem.MeshTet1):
             raise ThermalError(f"body {name!r}: mesh type {type(mesh).__name__} is not supported; "
@@ -378,6 +383,15 @@ class HeatConduction:
             self.T_fixed[nodes] = T
         self.fixed_mask = fixed_nodes
         self.free = np.flatnonzero(~fixed_nodes)
+        if not (np.isfinite(contact_conductance) and contact_conductance >= 0):
+            raise ThermalError(f"body {name!r}: contact_conductance = {contact_conductance!r} "
+                               "W/m^2 K is not allowed; need >= 0")
+        if contact_conductance > 0 and flux_facets is None:
+            raise ThermalError(f"body {name!r}: contact_conductance needs flux_facets")
+        d = np.zeros(N)
+        d[self.face] = contact_conductance * self.face_area
+        self.Hc = sp.diags(d).tocsr()
+        self.contact_conductance = float(contact_conductance)
         self._lu: OrderedDict = OrderedDict()
         self.factorizations = 0
 
@@ -401,7 +415,7 @@ class HeatConduction:
         if key in self._lu:
             self._lu.move_to_end(key)
             return self._lu[key]
-        A = self.K + self.H if key is None else self.M / key + self.K + self.H
+        A = self.K + self.H + self.Hc + (0.0 if key is None else self.M / key)
         Aff = A[self.free][:, self.free].tocsc()
         try:
             lu = spla.splu(Aff, permc_spec="MMD_AT_PLUS_A")
@@ -418,28 +432,41 @@ class HeatConduction:
                 "(h > 0) and no fixed temperature, so the temperature level is undetermined; "
                 "give h_conv > 0 or solve transient steps")
 
-    def _solve(self, dt: float | None, rhs: np.ndarray) -> np.ndarray:
-        if dt is None and not self.fixed_mask.any() and not any(
+    def solve(self, dt: float | None, rhs: np.ndarray) -> np.ndarray:
+        """Solve ``A(dt) T = rhs`` (``dt=None``: steady) with the cached factorisation.
+
+        ``rhs`` may be (N,) or (N, k) (k right-hand sides, then the fixed
+        temperatures are taken as zero: for influence columns).
+        """
+        if dt is None and not self.fixed_mask.any() and self.contact_conductance == 0 and not any(
                 h > 0 for h in self.convection.values()):
             raise ThermalError(self._singular_message())
         lu, A = self._factor(dt)
-        T = self.T_fixed.copy()
-        r = rhs - A @ T
-        T[self.free] = lu.solve(r[self.free])
+        if rhs.ndim == 2:
+            T = np.zeros(rhs.shape)
+            T[self.free] = lu.solve(np.ascontiguousarray(rhs[self.free]))
+        else:
+            T = self.T_fixed.copy()
+            r = rhs - A @ T
+            T[self.free] = lu.solve(r[self.free])
         if not np.all(np.isfinite(T)):
             raise ThermalError(f"body {self.name!r}: the heat solve gave non-finite temperatures")
         return T
 
+    def rhs(self, T: np.ndarray | None, F: np.ndarray, dt: float | None) -> np.ndarray:
+        """Right-hand side of a step from ``T`` (``dt``) or of the steady state (``None``)."""
+        return F + self.b_amb + (0.0 if dt is None else self.M @ T / dt)
+
     def steady(self, F: np.ndarray) -> np.ndarray:
         """Steady temperature for nodal heat input ``F`` (W; see :meth:`flux_load`)."""
-        return self._solve(None, F + self.b_amb)
+        return self.solve(None, self.rhs(None, F, None))
 
     def step(self, T: np.ndarray, F: np.ndarray, dt: float) -> np.ndarray:
         """One implicit-Euler step of size ``dt`` (s) from ``T`` with input ``F`` (W)."""
         if not (np.isfinite(dt) and dt > 0):
             raise ThermalError(f"body {self.name!r}: time step dt = {dt!r} s is not allowed; "
                                "need dt > 0")
-        return self._solve(dt, self.M @ T / dt + F + self.b_amb)
+        return self.solve(dt, self.rhs(T, F, dt))
 
     def balance(self, T0: np.ndarray | None, T1: np.ndarray, F: np.ndarray,
                 dt: float | None) -> dict:
@@ -451,15 +478,15 @@ class HeatConduction:
         """
         stored = 0.0 if dt is None else float(np.sum(self.M @ (T1 - T0)) / dt)
         convected = float(np.sum(self.H @ T1 - self.b_amb))
+        contact = float(np.sum(self.Hc @ T1))
         # heat leaving through fixed-temperature faces: the reactions
-        A = self.K + self.H + (0.0 if dt is None else self.M / dt)
-        rhs = F + self.b_amb + (0.0 if dt is None else self.M @ T0 / dt)
-        to_fixed = -float(np.sum((A @ T1 - rhs)[self.fixed_mask]))
+        A = self.K + self.H + self.Hc + (0.0 if dt is None else self.M / dt)
+        to_fixed = -float(np.sum((A @ T1 - self.rhs(T0, F, dt))[self.fixed_mask]))
         heat_in = float(np.sum(F))
-        scale = max(abs(heat_in), abs(stored), abs(convected), 1e-300)
+        scale = max(abs(heat_in), abs(stored), abs(convected), abs(contact), 1e-300)
         return {"heat_in_W": heat_in, "stored_W": stored, "convected_W": convected,
-                "to_fixed_W": to_fixed,
-                "relative_error": abs(heat_in - stored - convected - to_fixed) / scale}
+                "to_fixed_W": to_fixed, "to_contact_W": contact,
+                "relative_error": abs(heat_in - stored - convected - to_fixed - contact) / scale}
 
 
 # --------------------------------------------------------- thermal strain ---
@@ -541,6 +568,16 @@ class ThermalModel:
         ``"consistent"`` or ``"lumped"`` capacity matrix.
     T_initial
         Initial temperature (K), default ``T_ambient``.
+    contact_conductance
+        ``h_c`` (W/m^2 K, default 0: off).  Besides its share of ``q``, each
+        pad friction node exchanges ``h_c A_i (T_pad,i - T_ring,i)`` with the
+        rotor, ``T_ring,i`` the area-weighted mean temperature of the rotor
+        rings under it (the revolution average again); the rotor receives
+        it spread over those rings.  Solved monolithically in each step
+        (through the ring means, a few dense unknowns: see :meth:`_coupled`),
+        so a large ``h_c`` drives the pad face toward the rotor's ring
+        temperature and the effective partition follows.  Needs an elastic
+        (meshed) rotor.
     """
 
     PAD_FACETS = ("back", "leading", "trailing", "inner", "outer")
@@ -550,7 +587,8 @@ class ThermalModel:
                  h_conv: float | Mapping[str, float] = H_CONV_DEFAULT,
                  T_ambient: float = T_AMBIENT_DEFAULT, T_ref: float | None = None,
                  convection_facets: Mapping[str, Sequence[str]] | None = None,
-                 mass: str = "consistent", T_initial: float | None = None):
+                 mass: str = "consistent", T_initial: float | None = None,
+                 contact_conductance: float = 0.0):
         self.model = model
         self.bodies = tuple(b for b in ("rotor", "pad") if b in model.bodies)
         if "pad" not in self.bodies:
@@ -589,6 +627,14 @@ class ThermalModel:
             h = hs.get(b, H_CONV_DEFAULT)
             if not (np.isfinite(h) and h >= 0):
                 raise ThermalError(f"body {b!r}: h_conv = {h!r} W/m^2 K is not allowed; need >= 0")
+        h_c = contact_conductance
+        if not (isinstance(h_c, (int, float, np.floating)) and np.isfinite(h_c) and h_c >= 0):
+            raise ThermalError(f"contact_conductance = {h_c!r} W/m^2 K is not allowed; need a "
+                               "number >= 0")
+        if h_c > 0 and "rotor" not in self.bodies:
+            raise ThermalError("contact_conductance > 0 needs an elastic (meshed) rotor; this "
+                               f"model's rotor is {model.rotor!r}")
+        self.contact_conductance = float(h_c)
         facets = {"pad": self.PAD_FACETS, "rotor": self.ROTOR_FACETS}
         facets.update(dict(convection_facets or {}))
         self.T_ambient = float(T_ambient)
@@ -598,7 +644,9 @@ class ThermalModel:
         # ---- assembly (once)
         self.heat = {b: HeatConduction(model.meshes[b], model.materials[b], "friction",
                                        {f: hs.get(b, H_CONV_DEFAULT) for f in facets[b]},
-                                       T_ambient, mass=mass, name=b) for b in self.bodies}
+                                       T_ambient, mass=mass, name=b,
+                                       contact_conductance=h_c if b == "pad" else 0.0)
+                     for b in self.bodies}
         pad = model.meshes["pad"]
         self.pad_nodes = self.heat["pad"].face
         self.pad_area = self.heat["pad"].face_area
@@ -611,6 +659,20 @@ class ThermalModel:
             self.coupling = pair.coupling[:, face + model.offsets["rotor"]].tocsr()
             self.ring, self.ring_radii = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
             self.rotor_area = self.heat["rotor"].face_area
+            if h_c > 0:
+                n_ring = int(self.ring.max()) + 1
+                E = sp.csr_matrix((np.ones(face.size), (np.arange(face.size), self.ring)),
+                                  shape=(face.size, n_ring))
+                ring_area = np.bincount(self.ring, weights=self.rotor_area)
+                # V: ring means seen by each pad node (rows sum to 1); U: a ring's
+                # power spread uniformly over its area (columns sum to 1); the ring
+                # mean temperature is U^T T_rotor
+                self._V = np.asarray((self.coupling @ E).todense())
+                self._U = np.asarray((self.heat["rotor"].S @ E
+                                      @ sp.diags(1.0 / ring_area)).todense())
+                self._DV = np.zeros((self.heat["pad"].n, n_ring))
+                self._DV[self.pad_nodes] = (h_c * self.pad_area)[:, None] * self._V
+                self._influence: OrderedDict = OrderedDict()
         self._G: dict[str, sp.csr_matrix] = {}
         T0 = self.T_ambient if T_initial is None else float(T_initial)
         self.T = {b: np.full(self.heat[b].n, T0) for b in self.bodies}
@@ -657,30 +719,71 @@ class ThermalModel:
         return F, figures
 
     # ----------------------------------------------------------- solves --
+    def _solve(self, q_pad: np.ndarray, dt: float | None) -> dict:
+        F, figs = self._loads(q_pad)
+        old = self.T
+        figs["friction_in"] = {b: float(np.sum(F[b])) for b in self.bodies}
+        figs["exchange_W"] = 0.0
+        if self.contact_conductance == 0.0:
+            self.T = {b: self.heat[b].solve(dt, self.heat[b].rhs(old[b], F[b], dt))
+                      for b in self.bodies}
+        else:
+            self.T, F, figs["exchange_W"] = self._coupled(old, F, dt)
+        self._last = {"F": F, "old": old, "dt": dt, **figs}
+        return self.T
+
+    def _coupled(self, old: dict, F: dict, dt: float | None):
+        """Pad and rotor coupled through the contact conductance, solved exactly.
+
+        The coupling acts only through the ring means ``tau = U^T T_rotor``
+        and the ring exchange powers ``g = h_c V^T A (T_pad,face - V tau)``:
+        with the influence columns ``Z_p = A_p^-1 (h_c A V)`` and
+        ``Z_r = A_r^-1 U`` (cached per ``dt``), the uncoupled solutions plus
+        ``Z_p tau`` and ``Z_r g`` solve the monolithic system, and ``tau``
+        comes from a dense n_ring x n_ring system.
+        """
+        pad, rot = self.heat["pad"], self.heat["rotor"]
+        key = None if dt is None else float(dt)
+        if key not in self._influence:
+            Zp = pad.solve(dt, self._DV)
+            Zr = rot.solve(dt, self._U)
+            DVf = self._DV[self.pad_nodes]
+            G = DVf.T @ Zp[self.pad_nodes] - DVf.T @ self._V
+            self._influence[key] = (Zp, Zr, self._U.T @ Zr, G)
+            if len(self._influence) > HeatConduction.cache_size:
+                self._influence.popitem(last=False)
+        Zp, Zr, R, G = self._influence[key]
+        Tp = pad.solve(dt, pad.rhs(old["pad"], F["pad"], dt))
+        Tr = rot.solve(dt, rot.rhs(old["rotor"], F["rotor"], dt))
+        g0 = self._DV[self.pad_nodes].T @ Tp[self.pad_nodes]
+        tau0 = self._U.T @ Tr
+        tau = np.linalg.solve(np.eye(R.shape[0]) - R @ G, tau0 + R @ g0)
+        g = g0 + G @ tau
+        T = {"pad": Tp + Zp @ tau, "rotor": Tr + Zr @ g}
+        Ftot = {"pad": F["pad"] + self._DV @ tau, "rotor": F["rotor"] + self._U @ g}
+        return T, Ftot, float(g.sum())
+
     def step(self, q_pad: np.ndarray, dt: float) -> dict:
         """Advance all bodies by one implicit-Euler step ``dt`` (s) under ``q_pad``
         (W/m^2 at the pad's friction nodes); returns the new temperatures."""
         if not (np.isfinite(dt) and dt > 0):
             raise ThermalError(f"dt = {dt!r} s is not allowed; need dt > 0")
-        F, figs = self._loads(q_pad)
-        old = self.T
-        self.T = {b: self.heat[b].step(old[b], F[b], dt) for b in self.bodies}
+        self._solve(q_pad, dt)
         self.time += dt
-        self._last = {"F": F, "old": old, "dt": dt, **figs}
         return self.T
 
     def steady(self, q_pad: np.ndarray) -> dict:
         """Steady temperatures under ``q_pad`` (needs convection)."""
-        F, figs = self._loads(q_pad)
-        old = self.T
-        self.T = {b: self.heat[b].steady(F[b]) for b in self.bodies}
-        self._last = {"F": F, "old": old, "dt": None, **figs}
-        return self.T
+        return self._solve(q_pad, None)
 
     def heat_balance(self) -> dict:
         """Energy figures of the last solve (W).
 
-        ``partition_error``: |heat into the bodies (+ a rigid rotor's share)
+        ``heat_into_bodies_W`` counts the friction heat only;
+        ``exchange_pad_to_rotor_W`` is the net contact-conductance flow
+        (the bodies' ``heat_in_W`` include it, their ``to_contact_W`` is
+        the pad's gross outflow ``sum h_c A_i T_i``).  ``partition_error``: |heat into
+        the bodies (+ a rigid rotor's share)
         - friction power| / friction power (the flux mapping, incl. the
         rotor's revolution average).  ``bodies[b]['relative_error']``: heat
         in vs stored + convected (the solve).  ``relative_error``: the
@@ -691,12 +794,12 @@ class ThermalModel:
         L = self._last
         bodies = {b: self.heat[b].balance(L["old"][b], self.T[b], L["F"][b], L["dt"])
                   for b in self.bodies}
-        into = sum(v["heat_in_W"] for v in bodies.values())
+        into = sum(L["friction_in"].values())
         P = L["friction_power_W"]
         perr = abs(into + L["rotor_unmodelled_W"] - P) / max(P, 1e-300) if P > 0 else 0.0
         return {"friction_power_W": P, "heat_into_bodies_W": into,
                 "rotor_unmodelled_W": L["rotor_unmodelled_W"], "partition_error": perr,
-                "bodies": bodies,
+                "exchange_pad_to_rotor_W": L["exchange_W"], "bodies": bodies,
                 "relative_error": max([perr] + [v["relative_error"] for v in bodies.values()])}
 
     # ----------------------------------------------------------- state --
