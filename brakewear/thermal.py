@@ -616,8 +616,9 @@ class ThermalModel:
             try:
                 gamma = float(partition)
             except (TypeError, ValueError):
-                raise ThermalError(f"partition = {partition!r} is not allowed; allowed: "
-                                   "'effusivity', 'effusivity_area' or a number in [0, 1]") from None
+                raise ThermalError(
+                    f"partition = {partition!r} is not allowed; allowed: 'effusivity', "
+                    "'effusivity_area' or a number in [0, 1]") from None
             if not (np.isfinite(gamma) and 0.0 <= gamma <= 1.0):
                 raise ThermalError(f"partition = {partition!r} (share of the heat into the pad) "
                                    "is not allowed; it must lie in [0, 1]")
