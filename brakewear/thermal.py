@@ -340,6 +340,11 @@ class HeatConduction:
             if not (np.isfinite(T) and T > 0):
                 raise ThermalError(f"body {name!r}: fixed temperature {T!r} K on {key!r} is not "
                                    "allowed; need T > 0 K")
+        if not (np.isfinite(contact_conductance) and contact_conductance >= 0):
+            raise ThermalError(f"body {name!r}: contact_conductance = {contact_conductance!r} "
+                               "W/m^2 K is not allowed; need >= 0")
+        if contact_conductance > 0 and flux_facets is None:
+            raise ThermalError(f"body {name!r}: contact_conductance needs flux_facets")
         groups = _groups(mesh, materials, name)
         self.thermal = [(e, _check_thermal(m, _label(name, m))) for e, m in groups]
         self.mesh, self.T_ambient, self.mass_kind = mesh, float(T_ambient), mass
@@ -383,11 +388,6 @@ class HeatConduction:
             self.T_fixed[nodes] = T
         self.fixed_mask = fixed_nodes
         self.free = np.flatnonzero(~fixed_nodes)
-        if not (np.isfinite(contact_conductance) and contact_conductance >= 0):
-            raise ThermalError(f"body {name!r}: contact_conductance = {contact_conductance!r} "
-                               "W/m^2 K is not allowed; need >= 0")
-        if contact_conductance > 0 and flux_facets is None:
-            raise ThermalError(f"body {name!r}: contact_conductance needs flux_facets")
         d = np.zeros(N)
         d[self.face] = contact_conductance * self.face_area
         self.Hc = sp.diags(d).tocsr()
