@@ -270,6 +270,11 @@ def test_thermal_load_global_numbering(brake):
     assert np.abs(f[3 * o:3 * (o + n)] - ref).max() < 1e-9 * np.abs(ref).max()
     op = m.offsets["pad"]
     assert not np.any(f[3 * op:3 * (op + m.meshes["pad"].nvertices)])
+    # the free-expansion field carries no thermal stress (and the pad, at rest, none either)
+    th.T = T
+    s = th.stresses({"rotor": u, "pad": np.zeros(3 * m.meshes["pad"].nvertices)})
+    E_alpha_dT = MATERIALS["grey_cast_iron"].elastic.E * alpha * dT
+    assert np.abs(s["rotor"]).max() < 1e-10 * E_alpha_dT and not np.any(s["pad"])
 
 
 def test_scene_without_thermal_builds_nothing_thermal():
