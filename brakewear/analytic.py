@@ -22,6 +22,7 @@ __all__ = [
     "uniform_pressure_effective_radius",
     "slab_temperature",
     "semi_infinite_surface_temperature",
+    "semi_infinite_temperature",
 ]
 
 
@@ -189,3 +190,20 @@ def winkler_sphere_pressure(r, R: float, k: float, delta: float):
     """p(r) = k (delta - r^2 / (2 R)) inside the contact, zero outside."""
     r = np.asarray(r, dtype=float)
     return k * np.clip(delta - r ** 2 / (2.0 * R), 0.0, None)
+
+
+def semi_infinite_temperature(x, t: float, q: float, kappa: float, rho: float, c: float,
+                              T0: float = 0.0):
+    """Temperature at depth ``x`` of a half-space under constant surface flux ``q`` since t = 0.
+
+    ``T0 + (2 q / kappa) sqrt(a t) ierfc(x / (2 sqrt(a t)))``, ``a = kappa / (rho c)``,
+    ``ierfc(z) = exp(-z^2) / sqrt(pi) - z erfc(z)`` (Carslaw and Jaeger, section 2.9).
+    At ``x = 0`` it is :func:`semi_infinite_surface_temperature`.
+    """
+    from scipy.special import erfc
+
+    x = np.asarray(x, dtype=float)
+    s = np.sqrt(kappa / (rho * c) * t)
+    z = x / (2.0 * s)
+    ierfc = np.exp(-z ** 2) / np.sqrt(np.pi) - z * erfc(z)
+    return T0 + 2.0 * q * s / kappa * ierfc

@@ -108,3 +108,20 @@ def test_winkler_sphere_round_trip_load_integral_and_hertz_ratio():
     assert w["a"] / an.hertz_sphere(F_h, R, Es)["a"] == pytest.approx(np.sqrt(2), rel=1e-12)
     with pytest.raises(ValueError, match="exactly one"):
         an.winkler_sphere(R, k)
+
+
+def test_semi_infinite_profile_surface_flux_and_energy():
+    q, k, rho, c, t = 2e5, 2.0, 2400.0, 1000.0, 12.0
+    T_surf = an.semi_infinite_surface_temperature(t, q, k, rho, c, T0=300.0)
+    assert an.semi_infinite_temperature(0.0, t, q, k, rho, c, T0=300.0) == pytest.approx(
+        T_surf, rel=1e-14)
+    depth = np.sqrt(k / (rho * c) * t)
+    # Fourier at the surface: -kappa dT/dx = q
+    h = 1e-6 * depth
+    dTdx = (an.semi_infinite_temperature(h, t, q, k, rho, c)
+            - an.semi_infinite_temperature(0.0, t, q, k, rho, c)) / h
+    assert -k * dTdx == pytest.approx(q, rel=1e-5)
+    # all the heat that entered is stored: int rho c (T - T0) dx = q t
+    stored, _ = quad(lambda x: rho * c * an.semi_infinite_temperature(x, t, q, k, rho, c),
+                     0.0, 40 * depth)
+    assert stored == pytest.approx(q * t, rel=1e-8), f"stored {stored} vs q t {q * t}"
