@@ -158,7 +158,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                  stability: float | None = 1.0, scheme: str = "explicit", update: str = "gap",
                  checkpoint: str | os.PathLike | None = None, every: int = 10,
                  resume: bool = False, tol: float = 1e-9, max_halvings: int = 12,
-                 interface=None) -> Iterator[WearStep]:
+                 interface=None, initial_gap: np.ndarray | None = None) -> Iterator[WearStep]:
     """Run a wear history of the brake under constant line pressure and speed.
 
     Parameters
@@ -204,6 +204,10 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         The interface model (default: :class:`FEInterface` of ``model``); any
         object with the same attributes (``area``, ``r``, ``W``, ``ring``,
         ``rotor_area``, ``normal_stiffness``) and ``solve(offset, active)``.
+    initial_gap
+        Extra gap (m) at each pad friction node before any wear (a non-conformal
+        start: rotor coning, pad taper, thickness variation, or the worn state
+        ``pad_wear + W @ rotor_wear`` of an earlier history); it never wears.
     """
     if not (np.isfinite(omega) and omega > 0):
         raise WearError(f"omega = {omega!r} rad/s is not allowed; need a rotor speed > 0")
@@ -235,6 +239,11 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                         f"got a = {pad_law.a}")
     if max_dh is not None and not (np.isfinite(max_dh) and max_dh > 0):
         raise WearError(f"max_dh = {max_dh!r} m is not allowed; need > 0")
+    if initial_gap is not None:
+        initial_gap = np.asarray(initial_gap, dtype=float)
+        if initial_gap.ndim != 1 or not np.all(np.isfinite(initial_gap)):
+            raise WearError("initial_gap must be a finite 1-D array (m), one value per pad "
+                            "friction node")
     if update == "geometry" and interface is not None:
         raise WearError("update = 'geometry' rebuilds the FE interface; it cannot be combined "
                         "with a custom interface")
@@ -245,6 +254,10 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         from .motion import BrakeMotion
         motion = BrakeMotion(model)
     A_pad, ring, A_rot = itf.area, itf.ring, itf.rotor_area
+    if initial_gap is not None and initial_gap.shape != A_pad.shape:
+        raise WearError(f"initial_gap has {initial_gap.size} values; the pad has {A_pad.size} "
+                        "friction nodes")
+    gap_start = 0.0 if initial_gap is None else initial_gap
     v = omega * itf.r                                  # sliding speed at each pad node
     r_mean = 0.5 * (model.geometry.pad.inner_radius + model.geometry.pad.outer_radius)
     if max_dh is None:
@@ -277,7 +290,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
 
     def solve(pad_w, rot_w, active, eps=None):
         t0 = _time.perf_counter()
-        offset = (pad_w - applied[0]) + itf.W @ (rot_w - applied[1])
+        offset = gap_start + (pad_w - applied[0]) + itf.W @ (rot_w - applied[1])
         p, act, _ = itf.solve(offset, active, compliance=eps)
         return p, act, _time.perf_counter() - t0
 
