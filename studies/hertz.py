@@ -105,7 +105,7 @@ def _plot_pressure(row: dict, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     pr = row["profile"]
-    a, p0 = row["a"], row["p0"]
+    a = row["a"]
     r = pr["r"]
     near = r < 1.6 * a
     rr = np.linspace(0.0, 1.6 * a, 400)
@@ -143,7 +143,8 @@ if __name__ == "__main__":
     res = main(levels=tuple(args.levels), out=args.out, split=args.split,
                profile_level=args.profile_level, data=args.data)
     print(f"{'h/a':>7} {'dofs':>8} {'time s':>7} {'p0 err':>9} {'a err':>9} {'delta err':>9} "
-          f"{'L2 err':>9} {'L2 inner':>9} {'p0 nodal':>9} {'L2 nodal':>9} {'outer':>5} {'AS it':>5}")
+          f"{'L2 err':>9} {'L2 inner':>9} {'p0 nodal':>9} {'L2 nodal':>9} {'outer':>5} "
+          f"{'AS it':>5}")
     for x in res["rows"]:
         print(f"{x['h_over_a']:>7.4f} {x['dofs']:>8} {x['time_s']:>7.1f} {x['p0_err']:>+9.2e} "
               f"{x['a_err']:>+9.2e} {x['delta_err']:>+9.2e} {x['l2_err']:>9.2e} "
