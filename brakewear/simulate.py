@@ -42,7 +42,7 @@ from .wear import WearError, WearLaw, rotor_rings, rotor_wear_rate
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearStep", "wear_history", "StepSizeError", "FEInterface"]
+__all__ = ["WearStep", "wear_history", "StepSizeError", "FEInterface", "FoundationInterface"]
 
 
 class StepSizeError(RuntimeError):
@@ -69,6 +69,10 @@ class WearStep:
     contact_solves: int         # contact solves of this step (1 + rejected)
     solve_s: float              # s spent in contact solves in this step
     limit: str                  # what set the step: "max_dh", "stability", "growth", "end", "fixed"
+    mu: float = 0.0             # friction coefficient in this step (mu(T) with a friction law)
+    pad_temperature_max: float = float("nan")    # K, pad face, end of step (thermal only)
+    rotor_temperature_max: float = float("nan")  # K, rotor face, end of step (thermal only)
+    heat_balance_error: float = float("nan")     # |heat in - friction power| / power, this step
 
 
 class FEInterface:
@@ -98,14 +102,9 @@ class FEInterface:
             self.rotor_area = tributary_areas(rotor, "friction", face)
             self.rotor_x = rotor.p[:, face]
         else:
-            ring, radii = rotor_rings(self.r)
-            edges = np.concatenate([[radii[0]], 0.5 * (radii[1:] + radii[:-1]), [radii[-1]]])
             self.rotor_nodes = None
-            self.ring = np.arange(radii.size)
-            self.rotor_area = np.pi * (edges[1:] ** 2 - edges[:-1] ** 2)
-            self.rotor_x = np.vstack([radii, np.zeros_like(radii), np.zeros_like(radii)])
-            self._W = sp.csr_matrix((np.ones(ring.size), (np.arange(ring.size), ring)),
-                                    shape=(ring.size, radii.size))
+            self._W, self.ring, self.rotor_area, self.rotor_x = _ring_wear_nodes(self.r)
+        self.extra_load = None
         self.rebuild()
 
     def rebuild(self, opening: float = 0.0) -> None:
@@ -137,14 +136,68 @@ class FEInterface:
         """
         self.pair.g0 = self.g0 + offset
         cs = self.cs
+        f = cs.f if self.extra_load is None else cs.f + cs.P.T @ self.extra_load
         if compliance is not None:
-            res = solve_compliant_contact(cs.K, cs.f, cs.fixed, cs.coords, self.pair,
+            res = solve_compliant_contact(cs.K, f, cs.fixed, cs.coords, self.pair,
                                           compliance, initial_active=active, tol=self.tol)
             return res.pressure, res.active, res.info
         init = None if active is None else [np.asarray(active, dtype=bool)]
-        res = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
+        res = solve_contact(cs.K, f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
                             initial_active=init)
         return res.pressure[0], res.active[0], res.info
+
+    def set_mu(self, mu: float) -> None:
+        """Friction coefficient of the next solves (e.g. mu(T) of a friction law)."""
+        self.pair.mu = float(mu)
+
+
+def _ring_wear_nodes(r: np.ndarray):
+    """Rotor wear nodes of an unmeshed rotor: one ring per distinct pad-node radius,
+    carrying the annulus between its neighbours' mid-radii.  (W, ring, area, x)."""
+    ring, radii = rotor_rings(r)
+    edges = np.concatenate([[radii[0]], 0.5 * (radii[1:] + radii[:-1]), [radii[-1]]])
+    W = sp.csr_matrix((np.ones(ring.size), (np.arange(ring.size), ring)),
+                      shape=(ring.size, radii.size))
+    x = np.vstack([radii, np.zeros_like(radii), np.zeros_like(radii)])
+    return W, np.arange(radii.size), np.pi * (edges[1:] ** 2 - edges[:-1] ** 2), x
+
+
+class FoundationInterface:
+    """An elastic-foundation (Winkler) interface as the wear loop's interface model.
+
+    Wraps a :class:`brakewear.foundation.WinklerInterface` (pad face on a rigid
+    backing, foundation modulus per node); the rotor wears by rings of the pad
+    nodes' radii as an unmeshed rotor does.  Milliseconds per solve.  The
+    implicit step puts the step's wear compliance in series with the
+    foundation: modulus ``1 / (1/k + eps)``.
+    """
+
+    def __init__(self, model, winkler, line_pressure: float, mu: float = 0.0):
+        self.model, self.winkler, self.line_pressure, self.mu = model, winkler, line_pressure, mu
+        pad = model.meshes["pad"]
+        self.pad_nodes = surface_nodes(pad, "friction")
+        if winkler.nodes is not None and not np.array_equal(winkler.nodes, self.pad_nodes):
+            raise WearError("the foundation's nodes are not the pad's friction nodes of this "
+                            "model (build it with WinklerInterface.from_model(model))")
+        self.x = pad.p[:, self.pad_nodes]
+        self.r = np.hypot(self.x[0], self.x[1])
+        self.area = np.asarray(winkler.area, dtype=float)
+        self.rotor_nodes = None
+        self.W, self.ring, self.rotor_area, self.rotor_x = _ring_wear_nodes(self.r)
+        self.normal_stiffness = np.asarray(winkler.modulus) * self.area
+        self.extra_load = None
+
+    def solve(self, offset: np.ndarray, active, compliance=None):
+        w = self.winkler
+        if compliance is not None:
+            w = w.with_modulus(1.0 / (1.0 / np.asarray(w.modulus) + compliance))
+        res = w.solve(self.line_pressure, self.mu, gap=offset)
+        if not res.active.any():
+            raise ContactLostError("foundation: no node in contact")
+        return res.pressure, res.active, {"iterations": res.iterations, "time_s": res.time_s}
+
+    def set_mu(self, mu: float) -> None:
+        self.mu = float(mu)
 
 
 _STATE_KEYS = ("step", "time", "pad_wear", "rotor_wear", "pad_archard", "rotor_archard",
@@ -158,7 +211,8 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                  stability: float | None = 1.0, scheme: str = "explicit", update: str = "gap",
                  checkpoint: str | os.PathLike | None = None, every: int = 10,
                  resume: bool = False, tol: float = 1e-9, max_halvings: int = 12,
-                 interface=None, initial_gap: np.ndarray | None = None) -> Iterator[WearStep]:
+                 interface=None, initial_gap: np.ndarray | None = None,
+                 thermal=None) -> Iterator[WearStep]:
     """Run a wear history of the brake under constant line pressure and speed.
 
     Parameters
@@ -170,7 +224,9 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     pad_law, rotor_law
         Wear laws of pad and rotor (``rotor_law=None``: the rotor does not wear).
     mu
-        Friction coefficient (sliding friction drags the pad along the rotor).
+        Friction coefficient (sliding friction drags the pad along the rotor),
+        or a :class:`brakewear.thermal.FrictionLaw` (``mu(T)`` at the pad
+        face's mean temperature, updated every step; needs ``thermal``).
     steps
         Fixed number of equal steps (no step control, no stability bound);
         default: automatic step control.
@@ -204,6 +260,14 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         The interface model (default: :class:`FEInterface` of ``model``); any
         object with the same attributes (``area``, ``r``, ``W``, ``ring``,
         ``rotor_area``, ``normal_stiffness``) and ``solve(offset, active)``.
+    thermal
+        A :class:`brakewear.thermal.ThermalModel` of ``model`` (default None:
+        nothing thermal is built or computed).  Staggered, one thermal update
+        per step: the frictional heat of the step's starting pressure heats
+        the bodies over ``dt`` (implicit Euler), then the contact is solved
+        with the thermal-strain load of the new temperatures, and the wear
+        laws use ``k(T)`` at the pad face and the rotor under it.  Its state
+        goes into the checkpoints.
     initial_gap
         Extra gap (m) at each pad friction node before any wear (a non-conformal
         start: rotor coning, pad taper, thickness variation, or the worn state
@@ -244,6 +308,23 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         if initial_gap.ndim != 1 or not np.all(np.isfinite(initial_gap)):
             raise WearError("initial_gap must be a finite 1-D array (m), one value per pad "
                             "friction node")
+    mu_law = None
+    if hasattr(mu, "mu") and callable(mu.mu):       # a friction law mu(T)
+        if thermal is None:
+            raise WearError("a temperature-dependent friction law needs thermal=ThermalModel")
+        mu_law, mu = mu, float(mu.mu(None))
+    elif not (np.isfinite(mu) and mu >= 0):
+        raise WearError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0")
+    if thermal is not None:
+        for attr in ("step", "flux", "thermal_load", "face_temperature", "state_arrays"):
+            if not hasattr(thermal, attr):
+                raise WearError(f"thermal = {thermal!r} is not a ThermalModel (no {attr!r})")
+        if thermal.model is not model:
+            raise WearError("thermal belongs to another BrakeModel; build it with "
+                            "ThermalModel(model) for this model")
+        if update == "geometry":
+            raise WearError("thermal coupling with update = 'geometry' is not supported (the "
+                            "thermal meshes would not follow the worn faces); use update = 'gap'")
     if update == "geometry" and interface is not None:
         raise WearError("update = 'geometry' rebuilds the FE interface; it cannot be combined "
                         "with a custom interface")
@@ -273,6 +354,12 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         with np.load(checkpoint) as d:
             for k in _STATE_KEYS:
                 state[k] = d[k].copy() if d[k].ndim else d[k].item()
+            if thermal is not None:
+                if "T_pad" not in d:
+                    raise WearError(f"checkpoint {checkpoint} has no thermal state; it was "
+                                    "written by a run without thermal coupling")
+                thermal.load_state({k: d[k] for k in d.files
+                                    if k.startswith("T_") or k == "thermal_time"})
         if state["pad_wear"].shape != (A_pad.size,) or state["rotor_wear"].shape != (A_rot.size,):
             raise WearError(f"checkpoint {checkpoint} holds {state['pad_wear'].size} pad and "
                             f"{state['rotor_wear'].size} rotor wear nodes; this model has "
@@ -294,6 +381,21 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         p, act, _ = itf.solve(offset, active, compliance=eps)
         return p, act, _time.perf_counter() - t0
 
+    def temperatures():
+        if thermal is None:
+            return None, None
+        return thermal.face_temperature("pad"), thermal.rotor_temperature_under_pad()
+
+    def couple():
+        """Thermal strain and mu(T) of the current temperatures into the interface."""
+        nonlocal mu
+        itf.extra_load = thermal.thermal_load()
+        if mu_law is not None:
+            mu = float(np.mean(mu_law.mu(thermal.face_temperature("pad"))))
+            itf.set_mu(mu)
+
+    if thermal is not None:
+        couple()
     if motion is not None and state["step"] > 0:
         move(state["pad_wear"], state["rotor_wear"], state["step"])
     if state["pressure"] is None:
@@ -301,8 +403,10 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     else:
         p, act = state["pressure"], state["active"].astype(bool)
     while state["time"] < duration * (1 - 1e-12):
-        rate_pad = pad_law.rate(p, v)
-        q_rot = rotor_law.rate(p, v) * A_pad if rotor_law is not None else np.zeros_like(p)
+        T_pad, T_rot = temperatures()
+        mu_step = mu
+        rate_pad = pad_law.rate(p, v, T_pad)
+        q_rot = rotor_law.rate(p, v, T_rot) * A_pad if rotor_law is not None else np.zeros_like(p)
         rate_rot = rotor_wear_rate(q_rot, itf.W, ring, A_rot)
         remaining = duration - state["time"]
         if steps:
@@ -314,8 +418,8 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                 cands["max_dh"] = float(np.min(dh_limit[seen > 0] / seen[seen > 0]))
             if stability is not None and scheme == "explicit":
                 # d(rate)/dp of both laws at the current pressure (a p^(a-1) k v^b)
-                slope = _rate_slope(pad_law, p, v) + (
-                    _rate_slope(rotor_law, p, v) if rotor_law is not None else 0.0)
+                slope = _rate_slope(pad_law, p, v, T_pad) + (
+                    _rate_slope(rotor_law, p, v, T_rot) if rotor_law is not None else 0.0)
                 worst = float((slope * itf.normal_stiffness / A_pad)[act].max()) \
                     if act.any() else 0.0
                 if worst > 0:
@@ -325,15 +429,20 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             limit = min(cands, key=cands.get)
             dt = cands[limit]
         rejected, solve_s = 0, 0.0
+        saved = thermal.state_arrays() if thermal is not None else None
         while True:
             rot_w = state["rotor_wear"] + rate_rot * dt
+            if thermal is not None:
+                thermal.load_state(saved)
+                thermal.step(thermal.flux(p, mu_step, omega), dt)
+                couple()
             try:
                 if scheme == "explicit":
                     pad_w = state["pad_wear"] + rate_pad * dt
                     p_new, act_new, s = solve(pad_w, rot_w, act)
                     p_rate = p
                 else:   # backward Euler: the pad wears with the end-of-step pressure
-                    eps = dt * pad_law.rate(1.0, v)
+                    eps = dt * pad_law.rate(1.0, v, T_pad)
                     p_new, act_new, s = solve(state["pad_wear"], rot_w, act, eps)
                     pad_w = state["pad_wear"] + eps * p_new
                     p_rate = p_new
@@ -352,7 +461,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                     f"{dp_tol})")
             dt *= 0.5
         state["pad_wear"], state["rotor_wear"] = pad_w, rot_w
-        state["pad_archard"] += float((pad_law.rate(p_rate, v) * A_pad).sum() * dt)
+        state["pad_archard"] += float((pad_law.rate(p_rate, v, T_pad) * A_pad).sum() * dt)
         state["rotor_archard"] += float(q_rot.sum() * dt)
         state["time"] += dt
         state["step"] += 1
@@ -363,7 +472,12 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                           p, act, pad_w.copy(), rot_w.copy(),
                           float((pad_w * A_pad).sum()), float((rot_w * A_rot).sum()),
                           state["pad_archard"], state["rotor_archard"], rejected,
-                          rejected + 1, solve_s, limit)
+                          rejected + 1, solve_s, limit, mu_step)
+        if thermal is not None:
+            record.pad_temperature_max = float(thermal.face_temperature("pad").max())
+            record.rotor_temperature_max = float(T_rot.max() if "rotor" not in thermal.bodies
+                                                 else thermal.face_temperature("rotor").max())
+            record.heat_balance_error = float(thermal.heat_balance()["relative_error"])
         if motion is not None:
             # the worn faces move; the contact of the moved geometry gives the
             # pressure the next step starts from
@@ -375,16 +489,17 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         state["pressure"], state["active"] = p, act
         if checkpoint is not None and (state["step"] % every == 0
                                        or state["time"] >= duration * (1 - 1e-12)):
-            _write_checkpoint(checkpoint, {k: state[k] for k in _STATE_KEYS})
+            _write_checkpoint(checkpoint, {**{k: state[k] for k in _STATE_KEYS},
+                                           **(thermal.state_arrays() if thermal else {})})
         yield record
 
 
-def _rate_slope(law: WearLaw, p: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """d(rate)/dp of ``law`` at ``p`` (for a = 1 simply k v^b)."""
+def _rate_slope(law: WearLaw, p: np.ndarray, v: np.ndarray, T=None) -> np.ndarray:
+    """d(rate)/dp of ``law`` at ``p`` (for a = 1 simply k(T) v^b)."""
     if law.a == 1.0:
-        return law.rate(1.0, v)
+        return law.rate(1.0, v, T)
     pp = np.maximum(p, 1e-300)
-    return law.a * law.rate(pp, v) / pp
+    return law.a * law.rate(pp, v, T) / pp
 
 
 def _write_checkpoint(path, arrays: dict) -> None:

@@ -1,0 +1,89 @@
+"""The wear loop with thermal coupling, a friction law, and the Winkler interface model."""
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from brakewear.foundation import WinklerInterface
+from brakewear.scene import BrakeModel
+from brakewear.simulate import FoundationInterface, wear_history
+from brakewear.thermal import FrictionLaw, ThermalModel
+from brakewear.wear import WearError, WearLaw
+
+PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
+HOT_PAD = WearLaw(5e-15, activation_energy=5e4, T_threshold=320.0)
+ARGS = (1e6, 55.0, 40.0)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return BrakeModel("default", size=8e-3)
+
+
+def test_thermal_energy_balance_every_step_and_hotter_wear(model):
+    cold = list(wear_history(model, *ARGS, HOT_PAD, ROTOR, mu=0.4, steps=3, scheme="implicit"))
+    th = ThermalModel(model, contact_conductance=1e5)
+    hot = list(wear_history(model, *ARGS, HOT_PAD, ROTOR, mu=0.4, steps=3, scheme="implicit",
+                            thermal=th))
+    for s in hot:
+        assert s.heat_balance_error <= 1e-8
+        # worn volume = Archard integral with k(T), still to round-off
+        assert abs(s.pad_volume - s.pad_archard) <= 1e-10 * s.pad_archard
+    T = [s.pad_temperature_max for s in hot]
+    assert T[0] > th.T_ambient and np.all(np.diff(T) > 0)          # a steady drag heats up
+    assert np.isnan(cold[-1].pad_temperature_max)
+    # above the threshold the pad wears faster
+    assert hot[-1].pad_volume > 1.5 * cold[-1].pad_volume
+
+
+def test_thermal_resume_repeats_the_run(model, tmp_path):
+    ck = tmp_path / "t.npz"
+    run = lambda **kw: list(wear_history(model, *ARGS, PAD, ROTOR, mu=0.4, steps=4,  # noqa: E731
+                                         scheme="implicit", checkpoint=ck, every=1,
+                                         thermal=ThermalModel(model, contact_conductance=1e5),
+                                         **kw))
+    full = run()
+    for s in wear_history(model, *ARGS, PAD, ROTOR, mu=0.4, steps=4, scheme="implicit",
+                          checkpoint=ck, every=1,
+                          thermal=ThermalModel(model, contact_conductance=1e5)):
+        if s.step == 2:
+            break
+    rest = run(resume=True)
+    assert [s.step for s in rest] == [3, 4]
+    assert np.abs(rest[-1].pad_wear - full[-1].pad_wear).max() <= 1e-12 * full[-1].pad_wear.max()
+    assert rest[-1].pad_temperature_max == pytest.approx(full[-1].pad_temperature_max, rel=1e-12)
+
+
+def test_friction_law_follows_temperature(model):
+    law = FrictionLaw(0.4, slope=-5e-4, T_ref=293.15, mu_min=0.2)
+    steps = list(wear_history(model, *ARGS, PAD, ROTOR, mu=law, steps=3, scheme="implicit",
+                              thermal=ThermalModel(model, contact_conductance=1e5)))
+    mus = [s.mu for s in steps]
+    assert mus[0] == pytest.approx(0.4) and mus[-1] < mus[0] and min(mus) >= 0.2
+
+
+def test_friction_law_needs_thermal(model):
+    with pytest.raises(WearError, match="thermal"):
+        next(wear_history(model, *ARGS, PAD, mu=FrictionLaw(0.4)))
+
+
+def test_loop_without_thermal_never_imports_it():
+    code = ("import sys; from brakewear.scene import BrakeModel; from brakewear.simulate import "
+            "wear_history; from brakewear.wear import WearLaw; m = BrakeModel(size=1.2e-2); "
+            "list(wear_history(m, 1e6, 55.0, 10.0, WearLaw(5e-15), steps=1)); "
+            "assert 'brakewear.thermal' not in sys.modules, 'thermal imported'")
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_winkler_interface_in_the_loop_conserves_and_balances(model):
+    w = WinklerInterface.from_model(model)
+    itf = FoundationInterface(model, w, 1e6)
+    for scheme in ("explicit", "implicit"):
+        steps = list(wear_history(model, 1e6, 55.0, 600.0, PAD, ROTOR, steps=4, scheme=scheme,
+                                  interface=itf))
+        s = steps[-1]
+        F = 1e6 * model.geometry.piston.hydraulic_area
+        assert (s.pressure * itf.area).sum() == pytest.approx(F, rel=1e-8)
+        assert abs(s.pad_volume - s.pad_archard) <= 1e-10 * s.pad_archard
+        assert abs(s.rotor_volume - s.rotor_archard) <= 1e-10 * s.rotor_archard
