@@ -408,8 +408,10 @@ def measure(m, pair, res, F: float, h: float | None = None) -> dict:
         "p0_err": p0_h / hz["p0"] - 1.0, "a_err": a_h / hz["a"] - 1.0,
         "delta_err": DELTA / hz["delta"] - 1.0,
         "l2_err": float(np.sqrt(np.sum(A * (p - ph) ** 2) / norm)),
+        # nan when the mesh is too coarse to have a node inside a - 2h
         "l2_inner_err": float(np.sqrt(np.sum((A * (p - ph) ** 2)[inner])
-                                      / np.sum((A * ph ** 2)[inner]))),
+                                      / np.sum((A * ph ** 2)[inner]))) if inner.any()
+        else float("nan"),
         "p0_nodal_err": float(p_nodal[origin]) / hz["p0"] - 1.0,
         "l2_nodal_err": float(np.sqrt(np.sum(A * (p_nodal - ph) ** 2) / norm)),
         "p0_h": p0_h, "p0": hz["p0"], "a_h": a_h, "a": hz["a"], "delta": DELTA,

@@ -41,10 +41,10 @@ def test_resume_from_checkpoint_repeats_the_run(model, tmp_path):
 
 def test_step_control_rejects_and_recovers(model):
     # max_dh far too large: the first try would make the pressure jump; it is halved
-    steps = list(wear_history(model, 1e6, 55.0, 7200.0, PAD, ROTOR, max_dh=1e-3, dp_tol=0.25,
+    steps = list(wear_history(model, 1e6, 55.0, 600.0, PAD, ROTOR, max_dh=1e-3, dp_tol=0.25,
                               stability=None))
     assert sum(s.rejected for s in steps) > 0
-    assert steps[-1].time == pytest.approx(7200.0)
+    assert steps[-1].time == pytest.approx(600.0)
 
 
 def test_step_control_gives_up_with_its_figures(model):
