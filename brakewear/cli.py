@@ -95,11 +95,14 @@ class _Progress:
             self.bar.set_postfix_str(f"step {s.step}, pad wear {s.pad_wear.max() * 1e6:.3g} um",
                                      refresh=False)
             self.bar.update(min(s.time, self.total) - self.done)
+            if s.time >= self.total * (1 - 1e-12):
+                self.close()          # before the figures are drawn
         self.done = min(s.time, self.total)
 
     def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
+            self.bar = None
 
 
 def run_scene(scene: str, out: str | Path | None = None, resume: bool = False,

@@ -556,7 +556,7 @@ def _figures(model, out: Path, scene: Scene) -> list[str]:
                 ("pressure", "pad_pressure.png", 1e-6, "pressure (MPa)", "inferno")):
             files.append(str(plot_field(
                 pad, m.point_data[fld] * scale, out / png,
-                f"{scene.name}: {label} at the end", label=label, cmap=cmap,
+                f"{scene.name}: {label}, last step", label=label, cmap=cmap,
                 facets="friction", view=(0.0, 0.0, -1.0))))
     with open(out / "history.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
