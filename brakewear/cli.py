@@ -24,6 +24,8 @@ from pathlib import Path
 
 __all__ = ["main", "run_demo", "run_scene"]
 
+logger = logging.getLogger(__name__)
+
 EXIT_OK, EXIT_BAD_INPUT, EXIT_SOLVER, EXIT_INTERRUPTED = 0, 2, 3, 130
 
 
@@ -88,6 +90,9 @@ class _Progress:
 
     def __call__(self, s) -> None:
         self.step = s.step
+        logger.info("step %d: t = %.6g s, dt = %.3g s (%s), %d rejected; pad wear max %.4g um, "
+                    "pressure max %.4g MPa", s.step, s.time, s.dt, s.limit, s.rejected,
+                    s.pad_wear.max() * 1e6, s.pressure.max() / 1e6)
         if self.bar is not None:
             if s.step and self.done == 0.0 and s.time - s.dt > 0:
                 self.done = s.time - s.dt          # resumed: start where the checkpoint was
