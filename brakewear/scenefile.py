@@ -466,9 +466,13 @@ class Scene:
             if not ck.exists():
                 raise SceneError(f"--resume: {ck} does not exist (no checkpoint was written: "
                                  "run without --resume to start)")
+            # outputs may change on resume, and so may the duration under automatic
+            # step control (a longer one extends the run)
+            ignore = {"output"} | ({"duration"} if self.numerics.steps is None else set())
             if rec_path.exists():
                 old = json.loads(rec_path.read_text())
-                diff = _first_difference(old, record)
+                diff = _first_difference({k: v for k, v in old.items() if k not in ignore},
+                                         {k: v for k, v in record.items() if k not in ignore})
                 if diff is not None:
                     raise SceneError(f"--resume: {out} holds a run of a different scene "
                                      f"({diff}); resume with the same scene or choose another "
@@ -476,6 +480,10 @@ class Scene:
             import numpy as np
             with np.load(ck) as d:
                 t_done, step_done = float(d["time"]), int(d["step"])
+            if t_done > self.duration * (1 + 1e-12):
+                raise SceneError(f"--resume: the run in {out} has already reached t = "
+                                 f"{t_done:.6g} s, beyond environment.duration = "
+                                 f"{self.duration:.6g} s; allowed: a duration >= {t_done:.6g} s")
             if t_done >= self.duration * (1 - 1e-12):
                 logger.info("run in %s already finished (step %d)", out, step_done)
                 summ = out / "summary.json"
@@ -533,7 +541,19 @@ def _first_difference(a: Any, b: Any, path: str = "") -> str | None:
         return None
     if isinstance(a, float) and isinstance(b, float) and math.isclose(a, b, rel_tol=1e-12):
         return None
-    return None if a == b else f"{path}: {a!r} then, {b!r} now"
+    if a == b:
+        return None
+    top, _, rest = path.partition(".")
+    key = _RECORD_KEYS.get(top, top) + (f".{rest}" if rest else "")
+    return f"{key}: {a!r} then, {b!r} now"
+
+
+# Scene field -> scene-file key, for messages about scene.json records
+_RECORD_KEYS = {"duration": "environment.duration", "line_pressure": "environment.line_pressure",
+                "omega": "environment.omega", "ambient": "environment.ambient",
+                "rotor": "components.rotor", "piston": "components.piston",
+                "mesh_size": "mesh.size", "order": "mesh.order", "pad_wear": "wear.pad",
+                "rotor_wear": "wear.rotor", "geometry": "geometry"}
 
 
 def _figures(model, out: Path, scene: Scene) -> list[str]:

@@ -105,7 +105,7 @@ def test_resume_refuses_another_scene_and_a_missing_checkpoint(tmp_path, capsys)
     other = _tiny(tmp_path / "other", **short, **{"mu = 0.4": "mu = 0.3"})
     assert main(["run", str(other), "--out", str(out), "--resume", "--quiet"]) == 2
     err = capsys.readouterr().err
-    assert "holds a run of a different scene" in err and "interface.mu" in err
+    assert "holds a run of a different scene (interface.mu: 0.4 then, 0.3 now)" in err
     assert main(["run", str(other), "--out", str(tmp_path / "none"), "--resume"]) == 2
     assert "checkpoint.npz does not exist" in capsys.readouterr().err
 
@@ -136,3 +136,19 @@ def test_solver_failure_exits_3(tmp_path, capsys, monkeypatch):
     assert main(["run", "default", "--out", str(tmp_path), "--quiet"]) == 3
     err = capsys.readouterr().err
     assert "solver failed (StepSizeError): step 7" in err
+
+
+def test_resume_with_a_longer_duration_extends_the_run(tmp_path, capsys):
+    auto = {"dp_tol = 0.05": "dp_tol = 0.2", "duration = 3600.0": "duration = 100.0"}
+    out = tmp_path / "out"
+    assert main(["run", str(_tiny(tmp_path, **auto)), "--out", str(out), "--quiet"]) == 0
+    first = json.loads((out / "summary.json").read_text())
+    longer = _tiny(tmp_path, **{**auto, "duration = 3600.0": "duration = 200.0"})
+    assert main(["run", str(longer), "--out", str(out), "--resume", "--quiet"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["resumed_from_step"] == first["steps"] and s["steps"] > first["steps"]
+    assert s["final"]["time_s"] == pytest.approx(200.0)
+    assert s["final"]["pad_wear_max_m"] > first["final"]["pad_wear_max_m"]
+    shorter = _tiny(tmp_path, **{**auto, "duration = 3600.0": "duration = 50.0"})
+    assert main(["run", str(shorter), "--out", str(out), "--resume", "--quiet"]) == 2
+    assert "beyond environment.duration = 50 s" in capsys.readouterr().err
