@@ -185,7 +185,7 @@ def main(argv: list[str] | None = None) -> int:
     solver_errors = (ConvergenceError, ActiveSetError, StepSizeError, MeshQualityError,
                      ContactLostError, ContactSearchError, FoundationSolveError)
     input_errors = (GeometryError, MaterialError, SceneError, WearError, ThermalError,
-                    FoundationError, ValueError)
+                    FoundationError, ValueError, OSError)
     try:
         if args.command == "run":
             s = run_scene(args.scene, args.out, args.resume, args.quiet)

@@ -487,10 +487,13 @@ class Scene:
             if t_done >= self.duration * (1 - 1e-12):
                 logger.info("run in %s already finished (step %d)", out, step_done)
                 summ = out / "summary.json"
-                if summ.exists():
-                    s = json.loads(summ.read_text())
-                    s["already_finished"] = True
-                    return s
+                if not summ.exists():
+                    raise SceneError(f"--resume: the run in {out} has finished (step "
+                                     f"{step_done}, t = {t_done:.6g} s) but its summary.json "
+                                     "is missing; run again without --resume to redo it")
+                s = json.loads(summ.read_text())
+                s["already_finished"] = True
+                return s
         out.mkdir(parents=True, exist_ok=True)
         rec_path.write_text(json.dumps(record, indent=2))
         pad_law, rotor_law = self.wear_laws()

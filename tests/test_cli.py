@@ -152,3 +152,12 @@ def test_resume_with_a_longer_duration_extends_the_run(tmp_path, capsys):
     shorter = _tiny(tmp_path, **{**auto, "duration = 3600.0": "duration = 50.0"})
     assert main(["run", str(shorter), "--out", str(out), "--resume", "--quiet"]) == 2
     assert "beyond environment.duration = 50 s" in capsys.readouterr().err
+
+
+def test_interrupt_before_the_first_checkpoint_says_start_again(tmp_path, capsys, monkeypatch):
+    def ctrl_c(self, s):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(cli._Progress, "__call__", ctrl_c)
+    out = tmp_path / "out"
+    assert main(["run", str(_tiny(tmp_path)), "--out", str(out), "--quiet"]) == 130
+    assert "no checkpoint was written yet: run again without --resume" in capsys.readouterr().err
