@@ -28,12 +28,12 @@ import json
 import logging
 import math
 import sys
-from dataclasses import asdict, dataclass, field, fields, replace
+from dataclasses import asdict, dataclass, field, fields
 from os import PathLike
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-from .geometry import BrakeGeometry, GeometryError, geometry_dir, geometry_from_dict, load_geometry
+from .geometry import BrakeGeometry, geometry_dir, geometry_from_dict, load_geometry
 from .scene import SceneError
 
 if sys.version_info >= (3, 11):

@@ -1,6 +1,7 @@
 """Scene files: the default scene, the same scene built in Python, and every class of
 bad input caught -- with the key named -- before anything is meshed."""
 import copy
+import math
 import sys
 
 import pytest
@@ -95,8 +96,8 @@ def test_same_scene_in_other_units():
     d = _default_dict()
     d["units"].update(pressure="bar", time="min", angular_speed="rpm", temperature="K",
                       length="m")
-    d["environment"].update(line_pressure=10.0, duration=60.0, omega=55.0 * 60 / (2 * 3.141592653589793),
-                            ambient=293.15)
+    d["environment"].update(line_pressure=10.0, duration=60.0,
+                            omega=55.0 * 60 / (2 * math.pi), ambient=293.15)
     d["mesh"]["size"] = 0.006
     s, ref = scene_from_dict(d), load_scene("default")
     assert s.line_pressure == pytest.approx(ref.line_pressure)
