@@ -1,10 +1,17 @@
 """The ``brakewear`` command line.
 
+``brakewear run SCENE`` runs a scene (a packaged name such as ``default``
+or a scene file, docs/scenes.md): the wear history with a progress bar in
+simulated time, checkpoints in the output folder, ``--resume`` to continue.
 ``brakewear demo`` runs the main job on the default brake: mesh, solve under
 a line pressure with the pad tied to the rotor, write figures, VTU files and
 a JSON summary.  ``brakewear bench elasticity`` measures the elasticity
-solver.  Exit codes: 0 success, 2 bad input (the message names it), 3 a
-solver that did not converge.
+solver.
+
+Exit codes: 0 success; 2 bad input (the message names the file, the key and
+what is allowed; no traceback); 3 a solver that failed (non-convergence, an
+active set that cycles, no acceptable wear step, a degenerate element);
+130 interrupted (Ctrl-C; the message says how to resume).
 """
 from __future__ import annotations
 
@@ -15,7 +22,11 @@ import sys
 import time
 from pathlib import Path
 
-__all__ = ["main", "run_demo"]
+__all__ = ["main", "run_demo", "run_scene"]
+
+logger = logging.getLogger(__name__)
+
+EXIT_OK, EXIT_BAD_INPUT, EXIT_SOLVER, EXIT_INTERRUPTED = 0, 2, 3, 130
 
 
 def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
@@ -63,10 +74,83 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     return summary
 
 
+class _Progress:
+    """A progress bar in simulated time (tqdm on stderr), fed by the wear loop's steps."""
+
+    def __init__(self, scene, quiet: bool):
+        self.total, self.done = scene.duration, 0.0
+        self.bar = None
+        if not quiet:
+            from tqdm import tqdm
+            self.bar = tqdm(total=scene.duration, unit="s", unit_scale=False, file=sys.stderr,
+                            desc=f"{scene.name}", dynamic_ncols=True,
+                            bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} s "
+                                       "simulated [{elapsed}<{remaining}{postfix}]")
+        self.step = 0
+
+    def __call__(self, s) -> None:
+        self.step = s.step
+        logger.info("step %d: t = %.6g s, dt = %.3g s (%s), %d rejected; pad wear max %.4g um, "
+                    "pressure max %.4g MPa", s.step, s.time, s.dt, s.limit, s.rejected,
+                    s.pad_wear.max() * 1e6, s.pressure.max() / 1e6)
+        if self.bar is not None:
+            if s.step and self.done == 0.0 and s.time - s.dt > 0:
+                self.done = s.time - s.dt          # resumed: start where the checkpoint was
+                self.bar.update(self.done)
+            self.bar.set_postfix_str(f"step {s.step}, pad wear {s.pad_wear.max() * 1e6:.3g} um",
+                                     refresh=False)
+            self.bar.update(min(s.time, self.total) - self.done)
+            if s.time >= self.total * (1 - 1e-12):
+                self.close()          # before the figures are drawn
+        self.done = min(s.time, self.total)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+
+def run_scene(scene: str, out: str | Path | None = None, resume: bool = False,
+              quiet: bool = False) -> dict:
+    """Load a scene (name or file), check it, run it into ``out``; return the summary.
+
+    ``out`` defaults to ``brakewear-<scene name>``.  A progress bar (stderr)
+    advances in simulated time unless ``quiet``.
+    """
+    from .scenefile import load_scene
+
+    sc = load_scene(scene)
+    out = Path(out) if out is not None else Path(f"brakewear-{sc.name}")
+    bar = _Progress(sc, quiet)
+    try:
+        summary = sc.run(out, resume=resume, progress=bar)
+    except KeyboardInterrupt:
+        bar.close()
+        raise _Interrupted(sc, out, bar.step) from None
+    finally:
+        bar.close()
+    summary["out"] = str(out)
+    return summary
+
+
+class _Interrupted(Exception):
+    def __init__(self, scene, out, step):
+        self.scene, self.out, self.step = scene, out, step
+
+
 def _parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="brakewear", description="Disc-brake pad and rotor wear by 3D FE.")
     ap.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = ap.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="run a scene: a wear history (docs/scenes.md)",
+                       description="Run a scene file (or a packaged scene name such as "
+                                   "'default'): the wear history of the brake, written to --out.")
+    r.add_argument("scene", help="packaged scene name (default) or path of a scene .toml file")
+    r.add_argument("--out", default=None,
+                   help="output folder (default brakewear-<scene name>)")
+    r.add_argument("--resume", action="store_true",
+                   help="continue from the checkpoint in --out (same scene)")
+    r.add_argument("--quiet", action="store_true", help="no progress bar")
     d = sub.add_parser("demo", help="the default brake end to end (the README's main job)")
     d.add_argument("--out", default="brakewear-out", help="output folder (default brakewear-out)")
     d.add_argument("--geometry", default="default", help="geometry name or .toml path")
@@ -88,11 +172,40 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
+    from .contact import ActiveSetError, ContactLostError, ContactSearchError
+    from .foundation import FoundationError, FoundationSolveError
     from .geometry import GeometryError
     from .materials import MaterialError
+    from .motion import MeshQualityError
     from .scene import SceneError
+    from .simulate import StepSizeError
     from .solvers import ConvergenceError
+    from .thermal import ThermalError
+    from .wear import WearError
+    solver_errors = (ConvergenceError, ActiveSetError, StepSizeError, MeshQualityError,
+                     ContactLostError, ContactSearchError, FoundationSolveError)
+    input_errors = (GeometryError, MaterialError, SceneError, WearError, ThermalError,
+                    FoundationError, ValueError, OSError)
     try:
+        if args.command == "run":
+            s = run_scene(args.scene, args.out, args.resume, args.quiet)
+            f = s["final"]
+            if s.get("already_finished"):
+                print(f"brakewear run: {s['out']} already holds the finished run "
+                      f"({s['steps']} steps); nothing to do")
+                return EXIT_OK
+            print(f"brakewear run {args.scene}: {s['steps']} steps to t = {f['time_s']:.6g} s, "
+                  f"{s['dofs']} DOFs, {s['contact_solves']} contact solves, "
+                  f"{s['run_s']:.1f} s")
+            print(f"  pad wear max {f['pad_wear_max_m'] * 1e6:.3f} um, mean "
+                  f"{f['pad_wear_mean_m'] * 1e6:.3f} um; rotor wear max "
+                  f"{f['rotor_wear_max_m'] * 1e6:.3f} um; max pressure "
+                  f"{f['pressure_max_Pa'] / 1e6:.3f} MPa; p r spread {f['pr_spread']:.3f}")
+            print(f"  wrote {s['out']}/: summary.json, history.csv, pad.pvd"
+                  + (", rotor.pvd" if s["files"].get("rotor") else "")
+                  + ", checkpoint.npz, scene.json"
+                  + "".join(f", {Path(p).name}" for p in s.get("figures", [])))
+            return EXIT_OK
         if args.command == "demo":
             s = run_demo(args.out, args.geometry, args.pressure, args.piston, args.size,
                          figures=not args.no_figures)
@@ -108,12 +221,24 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "bench":
             from .bench import run_bench
             return run_bench(args)
-    except (GeometryError, MaterialError, SceneError, ValueError) as e:
+    except _Interrupted as e:
+        ck = Path(e.out) / "checkpoint.npz"
+        where = (f"the checkpoint {ck} holds the last saved step (every "
+                 f"{e.scene.output.checkpoint_every} steps); continue with:\n  brakewear run "
+                 f"{args.scene} --out {e.out} --resume" if ck.exists() else
+                 "no checkpoint was written yet: run again without --resume")
+        print(f"brakewear: interrupted at step {e.step}; {where}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except KeyboardInterrupt:
+        print("brakewear: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    # solver errors first: MeshQualityError is also a ValueError
+    except solver_errors as e:
+        print(f"brakewear: solver failed ({type(e).__name__}): {e}", file=sys.stderr)
+        return EXIT_SOLVER
+    except input_errors as e:
         print(f"brakewear: error: {e}", file=sys.stderr)
-        return 2
-    except ConvergenceError as e:
-        print(f"brakewear: solver failed: {e}", file=sys.stderr)
-        return 3
+        return EXIT_BAD_INPUT
     return 1
 
 

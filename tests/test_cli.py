@@ -25,3 +25,139 @@ def test_demo_bad_geometry_exits_2(tmp_path, capsys):
 def test_demo_bad_pressure_exits_2(tmp_path, capsys):
     assert main(["demo", "--pressure", "-1", "--out", str(tmp_path), "--no-figures"]) == 2
     assert "line_pressure" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- brakewear run
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import pytest  # noqa: E402
+
+import brakewear.cli as cli  # noqa: E402
+from brakewear.scenefile import scene_file  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _tiny(tmp_path, **edits) -> Path:
+    """The default scene on a 12 mm mesh, 4 fixed steps over 800 s, no figures."""
+    text = scene_file("default").read_text()
+    repl = {"size = 6.0": "size = 12.0", "duration = 3600.0": "duration = 800.0",
+            "dp_tol = 0.05": "steps = 4", "checkpoint_every = 5": "checkpoint_every = 2",
+            "vtu_every = 10": "vtu_every = 2", "figures = true": "figures = false",
+            'name = "default"': 'name = "tiny"'}
+    repl.update(edits)
+    for a, b in repl.items():
+        assert a in text, a
+        text = text.replace(a, b)
+    path = tmp_path / "tiny.toml"
+    path.write_text(text)
+    return path
+
+
+def test_run_writes_the_history_and_exits_0(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["run", str(_tiny(tmp_path)), "--out", str(out), "--quiet"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["steps"] == 4 and s["final"]["time_s"] == pytest.approx(800.0)
+    assert s["mu"] == 0.4 and s["line_pressure_Pa"] == 1e6
+    assert s["scene"]["mesh_size_m"] == pytest.approx(0.012)
+    # mean pad wear = k p_mean v t at the mean radius (Archard, volume is exact)
+    assert s["pad_archard_m3"] > 0 and s["final"]["pad_wear_max_m"] > 0
+    for f in ("history.csv", "pad.pvd", "rotor.pvd", "checkpoint.npz", "scene.json"):
+        assert (out / f).exists(), f
+    o = capsys.readouterr().out
+    assert "4 steps to t = 800 s" in o and "pad wear max" in o
+
+
+def test_interrupted_run_resumes_to_the_same_end(tmp_path, capsys, monkeypatch):
+    scene = str(_tiny(tmp_path))
+    ref, out = tmp_path / "ref", tmp_path / "out"
+    assert main(["run", scene, "--out", str(ref), "--quiet"]) == 0
+    ref_s = json.loads((ref / "summary.json").read_text())
+    calls = cli._Progress.__call__
+
+    def ctrl_c_at_step_3(self, s):
+        calls(self, s)
+        if s.step == 3:
+            raise KeyboardInterrupt
+    monkeypatch.setattr(cli._Progress, "__call__", ctrl_c_at_step_3)
+    assert main(["run", scene, "--out", str(out), "--quiet"]) == 130
+    err = capsys.readouterr().err
+    assert "interrupted at step 3" in err and f"--out {out} --resume" in err
+    monkeypatch.setattr(cli._Progress, "__call__", calls)
+    assert main(["run", scene, "--out", str(out), "--resume", "--quiet"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["resumed_from_step"] == 2 and s["steps"] == 4
+    assert s["final"]["pad_wear_max_m"] == pytest.approx(ref_s["final"]["pad_wear_max_m"],
+                                                         rel=1e-9)
+    # a finished run resumed again: nothing to do
+    assert main(["run", scene, "--out", str(out), "--resume", "--quiet"]) == 0
+    assert "already holds the finished run" in capsys.readouterr().out
+
+
+def test_resume_refuses_another_scene_and_a_missing_checkpoint(tmp_path, capsys):
+    out, short = tmp_path / "out", {"duration = 3600.0": "duration = 200.0",
+                                    "dp_tol = 0.05": "steps = 1"}
+    assert main(["run", str(_tiny(tmp_path, **short)), "--out", str(out), "--quiet"]) == 0
+    (tmp_path / "other").mkdir()
+    other = _tiny(tmp_path / "other", **short, **{"mu = 0.4": "mu = 0.3"})
+    assert main(["run", str(other), "--out", str(out), "--resume", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "holds a run of a different scene (interface.mu: 0.4 then, 0.3 now)" in err
+    assert main(["run", str(other), "--out", str(tmp_path / "none"), "--resume"]) == 2
+    assert "checkpoint.npz does not exist" in capsys.readouterr().err
+
+
+def test_bad_scene_exits_2_naming_the_key_without_traceback(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(scene_file("default").read_text().replace("omega = 55.0", "omgea = 55.0"))
+    r = subprocess.run([sys.executable, "-m", "brakewear.cli", "run", str(bad), "--out",
+                        str(tmp_path / "o")], cwd=ROOT, capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 2, r.stderr
+    assert "environment.omgea: unknown key 'omgea'" in r.stderr
+    assert "Traceback" not in r.stderr and not (tmp_path / "o").exists()
+
+
+def test_unknown_scene_name_exits_2(capsys):
+    assert main(["run", "no-such-scene"]) == 2
+    assert "packaged scenes: default" in capsys.readouterr().err
+
+
+def test_solver_failure_exits_3(tmp_path, capsys, monkeypatch):
+    from brakewear.scenefile import Scene
+    from brakewear.simulate import StepSizeError
+
+    def fail(self, out, resume=False, progress=None):
+        raise StepSizeError("step 7: no acceptable wear step after 13 halvings")
+    monkeypatch.setattr(Scene, "run", fail)
+    assert main(["run", "default", "--out", str(tmp_path), "--quiet"]) == 3
+    err = capsys.readouterr().err
+    assert "solver failed (StepSizeError): step 7" in err
+
+
+def test_resume_with_a_longer_duration_extends_the_run(tmp_path, capsys):
+    auto = {"dp_tol = 0.05": "dp_tol = 0.2", "duration = 3600.0": "duration = 100.0"}
+    out = tmp_path / "out"
+    assert main(["run", str(_tiny(tmp_path, **auto)), "--out", str(out), "--quiet"]) == 0
+    first = json.loads((out / "summary.json").read_text())
+    longer = _tiny(tmp_path, **{**auto, "duration = 3600.0": "duration = 200.0"})
+    assert main(["run", str(longer), "--out", str(out), "--resume", "--quiet"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["resumed_from_step"] == first["steps"] and s["steps"] > first["steps"]
+    assert s["final"]["time_s"] == pytest.approx(200.0)
+    assert s["final"]["pad_wear_max_m"] > first["final"]["pad_wear_max_m"]
+    shorter = _tiny(tmp_path, **{**auto, "duration = 3600.0": "duration = 50.0"})
+    assert main(["run", str(shorter), "--out", str(out), "--resume", "--quiet"]) == 2
+    assert "beyond environment.duration = 50 s" in capsys.readouterr().err
+
+
+def test_interrupt_before_the_first_checkpoint_says_start_again(tmp_path, capsys, monkeypatch):
+    def ctrl_c(self, s):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(cli._Progress, "__call__", ctrl_c)
+    out = tmp_path / "out"
+    assert main(["run", str(_tiny(tmp_path)), "--out", str(out), "--quiet"]) == 130
+    assert "no checkpoint was written yet: run again without --resume" in capsys.readouterr().err

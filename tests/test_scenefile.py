@@ -1,0 +1,233 @@
+"""Scene files: the default scene, the same scene built in Python, and every class of
+bad input caught -- with the key named -- before anything is meshed."""
+import copy
+import math
+import sys
+
+import pytest
+
+import brakewear.scene as scene_mod
+from brakewear.geometry import GeometryError, geometry_file
+from brakewear.mesh import pad_mesh, piston_mesh, rotor_mesh
+from brakewear.scenefile import (SURFACES, Interface, Numerics, Output, Scene, SceneError,
+                                 Thermal, WearSpec, available_scenes, load_scene,
+                                 scene_file, scene_from_dict)
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+
+def _default_dict() -> dict:
+    return tomllib.loads(scene_file("default").read_text())
+
+
+def _dump(d: dict) -> str:
+    """A minimal TOML writer for the scene tables (strings, numbers, booleans, lists)."""
+    def val(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return f'"{v}"'
+        if isinstance(v, list):
+            return "[" + ", ".join(val(x) for x in v) + "]"
+        return repr(v)
+
+    lines = []
+
+    def table(name, t):
+        scalars = {k: v for k, v in t.items() if not isinstance(v, dict)}
+        subs = {k: v for k, v in t.items() if isinstance(v, dict)}
+        if scalars or not subs:
+            lines.append(f"[{name}]")
+            lines.extend(f"{k} = {val(v)}" for k, v in scalars.items())
+        for k, v in subs.items():
+            table(f"{name}.{k}", v)
+
+    for name, t in d.items():
+        table(name, t)
+    return "\n".join(lines) + "\n"
+
+
+@pytest.fixture
+def no_meshing(monkeypatch):
+    """Any attempt to mesh fails the test: errors must come before meshing."""
+    def boom(*a, **k):
+        raise AssertionError("a mesh was built before the scene was checked")
+    for b in list(scene_mod._MESHERS):
+        monkeypatch.setitem(scene_mod._MESHERS, b, boom)
+
+
+def test_default_scene_loads_in_si():
+    assert "default" in available_scenes()
+    s = load_scene("default")
+    assert s.line_pressure == 1e6 and s.omega == 55.0 and s.duration == 3600.0
+    assert s.ambient == pytest.approx(293.15)
+    assert s.interface.mu == 0.4 and s.interface.model == "fe"
+    assert s.numerics.scheme == "implicit" and s.numerics.update == "gap"
+    assert s.mesh_size == pytest.approx(6e-3)
+    pad, rot = s.wear_laws()
+    assert pad.k == 5e-15 and rot.k == 5e-16   # "material": pad_resin and grey cast iron
+    assert s.thermal.enabled is False
+
+
+def test_python_built_scene_equals_the_file():
+    # the example of docs/scenes.md
+    py = Scene(
+        geometry="default",
+        rotor="elastic", piston="traction",
+        mesh_size=6e-3,
+        line_pressure=1e6, omega=55.0, duration=3600.0, ambient=293.15,
+        interface=Interface(model="fe", surfaces=("pad.friction", "rotor.friction"), mu=0.4),
+        pad_wear=WearSpec(k=None, a=1.0, b=1.0),
+        rotor_wear=WearSpec(k=None),
+        thermal=Thermal(enabled=False),
+        numerics=Numerics(scheme="implicit", update="gap", dp_tol=0.05, dh_fraction=0.1),
+        output=Output(vtu_every=10, checkpoint_every=5, figures=True),
+        name="default",
+    )
+    assert py == load_scene("default")
+    assert py != Scene(geometry="default", duration=3600.0, mesh_size=6e-3,
+                       interface=Interface(mu=0.3))
+
+
+def test_same_scene_in_other_units():
+    d = _default_dict()
+    d["units"].update(pressure="bar", time="min", angular_speed="rpm", temperature="K",
+                      length="m")
+    d["environment"].update(line_pressure=10.0, duration=60.0,
+                            omega=55.0 * 60 / (2 * math.pi), ambient=293.15)
+    d["mesh"]["size"] = 0.006
+    s, ref = scene_from_dict(d), load_scene("default")
+    assert s.line_pressure == pytest.approx(ref.line_pressure)
+    assert s.duration == pytest.approx(ref.duration)
+    assert s.omega == pytest.approx(ref.omega)
+    assert s.mesh_size == pytest.approx(ref.mesh_size)
+
+
+def test_surfaces_are_the_meshes_facet_names():
+    from brakewear.geometry import load_geometry
+    g = load_geometry("default")
+    for body, mesher in (("pad", pad_mesh), ("rotor", rotor_mesh), ("piston", piston_mesh)):
+        assert set(SURFACES[body]) == set(mesher(g, size=0.02).boundaries), body
+
+
+def _edit(fn):
+    d = _default_dict()
+    fn(d)
+    return d
+
+
+BAD = {
+    # class of error: (edit of the default scene, key named, words in the message)
+    "unknown key": (lambda d: d["environment"].update(speed=55.0), "environment.speed",
+                    "allowed keys: line_pressure, omega, duration, ambient"),
+    "unknown table": (lambda d: d.update(enviroment={}), "enviroment", "allowed tables"),
+    "wrong type": (lambda d: d["environment"].update(line_pressure="1"),
+                   "environment.line_pressure", "expected a number"),
+    "wrong type bool": (lambda d: d["output"].update(figures=1), "output.figures",
+                        "expected true or false"),
+    "wrong type int": (lambda d: d["numerics"].update(steps=2.5), "numerics.steps",
+                       "whole number"),
+    "wrong unit": (lambda d: d["units"].update(pressure="psi"), "units.pressure",
+                   "allowed units: 'Pa', 'kPa', 'MPa', 'bar'"),
+    "missing unit": (lambda d: d["units"].pop("time"), "units.time", "missing required"),
+    "missing body": (lambda d: d["components"].pop("pad"), "components.pad",
+                     "missing required body"),
+    "missing table": (lambda d: d.pop("environment"), "environment", "missing required table"),
+    "missing pad wear": (lambda d: d["wear"].pop("pad"), "wear.pad", "missing required table"),
+    "missing surface": (lambda d: d["interface"].update(surfaces=["pad.frction", "rotor.friction"]),
+                        "interface.surfaces", "the pad has no surface 'frction'"),
+    "surface of no body": (lambda d: d["interface"].update(surfaces=["caliper.friction",
+                                                                     "rotor.friction"]),
+                           "interface.surfaces", "names no body"),
+    "surface of an absent body": (lambda d: d["interface"].update(
+        surfaces=["piston.piston_face", "pad.back"]), "interface.surfaces",
+        "the piston is not a body"),
+    "unsupported pair": (lambda d: d["interface"].update(surfaces=["pad.back", "rotor.friction"]),
+                         "interface.surfaces", "sliding interface is pad.friction"),
+    "negative mu": (lambda d: d["interface"].update(mu=-0.1), "interface.mu", ">= 0"),
+    "zero duration": (lambda d: d["environment"].update(duration=0.0), "environment.duration",
+                      "> 0 s"),
+    "coarse mesh": (lambda d: d["mesh"].update(size=30.0), "mesh.size", "<= 0.0215 m"),
+    "bad choice": (lambda d: d["numerics"].update(scheme="rk4"), "numerics.scheme",
+                   "'explicit', 'implicit'"),
+    "dp_tol": (lambda d: d["numerics"].update(dp_tol=0.0), "numerics.dp_tol", "> 0"),
+    "partition": (lambda d: d["thermal"].update(partition=1.5), "thermal.partition", "<= 1"),
+    "implicit needs a=1": (lambda d: d["wear"]["pad"].update(a=2.0), "wear.pad.a",
+                           "scheme = 'explicit'"),
+    "k as text": (lambda d: d["wear"]["pad"].update(k="5e-15"), "wear.pad.k", "\"material\""),
+    "winkler with geometry update": (lambda d: (d["interface"].update(model="winkler"),
+                                                d["numerics"].update(update="geometry")),
+                                     "numerics.update", "interface.model = 'fe'"),
+    "two geometries": (lambda d: d.update(geometry={}), "scene.geometry", "given twice"),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_bad_scene_names_file_and_key_before_meshing(case, tmp_path, no_meshing):
+    edit, key, words = BAD[case]
+    path = tmp_path / "bad.toml"
+    path.write_text(_dump(_edit(edit)))
+    with pytest.raises(SceneError) as e:
+        load_scene(path)
+    msg = str(e.value)
+    assert msg.startswith(f"{path}: {key}:"), msg
+    assert words in msg, msg
+
+
+def test_inline_geometry_errors_name_the_table_and_field(no_meshing):
+    d = _default_dict()
+    d["scene"].pop("geometry")
+    g = tomllib.loads(geometry_file("default").read_text())
+    d["geometry"] = copy.deepcopy(g)
+    assert scene_from_dict(d).geometry == load_scene("default").geometry
+    d["geometry"]["pad"]["inner_radius"] = 50.0
+    with pytest.raises(GeometryError, match=r"\[geometry\]: pad.inner_radius: 50 mm"):
+        scene_from_dict(d, source="s.toml")
+
+
+def test_geometry_path_is_relative_to_the_scene_file(tmp_path):
+    (tmp_path / "brakes").mkdir()
+    (tmp_path / "brakes" / "mine.toml").write_text(geometry_file("default").read_text()
+                                                   .replace("size = 2.5", "size = 4.0"))
+    d = _default_dict()
+    d["scene"]["geometry"] = "brakes/mine.toml"
+    (tmp_path / "s.toml").write_text(_dump(d))
+    assert load_scene(tmp_path / "s.toml").geometry.mesh.size == pytest.approx(4e-3)
+    d["scene"]["geometry"] = "brakes/missing.toml"
+    (tmp_path / "s.toml").write_text(_dump(d))
+    with pytest.raises(GeometryError, match="missing.toml: cannot read"):
+        load_scene(tmp_path / "s.toml")
+
+
+def test_python_built_bad_values_name_the_key():
+    with pytest.raises(SceneError, match=r"interface.mu: -1"):
+        Interface(mu=-1)
+    with pytest.raises(SceneError, match=r"environment.line_pressure: -5"):
+        Scene(line_pressure=-5.0)
+    with pytest.raises(SceneError, match=r"numerics.update: 'mesh' is not allowed"):
+        Numerics(update="mesh")
+    with pytest.raises(SceneError, match=r"thermal.h_conv.disc: unknown body"):
+        Thermal(h_conv={"disc": 10.0})
+
+
+def test_unknown_scene_name_lists_the_packaged_ones():
+    with pytest.raises(SceneError, match="unknown scene name 'nope'; packaged scenes: .*default"):
+        load_scene("nope")
+
+
+def test_what_the_loop_cannot_do_is_refused_before_meshing(no_meshing, monkeypatch, tmp_path):
+    s = load_scene("default")
+    th = Scene(geometry=s.geometry, thermal=Thermal(enabled=True))
+
+    def old_loop(model, line_pressure, omega, duration, pad_law):   # no thermal argument
+        raise AssertionError("not to be called")
+    with pytest.raises(SceneError, match="thermal.enabled: true is not supported yet"):
+        th.check_runnable(old_loop)
+    import brakewear.foundation as foundation
+    monkeypatch.delattr(foundation, "wear_interface", raising=False)
+    wk = Scene(geometry=s.geometry, interface=Interface(model="winkler"))
+    with pytest.raises(SceneError, match="interface.model: 'winkler' is not supported"):
+        wk.run(tmp_path)
