@@ -114,7 +114,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     pad = model.meshes["pad"]
     pad_series = SeriesWriter(out, "pad", pad.p, pad.t, start)
     rot_series = (SeriesWriter(out, "rotor", model.meshes["rotor"].p, model.meshes["rotor"].t,
-                               start) if model.rotor == "elastic" else None)
+                               start)
+                  if model.rotor == "elastic" and itf.rotor_nodes is not None else None)
     csv_path = out / "history.csv"
     rows = []
     if resume and csv_path.exists():

@@ -23,7 +23,6 @@ the brake model (:class:`~brakewear.scene.BrakeModel`) that a scene builds.
 """
 from __future__ import annotations
 
-import inspect
 import json
 import logging
 import math
@@ -392,30 +391,13 @@ class Scene:
         if n.update == "geometry" and self.interface.model != "fe":
             raise _fail("numerics.update", "'geometry' moves the FE meshes; it needs "
                                            "interface.model = 'fe'")
+        if n.update == "geometry" and self.thermal.enabled:
+            raise _fail("numerics.update", "'geometry' cannot be combined with thermal coupling "
+                                           "(thermal.enabled = true): the thermal meshes do not "
+                                           "follow the worn faces; allowed: 'gap'")
         if self.thermal.contact_conductance > 0 and self.rotor != "elastic":
             raise _fail("thermal.contact_conductance", "> 0 needs an elastic rotor "
                                                        "(components.rotor = 'elastic')")
-
-    def check_runnable(self, wear_history: Callable | None = None) -> None:
-        """Raise :class:`SceneError` if this version's wear loop cannot run the scene.
-
-        Checked before anything is meshed: thermal coupling needs a
-        ``thermal`` argument of :func:`~brakewear.simulate.wear_history`; a
-        Winkler interface needs ``brakewear.foundation.wear_interface``.
-        """
-        if wear_history is None:
-            from .simulate import wear_history
-        params = inspect.signature(wear_history).parameters
-        if self.thermal.enabled and "thermal" not in params:
-            raise _fail("thermal.enabled", "true is not supported yet: this version's wear loop "
-                                           "(brakewear.simulate.wear_history) has no thermal "
-                                           "coupling; allowed: false")
-        if self.interface.model == "winkler":
-            from . import foundation
-            if not callable(getattr(foundation, "wear_interface", None)):
-                raise _fail("interface.model", "'winkler' is not supported by the wear loop yet "
-                                               "(brakewear.foundation has no wear_interface); "
-                                               "allowed: 'fe'")
 
     # -------------------------------------------------------------- build --
     def build_model(self):
@@ -455,9 +437,7 @@ class Scene:
         called with each :class:`~brakewear.simulate.WearStep`.
         """
         from .history import run_wear
-        from .simulate import wear_history
 
-        self.check_runnable(wear_history)
         out = Path(out)
         record = self.to_dict()
         rec_path = out / "scene.json"
@@ -504,10 +484,12 @@ class Scene:
                                   update=n.update, every=self.output.checkpoint_every,
                                   tol=n.tol, max_halvings=n.max_halvings)
         if self.interface.model == "winkler":
-            from .foundation import wear_interface
-            kw["interface"] = wear_interface(model, self.line_pressure, self.interface.mu,
-                                             modulus=self.interface.winkler_modulus,
-                                             rotor=self.interface.winkler_rotor)
+            from .foundation import WinklerInterface
+            from .simulate import FoundationInterface
+            winkler = WinklerInterface.from_model(model, modulus=self.interface.winkler_modulus,
+                                                  rotor=self.interface.winkler_rotor)
+            kw["interface"] = FoundationInterface(model, winkler, self.line_pressure,
+                                                  self.interface.mu)
         if self.thermal.enabled:
             from .thermal import ThermalModel
             t = self.thermal

@@ -68,7 +68,7 @@ class WearStep:
     rejected: int               # retries before this step was accepted
     contact_solves: int         # contact solves of this step (1 + rejected)
     solve_s: float              # s spent in contact solves in this step
-    limit: str                  # what set the step: "max_dh", "stability", "growth", "end", "fixed"
+    limit: str                  # what set the step: max_dh, stability, growth, first, end, fixed
     mu: float = 0.0             # friction coefficient in this step (mu(T) with a friction law)
     pad_temperature_max: float = float("nan")    # K, pad face, end of step (thermal only)
     rotor_temperature_max: float = float("nan")  # K, rotor face, end of step (thermal only)
@@ -416,14 +416,19 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             seen = rate_pad + itf.W @ rate_rot
             if np.any(seen > 0):
                 cands["max_dh"] = float(np.min(dh_limit[seen > 0] / seen[seen > 0]))
-            if stability is not None and scheme == "explicit":
+            first = state["dt_next"] is None
+            if (stability is not None and scheme == "explicit") or first:
                 # d(rate)/dp of both laws at the current pressure (a p^(a-1) k v^b)
                 slope = _rate_slope(pad_law, p, v, T_pad) + (
                     _rate_slope(rotor_law, p, v, T_rot) if rotor_law is not None else 0.0)
                 worst = float((slope * itf.normal_stiffness / A_pad)[act].max()) \
                     if act.any() else 0.0
-                if worst > 0:
+                if worst > 0 and scheme == "explicit" and stability is not None:
                     cands["stability"] = stability / worst
+                elif worst > 0 and scheme == "implicit":
+                    # no bound, but the explicit one is the time scale on which the
+                    # pressure starts to move: a first guess that saves halvings
+                    cands["first"] = 1.0 / worst
             if state["dt_next"] is not None:
                 cands["growth"] = state["dt_next"]
             limit = min(cands, key=cands.get)

@@ -218,16 +218,22 @@ def test_unknown_scene_name_lists_the_packaged_ones():
         load_scene("nope")
 
 
-def test_what_the_loop_cannot_do_is_refused_before_meshing(no_meshing, monkeypatch, tmp_path):
+def test_combinations_the_loop_refuses_are_refused_before_meshing(no_meshing, tmp_path):
     s = load_scene("default")
-    th = Scene(geometry=s.geometry, thermal=Thermal(enabled=True))
+    with pytest.raises(SceneError, match="numerics.update: 'geometry' cannot be combined"):
+        Scene(geometry=s.geometry, thermal=Thermal(enabled=True),
+              numerics=Numerics(update="geometry"))
+    with pytest.raises(SceneError, match="numerics.update: 'geometry' moves the FE meshes"):
+        Scene(geometry=s.geometry, interface=Interface(model="winkler"),
+              numerics=Numerics(update="geometry"))
 
-    def old_loop(model, line_pressure, omega, duration, pad_law):   # no thermal argument
-        raise AssertionError("not to be called")
-    with pytest.raises(SceneError, match="thermal.enabled: true is not supported yet"):
-        th.check_runnable(old_loop)
-    import brakewear.foundation as foundation
-    monkeypatch.delattr(foundation, "wear_interface", raising=False)
-    wk = Scene(geometry=s.geometry, interface=Interface(model="winkler"))
-    with pytest.raises(SceneError, match="interface.model: 'winkler' is not supported"):
-        wk.run(tmp_path)
+
+def test_thermal_and_winkler_scenes_run(tmp_path):
+    s = load_scene("default")
+    small = dict(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0,
+                 numerics=Numerics(steps=2, scheme="implicit"))
+    small["output"] = Output(figures=False)
+    a = Scene(**small, thermal=Thermal(enabled=True, contact_conductance=1e5)).run(tmp_path / "t")
+    assert a["steps"] == 2 and a["final"]["pressure_max_Pa"] > 0
+    b = Scene(**small, interface=Interface(model="winkler")).run(tmp_path / "w")
+    assert b["steps"] == 2
