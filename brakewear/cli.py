@@ -5,7 +5,8 @@ or a scene file, docs/scenes.md): the wear history with a progress bar in
 simulated time, checkpoints in the output folder, ``--resume`` to continue.
 ``brakewear demo`` runs the main job on the default brake: mesh, solve under
 a line pressure with the pad tied to the rotor, write figures, VTU files and
-a JSON summary.  ``brakewear bench elasticity`` measures the elasticity
+a JSON summary; then the default scene (running-in under drag) into
+``OUT/running_in``.  ``brakewear bench elasticity`` measures the elasticity
 solver.
 
 Exit codes: 0 success; 2 bad input (the message names the file, the key and
@@ -22,7 +23,7 @@ import sys
 import time
 from pathlib import Path
 
-__all__ = ["main", "run_demo", "run_scene"]
+__all__ = ["main", "run_demo", "run_demo_wear", "run_scene"]
 
 logger = logging.getLogger(__name__)
 
@@ -133,6 +134,27 @@ def run_scene(scene: str, out: str | Path | None = None, resume: bool = False,
     return summary
 
 
+def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = False,
+                  figures: bool = True) -> dict:
+    """The demo's second half: the default scene (running-in under drag) into ``out``."""
+    import dataclasses
+
+    from .scenefile import load_scene
+
+    sc = load_scene("default")
+    if duration is not None:
+        sc = dataclasses.replace(sc, duration=float(duration))
+    if not figures:
+        sc = dataclasses.replace(sc, output=dataclasses.replace(sc.output, figures=False))
+    bar = _Progress(sc, quiet)
+    try:
+        summary = sc.run(out, progress=bar)
+    finally:
+        bar.close()
+    summary["out"] = str(out)
+    return summary
+
+
 class _Interrupted(Exception):
     def __init__(self, scene, out, step):
         self.scene, self.out, self.step = scene, out, step
@@ -159,6 +181,11 @@ def _parser() -> argparse.ArgumentParser:
                    help="piston as a traction on the backplate or as a tied body")
     d.add_argument("--size", type=float, default=None, help="mesh size at the interface, mm")
     d.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
+    d.add_argument("--wear-duration", type=float, default=None,
+                   help="then run the default scene (running-in under drag) for this many "
+                        "seconds of drag into OUT/running_in (default: the scene's own 3600 s; "
+                        "0 skips it)")
+    d.add_argument("--quiet", action="store_true", help="no progress bar")
     b = sub.add_parser("bench", help="benchmarks (timings and errors)")
     try:
         from .bench import add_bench_parser
@@ -217,6 +244,15 @@ def main(argv: list[str] | None = None) -> int:
                   f"MPa, max {i['pressure_max_Pa'] / 1e6:.3f} MPa")
             print(f"  solve: {s['solver']['iterations']} AMG-CG iterations, total {s['run_s']:.1f} s")
             print(f"  wrote: {', '.join(s['files'])}")
+            if args.wear_duration is None or args.wear_duration > 0:
+                w = run_demo_wear(Path(args.out) / "running_in", args.wear_duration, args.quiet,
+                                  figures=not args.no_figures)
+                f = w["final"]
+                print(f"brakewear demo, running-in (scene 'default', {w['dofs']} DOFs): "
+                      f"{w['steps']} steps to t = {f['time_s']:.6g} s in {w['run_s']:.1f} s")
+                print(f"  pad wear max {f['pad_wear_max_m'] * 1e6:.3f} um, contact "
+                      f"{100 * f['contact_fraction']:.0f} % of the pad face, p r spread "
+                      f"{f['pr_spread']:.3f}; wrote {w['out']}/")
             return 0
         if args.command == "bench":
             from .bench import run_bench

@@ -5,7 +5,7 @@ from brakewear.cli import main
 
 
 def test_demo_writes_summary_vtu_and_figures(tmp_path, capsys):
-    assert main(["demo", "--out", str(tmp_path), "--size", "5"]) == 0
+    assert main(["demo", "--out", str(tmp_path), "--size", "5", "--wear-duration", "0"]) == 0
     s = json.loads((tmp_path / "summary.json").read_text())
     assert s["interface"]["force_balance_error"] < 1e-8
     for f in ("rotor.vtu", "pad.vtu", "pad_interface_pressure.png", "brake_surfaces.png"):
@@ -161,3 +161,22 @@ def test_interrupt_before_the_first_checkpoint_says_start_again(tmp_path, capsys
     out = tmp_path / "out"
     assert main(["run", str(_tiny(tmp_path)), "--out", str(out), "--quiet"]) == 130
     assert "no checkpoint was written yet: run again without --resume" in capsys.readouterr().err
+
+
+def test_demo_runs_the_default_scene_after_the_static_solve(tmp_path, monkeypatch):
+    import json
+
+    import brakewear.scenefile as sf
+    real = sf.load_scene
+
+    def small(name):                       # the default scene on a coarse mesh, 2 steps
+        import dataclasses
+        s = real(name)
+        return dataclasses.replace(s, mesh_size=1.2e-2, numerics=dataclasses.replace(
+            s.numerics, steps=2))
+    monkeypatch.setattr(sf, "load_scene", small)
+    assert main(["demo", "--out", str(tmp_path), "--size", "12", "--no-figures", "--quiet",
+                 "--wear-duration", "30"]) == 0
+    w = json.loads((tmp_path / "running_in" / "summary.json").read_text())
+    assert w["steps"] == 2 and w["duration_s"] == 30.0
+    assert (tmp_path / "summary.json").exists()
