@@ -121,6 +121,8 @@ def run(model, itf, lp, omega, duration, steps, pad_law, rotor_law, mu):
     for s in wear_history(model, lp, omega, duration * (steps + 1) / steps, pad_law, rotor_law,
                           mu, steps=steps + 1, scheme="implicit", **kw):
         t1 = time.perf_counter()
+        logger.info("%s step %d: t = %.0f s, interface solve %.4g s, step %.4g s",
+                    "FE" if itf is None else "Winkler", s.step, s.time, s.solve_s, t1 - t0)
         recs.append(s)
         wall.append(t1 - t0)
         t0 = t1
