@@ -142,7 +142,7 @@ def state(recs, j):
 def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
          out: str | Path | None = "docs", line_pressure: float = 1e6, omega: float = 55.0,
          mu: float = 0.4, k_pad: float = 5e-15, k_rotor: float = 5e-16, n_stages: int = 4,
-         variants=VARIANTS, figures: bool = True) -> dict:
+         variants=VARIANTS, figures: bool = True, retime: int = 3) -> dict:
     """Run the comparison; returns everything written to the JSON (plus ``records``).
 
     Parameters
@@ -153,6 +153,9 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
         Time of the last stage (s) and the number of equal steps to it.
     out
         Root of ``data/`` and ``figures/`` (None: write nothing).
+    retime
+        Repeats of each Winkler run after the FE run, timed again (the median per step
+        goes in ``speed[variant]["retimed_*"]``); 0 skips it.
     """
     for name, v in (("duration", duration), ("line_pressure", line_pressure),
                     ("omega", omega), ("k_pad", k_pad), ("k_rotor", k_rotor)):
@@ -218,6 +221,17 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
     def rotor_profile(key, rw):
         return _ring_radii(itfs[key]), _ring_values(itfs[key], rw)
 
+    xy = itfs["fe"].x[:2]
+
+    def cop(p):
+        fz = A * p
+        c = (xy * fz).sum(axis=1) / fz.sum()
+        return {"cop_r_mm": float(np.hypot(c[0], c[1]) * 1e3),
+                "cop_theta_deg": float(np.degrees(np.arctan2(c[1], c[0])))}
+
+    # where the centre of pressure would be at p r = const (uniform wear rate)
+    c_inv = cop(1.0 / r)
+
     # per-time figures of every run, and errors against the FE
     per_time = {k: [] for k in runs}
     for j in range(steps + 1):
@@ -231,6 +245,7 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
                    "contact_fraction": float(A[act].sum() / A.sum()),
                    "pad_wear_max_um": float(w.max() * 1e6),
                    "pad_wear_mean_um": float((A * w).sum() / A.sum() * 1e6),
+                   **cop(p),
                    **{f"pr_{n}": v for n, v in pr_spread(p, r, act, A).items()}}
             if k != "fe":
                 ep = field_errors(p, pf, A)
@@ -265,6 +280,17 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
                     "wall_ratio_of_medians": float(np.median(walls["fe"]) /
                                                    np.median(walls[k]))}
     speed["fe_median_solve_s"] = float(np.median(speed["fe_solve_s"]))
+    # the Winkler runs again (cheap), to see how much of their step time is noise
+    # of the shared machine: per step, the median over the repeats
+    for k in winkler:
+        rep = [[s.solve_s for s in run(model, itfs[k], line_pressure, omega, duration, steps,
+                                       pad_law, rotor_law, mu)[0]] for _ in range(retime)]
+        if rep:
+            med = np.median(np.array(rep), axis=0)
+            fs = np.array(speed["fe_solve_s"])
+            speed[k].update({"retimed_repeats": retime, "retimed_solve_s": med.tolist(),
+                             "retimed_median_solve_s": float(np.median(med)),
+                             "retimed_median_of_ratios": float(np.median(fs / med))})
 
     # stage profiles
     stage_data = []
@@ -292,7 +318,9 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
                      "stage_times_s": [times[j] for j in stages],
                      "mean_radius_profile_m": prof["mean_radius_m"],
                      "centre_line_max_angle_off_deg": prof["centre_dtheta_deg_max"],
-                     "build_s": build_s, "fe_static_solve_s": static_s},
+                     "build_s": build_s, "fe_static_solve_s": static_s,
+                     "cop_at_p_r_const": c_inv,
+                     "load_point_r_mm": float(np.hypot(*base.load_point) * 1e3)},
         "calibration": calib,
         "per_time": per_time, "stages": stage_data, "speed": speed,
         "profile_axes": {"theta_deg": prof["theta_deg"].tolist(),
@@ -442,7 +470,7 @@ def _figure_profiles(path, res, what, g):
 
 def _figure_history(path, res):
     plt = _plt()
-    fig, axs = plt.subplots(2, 3, figsize=(14, 7.5))
+    fig, axs = plt.subplots(2, 4, figsize=(18, 7.5))
     pt = res["per_time"]
     for k, rows in pt.items():
         t = [r_["time_s"] for r_ in rows]
@@ -450,26 +478,41 @@ def _figure_history(path, res):
         axs[0, 0].plot(t, [r_["pr_cv"] for r_ in rows], **sty)
         axs[0, 1].plot(t, [r_["pressure_max_MPa"] for r_ in rows], **sty)
         axs[0, 2].plot(t, [r_["contact_fraction"] for r_ in rows], **sty)
+        axs[0, 3].plot(t, [r_["cop_r_mm"] for r_ in rows], **sty)
         if k != "fe":
             axs[1, 0].plot(t, [r_["pressure_l2_rel"] for r_ in rows], **sty)
             axs[1, 1].plot(t[1:], [r_["pad_wear_l2_rel"] for r_ in rows][1:], **sty)
     axs[0, 0].set_ylabel("p r spread: CV over the contact")
     axs[0, 1].set_ylabel("peak pad pressure (MPa)")
     axs[0, 2].set_ylabel("contact area fraction")
+    axs[0, 3].set_ylabel("radius of the centre of pressure (mm)")
+    c_inv = res["settings"]["cop_at_p_r_const"]["cop_r_mm"]
+    axs[0, 3].axhline(c_inv, color="0.5", lw=0.8, ls="--")
+    axs[0, 3].text(0.02, c_inv, "p r = const", color="0.4", fontsize=8, va="bottom",
+                   transform=axs[0, 3].get_yaxis_transform())
     axs[1, 0].set_ylabel("pressure error, L2 relative to FE")
     axs[1, 1].set_ylabel("pad wear error, L2 relative to FE")
     sp = res["speed"]
     n = len(sp["fe_solve_s"])
-    axs[1, 2].semilogy(range(1, n + 1), sp["fe_solve_s"], **{**STYLES["fe"], "label": LABELS["fe"]})
+    axs[1, 3].semilogy(range(1, n + 1), sp["fe_solve_s"], **{**STYLES["fe"], "label": LABELS["fe"]})
     for k in pt:
         if k != "fe":
-            axs[1, 2].semilogy(range(1, n + 1), sp[k]["solve_s"],
+            axs[1, 3].semilogy(range(1, n + 1), sp[k]["solve_s"],
                                **{**STYLES[k], "label": f"{LABELS[k]}: FE/Winkler "
                                   f"{sp[k]['median_of_ratios']:.0f}x"})
-    axs[1, 2].set_xlabel("step")
-    axs[1, 2].set_ylabel("interface solve time per step (s)")
-    axs[1, 2].legend(fontsize=7)
-    for a in axs.flat[:5]:
+            if "retimed_solve_s" in sp[k]:
+                axs[1, 3].semilogy(range(1, n + 1), sp[k]["retimed_solve_s"], color=STYLES[k]["color"],
+                                   lw=0.8, alpha=0.5)
+    axs[1, 3].set_xlabel("step")
+    axs[1, 3].set_ylabel("interface solve time per step (s)")
+    axs[1, 3].legend(fontsize=7)
+    for k in pt:
+        if k != "fe":
+            rows = pt[k]
+            axs[1, 2].plot([r_["time_s"] for r_ in rows][1:],
+                           [r_["rotor_wear_l2_rel"] for r_ in rows][1:], **STYLES[k])
+    axs[1, 2].set_ylabel("rotor wear (ring means) error, L2 rel. to FE")
+    for a in list(axs.flat[:7]):
         a.set_xlabel("time (s)")
     h, lab = axs[0, 0].get_legend_handles_labels()
     fig.legend(h, lab, loc="lower center", ncol=4, fontsize=8, frameon=False)
@@ -498,6 +541,8 @@ def _cli(argv=None) -> None:
     ap.add_argument("--duration", type=float, default=1500.0, help="time of the last stage (s)")
     ap.add_argument("--steps", type=int, default=15, help="equal steps to the last stage")
     ap.add_argument("--out", default="docs", help="root of data/ and figures/")
+    ap.add_argument("--retime", type=int, default=3,
+                    help="repeats of the Winkler runs, timed again (0: none)")
     ap.add_argument("--replot", action="store_true",
                     help="only redraw the figures from OUT/data/winkler_running_in.json")
     a = ap.parse_args(argv)
@@ -506,7 +551,7 @@ def _cli(argv=None) -> None:
         replot(a.out)
         return
     res = main(size=None if a.size is None else a.size * 1e-3, duration=a.duration,
-               steps=a.steps, out=a.out)
+               steps=a.steps, out=a.out, retime=a.retime)
     for k in VARIANTS:
         if k in res["speed"]:
             logger.info("%s: FE/Winkler per step %.0fx (median of ratios)", k,
