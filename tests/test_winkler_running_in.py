@@ -71,3 +71,17 @@ def test_winkler_step_is_faster(res):
     for k in ("johnson", "stiffness", "pressure"):
         assert sp[k]["median_solve_s"] < sp["fe_median_solve_s"]
         assert sp[k]["median_of_ratios"] > 2.0, sp[k]
+
+
+def test_centre_of_pressure_fe_moves_inward_winkler_stays(res):
+    """The study's main finding on a tiny mesh: the FE's centre of pressure moves inward
+    during running-in (toward p r = const), the rigid-backing Winkler's stays on its load line."""
+    fe = [r["cop_r_mm"] for r in res["per_time"]["fe"]]
+    wk = [r["cop_r_mm"] for r in res["per_time"]["stiffness"]]
+    assert fe[-1] < fe[0] - 1.0
+    assert max(wk) - min(wk) < 0.1
+    assert res["settings"]["cop_at_p_r_const"]["cop_r_mm"] < fe[-1]
+    for k in ("johnson", "stiffness", "pressure"):
+        sp = res["speed"][k]
+        assert len(sp["retimed_solve_s"]) == STEPS + 1
+        assert sp["retimed_median_solve_s"] < res["speed"]["fe_median_solve_s"]
