@@ -501,8 +501,8 @@ def _figure_history(path, res):
                                **{**STYLES[k], "label": f"{LABELS[k]}: FE/Winkler "
                                   f"{sp[k]['median_of_ratios']:.0f}x"})
             if "retimed_solve_s" in sp[k]:
-                axs[1, 3].semilogy(range(1, n + 1), sp[k]["retimed_solve_s"], color=STYLES[k]["color"],
-                                   lw=0.8, alpha=0.5)
+                axs[1, 3].semilogy(range(1, n + 1), sp[k]["retimed_solve_s"],
+                                   color=STYLES[k]["color"], lw=0.8, alpha=0.5)
     axs[1, 3].set_xlabel("step")
     axs[1, 3].set_ylabel("interface solve time per step (s)")
     axs[1, 3].legend(fontsize=7)
