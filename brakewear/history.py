@@ -32,7 +32,7 @@ from .simulate import FEInterface, WearStep, wear_history
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["SeriesWriter", "run_wear", "step_figures"]
+__all__ = ["SeriesWriter", "run_wear", "step_figures", "ring_profile"]
 
 
 class SeriesWriter:
@@ -155,8 +155,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         "contact_solves": int(sum(int(r["contact_solves"]) for r in rows)),
         "rejected": int(sum(int(r["rejected"]) for r in rows)),
         "pad_archard_m3": last.pad_archard, "rotor_archard_m3": last.rotor_archard,
-        "rotor_wear_profile": {"r_m": _ring_radii(itf).tolist(),
-                               "wear_m": _ring_values(itf, last.rotor_wear).tolist()},
+        "rotor_wear_profile": dict(zip(("r_m", "wear_m"), (
+            a.tolist() for a in ring_profile(itf, last.rotor_wear)))),
         "run_s": total_s, "setup_s": setup_s, "resumed_from_step": start,
         "files": {"pad": "pad.pvd", "rotor": "rotor.pvd" if rot_series else None,
                   "history": "history.csv", "checkpoint": "checkpoint.npz"},
@@ -165,13 +165,16 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     return summary
 
 
-def _ring_radii(itf) -> np.ndarray:
-    r = np.hypot(itf.rotor_x[0], itf.rotor_x[1])
-    return np.bincount(itf.ring, weights=r) / np.bincount(itf.ring)
+def ring_profile(itf, values: np.ndarray | None = None):
+    """Rotor wear nodes grouped by ring: (ring radii, ring means of ``values``).
 
-
-def _ring_values(itf, values: np.ndarray) -> np.ndarray:
-    return np.bincount(itf.ring, weights=values) / np.bincount(itf.ring)
+    ``itf`` is the wear loop's interface (``rotor_x``, ``ring``); ``values`` one
+    number per rotor wear node (e.g. ``WearStep.rotor_wear``); None gives the
+    radii only (second item None).
+    """
+    n = np.bincount(itf.ring)
+    r = np.bincount(itf.ring, weights=np.hypot(itf.rotor_x[0], itf.rotor_x[1])) / n
+    return r, None if values is None else np.bincount(itf.ring, weights=values) / n
 
 
 def _write_csv(path: Path, rows: list) -> None:

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.foundation import WinklerInterface, calibrate, compare
-from brakewear.history import _ring_radii, _ring_values
+from brakewear.history import ring_profile
 from brakewear.scene import BrakeModel
 from brakewear.simulate import FoundationInterface, wear_history
 from brakewear.wear import WearLaw
@@ -122,7 +122,7 @@ def run(model, itf, lp, omega, duration, steps, pad_law, rotor_law, mu):
                           mu, steps=steps + 1, scheme="implicit", **kw):
         t1 = time.perf_counter()
         logger.info("%s step %d: t = %.0f s, interface solve %.4g s, step %.4g s",
-                    "FE" if itf is None else "Winkler", s.step, s.time, s.solve_s, t1 - t0)
+                    type(itf).__name__, s.step, s.time, s.solve_s, t1 - t0)
         recs.append(s)
         wall.append(t1 - t0)
         t0 = t1
@@ -197,11 +197,10 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
     # the runs
     runs, walls, itfs = {}, {}, {}
     logger.info("FE run: %d steps", steps + 1)
-    runs["fe"], walls["fe"] = run(model, None, line_pressure, omega, duration, steps, pad_law,
-                                  rotor_law, mu)
     from brakewear.simulate import FEInterface
-    itfs["fe"] = FEInterface.__new__(FEInterface)       # geometry only: no contact system
-    _fe_geometry(itfs["fe"], model)
+    itfs["fe"] = FEInterface(model, line_pressure, mu)
+    runs["fe"], walls["fe"] = run(model, itfs["fe"], line_pressure, omega, duration, steps,
+                                  pad_law, rotor_law, mu)
     for k, wi in winkler.items():
         itfs[k] = FoundationInterface(model, wi, line_pressure, mu)
         runs[k], walls[k] = run(model, itfs[k], line_pressure, omega, duration, steps, pad_law,
@@ -215,11 +214,11 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
     stages = stage_indices(steps, n_stages)
 
     # rotor wear against radius: FE rings (rotor face nodes) and Winkler rings (pad radii)
-    rf = _ring_radii(itfs["fe"])
+    rf = ring_profile(itfs["fe"])[0]
     in_pad = (rf >= g.pad.inner_radius - 1e-9) & (rf <= g.pad.outer_radius + 1e-9)
 
     def rotor_profile(key, rw):
-        return _ring_radii(itfs[key]), _ring_values(itfs[key], rw)
+        return ring_profile(itfs[key], rw)
 
     xy = itfs["fe"].x[:2]
 
@@ -331,23 +330,6 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
         _write(Path(out), result, runs, figures, g)
     result["records"] = runs
     return result
-
-
-def _fe_geometry(itf, model) -> None:
-    """The geometric attributes of an FEInterface (areas, radii, rotor rings) without
-    assembling a contact system (the wear loop built its own)."""
-    from brakewear.contact import surface_nodes, tributary_areas
-    from brakewear.wear import rotor_rings
-    pad, rotor = model.meshes["pad"], model.meshes["rotor"]
-    itf.pad_nodes = surface_nodes(pad, "friction")
-    itf.x = pad.p[:, itf.pad_nodes]
-    itf.r = np.hypot(itf.x[0], itf.x[1])
-    itf.area = tributary_areas(pad, "friction", itf.pad_nodes)
-    face = surface_nodes(rotor, "friction")
-    itf.rotor_nodes = face
-    itf.ring, _ = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
-    itf.rotor_area = tributary_areas(rotor, "friction", face)
-    itf.rotor_x = rotor.p[:, face]
 
 
 # ------------------------------------------------------------------ output --
