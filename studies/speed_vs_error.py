@@ -312,47 +312,73 @@ def pareto(points: list[tuple[float, float]]) -> list[int]:
     return front
 
 
+def _scatter(ax, runs, key, tkey, ref=None, label_groups=None, star="reference"):
+    """Log-log (time, error) points with labels; returns the floor used for error 0."""
+    errs = [r[key]["pad_wear_l2"] for r in runs]
+    floor = 0.3 * min([e for e in errs if e > 0] or [1e-3])
+    pts = []
+    for r, e in zip(runs, errs):
+        y = max(e, floor)
+        pts.append((r[tkey], y))
+        is_ref = r is ref
+        ax.loglog(r[tkey], y, "*" if is_ref else "o", color=COLORS[r["group"]],
+                  ms=14 if is_ref else 8)
+        if label_groups is None or r["group"] in label_groups or is_ref:
+            name = r["name"].replace(" (reference)", "") + (f" = {star}" if is_ref else "")
+            # geometry update below, explicit to the left: clear of each other
+            dx, dy, ha = ((6, -11, "left") if r["group"] == "geometry update" else
+                          (-7, 4, "right") if r.get("scheme") == "explicit" else (6, 3, "left"))
+            ax.annotate(name, (r[tkey], y), textcoords="offset points", xytext=(dx, dy),
+                        ha=ha, fontsize=7.5)
+    front = pareto(pts)
+    ax.loglog([pts[i][0] for i in front], [pts[i][1] for i in front], "k--", lw=0.8,
+              label="Pareto front")
+    ax.axhline(floor, color="0.7", lw=0.6)
+    ax.text(0.01, floor, " error 0 drawn here", transform=ax.get_yaxis_transform(),
+            ha="left", va="bottom", fontsize=7, color="0.4")
+    ax.grid(True, which="both", alpha=0.3)
+    return floor
+
+
 def plot(result: dict, path: Path) -> None:
+    """Three panels: all runs against the reference; the choices at the base mesh
+    against the base model; element order on the cylinder."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     runs = [r for r in result["runs"] if r.get("error")]
-    ref = [r for r in runs if r["name"] == result["case"]["reference"]][0]
-    others = [r for r in runs if r is not ref]
-    floor = 0.3 * min([r["error"]["pad_wear_l2"] for r in others
-                       if r["error"]["pad_wear_l2"] > 0] or [1e-3])
-    fig, axes = plt.subplots(1, 2, figsize=(14, 6.2),
-                             gridspec_kw={"width_ratios": [2.2, 1]})
-    ax = axes[0]
-    pts = []
-    tkey = "cpu_s" if all("cpu_s" in r for r in runs) else "run_s"
-    for r in runs:
-        e = max(r["error"]["pad_wear_l2"], floor)
-        pts.append((r[tkey], e))
-        mark = "*" if r is ref else "o"
-        ax.loglog(r[tkey], e, mark, color=COLORS[r["group"]], ms=14 if r is ref else 8)
-        label = r["name"] + (", error 0" if r is ref else "")
-        ax.annotate(label, (r[tkey], e), textcoords="offset points", xytext=(6, 4),
-                    fontsize=8)
-    front = pareto(pts)
-    ax.loglog([pts[i][0] for i in front], [pts[i][1] for i in front], "k--", lw=0.8,
-              label="Pareto front")
-    for g, c in COLORS.items():
-        ax.plot([], [], "o", color=c, label=g)
-    ax.axhline(floor, color="0.7", lw=0.6)
-    ax.annotate("zero error drawn on this line", (ax.get_xlim()[0], floor),
-                textcoords="offset points", xytext=(4, -10), fontsize=7, color="0.4")
-    ax.set_xlabel("CPU time of the running-in (s, model build + wear history, this process)"
-                  if tkey == "cpu_s" else "run time of the running-in (s, build + history)")
-    ax.set_ylabel("pad wear error vs reference (relative L2)")
     c = result["case"]
-    ax.set_title(f"Default brake, {c['duration_s']:g} s running-in at "
-                 f"{c['line_pressure'] / 1e6:g} MPa, {c['omega']:g} rad/s, mu {c['mu']:g}; "
-                 f"reference: {c['reference']}", fontsize=9)
-    ax.legend(fontsize=8, loc="lower left")
-    ax.grid(True, which="both", alpha=0.3)
-    ax2 = axes[1]
+    ref = [r for r in runs if r["name"] == c["reference"]][0]
+    base = [r for r in runs if r["name"] == c["base"]][0]
+    tkey = "cpu_s" if all("cpu_s" in r for r in runs) else "run_s"
+    tlabel = ("CPU time (s, model build + wear history)" if tkey == "cpu_s"
+              else "run time (s, model build + wear history)")
+    fig, axes = plt.subplots(1, 3, figsize=(18, 6.4), gridspec_kw={"width_ratios": [1.3, 1.3, 1]})
+    ax = axes[0]
+    _scatter(ax, runs, "error", tkey, ref=ref, label_groups=("mesh size", "interface", "rotor"))
+    for g, col in COLORS.items():
+        ax.plot([], [], "o", color=col, label=g)
+    ax.legend(fontsize=8, loc="center left")
+    ax.set_xlabel(tlabel)
+    ax.set_ylabel("pad wear error vs reference (relative L2)")
+    ax.set_title(f"(a) all runs against the finest model, {c['reference']}\n"
+                 f"unlabelled: the wear-step / update choices at {base['size_m'] * 1e3:g} mm, "
+                 "see (b)", fontsize=9)
+    ax = axes[1]
+    same = [r for r in runs if r.get("error_vs_base") is not None or r is base]
+    for r in same:
+        if r is base:
+            r["_vs_base"] = {k: 0.0 for k in r["error"]}
+        else:
+            r["_vs_base"] = r["error_vs_base"]
+    _scatter(ax, same, "_vs_base", tkey, ref=base, star="base")
+    ax.set_xlabel(tlabel)
+    ax.set_ylabel("pad wear difference vs the base model (relative L2)")
+    ax.set_title(f"(b) each choice's own error: against the base model\n"
+                 f"({base['size_m'] * 1e3:g} mm, implicit {c['ref_steps']} steps, gap offset, "
+                 "elastic rotor, FE)", fontsize=9)
+    ax2 = axes[2]
     eo = result.get("element_order") or []
     for order, mk in ((1, "o-"), (2, "s-")):
         rows = [r for r in eo if r["order"] == order]
@@ -362,13 +388,21 @@ def plot(result: dict, path: Path) -> None:
             for r in rows:
                 ax2.annotate(f"{r['dofs']} dofs", (r["run_s"], r["energy_error"]),
                              textcoords="offset points", xytext=(4, 3), fontsize=7)
-    ax2.set_xlabel("solve time (s, assemble + AMG)")
+    if eo:
+        from brakewear.figures import label_log_axis
+        lo, hi = min(r["run_s"] for r in eo), max(r["run_s"] for r in eo)
+        label_log_axis(ax2.xaxis, [t for t in (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10)
+                                   if lo / 2 <= t <= hi * 2])
+    ax2.set_xlabel("wall time (s, assemble + AMG solve)")
     ax2.set_ylabel("energy-norm error vs Lame (relative)")
-    ax2.set_title("Element order (brake is P1 only):\nthick cylinder, one static solve",
+    ax2.set_title("(c) element order (the brake is P1 only):\nthick cylinder, one static solve",
                   fontsize=9)
     ax2.grid(True, which="both", alpha=0.3)
     if eo:
         ax2.legend(fontsize=8)
+    fig.suptitle(f"Speed against error: default brake, {c['duration_s']:g} s running-in at "
+                 f"{c['line_pressure'] / 1e6:g} MPa, {c['omega']:g} rad/s, mu {c['mu']:g}",
+                 fontsize=11)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
@@ -376,17 +410,18 @@ def plot(result: dict, path: Path) -> None:
 
 def table(result: dict) -> str:
     """The Markdown table of docs/performance_speed_vs_error.md."""
-    lines = ["| choice | size mm | DOFs | run s | x reference time | pad wear err | "
-             "pressure err | r_eff err | rotor wear err | pad wear err vs base |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    lines = ["| choice | size mm | DOFs | wall s | CPU s | CPU / reference | pad wear err | "
+             "pressure err | r_eff err | rotor wear err | own error (pad wear vs base) |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in result["runs"]:
         if r.get("failed"):
-            lines.append(f"| {r['name']} | | | | | failed: {r['failed'][:60]} | | | | |")
+            lines.append(f"| {r['name']} | | | | | | failed: {r['failed'][:60]} | | | | |")
             continue
         e, b = r["error"], r["error_vs_base"]
         lines.append(
             f"| {r['name']} | {r['size_m'] * 1e3:g} | {r['dofs']} | {r['run_s']:.1f} | "
-            f"{r['time_ratio']:.3f} | {e['pad_wear_l2']:.2%} | {e['pressure_l2']:.2%} | "
+            f"{r.get('cpu_s', float('nan')):.1f} | {r.get('cpu_ratio', float('nan')):.3f} | "
+            f"{e['pad_wear_l2']:.2%} | {e['pressure_l2']:.2%} | "
             f"{e['r_eff']:+.2%} | {e['rotor_wear_l2']:.2%} | "
             + (f"{b['pad_wear_l2']:.2%} |" if b else "- |"))
     return "\n".join(lines)
