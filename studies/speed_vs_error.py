@@ -273,7 +273,8 @@ def main(sizes=(12e-3, 8e-3, 6e-3, 5e-3, 4e-3), base_size: float = 8e-3, ref_ste
 
 # --------------------------------------------------------------- output --
 CSV_FIELDS = ["name", "group", "size_m", "steps", "scheme", "update", "rotor", "interface",
-              "dofs", "pad_nodes", "run_s", "cpu_s", "time_ratio", "cpu_ratio", "contact_solves", "err_pad_wear_l2",
+              "dofs", "pad_nodes", "run_s", "cpu_s", "time_ratio", "cpu_ratio", "contact_solves",
+              "err_pad_wear_l2",
               "err_pressure_l2", "err_pad_wear_max", "err_pressure_max", "err_r_eff",
               "err_rotor_wear_l2", "base_err_pad_wear_l2", "base_err_pressure_l2", "failed"]
 
@@ -354,7 +355,8 @@ def plot(result: dict, path: Path) -> None:
     tkey = "cpu_s" if all("cpu_s" in r for r in runs) else "run_s"
     tlabel = ("CPU time (s, model build + wear history)" if tkey == "cpu_s"
               else "run time (s, model build + wear history)")
-    fig, axes = plt.subplots(1, 3, figsize=(18, 6.4), gridspec_kw={"width_ratios": [1.3, 1.3, 1]})
+    fig, axes = plt.subplots(1, 3, figsize=(18, 6.4),
+                             gridspec_kw={"width_ratios": [1.3, 1.3, 1]})
     ax = axes[0]
     _scatter(ax, runs, "error", tkey, ref=ref, label_groups=("mesh size", "interface", "rotor"))
     for g, col in COLORS.items():

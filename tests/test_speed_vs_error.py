@@ -50,13 +50,9 @@ def test_reference_error_is_zero_and_others_are_not(result):
 
 def test_explicit_steps_beyond_the_stability_bound_are_worse_than_implicit(result):
     # 600 s explicit Euler steps are ~100 times the monotone bound (docs/theory.md)
-    runs = {r["name"]: r for r in sve_runs(result)}
+    runs = {r["name"]: r for r in result[0]["runs"]}
     assert (runs["explicit 2 steps"]["error_vs_base"]["pad_wear_l2"]
             > 3 * runs["implicit 1 steps"]["error_vs_base"]["pad_wear_l2"])
-
-
-def sve_runs(result):
-    return result[0]["runs"]
 
 
 def test_files_written(result):
