@@ -1,0 +1,94 @@
+"""Smoke run of studies/speed_vs_error.py on tiny settings, and its comparison tools."""
+import csv
+import importlib.util
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+_path = Path(__file__).parents[1] / "studies" / "speed_vs_error.py"
+_spec = importlib.util.spec_from_file_location("speed_vs_error", _path)
+sve = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(sve)
+
+METRICS = {"pad_wear_l2", "pressure_l2", "pad_wear_max", "pressure_max", "r_eff",
+           "rotor_wear_l2"}
+
+
+@pytest.fixture(scope="module")
+def result(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sve")
+    res = sve.main(sizes=(1.5e-2, 1.2e-2), base_size=1.5e-2, ref_steps=2, implicit_steps=(1,),
+                   explicit_steps=(2,), duration=1200.0, out=out, order_study=False)
+    return res, out
+
+
+def test_every_choice_runs_and_has_finite_errors(result):
+    res, _ = result
+    names = [r["name"] for r in res["runs"]]
+    assert names == ["mesh 15 mm", "mesh 12 mm (reference)", "implicit 1 steps",
+                     "explicit 2 steps", "geometry update", "rigid rotor",
+                     "Winkler (layer modulus)", "Winkler (stiffness-calibrated)"]
+    for r in res["runs"]:
+        assert "failed" not in r, r
+        assert set(r["error"]) == METRICS
+        assert all(np.isfinite(v) for v in r["error"].values()), r
+        assert r["run_s"] > 0 and r["cpu_s"] > 0
+        if r["group"] != "mesh size":
+            assert set(r["error_vs_base"]) == METRICS
+
+
+def test_reference_error_is_zero_and_others_are_not(result):
+    res, _ = result
+    ref = [r for r in res["runs"] if r["name"] == res["case"]["reference"]][0]
+    assert all(v == 0.0 for v in ref["error"].values())
+    assert ref["time_ratio"] == 1.0
+    coarse = res["runs"][0]
+    assert coarse["error"]["pad_wear_l2"] > 1e-4
+
+
+def test_explicit_steps_beyond_the_stability_bound_are_worse_than_implicit(result):
+    # 600 s explicit Euler steps are ~100 times the monotone bound (docs/theory.md)
+    runs = {r["name"]: r for r in result[0]["runs"]}
+    assert (runs["explicit 2 steps"]["error_vs_base"]["pad_wear_l2"]
+            > 3 * runs["implicit 1 steps"]["error_vs_base"]["pad_wear_l2"])
+
+
+def test_files_written(result):
+    res, out = result
+    data = json.loads((out / "data" / "speed_vs_error.json").read_text())
+    assert data["case"]["reference"] == "mesh 12 mm (reference)"
+    rows = list(csv.DictReader(open(out / "data" / "speed_vs_error.csv")))
+    assert len(rows) == len(res["runs"])
+    assert float(rows[1]["err_pad_wear_l2"]) == 0.0
+    png = out / "figures" / "speed_vs_error.png"
+    assert png.stat().st_size > 10_000
+    assert "| mesh 15 mm |" in sve.table(res)
+
+
+def test_interpolation_to_the_reference_nodes_is_exact_for_linear_fields():
+    rng = np.random.default_rng(0)
+    xy = rng.uniform(0, 1, (2, 200))
+    target = rng.uniform(0.2, 0.8, (2, 50))
+    f = lambda p: 2.0 + 3.0 * p[0] - 1.5 * p[1]   # noqa: E731
+    assert np.abs(sve._on(f(xy), xy, target) - f(target)).max() < 1e-12
+    far = np.array([[5.0], [5.0]])                  # outside the hull: nearest value
+    assert np.isfinite(sve._on(f(xy), xy, far)).all()
+
+
+def test_pareto_front():
+    pts = [(1.0, 0.5), (2.0, 0.6), (3.0, 0.1), (0.5, 0.9), (4.0, 0.1)]
+    assert sve.pareto(pts) == [3, 0, 2]
+
+
+def test_element_order_on_the_cylinder():
+    rows = sve.element_order(ns_p1=(2,), ns_p2=(1,))
+    p1, p2 = rows
+    assert (p1["order"], p2["order"]) == (1, 2)
+    assert p2["energy_error"] < 0.5 * p1["energy_error"]
+
+
+def test_base_size_must_be_one_of_the_sizes():
+    with pytest.raises(ValueError, match="base_size"):
+        sve.main(sizes=(1.5e-2,), base_size=1e-2, out=None)
