@@ -73,6 +73,8 @@ class WearStep:
     pad_temperature_max: float = float("nan")    # K, pad face, end of step (thermal only)
     rotor_temperature_max: float = float("nan")  # K, rotor face, end of step (thermal only)
     heat_balance_error: float = float("nan")     # |heat in - friction power| / power, this step
+    pressure_end: np.ndarray | None = None       # Pa, at the end of the step (= next start)
+    active_end: np.ndarray | None = None
 
 
 class FEInterface:
@@ -325,9 +327,10 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         if update == "geometry":
             raise WearError("thermal coupling with update = 'geometry' is not supported (the "
                             "thermal meshes would not follow the worn faces); use update = 'gap'")
-    if update == "geometry" and interface is not None:
-        raise WearError("update = 'geometry' rebuilds the FE interface; it cannot be combined "
-                        "with a custom interface")
+    if update == "geometry" and interface is not None and not (
+            isinstance(interface, FEInterface) and interface.model is model):
+        raise WearError("update = 'geometry' rebuilds the FE interface; it needs the "
+                        "FEInterface of this model (or none)")
 
     itf = FEInterface(model, line_pressure, mu, tol) if interface is None else interface
     motion = None
@@ -491,6 +494,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             record.contact_solves += 1
             record.solve_s += s
         p, act = p_new, act_new
+        record.pressure_end, record.active_end = p, act
         state["pressure"], state["active"] = p, act
         if checkpoint is not None and (state["step"] % every == 0
                                        or state["time"] >= duration * (1 - 1e-12)):

@@ -96,23 +96,17 @@ def run_case(size: float, duration: float, steps: int, scheme: str = "implicit",
     if thermal:
         from brakewear.thermal import ThermalModel
         kw["thermal"] = ThermalModel(model, contact_conductance=1e5)
-    gen = wear_history(model, lp, om, duration, pad_law, rotor_law, mu, steps=steps, scheme=scheme,
-                       update=update, **kw)
+    if "interface" not in kw:
+        kw["interface"] = FEInterface(model, lp, mu)
+    itf = kw["interface"]
     last, solves, solve_s = None, 0, 0.0
-    p_end = itf = None
-    for s in gen:
+    for s in wear_history(model, lp, om, duration, pad_law, rotor_law, mu, steps=steps,
+                          scheme=scheme, update=update, **kw):
         last = s
         solves += s.contact_solves
         solve_s += s.solve_s
-        if s.time >= duration * (1 - 1e-12):
-            # the generator is suspended at its final yield: its local ``p`` is the
-            # pressure at the END of the last step (WearStep.pressure is the
-            # pressure at its start); read it rather than pay one more solve
-            loc = gen.gi_frame.f_locals if gen.gi_frame is not None else {}
-            p_end, itf = loc.get("p"), loc.get("itf")
     run_s, cpu_s = time.perf_counter() - t0, time.process_time() - c0
-    if p_end is None:       # fallback: start-of-last-step pressure
-        p_end = last.pressure
+    p_end = last.pressure_end
     pad = model.meshes["pad"]
     nodes = surface_nodes(pad, "friction")
     x = pad.p[:2, nodes]
