@@ -609,7 +609,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
             solver.tol = tol
             if not tight:
                 if x is None:
-                    solver.tol = max(tol, 1e-4)
+                    solver.tol = max(tol, _FIRST)
                 else:
                     r0 = np.linalg.norm(bd - Aop @ x) / max(np.linalg.norm(bd), 1e-300)
                     solver.tol = max(tol, _INEXACT * r0)
@@ -684,6 +684,7 @@ def _reduce(K: sp.csr_matrix, P: sp.csr_matrix) -> sp.csr_matrix:
     return (K + KD + KD.T + DKD).tocsr()
 
 
+_FIRST = 1e-4  # relative tolerance of the first, cold solve
 _INEXACT = 1e-2  # intermediate solves cut their warm-start residual by this factor
 
 
@@ -712,10 +713,4 @@ def _conservative_update(active, lam, gaps, gap_tol, ltol):
 def _reduced_modes(coords, pairs, active, fixed):
     from .solvers import rigid_body_modes
 
-    B = rigid_body_modes(coords, fixed)
-    for pr, act in zip(pairs, active):
-        s = pr.slave[act]
-        if s.size:
-            k = np.argmax(np.abs(pr.normal[:, act]), axis=0)
-            B[3 * s + k] = 0.0
-    return B
+    return rigid_body_modes(coords, fixed)
