@@ -14,6 +14,7 @@ step, an active-set update): pass ``A=`` to :meth:`AMGSolver.solve`, and call
 """
 from __future__ import annotations
 
+import copy
 import logging
 import time
 import warnings
@@ -215,6 +216,44 @@ class AMGSolver:
         self.M = self.ml.aspreconditioner(cycle="V")
         self.refreshes = getattr(self, "refreshes", 0) + 1
         logger.debug("AMG refresh: %.2f s", time.perf_counter() - t0)
+
+    def refreshed(self, A: sp.spmatrix) -> "AMGSolver":
+        """A new solver for ``A`` on this hierarchy's aggregates; ``self`` is not changed.
+
+        Like :meth:`refresh` (level operators updated by ``R dA P``, coarse
+        factorisation redone) but the result is a separate object whose
+        hierarchy depends only on this one and on ``A``, never on earlier
+        refreshes: the base can be shared by many solves (a wear history)
+        and every solve stays exactly repeatable.
+        """
+        t0 = time.perf_counter()
+        base = self.ml.levels
+        A = A.tocsr()
+        dA = (A - base[0].A).tocsr()
+        dA.eliminate_zeros()
+        levels = []
+        for i, lo in enumerate(base):
+            lv = pyamg.multilevel.MultilevelSolver.Level()
+            if i == 0:
+                lv.A = A
+            elif dA.nnz:
+                dA = (base[i - 1].R @ (dA @ base[i - 1].P)).tocsr()
+                dA.eliminate_zeros()
+                lv.A = (lo.A + dA).tocsr() if dA.nnz else lo.A
+            else:
+                lv.A = lo.A
+            if hasattr(lo, "P"):
+                lv.P, lv.R = lo.P, lo.R
+            levels.append(lv)
+        new = copy.copy(self)
+        new.A = A
+        new.ml = pyamg.multilevel.MultilevelSolver(levels, coarse_solver=self.options["coarse_solver"])
+        change_smoothers(new.ml, *self.smoothers)
+        new.M = new.ml.aspreconditioner(cycle="V")
+        new.info = SolveInfo()
+        new.refreshes = getattr(self, "refreshes", 0) + 1
+        logger.debug("AMG refreshed copy: %.2f s", time.perf_counter() - t0)
+        return new
 
     def solve(self, b: np.ndarray, x0: np.ndarray | None = None,
               A: sp.spmatrix | None = None, krylov: str = "cg") -> np.ndarray:
