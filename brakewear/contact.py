@@ -604,7 +604,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
                     builds += 1
                     work = base
                 else:  # same aggregates, operators of this set (base left as it is)
-                    work = base.refreshed(A)
+                    work = base.refreshed(A, depth=_REFRESH_DEPTH)
                     refreshes += 1
         if linear == "direct":
             x = direct_solve(Aop, bd)
@@ -691,10 +691,13 @@ def _reduce_delta(K: sp.csr_matrix, P: sp.csr_matrix) -> sp.csr_matrix:
 
 
 def _mask_fixed(M: sp.spmatrix, is_fixed: np.ndarray) -> sp.csr_matrix:
-    """``M`` without the rows and columns of supported DOFs."""
-    M = M.tocoo()
-    keep = ~is_fixed[M.row] & ~is_fixed[M.col]
-    return sp.csr_matrix((M.data[keep], (M.row[keep], M.col[keep])), shape=M.shape)
+    """``M`` without the rows and columns of supported DOFs (CSR, structure filtered)."""
+    M = M.tocsr()
+    row = np.repeat(np.arange(M.shape[0]), np.diff(M.indptr))
+    keep = ~is_fixed[row] & ~is_fixed[M.indices]
+    indptr = np.zeros(M.shape[0] + 1, dtype=M.indptr.dtype)
+    np.cumsum(np.bincount(row[keep], minlength=M.shape[0]), out=indptr[1:])
+    return sp.csr_matrix((M.data[keep], M.indices[keep], indptr), shape=M.shape)
 
 
 def _dirichlet_base(K: sp.csr_matrix, is_fixed: np.ndarray) -> sp.csr_matrix:
@@ -786,6 +789,7 @@ def contact_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray
                       tol=tol)
 
 
+_REFRESH_DEPTH = 1  # coarse levels that see each active set (the coarsest keeps the base LU)
 _FIRST = 1e-2  # relative tolerance of the first, cold solve
 _INEXACT = 1e-1  # intermediate solves cut their warm-start residual by this factor
 
