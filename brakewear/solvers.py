@@ -289,8 +289,10 @@ class AMGSolver:
                 x, flag = pyamg.krylov.cg(op, b, x0=x0, tol=self.tol, maxiter=self.maxiter,
                                           M=self.M, residuals=res)
             elif krylov == "gmres":  # unsymmetric operators; right preconditioning
-                x, flag = pyamg.krylov.fgmres(op, b, x0=x0, tol=self.tol, restrt=60,
-                                              maxiter=max(self.maxiter // 60, 2), M=self.M,
+                # restart 30: the solves here take 5-30 iterations, and every restart
+                # cycle allocates (and zeroes) two n x restrt arrays
+                x, flag = pyamg.krylov.fgmres(op, b, x0=x0, tol=self.tol, restrt=30,
+                                              maxiter=max(self.maxiter // 30, 2), M=self.M,
                                               residuals=res)
             else:
                 raise ValueError(f"krylov = {krylov!r}; allowed: 'cg', 'gmres'")
