@@ -646,6 +646,12 @@ def format_contact_table(rows: Sequence[dict]) -> str:
                    f"{_fmt(r.get('speedup_vs_direct'), '8.1f'):>8} "
                    f"{_fmt(r.get('kkt_multiplier_diff'), '8.1e'):>8} "
                    f"{_fmt(r.get('p0_error'), '+8.3f'):>8} {_fmt(r.get('a_error'), '+8.3f'):>8}")
+    steps = [r for r in rows if r.get("contact_step_s") is not None]
+    if steps:
+        out.append("wear step (shared hierarchy, from the converged set): " + "; ".join(
+            f"{r['case']} {r['dofs']} DOFs: hierarchy {r['contact_hierarchy_s']:.2f} s once, "
+            f"step {r['contact_step_s']:.2f} s ({r['contact_step_linear_iterations']} its)"
+            for r in steps))
     out.append("ratio = contact / elasticity solve; speed-up = best direct KKT / contact solve; "
                "lam diff = max|lam_kkt - lam| / max|lam|")
     return "\n".join(out)
