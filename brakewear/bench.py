@@ -49,8 +49,12 @@ process (after a tiny warm-up case), measured after assembly:
 ``brake``
     the default brake, elastic rotor, 1 MPa line pressure, ``mu = 0.4``: the
     steps of :meth:`BrakeModel.solve_contact`, ``contact_solve_s`` the
-    ``solve_contact`` call.  ``elasticity_solve_s``: the AMG setup + CG of
-    :meth:`BrakeModel.solve_tied` (pad tied to the rotor; its assembly excluded).
+    ``solve_contact`` call (everything in it: operators, the AMG setup and
+    refreshes, the solves).  ``elasticity_solve_s``: the AMG setup + CG of
+    :meth:`BrakeModel.solve_tied` (pad tied to the rotor; its assembly
+    excluded, its AMG setup included).  A wear step's cost: ``contact_hierarchy_s``
+    (:func:`~brakewear.contact.contact_preconditioner`, once per wear run) and
+    ``contact_step_s``, a solve with that hierarchy from the converged active set.
 
 ``ratio`` = contact / elasticity.  Up to ``direct_max_dofs`` the saddle-point
 system at the converged active set (:func:`kkt_system`) is factorised and
@@ -318,7 +322,7 @@ _BRAKE_REF = (0.0025, 81_570)  # default mesh size (m) and its DOF count
 
 _CONTACT_TIME_KEYS = ("assemble_s", "contact_solve_s", "elasticity_solve_s", "dirichlet_s",
                       "direct_kkt_superlu_s", "direct_kkt_pardiso_s", "direct_kkt_s",
-                      "contact_outer_s")
+                      "contact_outer_s", "contact_hierarchy_s", "contact_step_s")
 
 
 def brake_resolution(target_dofs: float) -> tuple[float, "object"]:
@@ -512,9 +516,25 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     row.update({"active_set_iterations": int(res.info["active_set_iterations"]),
                 "linear_iterations": int(res.info["linear_iterations"]),
                 "amg_builds": int(res.info["amg_builds"]),
+                "amg_refreshes": int(res.info.get("amg_refreshes", 0)),
                 "active_counts": [int(v) for v in res.info["active_counts"]],
                 "n_active": int(res.active[0].sum()),
                 "normal_force_n": float(res.info["normal_force"][0])})
+    # a wear step: the hierarchy built once (contact_preconditioner, timed apart), the
+    # solve started from the converged active set of the step before
+    from .contact import contact_preconditioner
+
+    t0 = time.perf_counter()
+    base = contact_preconditioner(Kr, fixed_r, coords, [pair], tol=BRAKE_TOL)
+    row["contact_hierarchy_s"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    step = solve_contact(Kr, fr, fixed_r, coords, [pair], tol=BRAKE_TOL, linear="amg",
+                         solver=base, initial_active=res.active)
+    row["contact_step_s"] = time.perf_counter() - t0
+    row["contact_step_linear_iterations"] = int(step.info["linear_iterations"])
+    row["contact_step_active_set_iterations"] = int(step.info["active_set_iterations"])
+    row["contact_step_diff"] = float(np.abs(step.u - res.u).max() / np.abs(res.u).max())
+    del base, step
     tied = model.solve_tied(BRAKE_PRESSURE, tol=BRAKE_TOL)
     row["elasticity_solve_s"] = float(tied.info["amg_setup_s"] + tied.info["solve_s"])
     row["elasticity_iterations"] = int(tied.info["iterations"])
@@ -626,6 +646,12 @@ def format_contact_table(rows: Sequence[dict]) -> str:
                    f"{_fmt(r.get('speedup_vs_direct'), '8.1f'):>8} "
                    f"{_fmt(r.get('kkt_multiplier_diff'), '8.1e'):>8} "
                    f"{_fmt(r.get('p0_error'), '+8.3f'):>8} {_fmt(r.get('a_error'), '+8.3f'):>8}")
+    steps = [r for r in rows if r.get("contact_step_s") is not None]
+    if steps:
+        out.append("wear step (shared hierarchy, from the converged set): " + "; ".join(
+            f"{r['case']} {r['dofs']} DOFs: hierarchy {r['contact_hierarchy_s']:.2f} s once, "
+            f"step {r['contact_step_s']:.2f} s ({r['contact_step_linear_iterations']} its)"
+            for r in steps))
     out.append("ratio = contact / elasticity solve; speed-up = best direct KKT / contact solve; "
                "lam diff = max|lam_kkt - lam| / max|lam|")
     return "\n".join(out)

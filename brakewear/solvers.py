@@ -14,6 +14,7 @@ step, an active-set update): pass ``A=`` to :meth:`AMGSolver.solve`, and call
 """
 from __future__ import annotations
 
+import copy
 import logging
 import time
 import warnings
@@ -182,6 +183,8 @@ class AMGSolver:
             np.random.set_state(rng_state)
         for level in self.ml.levels:  # point smoothers run faster on CSR than block ones on BSR
             level.A = level.A.tocsr()
+            if hasattr(level, "P"):  # CSR transfers: refreshed() restricts with them
+                level.P, level.R = level.P.tocsr(), level.R.tocsr()
         change_smoothers(self.ml, *self.smoothers)
         self.M = self.ml.aspreconditioner(cycle="V")
         self.builds += 1
@@ -216,6 +219,53 @@ class AMGSolver:
         self.refreshes = getattr(self, "refreshes", 0) + 1
         logger.debug("AMG refresh: %.2f s", time.perf_counter() - t0)
 
+    def refreshed(self, A: sp.spmatrix, depth: int | None = None) -> "AMGSolver":
+        """A new solver for ``A`` on this hierarchy's aggregates; ``self`` is not changed.
+
+        Like :meth:`refresh` (level operators updated by ``R dA P``, coarse
+        factorisation redone) but the result is a separate object whose
+        hierarchy depends only on this one and on ``A``, never on earlier
+        refreshes: the base can be shared by many solves (a wear history)
+        and every solve stays exactly repeatable.  ``depth``: update only
+        that many levels below the finest (0: the smoother sees ``A``, the
+        coarse corrections keep this hierarchy's operators -- still a
+        symmetric positive definite preconditioner); default all.
+        """
+        t0 = time.perf_counter()
+        base = self.ml.levels
+        A = A.tocsr()
+        dA = (A - base[0].A).tocsr()
+        dA.eliminate_zeros()
+        levels = []
+        for i, lo in enumerate(base):
+            lv = pyamg.multilevel.MultilevelSolver.Level()
+            if i == 0:
+                lv.A = A
+            elif dA.nnz and (depth is None or i <= depth):
+                # R dA P with R = P^T, as (P^T (dA P)^T)^T = ((dA P)^T P)^T: the product
+                # then runs over the few nonzero rows of dA only, not over all of R
+                Pl = base[i - 1].P
+                dA = ((dA @ Pl).T.tocsr() @ Pl).T.tocsr()
+                dA.eliminate_zeros()
+                lv.A = (lo.A + dA).tocsr() if dA.nnz else lo.A
+            else:
+                lv.A = lo.A
+                dA = dA[:0]  # the levels below keep theirs too
+            if hasattr(lo, "P"):
+                lv.P, lv.R = lo.P, lo.R
+            levels.append(lv)
+        new = copy.copy(self)
+        new.A = A
+        new.ml = pyamg.multilevel.MultilevelSolver(levels, coarse_solver=self.options["coarse_solver"])
+        if levels[-1].A is base[-1].A:  # unchanged coarsest operator: share its factorisation
+            new.ml.coarse_solver = self.ml.coarse_solver
+        change_smoothers(new.ml, *self.smoothers)
+        new.M = new.ml.aspreconditioner(cycle="V")
+        new.info = SolveInfo()
+        new.refreshes = getattr(self, "refreshes", 0) + 1
+        logger.debug("AMG refreshed copy: %.2f s", time.perf_counter() - t0)
+        return new
+
     def solve(self, b: np.ndarray, x0: np.ndarray | None = None,
               A: sp.spmatrix | None = None, krylov: str = "cg") -> np.ndarray:
         """Solve ``A x = b`` by CG preconditioned with the hierarchy.
@@ -239,8 +289,10 @@ class AMGSolver:
                 x, flag = pyamg.krylov.cg(op, b, x0=x0, tol=self.tol, maxiter=self.maxiter,
                                           M=self.M, residuals=res)
             elif krylov == "gmres":  # unsymmetric operators; right preconditioning
-                x, flag = pyamg.krylov.fgmres(op, b, x0=x0, tol=self.tol, restrt=60,
-                                              maxiter=max(self.maxiter // 60, 2), M=self.M,
+                # restart 30: the solves here take 5-30 iterations, and every restart
+                # cycle allocates (and zeroes) two n x restrt arrays
+                x, flag = pyamg.krylov.fgmres(op, b, x0=x0, tol=self.tol, restrt=30,
+                                              maxiter=max(self.maxiter // 30, 2), M=self.M,
                                               residuals=res)
             else:
                 raise ValueError(f"krylov = {krylov!r}; allowed: 'cg', 'gmres'")

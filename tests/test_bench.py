@@ -123,6 +123,10 @@ def test_contact_rows_keys_and_types(contact_rows):
     hertz, brake = contact_rows
     assert isinstance(hertz["p0_error"], float) and isinstance(hertz["a_error"], float)
     assert brake["p0_error"] is None and brake["a_error"] is None
+    # a wear step with the shared hierarchy from the converged set: one set, same answer
+    assert brake["contact_step_active_set_iterations"] <= 2
+    assert brake["contact_step_diff"] < 1e-6
+    assert brake["contact_step_linear_iterations"] < brake["linear_iterations"]
     assert "case" in bench.format_contact_table(contact_rows)
 
 

@@ -4,7 +4,8 @@ import pytest
 import scipy.sparse as sp
 
 import brakewear.contact as bc
-from brakewear.contact import (ContactLostError, pair_to_rigid, pair_to_surface, solve_contact)
+from brakewear.contact import (ContactLostError, contact_preconditioner, pair_to_rigid,
+                               pair_to_surface, solve_contact)
 from brakewear.elasticity import assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.materials import Isotropic
 from brakewear.mesh import mapped_mesh, structured_tets
@@ -28,6 +29,14 @@ def block(n, z0, z1, nz=2, L=1.0, tilt=0.0):
 
 def two_blocks(n_lower, n_upper, E=(1e9, 1e9), nu=(0.3, 0.3), slave="upper", method="segment",
                load=-P_APPLIED, tilt=0.0, mu=0.0, linear="direct"):
+    K, f, fixed, coords, pr = two_blocks_system(n_lower, n_upper, E, nu, slave, method, load, tilt,
+                                                mu)
+    res = solve_contact(K, f, fixed, coords, [pr], linear=linear)
+    return res, pr, f
+
+
+def two_blocks_system(n_lower, n_upper, E=(1e9, 1e9), nu=(0.3, 0.3), slave="upper",
+                      method="segment", load=-P_APPLIED, tilt=0.0, mu=0.0):
     lower, upper = block(n_lower, -1.0, 0.0), block(n_upper, 0.0, 1.0, tilt=tilt)
     K = sp.block_diag([assemble_stiffness(m, Isotropic(Ei, ni))[0].tocsr()
                        for m, Ei, ni in ((lower, E[0], nu[0]), (upper, E[1], nu[1]))], format="csr")
@@ -46,8 +55,7 @@ def two_blocks(n_lower, n_upper, E=(1e9, 1e9), nu=(0.3, 0.3), slave="upper", met
     if mu > 0:  # friction needs in-plane support of the upper block
         corner = np.nonzero(np.all(np.abs(upper.p - [[0], [0], [1]]) < 1e-12, axis=0))[0]
         fixed = np.union1d(fixed, 3 * (nL + corner[0]) + np.arange(2))
-    res = solve_contact(K, f, fixed, np.hstack([lower.p, upper.p]), [pr], linear=linear)
-    return res, pr, f
+    return K, f, fixed, np.hstack([lower.p, upper.p]), pr
 
 
 def check_solution(res, pr, F, mu=0.0):
@@ -163,3 +171,44 @@ def test_rigid_flat_contact_and_bad_inputs():
     check_solution(res, pr, P_APPLIED)
     with pytest.raises(ValueError, match="supported"):
         solve_contact(K, f, np.union1d(fixed, boundary_dofs(m, "bottom", [2])), m.p, [pr])
+
+
+def test_shared_hierarchy_is_untouched_and_results_are_history_free():
+    """A wear loop shares one hierarchy: every solve depends only on its inputs."""
+    K, f, fixed, coords, pr = two_blocks_system(6, 6, tilt=1e-4, load=-1e4, mu=0.4)
+    base = contact_preconditioner(K, fixed, coords, [pr])
+    levels = [lv.A.copy() for lv in base.ml.levels]
+    g0 = pr.g0.copy()
+
+    def solve(shift, init=None):
+        pr.g0 = g0 + shift
+        return solve_contact(K, f, fixed, coords, [pr], linear="amg", solver=base,
+                             initial_active=init)
+
+    first = solve(0.0)
+    other = solve(2e-6 * np.linspace(0.0, 1.0, g0.size))  # another step in between
+    again = solve(0.0)
+    assert np.array_equal(first.u, again.u), "the result depends on earlier solves"
+    assert np.array_equal(first.active[0], again.active[0])
+    assert not np.array_equal(first.active[0], other.active[0]) or \
+        not np.array_equal(first.u, other.u)
+    for lv, A0 in zip(base.ml.levels, levels):
+        assert (lv.A != A0).nnz == 0, "solve_contact modified the shared hierarchy"
+    assert first.info["amg_builds"] == 0
+    check_solution(first, pr, 1e4, mu=0.4)
+    # a restart from the converged set (a resumed run) reproduces the same state
+    resumed = solve(0.0, init=[first.active[0]])
+    assert np.abs(resumed.u - first.u).max() <= 1e-8 * np.abs(first.u).max()
+    # and a cold solve with its own hierarchy agrees to the solver tolerance
+    pr.g0 = g0
+    cold = solve_contact(K, f, fixed, coords, [pr], linear="amg")
+    assert np.array_equal(cold.active[0], first.active[0])
+    assert np.abs(cold.force[0] - first.force[0]).max() <= 1e-7 * 1e4
+
+
+def test_wrong_shared_hierarchy_is_refused():
+    K, f, fixed, coords, pr = two_blocks_system(3, 3)
+    K2, _, fixed2, coords2, pr2 = two_blocks_system(2, 2)
+    other = contact_preconditioner(K2, fixed2, coords2, [pr2])
+    with pytest.raises(ValueError, match="solver"):
+        solve_contact(K, f, fixed, coords, [pr], linear="amg", solver=other)
