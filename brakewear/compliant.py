@@ -33,7 +33,8 @@ from .contact import ActiveSetError, ContactLostError, ContactPair
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["constraint_rows", "solve_compliant_contact", "CompliantResult"]
+__all__ = ["constraint_rows", "solve_compliant_contact", "compliant_preconditioner",
+           "CompliantResult"]
 
 
 @dataclass
@@ -86,7 +87,7 @@ def _drag_loads(pair: ContactPair, n_dofs: int) -> sp.csr_matrix:
 def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                             coords: np.ndarray, pair: ContactPair, compliance: np.ndarray,
                             initial_active: np.ndarray | None = None, tol: float = 1e-9,
-                            max_iter: int = 60) -> CompliantResult:
+                            max_iter: int = 60, solver=None) -> CompliantResult:
     """Contact of ``pair`` through springs of compliance ``compliance`` (m/Pa per slave node).
 
     Parameters
@@ -98,6 +99,12 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
         an implicit Archard step).
     initial_active
         Start set (default: the nodes with ``g0 <= 0``, or the closest ones).
+    solver
+        A base :class:`~brakewear.solvers.AMGSolver` of ``K`` with its supports
+        (:func:`compliant_preconditioner`), shared by many solves: each active
+        set gets a refreshed copy, the base is never modified, so the result
+        depends only on the inputs (exact resume).  Default: a hierarchy
+        built for this solve.
 
     The active set follows the penalty rule: a node is active while its
     spring is compressed (``g0 + C u < 0``).  A repeating set raises
@@ -126,7 +133,9 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
             active = pair.g0 <= pair.g0.min() + 1e-12 * max(np.abs(pair.g0).max(), 1e-300)
     else:
         active = np.asarray(initial_active, dtype=bool).copy()
-    solver, x, seen, its, lin = None, None, set(), 0, 0
+    base, amg, x, seen, its, lin = solver, None, None, set(), 0, 0
+    if base is not None and base.A.shape != (N, N):
+        raise ValueError(f"solver is a hierarchy of size {base.A.shape[0]}; the system has {N}")
     for its in range(1, max_iter + 1):
         if not active.any():
             raise ContactLostError(f"{pair.name}: no node is compressed after {its - 1} "
@@ -146,12 +155,15 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
             keep = ~is_fixed[Ec.row] & ~is_fixed[Ec.col]
             Aop = (Ad.tocsr() + sp.csr_matrix((Ec.data[keep], (Ec.row[keep], Ec.col[keep])),
                                               shape=(N, N))).tocsr()
-        if solver is None:
-            solver = amg_solver(Ad, coords=coords, fixed=fixed, tol=tol)
+        if base is not None:
+            amg = base.refreshed(Ad)
+            amg.tol = tol
+        elif amg is None:
+            amg = amg_solver(Ad, coords=coords, fixed=fixed, tol=tol)
         else:
-            solver.refresh(Ad)
-        x = solver.solve(bd, x0=x, A=Aop, krylov="gmres" if G is not None else "cg")
-        lin += solver.info.iterations
+            amg.refresh(Ad)
+        x = amg.solve(bd, x0=x, A=Aop, krylov="gmres" if G is not None else "cg")
+        lin += amg.info.iterations
         g = pair.g0 + C @ x
         new = g < 0
         if np.array_equal(new, active):
@@ -169,3 +181,17 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     info = {"active_set_iterations": its, "linear_iterations": lin,
             "normal_force": float(force.sum()), "time_s": time.perf_counter() - t0}
     return CompliantResult(x, force / pair.area, force, g, active, info)
+
+
+def compliant_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray,
+                             tol: float = 1e-9):
+    """The base AMG hierarchy of ``K`` with its supports, for
+    ``solve_compliant_contact(..., solver=)``: built once per stiffness (a
+    wear history in gap-offset mode keeps it for every step)."""
+    from .elasticity import apply_dirichlet
+    from .solvers import amg_solver
+
+    K = K.tocsr()
+    fixed = np.unique(np.asarray(fixed, dtype=np.int64))
+    Kd, _ = apply_dirichlet(K.tobsr(blocksize=(3, 3)), np.zeros(K.shape[0]), fixed)
+    return amg_solver(Kd, coords=coords, fixed=fixed, tol=tol)

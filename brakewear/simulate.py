@@ -36,8 +36,9 @@ from typing import Iterator
 import numpy as np
 import scipy.sparse as sp
 
-from .compliant import solve_compliant_contact
-from .contact import ContactLostError, solve_contact, surface_nodes, tributary_areas
+from .compliant import compliant_preconditioner, solve_compliant_contact
+from .contact import (ContactLostError, contact_preconditioner, solve_contact, surface_nodes,
+                      tributary_areas)
 from .wear import WearError, WearLaw, rotor_rings, rotor_wear_rate
 
 logger = logging.getLogger(__name__)
@@ -125,6 +126,9 @@ class FEInterface:
             self.W = pair.coupling[:, face_r].tocsr()
         else:
             self.W = self._W
+        # hierarchies of this stiffness, built on first use and shared by every
+        # solve (never modified: each solve refreshes its own copy)
+        self._base = {}
         # normal stiffness row sums of the pad's friction face (Gershgorin bound
         # of the pressure response to a gap change, used by the stability bound)
         dz = 3 * pair.slave + 2
@@ -140,12 +144,19 @@ class FEInterface:
         cs = self.cs
         f = cs.f if self.extra_load is None else cs.f + cs.P.T @ self.extra_load
         if compliance is not None:
+            if "compliant" not in self._base:
+                self._base["compliant"] = compliant_preconditioner(cs.K, cs.fixed, cs.coords,
+                                                                   self.tol)
             res = solve_compliant_contact(cs.K, f, cs.fixed, cs.coords, self.pair,
-                                          compliance, initial_active=active, tol=self.tol)
+                                          compliance, initial_active=active, tol=self.tol,
+                                          solver=self._base["compliant"])
             return res.pressure, res.active, res.info
+        if "contact" not in self._base:
+            self._base["contact"] = contact_preconditioner(cs.K, cs.fixed, cs.coords,
+                                                           [self.pair], tol=self.tol)
         init = None if active is None else [np.asarray(active, dtype=bool)]
         res = solve_contact(cs.K, f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
-                            initial_active=init)
+                            initial_active=init, solver=self._base["contact"])
         return res.pressure[0], res.active[0], res.info
 
     def set_mu(self, mu: float) -> None:
