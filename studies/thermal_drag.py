@@ -68,6 +68,7 @@ H_C = 1e5
 
 _FRESH = """
 import json, sys, time
+import brakewear
 from brakewear.scene import BrakeModel
 from brakewear.simulate import wear_history
 from brakewear.wear import WearLaw, rotor_rings
@@ -76,10 +77,13 @@ m = BrakeModel(size=a["size"])
 times = []
 for _ in range(a["repeats"]):
     t0 = time.perf_counter()
-    list(wear_history(m, a["p"], a["omega"], a["duration"], WearLaw(*a["pad"]),
+    h = list(wear_history(m, a["p"], a["omega"], a["duration"], WearLaw(*a["pad"]),
                       WearLaw(*a["rotor"]), mu=a["mu"], steps=a["steps"], scheme="implicit"))
     times.append(time.perf_counter() - t0)
-print(json.dumps({"times_s": times, "thermal_imported": "brakewear.thermal" in sys.modules}))
+print(json.dumps({"times_s": times, "thermal_imported": "brakewear.thermal" in sys.modules,
+                  "package": brakewear.__file__, "pad_volume_m3": h[-1].pad_volume,
+                  "rotor_volume_m3": h[-1].rotor_volume,
+                  "pad_wear": h[-1].pad_wear.tolist()}))
 """
 
 
@@ -142,13 +146,33 @@ def _per_radius(r: np.ndarray, w: np.ndarray, area: np.ndarray):
     return radii, np.bincount(ring, weights=w * area) / a
 
 
-def _fresh_process_times(size, p, omega, mu, duration, steps, repeats) -> dict:
+def _fresh_process_times(size, p, omega, mu, duration, steps, repeats,
+                         tree: str | Path | None = None) -> dict:
+    """Time the thermal=None loop in a new interpreter, run from ``tree`` (a source
+    tree of brakewear; default this one: its package is imported, not an installed one)."""
     arg = json.dumps({"size": size, "p": p, "omega": omega, "mu": mu, "duration": duration,
                       "steps": steps, "repeats": repeats, "pad": _law_args(PAD_LAW),
                       "rotor": _law_args(ROTOR_LAW)})
+    tree = Path(__file__).resolve().parents[1] if tree is None else Path(tree).resolve()
     res = subprocess.run([sys.executable, "-c", _FRESH, arg], check=True, capture_output=True,
-                         text=True, cwd=Path(__file__).resolve().parents[1])
+                         text=True, cwd=tree)
     return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+def fixed_partition(size: float = 6e-3, duration: float = 30.0, steps: int = 10,
+                    line_pressure: float = 1e6, omega: float = 55.0, mu: float = 0.4) -> dict:
+    """The same drag with the fixed partition alone (``contact_conductance = 0``): why
+    the main runs use a conductance.  Per step: pad and rotor face maxima, contact."""
+    model = BrakeModel(size=size)
+    rows = {}
+    for h_c in (0.0, H_C):
+        hist, _, sec, _ = run(model, True, line_pressure, omega, mu, duration, steps, h_c=h_c)
+        rows[f"h_c={h_c:g}"] = [{"time_s": s.time, "pad_face_T_max_C": s.pad_temperature_max - C0,
+                                 "rotor_face_T_max_C": s.rotor_temperature_max - C0,
+                                 "contact_fraction_start": float(s.active.mean()),
+                                 "heat_balance_error": s.heat_balance_error} for s in hist]
+    return {"size_m": size, "duration_s": duration, "steps": steps,
+            "line_pressure_Pa": line_pressure, "omega_rad_s": omega, "mu": mu, "runs": rows}
 
 
 # ------------------------------------------------------------------ figures --
@@ -274,7 +298,8 @@ def plot_history(step_rows: list[dict], T_ambient_C: float, path: Path) -> Path:
     for key, style in (("off", "b.-"), ("on", "r.-")):
         rows = runs[key]
         ax.plot([0.0] + [x["time_s"] for x in rows],
-                [0.0] + [1e9 * x["pad_volume_m3"] for x in rows], style, label=f"pad, thermal {key}")
+                [0.0] + [1e9 * x["pad_volume_m3"] for x in rows], style,
+                label=f"pad, thermal {key}")
         ax.plot([0.0] + [x["time_s"] for x in rows],
                 [0.0] + [1e10 * x["rotor_volume_m3"] for x in rows], style[0] + "--",
                 label=f"rotor x 10, thermal {key}")
@@ -303,11 +328,14 @@ def plot_history(step_rows: list[dict], T_ambient_C: float, path: Path) -> Path:
 def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
          out: str | Path | None = "docs", line_pressure: float = 1e6, omega: float = 55.0,
          mu: float = 0.4, repeats: int = 3, figures: bool = True,
-         fresh_process: bool = True) -> dict:
+         fresh_process: bool = True, baseline: str | Path | None = None) -> dict:
     """Run the drag with thermal off and on; write data and figures under ``out``.
 
     Returns the results dict (also written to ``out/data/thermal_drag_scene.json``;
-    ``out=None`` writes nothing).
+    ``out=None`` writes nothing).  ``fresh_process``: also time the thermal=None run in
+    a new interpreter that never imports ``brakewear.thermal``.  ``baseline``: a source
+    tree of brakewear from before the thermal coupling (``git archive e3ebe84``): the
+    same thermal=None run is timed there too and its wear compared with this one's.
     """
     if int(repeats) != repeats or repeats < 1:
         raise ValueError(f"repeats = {repeats!r} is not allowed; need a whole number >= 1")
@@ -345,6 +373,18 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
         timing["off_fresh_process_median_s"] = float(np.median(fresh["times_s"]))
         timing["fresh_process_imported_thermal"] = fresh["thermal_imported"]
         timing["fresh_over_in_process_off"] = timing["off_fresh_process_median_s"] / med["off"]
+        timing["fresh_pad_wear_max_diff_m"] = float(np.abs(
+            np.asarray(fresh["pad_wear"]) - off[-1].pad_wear).max())
+    if baseline is not None:
+        base = _fresh_process_times(size, line_pressure, omega, mu, duration, steps, repeats,
+                                    tree=baseline)
+        if not str(base["package"]).startswith(str(Path(baseline).resolve())):
+            raise RuntimeError(f"baseline run imported {base['package']}, not {baseline}")
+        timing["off_baseline_s"] = base["times_s"]
+        timing["off_baseline_median_s"] = float(np.median(base["times_s"]))
+        timing["baseline_over_in_process_off"] = timing["off_baseline_median_s"] / med["off"]
+        timing["baseline_pad_wear_max_diff_m"] = float(np.abs(
+            np.asarray(base["pad_wear"]) - off[-1].pad_wear).max())
 
     summary = {"off": _summary(off, area, None), "on": _summary(on, area, th)}
     summary["on_over_off"] = {k: summary["on"][k] / summary["off"][k] for k in (
@@ -423,7 +463,8 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
                "on": (1e3 * r_pad, 1e6 * on[-1].pad_wear),
                "rotor_off": rotor["off"], "rotor_on": rotor["on"]}
         res["figures"].append(str(plot_wear(rows, pts, fig / "thermal_drag_wear.png", duration)))
-        res["figures"].append(str(plot_history(step_rows, th.T_ambient - C0, fig / "thermal_drag_history.png")))
+        res["figures"].append(str(plot_history(step_rows, th.T_ambient - C0,
+                                               fig / "thermal_drag_history.png")))
     return res
 
 
@@ -435,9 +476,26 @@ if __name__ == "__main__":
     ap.add_argument("--steps", type=int, default=30, help="fixed wear steps")
     ap.add_argument("--repeats", type=int, default=3, help="timed runs of each")
     ap.add_argument("--no-figures", action="store_true")
+    ap.add_argument("--baseline", default=None,
+                    help="brakewear source tree from before the thermal coupling (e.g. "
+                         "git archive e3ebe84 | tar -x -C /tmp/pre): time its thermal=None run")
+    ap.add_argument("--fixed-partition", action="store_true",
+                    help="only run the 30 s drag with contact_conductance 0 and 1e5 and write "
+                         "DIR/data/thermal_drag_fixed_partition.json")
     a = ap.parse_args()
-    logging.basicConfig(level=logging.INFO, format="%(message)s")
+    logging.basicConfig(level=logging.WARNING, format="%(message)s")
+    logger.setLevel(logging.INFO)
+    if a.fixed_partition:
+        fp = fixed_partition(a.size * 1e-3)
+        Path(a.out, "data").mkdir(parents=True, exist_ok=True)
+        Path(a.out, "data", "thermal_drag_fixed_partition.json").write_text(
+            json.dumps(fp, indent=1) + "\n")
+        for k, rows in fp["runs"].items():
+            print(k, [(round(x["time_s"]), round(x["pad_face_T_max_C"]),
+                       round(x["rotor_face_T_max_C"]), round(x["contact_fraction_start"], 2))
+                      for x in rows])
+        sys.exit(0)
     r = main(a.size * 1e-3, a.duration, a.steps, a.out, repeats=a.repeats,
-             figures=not a.no_figures)
+             figures=not a.no_figures, baseline=a.baseline)
     print(json.dumps({"summary": r["summary"], "timing": r["timing"],
                       "heat_balance_error_max": r["heat_balance_error_max"]}, indent=1))
