@@ -11,7 +11,7 @@ mesh with the same fixed steps and ``scheme="implicit"``:
 
 Pad wear law: Archard ``k = 5e-15 1/Pa`` up to 230 C (``T_threshold =
 503.15 K``), above it ``k exp(E/R (1/T_threshold - 1/T))`` with ``E = 50
-kJ/mol`` (x2.3 at 300 C, x10 at 350 C; the steep rise of resin-bonded pads
+kJ/mol`` (x4.3 at 300 C, x10 at 350 C; the steep rise of resin-bonded pads
 above ~230 C, Liu and Rhee).  Rotor (cast iron): ``k = 5e-16 1/Pa``, no
 temperature dependence.
 
