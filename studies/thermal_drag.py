@@ -55,7 +55,7 @@ import numpy as np
 
 from brakewear.contact import surface_nodes, tributary_areas
 from brakewear.scene import BrakeModel
-from brakewear.simulate import wear_history
+from brakewear.simulate import FEInterface, wear_history
 from brakewear.thermal import ThermalModel
 from brakewear.wear import WearLaw, rotor_rings
 
@@ -70,7 +70,7 @@ _FRESH = """
 import json, sys, time
 import brakewear
 from brakewear.scene import BrakeModel
-from brakewear.simulate import wear_history
+from brakewear.simulate import FEInterface, wear_history
 from brakewear.wear import WearLaw, rotor_rings
 a = json.loads(sys.argv[1])
 m = BrakeModel(size=a["size"])
@@ -102,7 +102,19 @@ def run(model: BrakeModel, thermal: bool, p_line: float, omega: float, mu: float
     return hist, th, time.perf_counter() - t0, build
 
 
-def _summary(hist, area, th) -> dict:
+def end_pressure(model, p_line: float, mu: float, hist, th=None):
+    """Contact pressure of the final worn state (t = duration), with the final thermal
+    load: (pressure, active) at the pad friction nodes.  The loop reports the pressure
+    at the start of each step; this is one contact solve more, at the end."""
+    itf = FEInterface(model, p_line, mu)
+    if th is not None:
+        itf.extra_load = th.thermal_load()
+    last = hist[-1]
+    p, act, _ = itf.solve(last.pad_wear + itf.W @ last.rotor_wear, last.active)
+    return p, act
+
+
+def _summary(hist, area, th, p_end, act_end) -> dict:
     last = hist[-1]
     out = {
         "pad_volume_m3": last.pad_volume, "rotor_volume_m3": last.rotor_volume,
@@ -117,6 +129,9 @@ def _summary(hist, area, th) -> dict:
         "mean_pressure_over_contact_last_MPa": 1e-6 * float(
             (last.pressure * area).sum() / max(area[last.active].sum(), 1e-300)),
         "pressure_time_s": last.time - last.dt,
+        "contact_fraction_end": float(act_end.mean()),
+        "contact_area_fraction_end": float(area[act_end].sum() / area.sum()),
+        "peak_pressure_end_MPa": 1e-6 * float(p_end.max()),
     }
     if th is not None:
         b = th.heat_balance()
@@ -215,6 +230,9 @@ def plot_pressure(model, panels, path: Path) -> Path:
                                      "vertical": True, "position_x": 0.82, "position_y": 0.2,
                                      "height": 0.6, "width": 0.1})
         pl.add_text(title, position="upper_edge", font_size=10, color="black")
+        if i == 0:
+            pl.add_text("pad friction face seen from the rotor: inner radius on the right",
+                        position="lower_left", font_size=11, color="black")
         b = np.array(surf.bounds)
         c = 0.5 * (b[0::2] + b[1::2])
         d = 2.3 * max(b[1] - b[0], b[3] - b[2])
@@ -386,10 +404,19 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
         timing["baseline_pad_wear_max_diff_m"] = float(np.abs(
             np.asarray(base["pad_wear"]) - off[-1].pad_wear).max())
 
-    summary = {"off": _summary(off, area, None), "on": _summary(on, area, th)}
+    ends = {"off": end_pressure(model, line_pressure, mu, off),
+            "on": end_pressure(model, line_pressure, mu, on, th)}
+    summary = {"off": _summary(off, area, None, *ends["off"]),
+               "on": _summary(on, area, th, *ends["on"])}
+    if len(off) >= 2:
+        # the implicit step wore the pad with its end pressure: p = dh / (dt k v)
+        eps = off[-1].dt * PAD_LAW.rate(1.0, omega * r_pad)
+        p_inc = (off[-1].pad_wear - off[-2].pad_wear) / eps
+        summary["off"]["end_pressure_vs_last_wear_increment"] = float(
+            np.abs(p_inc - ends["off"][0]).max() / ends["off"][0].max())
     summary["on_over_off"] = {k: summary["on"][k] / summary["off"][k] for k in (
         "pad_volume_m3", "rotor_volume_m3", "pad_wear_max_um", "pad_wear_mean_um",
-        "rotor_wear_max_um", "peak_pressure_last_MPa")}
+        "rotor_wear_max_um", "peak_pressure_last_MPa", "peak_pressure_end_MPa")}
 
     # wear along the radius: area-weighted mean per ring of nodes (pad), per ring (rotor)
     rotor_mesh = model.meshes["rotor"]
@@ -433,6 +460,8 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
         "wear_profile": {"pad": rows, "rotor_off": rotor["off"], "rotor_on": rotor["on"]},
         "steps": step_rows,
         "heat_balance_error_max": float(max(s.heat_balance_error for s in on)),
+        "end_pressure_MPa": {k: (1e-6 * v[0]).tolist() for k, v in ends.items()},
+        "pad_friction_radius_mm": (1e3 * r_pad).tolist(),
     }
     if out is None:
         return res
@@ -454,11 +483,11 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
     if figures:
         fig = out / "figures"
         res["figures"] = [str(p) for p in plot_temperatures(model, th, duration, fig)]
-        t_p = duration - duration / steps
         res["figures"].append(str(plot_pressure(model, [
             ("start (t = 0), both runs", off[0].pressure),
-            (f"thermal off, t = {t_p:g} s", off[-1].pressure),
-            (f"thermal on, t = {t_p:g} s", on[-1].pressure)], fig / "thermal_drag_pressure.png")))
+            (f"thermal off, end (t = {duration:g} s)", ends["off"][0]),
+            (f"thermal on, end (t = {duration:g} s)", ends["on"][0])],
+            fig / "thermal_drag_pressure.png")))
         pts = {"off": (1e3 * r_pad, 1e6 * off[-1].pad_wear),
                "on": (1e3 * r_pad, 1e6 * on[-1].pad_wear),
                "rotor_off": rotor["off"], "rotor_on": rotor["on"]}

@@ -60,6 +60,12 @@ def test_thermal_on_is_hotter_and_balances_heat(result):
     assert s["off"]["pad_volume_m3"] > 0 and s["on"]["pad_volume_m3"] > 0
 
 
+def test_end_pressure_is_the_last_implicit_step_pressure(result):
+    # the extra solve at the end reproduces the pressure the implicit step wore with
+    _, res = result
+    assert res["summary"]["off"]["end_pressure_vs_last_wear_increment"] <= 1e-6
+
+
 def test_no_thermal_run_never_imports_thermal(result):
     _, res = result
     assert res["timing"]["fresh_process_imported_thermal"] is False
