@@ -74,13 +74,14 @@ from brakewear.simulate import FEInterface, wear_history
 from brakewear.wear import WearLaw, rotor_rings
 a = json.loads(sys.argv[1])
 m = BrakeModel(size=a["size"])
-times = []
+times, cpu = [], []
 for _ in range(a["repeats"]):
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     h = list(wear_history(m, a["p"], a["omega"], a["duration"], WearLaw(*a["pad"]),
                       WearLaw(*a["rotor"]), mu=a["mu"], steps=a["steps"], scheme="implicit"))
     times.append(time.perf_counter() - t0)
-print(json.dumps({"times_s": times, "thermal_imported": "brakewear.thermal" in sys.modules,
+    cpu.append(time.process_time() - c0)
+print(json.dumps({"times_s": times, "cpu_s": cpu, "thermal_imported": "brakewear.thermal" in sys.modules,
                   "package": brakewear.__file__, "pad_volume_m3": h[-1].pad_volume,
                   "rotor_volume_m3": h[-1].rotor_volume,
                   "pad_wear": h[-1].pad_wear.tolist()}))
@@ -93,13 +94,14 @@ def _law_args(law: WearLaw) -> list:
 
 def run(model: BrakeModel, thermal: bool, p_line: float, omega: float, mu: float,
         duration: float, steps: int, h_c: float = H_C):
-    """One drag: (list of WearStep, ThermalModel or None, run seconds, build seconds)."""
-    t0 = time.perf_counter()
+    """One drag: (list of WearStep, ThermalModel or None, run seconds, build seconds,
+    CPU seconds of this process)."""
+    t0, c0 = time.perf_counter(), time.process_time()
     th = ThermalModel(model, contact_conductance=h_c) if thermal else None
     build = time.perf_counter() - t0
     hist = list(wear_history(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu,
                              steps=steps, scheme="implicit", thermal=th))
-    return hist, th, time.perf_counter() - t0, build
+    return hist, th, time.perf_counter() - t0, build, time.process_time() - c0
 
 
 def end_pressure(model, p_line: float, mu: float, hist, th=None):
@@ -181,7 +183,7 @@ def fixed_partition(size: float = 6e-3, duration: float = 30.0, steps: int = 10,
     model = BrakeModel(size=size)
     rows = {}
     for h_c in (0.0, H_C):
-        hist, _, sec, _ = run(model, True, line_pressure, omega, mu, duration, steps, h_c=h_c)
+        hist = run(model, True, line_pressure, omega, mu, duration, steps, h_c=h_c)[0]
         rows[f"h_c={h_c:g}"] = [{"time_s": s.time, "pad_face_T_max_C": s.pad_temperature_max - C0,
                                  "rotor_face_T_max_C": s.rotor_temperature_max - C0,
                                  "contact_fraction_start": float(s.active.mean()),
@@ -364,12 +366,17 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
     r_pad = np.hypot(pad.p[0, nodes], pad.p[1, nodes])
 
     times = {"off": [], "on": []}
+    cpu = {"off": [], "on": []}
+    solve = {"off": [], "on": []}
     build = []
     results = {}
     for i in range(repeats):          # alternate, so that a slow spell hits both
         for key in ("off", "on"):
-            hist, th, sec, b = run(model, key == "on", line_pressure, omega, mu, duration, steps)
+            hist, th, sec, b, c = run(model, key == "on", line_pressure, omega, mu, duration,
+                                      steps)
             times[key].append(sec)
+            cpu[key].append(c)
+            solve[key].append(float(sum(s.solve_s for s in hist)))
             if key == "on":
                 build.append(b)
             if key in results:        # the runs are deterministic: check it
@@ -381,14 +388,22 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
     timing = {"repeats": repeats, "off_s": times["off"], "on_s": times["on"],
               "thermal_build_s": build, "off_median_s": med["off"], "on_median_s": med["on"],
               "thermal_cost_ratio": med["on"] / med["off"],
-              "contact_solve_s_off": float(sum(s.solve_s for s in off)),
-              "contact_solve_s_on": float(sum(s.solve_s for s in on))}
+              "cpu_off_s": cpu["off"], "cpu_on_s": cpu["on"],
+              "cpu_off_median_s": float(np.median(cpu["off"])),
+              "cpu_on_median_s": float(np.median(cpu["on"])),
+              "thermal_cost_ratio_cpu": float(np.median(cpu["on"]) / np.median(cpu["off"])),
+              "contact_solve_s_off": solve["off"], "contact_solve_s_on": solve["on"],
+              # wall time outside the contact solves: heat steps, thermal loads, bookkeeping
+              "outside_solves_off_s": [t - s for t, s in zip(times["off"], solve["off"])],
+              "outside_solves_on_s": [t - s for t, s in zip(times["on"], solve["on"])]}
     if fresh_process:
         fresh = _fresh_process_times(size, line_pressure, omega, mu, duration, steps, repeats)
         if fresh["thermal_imported"]:
             raise RuntimeError("a thermal=None run imported brakewear.thermal")
         timing["off_fresh_process_s"] = fresh["times_s"]
         timing["off_fresh_process_median_s"] = float(np.median(fresh["times_s"]))
+        timing["cpu_off_fresh_process_s"] = fresh["cpu_s"]
+        timing["cpu_off_fresh_process_median_s"] = float(np.median(fresh["cpu_s"]))
         timing["fresh_process_imported_thermal"] = fresh["thermal_imported"]
         timing["fresh_over_in_process_off"] = timing["off_fresh_process_median_s"] / med["off"]
         timing["fresh_pad_wear_max_diff_m"] = float(np.abs(
@@ -400,6 +415,8 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
             raise RuntimeError(f"baseline run imported {base['package']}, not {baseline}")
         timing["off_baseline_s"] = base["times_s"]
         timing["off_baseline_median_s"] = float(np.median(base["times_s"]))
+        timing["cpu_off_baseline_s"] = base["cpu_s"]
+        timing["cpu_off_baseline_median_s"] = float(np.median(base["cpu_s"]))
         timing["baseline_over_in_process_off"] = timing["off_baseline_median_s"] / med["off"]
         timing["baseline_pad_wear_max_diff_m"] = float(np.abs(
             np.asarray(base["pad_wear"]) - off[-1].pad_wear).max())
