@@ -55,7 +55,7 @@ import numpy as np
 
 from brakewear.contact import surface_nodes, tributary_areas
 from brakewear.scene import BrakeModel
-from brakewear.simulate import FEInterface, wear_history
+from brakewear.simulate import wear_history
 from brakewear.thermal import ThermalModel
 from brakewear.wear import WearLaw, rotor_rings
 
@@ -106,14 +106,9 @@ def run(model: BrakeModel, thermal: bool, p_line: float, omega: float, mu: float
 
 def end_pressure(model, p_line: float, mu: float, hist, th=None):
     """Contact pressure of the final worn state (t = duration), with the final thermal
-    load: (pressure, active) at the pad friction nodes.  The loop reports the pressure
-    at the start of each step; this is one contact solve more, at the end."""
-    itf = FEInterface(model, p_line, mu)
-    if th is not None:
-        itf.extra_load = th.thermal_load()
+    load: (pressure, active) at the pad friction nodes (the last step's end state)."""
     last = hist[-1]
-    p, act, _ = itf.solve(last.pad_wear + itf.W @ last.rotor_wear, last.active)
-    return p, act
+    return last.pressure_end, last.active_end
 
 
 def _summary(hist, area, th, p_end, act_end) -> dict:
