@@ -1,7 +1,6 @@
 """Wear laws and the conservative pad/rotor wear distribution."""
 import numpy as np
 import pytest
-import scipy.sparse as sp
 
 from brakewear.contact import pair_to_surface, surface_nodes, tributary_areas
 from brakewear.geometry import load_geometry
