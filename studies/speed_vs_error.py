@@ -405,7 +405,7 @@ def plot(result: dict, path: Path) -> None:
 
 
 def table(result: dict) -> str:
-    """The Markdown table of docs/performance_speed_vs_error.md."""
+    """The Markdown table of docs/performance.md, section 'Speed against error'."""
     lines = ["| choice | size mm | DOFs | wall s | CPU s | CPU / reference | pad wear err | "
              "pressure err | r_eff err | rotor wear err | own error (pad wear vs base) |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
