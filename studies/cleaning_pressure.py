@@ -62,7 +62,7 @@ K_CORROSION = 1e-12
 DEFAULTS = dict(pressures=(0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0), corrosion=25.0, coning=30.0,
                 applications=20, running_in=None, running_in_seconds=3000.0,
                 k_corrosion=K_CORROSION, omega=45.0, app_seconds=2.5, mu=0.4, size=4.0,
-                rotor="rigid")
+                rotor="rigid", dp_tol=0.05)
 
 
 class CleaningError(ValueError):
@@ -159,7 +159,8 @@ def run_pressure(task: dict) -> dict:
             "ring_wear": [np.zeros(radii.size)]}
     first = last = None
     for s in wear_history(model, p_line, task["omega"], duration, WearLaw(K_PAD), rotor_law,
-                          task["mu"], scheme="implicit", max_dh=h_c / 10.0, interface=itf,
+                          task["mu"], scheme="implicit", max_dh=h_c / 10.0,
+                          dp_tol=task["dp_tol"], interface=itf,
                           initial_gap=gap0):
         first = first or s
         last = s
@@ -231,7 +232,8 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
          running_in_seconds: float = DEFAULTS["running_in_seconds"],
          k_corrosion: float = K_CORROSION, omega: float = DEFAULTS["omega"],
          app_seconds: float = DEFAULTS["app_seconds"], mu: float = DEFAULTS["mu"],
-         rotor: str = "rigid", name: str = "cleaning", figures: bool = True) -> dict:
+         rotor: str = "rigid", dp_tol: float = DEFAULTS["dp_tol"], name: str = "cleaning",
+         figures: bool = True) -> dict:
     """Sweep line pressures; report coverage, applications to clean, lowest cleaning pressure.
 
     Parameters
@@ -262,6 +264,8 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
         Corrosion wear coefficient (1/Pa), drag speed (rad/s) and duration
         (s) of one application, friction coefficient, ``"rigid"`` or
         ``"elastic"`` rotor.
+    dp_tol
+        Step control of the wear loop: largest relative pressure change per step.
 
     Returns
     -------
@@ -291,6 +295,7 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
     _check("app_seconds", app_seconds, np.isfinite(app_seconds) and app_seconds > 0,
            "need an application duration > 0 s")
     _check("mu", mu, np.isfinite(mu) and mu >= 0, "need a friction coefficient >= 0")
+    _check("dp_tol", dp_tol, np.isfinite(dp_tol) and dp_tol > 0, "need > 0")
     _check("rotor", rotor, rotor in ("rigid", "elastic"), "allowed: 'rigid', 'elastic'")
     _check("running_in", running_in, running_in is None or (np.isfinite(running_in)
                                                             and running_in > 0),
@@ -302,9 +307,10 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
                     applications=int(applications), running_in=running_in,
                     running_in_seconds=float(running_in_seconds), k_corrosion=float(k_corrosion),
                     omega=float(omega), app_seconds=float(app_seconds), mu=float(mu),
-                    size=float(size), rotor=rotor, k_pad=K_PAD, k_iron=K_IRON)
+                    size=float(size), rotor=rotor, dp_tol=float(dp_tol), k_pad=K_PAD,
+                    k_iron=K_IRON)
     base = {k: settings[k] for k in ("corrosion", "coning", "applications", "k_corrosion",
-                                     "omega", "app_seconds", "mu", "size", "rotor",
+                                     "omega", "app_seconds", "mu", "size", "rotor", "dp_tol",
                                      "running_in", "running_in_seconds")}
     gap0 = None
     if running_in is not None:
@@ -345,7 +351,7 @@ def write_outputs(result: dict, out: Path, name: str = "cleaning", figures: bool
     ``data/{name}_history.csv``, ``data/{name}_pressure_maps.csv`` and the figures."""
     data, figs = out / "data", out / "figures"
     data.mkdir(parents=True, exist_ok=True)
-    runs, st = result["runs"], result["settings"]
+    runs = result["runs"]
     slim = {k: v for k, v in result.items() if k != "runs"}
     slim["runs"] = [{k: v for k, v in r.items()
                      if k not in ("pad_x_m", "pad_y_m", "pressure_start_Pa", "pressure_end_Pa",
@@ -384,6 +390,24 @@ def write_outputs(result: dict, out: Path, name: str = "cleaning", figures: bool
         plot_coverage(result, figs / f"{name}_coverage.png")
         plot_rotor_wear(result, figs / f"{name}_rotor_wear.png")
         plot_pressure_maps(result, figs / f"{name}_pressure_maps.png")
+        plot_history(result, figs / f"{name}_history.png")
+
+
+def load_result(out: str | Path, name: str = "cleaning") -> dict:
+    """A sweep written by :func:`write_outputs`, read back (the pressure maps from their CSV)."""
+    out = Path(out)
+    result = json.loads((out / "data" / f"{name}_sweep.json").read_text())
+    maps: dict = {}
+    with open(out / "data" / f"{name}_pressure_maps.csv", newline="") as fh:
+        for row in csv.DictReader(fh):
+            m = maps.setdefault(float(row["pressure_MPa"]), {k: [] for k in (
+                "pad_x_m", "pad_y_m", "initial_gap_m", "pressure_start_Pa", "pressure_end_Pa")})
+            for k, c in (("pad_x_m", "x_m"), ("pad_y_m", "y_m"), ("initial_gap_m", "initial_gap_m"),
+                         ("pressure_start_Pa", "p_start_Pa"), ("pressure_end_Pa", "p_end_Pa")):
+                m[k].append(float(row[c]))
+    for r in result["runs"]:
+        r.update(maps[r["pressure_MPa"]])
+    return result
 
 
 def _title(st: dict) -> str:
@@ -446,12 +470,43 @@ def plot_rotor_wear(result: dict, path: Path) -> None:
         ax.plot(rad[band], np.array(r["rotor_wear_m"])[band] * 1e6, "o-", ms=3,
                 color=cmap(i / max(len(runs) - 1, 1)),
                 label=f"{r['pressure_MPa']:g} MPa ({state})")
-    ax.axhline(st["corrosion"], color="C3", ls="--", label=f"corrosion layer {st['corrosion']:g} um")
+    ax.axhline(st["corrosion"], color="C3", ls="--",
+               label=f"corrosion layer {st['corrosion']:g} um")
     ax.set_xlabel("radius (mm)")
     ax.set_ylabel("rotor wear at end of run (um)")
     ax.set_title("Rotor wear across the swept band: " + _title(st), fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, title="line pressure (applications)", title_fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_history(result: dict, path: Path) -> None:
+    """Touched and worn-through fractions of the band against applications, per pressure."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    runs, st = result["runs"], result["settings"]
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.3), sharex=True)
+    cmap = plt.get_cmap("viridis")
+    for i, r in enumerate(runs):
+        h, c = r["history"], cmap(i / max(len(runs) - 1, 1))
+        apps = np.array(h["applications"])
+        # coverage[k] holds during step k (from apps[k] to apps[k + 1])
+        a1.step(apps, list(h["coverage"]) + [r["coverage_end"]], where="post", color=c,
+                label=f"{r['pressure_MPa']:g} MPa")
+        a2.plot(apps, h["cleaned_fraction"], color=c, label=f"{r['pressure_MPa']:g} MPa")
+    a1.set_ylabel("touched fraction of the band")
+    a2.set_ylabel("worn-through fraction of the band")
+    for a in (a1, a2):
+        a.axvline(st["applications"], color="k", ls="--", lw=1)
+        a.set_xlabel("applications")
+        a.set_ylim(-0.03, 1.05)
+        a.grid(alpha=0.3)
+    a2.legend(fontsize=8, title="line pressure", title_fontsize=8)
+    fig.suptitle("Cleaning history: " + _title(st), fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -514,6 +569,8 @@ def _parser() -> argparse.ArgumentParser:
                     help="drag seconds per application at omega (default %(default)s)")
     ap.add_argument("--mu", type=float, default=d["mu"])
     ap.add_argument("--size", type=float, default=d["size"], help="mesh size, mm")
+    ap.add_argument("--dp-tol", type=float, default=d["dp_tol"],
+                    help="largest relative pressure change per wear step (default %(default)s)")
     ap.add_argument("--rotor", choices=("rigid", "elastic"), default="rigid")
     ap.add_argument("--workers", type=int, default=2, help="process-pool workers")
     ap.add_argument("--dask", default=None, metavar="ADDRESS",
@@ -522,12 +579,24 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--name", default="cleaning", help="prefix of the output files")
     ap.add_argument("--out", default="docs", help="writes OUT/data and OUT/figures")
     ap.add_argument("--no-figures", action="store_true")
+    ap.add_argument("--replot", action="store_true",
+                    help="only redraw the figures from OUT/data/NAME_*.json|csv (no computation)")
     return ap
 
 
 def cli(argv=None) -> dict:
     a = _parser().parse_args(argv)
-    logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s %(message)s")
+    logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(name)s %(message)s")
+    logger.setLevel(logging.INFO)
+    if a.replot:
+        res = load_result(a.out, a.name)
+        figs = Path(a.out) / "figures"
+        figs.mkdir(parents=True, exist_ok=True)
+        plot_coverage(res, figs / f"{a.name}_coverage.png")
+        plot_rotor_wear(res, figs / f"{a.name}_rotor_wear.png")
+        plot_pressure_maps(res, figs / f"{a.name}_pressure_maps.png")
+        plot_history(res, figs / f"{a.name}_history.png")
+        return res
     client = None
     if a.dask:
         from dask.distributed import Client   # optional dependency
@@ -539,7 +608,7 @@ def cli(argv=None) -> dict:
         res = main(a.pressures, a.corrosion, a.coning, a.applications, executor, a.size, a.out,
                    running_in=a.running_in, running_in_seconds=a.running_in_seconds,
                    k_corrosion=a.k_corrosion, omega=a.omega, app_seconds=a.app_seconds,
-                   mu=a.mu, rotor=a.rotor, name=a.name, figures=not a.no_figures)
+                   mu=a.mu, rotor=a.rotor, dp_tol=a.dp_tol, name=a.name, figures=not a.no_figures)
     finally:
         if client is not None:
             client.close()
