@@ -113,6 +113,24 @@ def coning_gap(r: np.ndarray, r_in: float, r_out: float, coning: float) -> np.nd
     return g - g.min()
 
 
+def uniform_bound(settings: dict, pressure: float) -> float:
+    """Fewest applications that can wear the layer off the band at ``pressure`` (MPa).
+
+    The worn volume per application is ``k_c F Theta r_F`` (clamp force ``F``,
+    rotor angle ``Theta = omega t_app``, force centroid radius ``r_F``, here
+    the piston radius); removing the layer takes ``h_c pi (r_o^2 - r_i^2)``.
+    Equality needs a rotor wear uniform across the band.
+    """
+    from brakewear.geometry import load_geometry
+
+    g = load_geometry("default")
+    r_in, r_out = g.pad.inner_radius, g.pad.outer_radius
+    F = pressure * 1e6 * g.piston.hydraulic_area
+    theta = settings["omega"] * settings["app_seconds"]
+    return (settings["corrosion"] * 1e-6 * np.pi * (r_out ** 2 - r_in ** 2)
+            / (settings["k_corrosion"] * F * theta * g.piston.radius))
+
+
 # ----------------------------------------------------------------------------- worker --
 def _model(task: dict) -> BrakeModel:
     return BrakeModel("default", rotor=task["rotor"], size=task["size"] * 1e-3)
@@ -330,6 +348,8 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
     finally:
         if own:
             executor.shutdown()
+    for r in runs:
+        r["applications_lower_bound"] = uniform_bound(settings, r["pressure_MPa"])
     ok = [r["cleaned"] and r["applications_to_clean"] <= applications for r in runs]
     lowest = next((r["pressure_MPa"] for r, c in zip(runs, ok) if c), None)
     failing_below = [r["pressure_MPa"] for r, c in zip(runs, ok)
@@ -440,6 +460,9 @@ def plot_coverage(result: dict, path: Path) -> None:
     if fail:
         a2.semilogy(fail, [st["applications"]] * len(fail), "x", color="C3", ms=9,
                     label=f"not clean after {st['applications']} applications")
+    pp = np.linspace(p.min(), p.max(), 100)
+    a2.semilogy(pp, [uniform_bound(st, x) for x in pp], color="0.5", lw=1,
+                label="lower bound: uniform wear across the band")
     a2.axhline(st["applications"], color="k", ls="--", lw=1, label="N (criterion)")
     if result["lowest_cleaning_pressure_MPa"] is not None:
         a2.axvline(result["lowest_cleaning_pressure_MPa"], color="C2", ls=":",
@@ -521,7 +544,7 @@ def plot_pressure_maps(result: dict, path: Path, count: int = 3) -> None:
 
     runs, st = result["runs"], result["settings"]
     pick = sorted({0, len(runs) // 2, len(runs) - 1})[:count]
-    fig, axes = plt.subplots(2, len(pick), figsize=(4.2 * len(pick), 7.2), squeeze=False)
+    fig, axes = plt.subplots(2, len(pick), figsize=(3.3 * len(pick), 7.4), squeeze=False)
     for j, i in enumerate(pick):
         r = runs[i]
         x, y = np.array(r["pad_x_m"]) * 1e3, np.array(r["pad_y_m"]) * 1e3
