@@ -396,7 +396,10 @@ def write_outputs(result: dict, out: Path, name: str = "cleaning", figures: bool
         w.writerow(["pressure_MPa", "applications", "coverage", "cleaned_fraction"])
         for r in runs:
             h = r["history"]
-            for a, c, f in zip(h["applications"], h["coverage"], h["cleaned_fraction"]):
+            # coverage[k] is the contact during step k (from applications[k] on); the
+            # last row is the state the run ends in
+            cov = list(h["coverage"]) + [r["coverage_end"]]
+            for a, c, f in zip(h["applications"], cov, h["cleaned_fraction"]):
                 w.writerow([r["pressure_MPa"], a, c, f])
     with open(data / f"{name}_pressure_maps.csv", "w", newline="") as fh:
         w = csv.writer(fh)
@@ -603,7 +606,8 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--out", default="docs", help="writes OUT/data and OUT/figures")
     ap.add_argument("--no-figures", action="store_true")
     ap.add_argument("--replot", action="store_true",
-                    help="only redraw the figures from OUT/data/NAME_*.json|csv (no computation)")
+                    help="no computation: rewrite the CSVs and redraw the figures from "
+                         "OUT/data/NAME_sweep.json and NAME_pressure_maps.csv")
     return ap
 
 
@@ -613,12 +617,7 @@ def cli(argv=None) -> dict:
     logger.setLevel(logging.INFO)
     if a.replot:
         res = load_result(a.out, a.name)
-        figs = Path(a.out) / "figures"
-        figs.mkdir(parents=True, exist_ok=True)
-        plot_coverage(res, figs / f"{a.name}_coverage.png")
-        plot_rotor_wear(res, figs / f"{a.name}_rotor_wear.png")
-        plot_pressure_maps(res, figs / f"{a.name}_pressure_maps.png")
-        plot_history(res, figs / f"{a.name}_history.png")
+        write_outputs(res, Path(a.out), a.name, figures=not a.no_figures)
         return res
     client = None
     if a.dask:

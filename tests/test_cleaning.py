@@ -111,6 +111,14 @@ def test_sweep_writes_figures_and_numbers(sweep):
     back = cp.cli(["--replot", "--out", str(out)])
     assert (out / "figures" / "cleaning_history.png").stat().st_size > 20_000
     assert back["runs"][0]["pressure_end_Pa"] == pytest.approx(res["runs"][0]["pressure_end_Pa"])
+    # the history CSV ends with the state each run ends in
+    import csv
+    rows = list(csv.DictReader(open(out / "data" / "cleaning_history.csv")))
+    for r in res["runs"]:
+        last = [x for x in rows if float(x["pressure_MPa"]) == r["pressure_MPa"]][-1]
+        assert float(last["applications"]) == pytest.approx(r["applications_run"])
+        assert float(last["coverage"]) == pytest.approx(r["coverage_end"])
+        assert float(last["cleaned_fraction"]) == pytest.approx(r["cleaned_fraction_end"])
 
 
 @pytest.fixture(scope="module")
