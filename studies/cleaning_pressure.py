@@ -154,8 +154,21 @@ def run_pressure(task: dict) -> dict:
 
     ``task`` holds the settings of :func:`main` in SI-free engineering units
     plus ``pressure`` (MPa) and ``initial_gap`` (m per pad friction node, or
-    None: computed here from the coning).  Returns plain numbers and lists.
+    None: computed here from the coning).  Returns plain numbers and lists;
+    a contact or step-control failure returns ``{"pressure_MPa", "error"}``
+    (the sweep reports it and leaves the pressure out of the answer).
     """
+    from brakewear.contact import ActiveSetError
+    from brakewear.simulate import StepSizeError
+
+    try:
+        return _run_pressure(task)
+    except (ActiveSetError, StepSizeError) as e:
+        logger.warning("%g MPa failed: %s", task["pressure"], e)
+        return {"pressure_MPa": task["pressure"], "error": f"{type(e).__name__}: {e}"}
+
+
+def _run_pressure(task: dict) -> dict:
     t0 = time.perf_counter()
     model = _model(task)
     g = model.geometry
@@ -348,17 +361,28 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
     finally:
         if own:
             executor.shutdown()
+    failed = [r for r in runs if "error" in r]
+    runs = [r for r in runs if "error" not in r]
+    if not runs:
+        raise RuntimeError(f"every pressure of the sweep failed: {failed}")
     for r in runs:
         r["applications_lower_bound"] = uniform_bound(settings, r["pressure_MPa"])
     ok = [r["cleaned"] and r["applications_to_clean"] <= applications for r in runs]
     lowest = next((r["pressure_MPa"] for r, c in zip(runs, ok) if c), None)
     failing_below = [r["pressure_MPa"] for r, c in zip(runs, ok)
                      if not c and lowest is not None and r["pressure_MPa"] < lowest]
-    result = {"settings": settings, "runs": runs,
+    result = {"settings": settings, "runs": runs, "failed_runs": failed,
               "lowest_cleaning_pressure_MPa": lowest,
               "highest_failing_below_MPa": max(failing_below) if failing_below else None,
-              "monotone": bool(lowest is None or all(ok[settings["pressures"].index(lowest):])),
+              "monotone": bool(lowest is None or all(ok[[r["pressure_MPa"] for r in runs]
+                                                          .index(lowest):])),
+              # a failed pressure below the answer could have cleaned: the answer is an upper bound
+              "failed_below_answer": bool(lowest is not None and any(
+                  f["pressure_MPa"] < lowest for f in failed)),
               "wall_s": time.perf_counter() - t0}
+    if failed:
+        logger.warning("pressures that failed (left out of the answer): %s",
+                       [f["pressure_MPa"] for f in failed])
     logger.info("lowest cleaning pressure %s MPa (%.1f s)", lowest, result["wall_s"])
     if out is not None:
         write_outputs(result, Path(out), name, figures)

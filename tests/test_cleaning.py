@@ -153,3 +153,22 @@ def test_cli_help():
     assert r.returncode == 0, r.stderr
     for opt in ("--pressures", "--corrosion", "--coning", "--applications", "--dask"):
         assert opt in r.stdout
+
+
+def test_a_failed_pressure_is_reported_not_hidden(monkeypatch):
+    from brakewear.contact import ActiveSetError
+
+    def fake(task):
+        p = task["pressure"]
+        if p == 1.0:
+            raise ActiveSetError("active set did not settle in 60 iterations")
+        return {"pressure_MPa": p, "cleaned": p > 1.0,
+                "applications_to_clean": 5.0 if p > 1.0 else None}
+
+    monkeypatch.setattr(cp, "_run_pressure", fake)
+    with ThreadPoolExecutor(max_workers=1) as ex:
+        res = cp.main(pressures=[0.5, 1.0, 2.0], executor=ex, **TINY)
+    assert [r["pressure_MPa"] for r in res["runs"]] == [0.5, 2.0]
+    assert res["failed_runs"][0]["pressure_MPa"] == 1.0
+    assert "ActiveSetError" in res["failed_runs"][0]["error"]
+    assert res["lowest_cleaning_pressure_MPa"] == 2.0 and res["failed_below_answer"]
