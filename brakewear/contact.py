@@ -665,9 +665,11 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
             tight = True
             continue
         key = _set_key(new_active)
-        if key in seen and not conservative:
-            logger.info("active set cycles after %d iterations; switching to conservative "
-                        "updates", it)
+        # a set that repeats cycles; one that wanders for a third of the budget
+        # without repeating exactly (edge nodes flipping in turn) is treated alike
+        if (key in seen or it >= max_iter // 3) and not conservative:
+            logger.info("active set %s after %d iterations; switching to conservative "
+                        "updates", "cycles" if key in seen else "does not settle", it)
             conservative = True
             tight = True  # a loose solve's noise is what lets an edge node flip forever
             new_active = _conservative_update(active, lam, gaps, gap_tol, ltol)
