@@ -664,6 +664,17 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
                 break
             tight = True
             continue
+        n_act = sum(int(a.sum()) for a in active)
+        if not any(a.any() for a in new_active) and n_act > 1:
+            # the primal-dual rule released every node at once (an overshoot on a
+            # very non-conformal start; an empty set is singular): keep the tenth
+            # of the set that pulls least.  A load that really lifts the pad off
+            # empties the set in a few such steps and ends in ContactLostError.
+            keep = max(1, n_act // 10)
+            cut = np.sort(np.concatenate([l[a] for l, a in zip(lam, active)]))[-keep]
+            new_active = [a & (l >= cut) for a, l in zip(active, lam)]
+            logger.info("active set would empty after %d iterations; keeping the %d least "
+                        "tensile nodes", it, keep)
         key = _set_key(new_active)
         # a set that repeats cycles; one that wanders for a third of the budget
         # without repeating exactly (edge nodes flipping in turn) is treated alike
