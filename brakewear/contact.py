@@ -846,20 +846,16 @@ def _pdas_update(active, lam, gaps, gap_tol, ltol):
 
 
 def _conservative_update(active, lam, gaps, gap_tol, ltol):
-    """Add every penetrating node; if none, release the single most tensile one."""
+    """Add every penetrating node; if none, release the most tensile nodes only:
+    those pulling at least half as hard as the worst one.  Adding and releasing
+    never happen in the same iteration, which is what stops a cycle; releasing
+    in bulk (rather than one node at a time) keeps large sets within budget."""
     pen = [(~a) & (g < -gap_tol) for a, g in zip(active, gaps)]
     if any(p.any() for p in pen):
         return [a | p for a, p in zip(active, pen)]
-    worst, where = 0.0, None
-    for i, (a, l, lt) in enumerate(zip(active, lam, ltol)):
-        if a.any():
-            j = int(np.argmin(np.where(a, l, np.inf)))
-            if l[j] < -lt and l[j] < worst:
-                worst, where = l[j], (i, j)
-    new = [a.copy() for a in active]
-    if where is not None:
-        new[where[0]][where[1]] = False
-    return new
+    worst = min((float(np.min(np.where(a, l, np.inf))) for a, l in zip(active, lam) if a.any()),
+                default=0.0)
+    return [a & ~((l < 0.5 * worst) & (l < -lt)) for a, l, lt in zip(active, lam, ltol)]
 
 
 def _reduced_modes(coords, pairs, active, fixed):
