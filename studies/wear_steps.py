@@ -179,7 +179,7 @@ def figure(res: dict, path: Path) -> None:
     a.set_xlabel("step dt (s)")
     a.set_ylabel("max |h - h_ref| / max h_ref (pad wear at T)")
     a.set_title("Wear profile error against the step")
-    a.legend(fontsize=8)
+    a.legend(fontsize=8, loc="upper left")
     a.grid(True, which="both", alpha=0.3)
     b.set_xlabel("contact solves (incl. rejected tries)")
     b.set_ylabel("error")
