@@ -129,7 +129,8 @@ def main(size_mm: float = 6.0, duration: float = 14400.0, out: str | Path = "doc
 
 def _centre_line(itf) -> np.ndarray:
     th = np.degrees(np.arctan2(itf.x[1], itf.x[0]))
-    line = np.nonzero(np.isclose(np.abs(th), np.abs(th).min(), atol=0.5))[0]
+    # one column of nodes: the angle closest to the centre line, with its sign
+    line = np.nonzero(np.isclose(th, th[np.argmin(np.abs(th))], atol=0.05))[0]
     return line[np.argsort(itf.r[line])]
 
 
@@ -162,7 +163,9 @@ def evolution_figure(itf, rows: list[dict], kept: list[dict], path: Path) -> Non
     b.plot(s, [row["contact_fraction"] for row in rows], "-", label="contact fraction")
     b.plot(s, [row["torque_ratio"] for row in rows], "-",
            label="torque / (mu F (ri+ro)/2)")
-    b.set_xlabel("sliding distance at the pad's mean radius (km)")
+    b.set_xscale("symlog", linthresh=1.0)
+    b.set_xlim(left=0)
+    b.set_xlabel("sliding distance at the pad's mean radius (km; linear below 1 km, log above)")
     b.set_title("Running-in")
     b.set_ylim(bottom=0)
     b.legend(fontsize=8)
