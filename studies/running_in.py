@@ -115,6 +115,10 @@ def main(size_mm: float = 6.0, duration: float = 14400.0, out: str | Path = "doc
            "stages": [{k: v for k, v in st.items()
                        if k not in ("pressure", "active", "pad_wear", "rotor_wear")}
                       for st in kept]}
+    line = _centre_line(itf)
+    res["centre_line"] = {"r_m": itf.r[line].tolist(),
+                          "pressure_Pa": [st["pressure"][line].tolist() for st in kept],
+                          "pad_wear_m": [st["pad_wear"][line].tolist() for st in kept]}
     (out / "data").mkdir(parents=True, exist_ok=True)
     (out / "data" / "running_in.json").write_text(json.dumps(res, indent=2))
     with open(out / "data" / "running_in.csv", "w", newline="") as fh:
@@ -165,7 +169,7 @@ def evolution_figure(itf, rows: list[dict], kept: list[dict], path: Path) -> Non
            label="torque / (mu F (ri+ro)/2)")
     b.set_xscale("symlog", linthresh=1.0)
     b.set_xlim(left=0)
-    b.set_xlabel("sliding distance at the pad's mean radius (km; linear below 1 km, log above)")
+    b.set_xlabel("sliding distance at the mean radius (km; log above 1 km)")
     b.set_title("Running-in")
     b.set_ylim(bottom=0)
     b.legend(fontsize=8)
