@@ -861,7 +861,8 @@ def run_bench(args: argparse.Namespace) -> int:
     if which == "wear":
         return _run_wear_bench(args)
     if which != "elasticity":
-        print(f"unknown benchmark {args.bench!r}; available: elasticity, contact, wear", file=sys.stderr)
+        print(f"unknown benchmark {args.bench!r}; available: elasticity, contact, wear",
+              file=sys.stderr)
         return 2
     if not args.json:
         print(f"brakewear bench elasticity: {os.cpu_count()} CPUs, Python {platform.python_version()}, "

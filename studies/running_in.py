@@ -59,7 +59,7 @@ def stage_state(itf, p, act, pad_w, rot_w, t, s) -> dict:
                                   / uniform_wear_torque(F, MU, g.inner_radius, g.outer_radius))}
 
 
-def main(size_mm: float = 6.0, duration: float = 14400.0, out: str | Path = "docs",
+def main(size_mm: float = 4.0, duration: float = 14400.0, out: str | Path = "docs",
          stages=(0.0, 0.03, 0.15, 1.0), figures: bool = True, dp_tol: float = 0.1) -> dict:
     """Run the running-in; returns the numbers (also written to ``out``).
 
@@ -156,7 +156,8 @@ def evolution_figure(itf, rows: list[dict], kept: list[dict], path: Path) -> Non
     from brakewear.analytic import uniform_wear_pressure
     F = float((st["pressure"] * itf.area).sum())
     a.plot(r, uniform_wear_pressure(itf.r[line], F, g.arc_angle, g.inner_radius,
-                                    g.outer_radius) / 1e6, "k--", label="p r = const (rigid backing)")
+                                    g.outer_radius) / 1e6, "k--",
+           label="p r = const (rigid backing)")
     a.set_xlabel("r (mm), pad centre line")
     a.set_ylabel("contact pressure (MPa)")
     a.set_title("Pressure along the pad's centre line")
@@ -226,7 +227,7 @@ def field_figures(model, itf, kept: list[dict], outdir: Path) -> list[Path]:
 def _cli(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default="docs")
-    ap.add_argument("--size", type=float, default=6.0, help="mesh size, mm (default 6)")
+    ap.add_argument("--size", type=float, default=4.0, help="mesh size, mm (default 4)")
     ap.add_argument("--duration", type=float, default=14400.0, help="drag, s (default 14400)")
     ap.add_argument("--dp-tol", type=float, default=0.1, dest="dp_tol",
                     help="step control: largest pressure change per step (default 0.1)")

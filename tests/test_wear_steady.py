@@ -21,7 +21,7 @@ from brakewear.wear import WearLaw
 
 P_LINE, OMEGA, MU = 1e6, 55.0, 0.4
 K_PAD = 5e-13          # 100 x a resin pad's k: the same worn shape in 1/100 of the time
-DURATION = 6.0         # s (38 m of sliding at the mean radius); the explicit run is under 2 % by ~4.3 s
+DURATION = 6.0         # s: 38 m of sliding at the mean radius (explicit: under 2 % by ~4.3 s)
 
 
 def stiff_backing_model(size: float = 8e-3) -> BrakeModel:
