@@ -1,4 +1,4 @@
-"""Benchmarks: ``brakewear bench elasticity|contact [--json]``.
+"""Benchmarks: ``brakewear bench elasticity|contact|wear [--json]``.
 
 The elasticity benchmark solves a realistic static case at several sizes:
 the friction-ring half of the default rotor (inner/outer radius and half
@@ -100,6 +100,10 @@ __all__ = [
     "run_contact_case",
     "bench_contact",
     "format_contact_table",
+    "WEAR_SIZES",
+    "run_wear_case",
+    "bench_wear",
+    "format_wear_table",
 ]
 
 #: Target DOF counts of ``brakewear bench elasticity``.
@@ -659,6 +663,175 @@ def format_contact_table(rows: Sequence[dict]) -> str:
 
 # ------------------------------------------------------------------ CLI ---
 
+# ------------------------------------------------------------------ wear ---
+# ``brakewear bench wear``: the cost of a wear step against one contact solve.
+
+WEAR_SIZES = (3e4, 1e5)
+
+
+def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
+                  duration: float = 3600.0, size: float | None = None) -> dict:
+    """Time a two-surface running-in of the default brake (elastic rotor).
+
+    1 MPa line pressure, 55 rad/s, ``mu = 0.4``, the pad's and the rotor's
+    Archard coefficients from their materials, the implicit scheme with
+    ``steps`` fixed steps over ``duration`` s (so the step count is exact).
+
+    Returns a dict: ``dofs``, ``steps``, ``contact_solves``, ``total_s`` (the
+    interface's assembly plus every step), ``per_step_s = total_s / steps``,
+    the shares of ``total_s`` spent in contact solves (``contact_share``: every
+    solve of the loop, including its first one before step 1, which no
+    :class:`~brakewear.simulate.WearStep` reports; ``step_solves_s`` is the
+    records' own sum), in
+    assembling the contact system (``assembly_share``: the first build and,
+    in geometry mode, every rebuild) and in moving the worn meshes with their
+    partial stiffness update (``motion_share``, 0 in gap mode);
+    ``contact_solve_s``: one plain (rigid, Lagrange) contact solve of the same
+    model from the initial gaps, timed in the same process before the run,
+    and ``step_over_contact = per_step_s / contact_solve_s`` (the faster of
+    two solves: the first pays for first-call set-up).  The ``*_cpu_s`` keys
+    are the same in process CPU time (steadier on a shared machine).
+    """
+    from .materials import MATERIALS
+    from .motion import BrakeMotion
+    from .scene import BrakeModel
+    from .simulate import FEInterface, wear_history
+    from .wear import WearLaw
+
+    if update not in ("gap", "geometry"):
+        raise ValueError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")
+    if int(steps) != steps or steps < 1:
+        raise ValueError(f"steps = {steps!r} is not allowed; need a whole number >= 1")
+    t0 = time.perf_counter()
+    if size is None:
+        size, model = brake_resolution(target_dofs)
+    else:
+        model = BrakeModel(size=size, rotor="elastic")
+    model_s = time.perf_counter() - t0
+    g = model.geometry
+    pad_law = WearLaw(g.pad.friction_material.wear_k or MATERIALS["pad_resin"].wear_k)
+    rotor_law = WearLaw(g.rotor.material.wear_k or MATERIALS["grey_cast_iron"].wear_k)
+    spent = {"assembly": 0.0, "motion": 0.0, "contact": 0.0}
+    originals = {}
+
+    def timed(cls, name, key):
+        fn = getattr(cls, name)
+        originals[(cls, name)] = fn
+
+        def wrapper(*a, **kw):
+            t = time.perf_counter()
+            try:
+                return fn(*a, **kw)
+            finally:
+                spent[key] += time.perf_counter() - t
+        setattr(cls, name, wrapper)
+
+    try:
+        timed(FEInterface, "rebuild", "assembly")
+        timed(FEInterface, "solve", "contact")   # also the loop's first solve (no record)
+        timed(BrakeMotion, "__init__", "motion")
+        timed(BrakeMotion, "apply", "motion")
+        t0 = time.perf_counter()
+        itf = FEInterface(model, 1e6, 0.4)
+        build_s = time.perf_counter() - t0
+        # the plain solve twice: the first also pays for first-call set-up
+        walls, cpus = [], []
+        for _ in range(2):
+            t1, c1 = time.perf_counter(), time.process_time()
+            itf.solve(np.zeros(itf.area.size), None)
+            walls.append(time.perf_counter() - t1)
+            cpus.append(time.process_time() - c1)
+        contact_solve_s, contact_solve_cpu = min(walls), min(cpus)
+        spent["contact"] = 0.0
+        if update == "geometry":     # the loop builds its own interface (timed as assembly)
+            spent["assembly"] = 0.0
+        t2, c2 = time.perf_counter(), time.process_time()
+        record_s, solves, n = 0.0, 0, 0
+        for s in wear_history(model, 1e6, 55.0, duration, pad_law, rotor_law, 0.4,
+                              steps=int(steps), scheme="implicit", update=update,
+                              interface=itf if update == "gap" else None):
+            record_s += s.solve_s
+            solves += s.contact_solves
+            n += 1
+        loop_s = time.perf_counter() - t2
+        loop_cpu = time.process_time() - c2
+    finally:
+        for (cls, name), fn in originals.items():
+            setattr(cls, name, fn)
+    contact_s = spent["contact"]
+    total_s = loop_s + (build_s if update == "gap" else 0.0)
+    per_step = total_s / n
+    return {"bench": "wear", "target_dofs": float(target_dofs), "size_m": float(size),
+            "dofs": int(model.dofs), "update": update, "scheme": "implicit",
+            "steps": int(n), "contact_solves": int(solves), "duration_s": float(duration),
+            "model_s": model_s, "total_s": total_s, "per_step_s": per_step,
+            "contact_s": contact_s, "step_solves_s": record_s, "assembly_s": spent["assembly"],
+            "motion_s": spent["motion"], "contact_share": contact_s / total_s,
+            "assembly_share": spent["assembly"] / total_s,
+            "motion_share": spent["motion"] / total_s,
+            "contact_solve_s": contact_solve_s, "step_over_contact": per_step / contact_solve_s,
+            "per_step_cpu_s": loop_cpu / n, "contact_solve_cpu_s": contact_solve_cpu,
+            "step_over_contact_cpu": loop_cpu / n / contact_solve_cpu,
+            "peak_rss_mb": _peak_rss_mb(), "cpus": os.cpu_count()}
+
+
+def bench_wear(sizes: Sequence[float] = WEAR_SIZES, steps: int = 200, update: str = "gap",
+               duration: float = 3600.0, progress=None) -> list[dict]:
+    """:func:`run_wear_case` at each target DOF count (in this process); one dict per size."""
+    rows = []
+    for target in sizes:
+        rows.append(run_wear_case(target, steps, update, duration))
+        if progress is not None:
+            progress(rows[-1])
+    return rows
+
+
+def format_wear_table(rows: Sequence[dict]) -> str:
+    out = [f"{'dofs':>8} {'update':>8} {'steps':>5} {'total s':>8} {'s/step':>7} "
+           f"{'contact':>7} {'assembly':>8} {'motion':>6} {'solve s':>7} {'step/solve':>10}"]
+    for r in rows:
+        out.append(f"{r['dofs']:>8} {r['update']:>8} {r['steps']:>5} {r['total_s']:>8.1f} "
+                   f"{r['per_step_s']:>7.2f} {r['contact_share']:>7.2f} "
+                   f"{r['assembly_share']:>8.2f} {r['motion_share']:>6.2f} "
+                   f"{r['contact_solve_s']:>7.2f} {r['step_over_contact']:>10.2f}")
+    out.append("shares of total_s; solve s = one plain contact solve of the same model; "
+               "step/solve = per-step time / that solve")
+    return "\n".join(out)
+
+
+def _run_wear_bench(args: argparse.Namespace) -> int:
+    if not args.json:
+        print(f"brakewear bench wear: {os.cpu_count()} CPUs, {args.steps} implicit steps, "
+              f"update {args.update}, sizes {' '.join(f'{s:.0f}' for s in args.sizes)}",
+              flush=True)
+
+    def progress(row):
+        print(json.dumps(row) if args.json else
+              f"  {row['dofs']} DOFs: {row['per_step_s']:.2f} s/step, "
+              f"{row['step_over_contact']:.2f} x a contact solve", flush=True)
+
+    rows = bench_wear(args.sizes, args.steps, args.update, args.duration, progress)
+    if not args.json:
+        print(format_wear_table(rows))
+    return 0
+
+
+def _add_wear_parser(subparsers) -> None:
+    w = subparsers.add_parser("wear", help="wear step cost against one contact solve",
+                              description="Two-surface running-in of the default brake "
+                                          "(implicit scheme, fixed steps): time per step and "
+                                          "its shares, against one plain contact solve.")
+    w.add_argument("--json", action="store_true", help="one JSON object per size and line")
+    w.add_argument("--sizes", type=float, nargs="+", default=list(WEAR_SIZES), metavar="DOFS",
+                   help="target DOF counts (default: 3e4 1e5)")
+    w.add_argument("--steps", type=int, default=200, help="fixed wear steps (default 200)")
+    w.add_argument("--update", choices=("gap", "geometry"), default="gap",
+                   help="gap offset (default) or geometry update")
+    w.add_argument("--duration", type=float, default=3600.0,
+                   help="simulated drag, s (default 3600)")
+    w.set_defaults(bench="wear", func=run_bench)
+
+
 def _add_elasticity_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true",
                    help="one JSON object per size and line instead of a table")
@@ -703,6 +876,7 @@ def add_bench_parser(subparsers) -> None:
     c.add_argument("--repeats", type=int, default=1,
                    help="fresh processes per case and size; timings are medians (default 1)")
     c.set_defaults(bench="contact", func=run_bench)
+    _add_wear_parser(subparsers)
 
 
 def run_bench(args: argparse.Namespace) -> int:
@@ -710,8 +884,11 @@ def run_bench(args: argparse.Namespace) -> int:
     which = getattr(args, "bench", "elasticity")
     if which == "contact":
         return _run_contact_bench(args)
+    if which == "wear":
+        return _run_wear_bench(args)
     if which != "elasticity":
-        print(f"unknown benchmark {args.bench!r}; available: elasticity, contact", file=sys.stderr)
+        print(f"unknown benchmark {args.bench!r}; available: elasticity, contact, wear",
+              file=sys.stderr)
         return 2
     if not args.json:
         print(f"brakewear bench elasticity: {os.cpu_count()} CPUs, Python {platform.python_version()}, "

@@ -172,3 +172,33 @@ def test_contact_cli_json_and_parser():
                          capture_output=True, text=True, check=True).stdout
     lines = [json.loads(line) for line in out.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0]["case"] == "hertz" and lines[0]["direct_kkt_s"] is None
+
+
+# ------------------------------------------------------------------ wear ---
+
+def test_wear_bench_keys_and_shares():
+    row = bench.run_wear_case(3000, steps=3, duration=600.0, size=10e-3)
+    for key in ("dofs", "steps", "total_s", "per_step_s", "contact_share", "assembly_share",
+                "motion_share", "contact_solve_s", "step_over_contact"):
+        assert key in row, key
+    assert row["steps"] == 3 and row["contact_solves"] == 3
+    assert row["motion_share"] == 0.0            # gap mode moves nothing
+    shares = row["contact_share"] + row["assembly_share"] + row["motion_share"]
+    assert 0.0 < shares <= 1.0, shares
+    assert row["per_step_s"] == pytest.approx(row["total_s"] / 3)
+    assert row["step_over_contact"] == pytest.approx(row["per_step_s"] / row["contact_solve_s"])
+
+
+@pytest.mark.slow
+def test_wear_bench_geometry_mode_times_the_motion():
+    row = bench.run_wear_case(3000, steps=2, duration=600.0, update="geometry", size=10e-3)
+    assert row["motion_share"] > 0.0 and row["contact_solves"] == 4
+    assert row["contact_share"] + row["assembly_share"] + row["motion_share"] <= 1.0
+
+
+def test_wear_bench_cli_json():
+    out = subprocess.run([sys.executable, "-m", "brakewear.bench", "wear", "--json", "--sizes",
+                          "3000", "--steps", "2", "--duration", "300"],
+                         capture_output=True, text=True, check=True)
+    row = json.loads(out.stdout.strip().splitlines()[-1])
+    assert row["bench"] == "wear" and row["steps"] == 2
