@@ -680,8 +680,8 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     Returns a dict: ``dofs``, ``steps``, ``contact_solves``, ``total_s`` (the
     interface's assembly plus every step), ``per_step_s = total_s / steps``,
     the shares of ``total_s`` spent in contact solves (``contact_share``: every
-    solve of the loop, including its first one before step 1, which no
-    :class:`~brakewear.simulate.WearStep` reports; ``step_solves_s`` is the
+    solve of the loop, including its first one before step 1, which the first
+    :class:`~brakewear.simulate.WearStep` counts; ``step_solves_s`` is the
     records' own sum), in
     assembling the contact system (``assembly_share``: the first build and,
     in geometry mode, every rebuild) and in moving the worn meshes with their

@@ -412,8 +412,10 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         couple()
     if motion is not None and state["step"] > 0:
         move(state["pad_wear"], state["rotor_wear"], state["step"])
+    first_solve = None                 # counted in the first record of a fresh run
     if state["pressure"] is None:
-        p, act, _ = solve(state["pad_wear"], state["rotor_wear"], None)
+        p, act, first_s = solve(state["pad_wear"], state["rotor_wear"], None)
+        first_solve = first_s
     else:
         p, act = state["pressure"], state["active"].astype(bool)
     while state["time"] < duration * (1 - 1e-12):
@@ -469,6 +471,11 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                 change = np.abs(p_new - p).max() / max(p.max(), 1e-300)
                 ok = steps is not None or change <= dp_tol
             except ContactLostError:
+                if steps is not None:
+                    raise StepSizeError(
+                        f"step {state['step'] + 1}: the fixed step dt = {dt:.3e} s wears the "
+                        "surfaces apart (no node left in contact); use more steps or the "
+                        "automatic step control, which retries smaller") from None
                 change, ok = np.inf, False
             if ok:
                 break
@@ -492,6 +499,10 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                           float((pad_w * A_pad).sum()), float((rot_w * A_rot).sum()),
                           state["pad_archard"], state["rotor_archard"], rejected,
                           rejected + 1, solve_s, limit, mu_step)
+        if first_solve is not None:
+            record.contact_solves += 1
+            record.solve_s += first_solve
+            first_solve = None
         if thermal is not None:
             record.pad_temperature_max = float(thermal.face_temperature("pad").max())
             record.rotor_temperature_max = float(T_rot.max() if "rotor" not in thermal.bodies
