@@ -31,7 +31,7 @@ import scipy.sparse as sp
 import skfem as fem
 from skfem.helpers import dot, sym_grad
 
-from .mesh import _ensure_topology
+from .mesh import _ensure_topology, facet_indices
 
 logger = logging.getLogger(__name__)
 
@@ -489,12 +489,7 @@ def assemble_pressure(mesh: fem.Mesh, facets, p: float) -> np.ndarray:
 
 def boundary_dofs(mesh: fem.Mesh, facets, components: Iterable[int] = (0, 1, 2)) -> np.ndarray:
     """Vector DOFs of the given components on named facets (or facet indices)."""
-    if isinstance(facets, str):
-        if facets not in (mesh.boundaries or {}):
-            raise KeyError(f"mesh has no facets named {facets!r}; named facets: "
-                           f"{sorted(mesh.boundaries or {})}")
-        facets = mesh.boundaries[facets]
-    facets = np.asarray(facets)
+    facets = facet_indices(mesh, facets)
     if isinstance(scalar_element(mesh), fem.ElementTetP1):
         # P1: the scalar DOFs are the vertices of the facets, in ascending
         # order (what skfem's Dofs gives, without building all mesh edges)

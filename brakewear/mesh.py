@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # imported for annotations only: geometry sits above mesh
 logger = logging.getLogger(__name__)
 
 __all__ = [
+    "facet_indices",
     "graded",
     "structured_tets",
     "mapped_mesh",
@@ -53,6 +54,19 @@ for _perm in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
         _path.append(tuple(_c))
     _KUHN.append(_path)
 
+
+
+def facet_indices(mesh: fem.Mesh, facets) -> np.ndarray:
+    """Facet indices of a named facet set, or the given indices.
+
+    A name the mesh does not have raises ``KeyError`` listing the names it has.
+    """
+    if isinstance(facets, str):
+        if facets not in (mesh.boundaries or {}):
+            raise KeyError(f"mesh has no facets named {facets!r}; named facets: "
+                           f"{sorted(mesh.boundaries or {})}")
+        facets = mesh.boundaries[facets]
+    return np.asarray(facets)
 
 def graded(a: float, b: float, n: int, ratio: float = 1.0, toward: str = "a") -> np.ndarray:
     """``n + 1`` points from ``a`` to ``b``, geometrically graded.

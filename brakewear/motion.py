@@ -32,7 +32,7 @@ import skfem as fem
 from .contact import (facet_normals, mortar_coupling, project_nodes, surface_nodes,
                       tributary_areas)
 from .elasticity import assemble_stiffness, stiffness_update
-from .mesh import _keep_topology
+from .mesh import _keep_topology, facet_indices
 
 logger = logging.getLogger(__name__)
 
@@ -161,12 +161,7 @@ def surface_element_height(mesh: fem.Mesh, facets) -> np.ndarray:
     :func:`brakewear.contact.surface_nodes`.  A wear step should move a node
     by a fraction of this, so that the first layer never collapses.
     """
-    if isinstance(facets, str):
-        if facets not in (mesh.boundaries or {}):
-            raise KeyError(f"mesh has no facets named {facets!r}; named facets: "
-                           f"{sorted(mesh.boundaries or {})}")
-        facets = mesh.boundaries[facets]
-    facets = np.asarray(facets)
+    facets = facet_indices(mesh, facets)
     f = mesh.facets[:, facets]
     p = mesh.p
     area = 0.5 * np.linalg.norm(np.cross(p[:, f[1]] - p[:, f[0]], p[:, f[2]] - p[:, f[0]],
