@@ -134,11 +134,14 @@ class FEInterface:
         dz = 3 * pair.slave + 2
         self.normal_stiffness = np.asarray(abs(cs.K[dz][:, dz]).sum(axis=1)).ravel()
 
-    def solve(self, offset: np.ndarray, active: np.ndarray | None, compliance=None):
+    def solve(self, offset: np.ndarray, active: np.ndarray | None, compliance=None,
+              x0: np.ndarray | None = None):
         """Contact solve with ``offset`` (m) added to the gap: (pressure, active, info).
 
         With ``compliance`` (m/Pa per pad node) the interface is a compliant
-        layer: the implicit wear step (:mod:`brakewear.compliant`).
+        layer: the implicit wear step (:mod:`brakewear.compliant`), whose
+        Krylov solves start from ``x0`` (the previous step's displacement,
+        ``info["u"]``), when given.
         """
         self.pair.g0 = self.g0 + offset
         cs = self.cs
@@ -149,7 +152,7 @@ class FEInterface:
                                                                    self.tol)
             res = solve_compliant_contact(cs.K, f, cs.fixed, cs.coords, self.pair,
                                           compliance, initial_active=active, tol=self.tol,
-                                          solver=self._base["compliant"])
+                                          solver=self._base["compliant"], x0=x0)
             return res.pressure, res.active, res.info
         if "contact" not in self._base:
             self._base["contact"] = contact_preconditioner(cs.K, cs.fixed, cs.coords,
@@ -157,7 +160,7 @@ class FEInterface:
         init = None if active is None else [np.asarray(active, dtype=bool)]
         res = solve_contact(cs.K, f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
                             initial_active=init, solver=self._base["contact"])
-        return res.pressure[0], res.active[0], res.info
+        return res.pressure[0], res.active[0], {**res.info, "u": res.u}
 
     def set_mu(self, mu: float) -> None:
         """Friction coefficient of the next solves (e.g. mu(T) of a friction law)."""
@@ -200,7 +203,7 @@ class FoundationInterface:
         self.normal_stiffness = np.asarray(winkler.modulus) * self.area
         self.extra_load = None
 
-    def solve(self, offset: np.ndarray, active, compliance=None):
+    def solve(self, offset: np.ndarray, active, compliance=None, x0=None):
         w = self.winkler
         if compliance is not None:
             w = w.with_modulus(1.0 / (1.0 / np.asarray(w.modulus) + compliance))
@@ -214,7 +217,7 @@ class FoundationInterface:
 
 
 _STATE_KEYS = ("step", "time", "pad_wear", "rotor_wear", "pad_archard", "rotor_archard",
-               "pressure", "active", "dt_next")
+               "pressure", "active", "dt_next", "u", "u_prev", "dt_last")
 
 
 def wear_history(model, line_pressure: float, omega: float, duration: float,
@@ -363,10 +366,13 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
 
     state = {"step": 0, "time": 0.0, "pad_wear": np.zeros(A_pad.size),
              "rotor_wear": np.zeros(A_rot.size), "pad_archard": 0.0, "rotor_archard": 0.0,
-             "pressure": None, "active": None, "dt_next": duration / steps if steps else None}
+             "pressure": None, "active": None, "dt_next": duration / steps if steps else None,
+             "u": None, "u_prev": None, "dt_last": np.nan}
     if resume:
         with np.load(checkpoint) as d:
             for k in _STATE_KEYS:
+                if k not in d:          # "u": checkpoints of earlier versions lack it
+                    continue
                 state[k] = d[k].copy() if d[k].ndim else d[k].item()
             if thermal is not None:
                 if "T_pad" not in d:
@@ -380,6 +386,9 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                             f"{A_pad.size} and {A_rot.size}: it belongs to another model")
         if np.isnan(state["dt_next"]):
             state["dt_next"] = None
+        for k in ("u", "u_prev"):
+            if state[k] is not None and np.size(state[k]) == 0:
+                state[k] = None
         logger.info("resumed at step %d, t = %.6g s", state["step"], state["time"])
     applied = (np.zeros(A_pad.size), np.zeros(A_rot.size))   # wear the meshes already show
 
@@ -389,10 +398,19 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         itf.rebuild(opening=float(pad_w.max() + rot_w.max()))
         applied = (pad_w.copy(), rot_w.copy())
 
-    def solve(pad_w, rot_w, active, eps=None):
+    def solve(pad_w, rot_w, active, eps=None, dt=None):
+        """Contact solve of the worn state.  The implicit step starts its Krylov
+        solves from the displacement extrapolated over ``dt`` from the last two
+        accepted steps (``state["u"]``, ``state["u_prev"]``: in the checkpoints,
+        so a resumed run repeats the uninterrupted one)."""
+        nonlocal last_u
         t0 = _time.perf_counter()
         offset = gap_start + (pad_w - applied[0]) + itf.W @ (rot_w - applied[1])
-        p, act, _ = itf.solve(offset, active, compliance=eps)
+        x0 = state["u"]
+        if x0 is not None and state["u_prev"] is not None and dt is not None:
+            x0 = x0 + (dt / state["dt_last"]) * (x0 - state["u_prev"])
+        p, act, info = itf.solve(offset, active, compliance=eps, x0=x0)
+        last_u = info.get("u") if isinstance(info, dict) else None
         return p, act, _time.perf_counter() - t0
 
     def temperatures():
@@ -412,6 +430,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         couple()
     if motion is not None and state["step"] > 0:
         move(state["pad_wear"], state["rotor_wear"], state["step"])
+    last_u = None                      # displacement of the latest solve (if any)
     first_solve = None                 # counted in the first record of a fresh run
     if state["pressure"] is None:
         p, act, first_s = solve(state["pad_wear"], state["rotor_wear"], None)
@@ -464,7 +483,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                     p_rate = p
                 else:   # backward Euler: the pad wears with the end-of-step pressure
                     eps = dt * pad_law.rate(1.0, v, T_pad)
-                    p_new, act_new, s = solve(state["pad_wear"], rot_w, act, eps)
+                    p_new, act_new, s = solve(state["pad_wear"], rot_w, act, eps, dt)
                     pad_w = state["pad_wear"] + eps * p_new
                     p_rate = p_new
                 solve_s += s
@@ -518,6 +537,10 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         p, act = p_new, act_new
         record.pressure_end, record.active_end = p, act
         state["pressure"], state["active"] = p, act
+        if last_u is not None and motion is None:
+            state["u_prev"] = state["u"]
+            state["dt_last"] = dt
+        state["u"] = last_u
         if checkpoint is not None and (state["step"] % every == 0
                                        or state["time"] >= duration * (1 - 1e-12)):
             _write_checkpoint(checkpoint, {**{k: state[k] for k in _STATE_KEYS},

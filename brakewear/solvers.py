@@ -219,7 +219,8 @@ class AMGSolver:
         self.refreshes = getattr(self, "refreshes", 0) + 1
         logger.debug("AMG refresh: %.2f s", time.perf_counter() - t0)
 
-    def refreshed(self, A: sp.spmatrix, depth: int | None = None) -> "AMGSolver":
+    def refreshed(self, A: sp.spmatrix, depth: int | None = None,
+                  dA: sp.spmatrix | None = None) -> "AMGSolver":
         """A new solver for ``A`` on this hierarchy's aggregates; ``self`` is not changed.
 
         Like :meth:`refresh` (level operators updated by ``R dA P``, coarse
@@ -229,12 +230,19 @@ class AMGSolver:
         and every solve stays exactly repeatable.  ``depth``: update only
         that many levels below the finest (0: the smoother sees ``A``, the
         coarse corrections keep this hierarchy's operators -- still a
-        symmetric positive definite preconditioner); default all.
+        symmetric positive definite preconditioner); default all.  ``dA``:
+        ``A`` minus this hierarchy's finest operator, when the caller has it
+        (a small update): saves the subtraction of two full matrices.
         """
         t0 = time.perf_counter()
         base = self.ml.levels
         A = A.tocsr()
-        dA = (A - base[0].A).tocsr()
+        if dA is None:
+            dA = (A - base[0].A).tocsr()
+        else:
+            if dA.shape != A.shape:
+                raise ValueError(f"dA has shape {dA.shape}; A has {A.shape}")
+            dA = sp.csr_matrix(dA)
         dA.eliminate_zeros()
         levels = []
         for i, lo in enumerate(base):
