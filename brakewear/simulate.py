@@ -522,7 +522,8 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                         else f"wear error estimate {est:.3e} m > wear_tol {wear_tol:.3e} m")
                 raise StepSizeError(
                     f"step {state['step'] + 1}: no acceptable wear step after {rejected} "
-                    f"retries (last dt {dt:.3e} s, {what})")
+                    f"{'halvings' if wear_tol is None else 'retries'} (last dt {dt:.3e} s, "
+                    f"{what})")
             if wear_tol is not None and np.isfinite(est):
                 dt *= max(0.2, 0.9 * np.sqrt(wear_tol / est))
                 limit = "wear_tol"

@@ -35,7 +35,7 @@ def test_fixed_steps_converge_at_first_order(tmp_path):
 import numpy as np  # noqa: E402
 
 from brakewear.scene import BrakeModel  # noqa: E402
-from brakewear.simulate import FEInterface, wear_history  # noqa: E402
+from brakewear.simulate import FEInterface, StepSizeError, wear_history  # noqa: E402
 from brakewear.wear import WearError, WearLaw, rotor_wear_rate  # noqa: E402
 
 
@@ -95,6 +95,7 @@ def test_wear_tol_resume_repeats_the_run(small, tmp_path):
     assert np.abs(full[-1].pad_wear - rest[-1].pad_wear).max() <= 1e-12 * full[-1].pad_wear.max()
 
 
+@pytest.mark.slow   # about 10 s alone, 20 s on the shared machine
 def test_wear_tol_beats_fixed_steps_over_a_long_history(small):
     """Running-in over 100 x the short horizon (10810 s, implicit): the wear error
     over the history (at every reported step) of the wear_tol control is no larger
@@ -116,3 +117,12 @@ def test_wear_tol_beats_fixed_steps_over_a_long_history(small):
     assert e_ctl <= e_fixed, f"wear_tol {e_ctl:.3e} > fixed {e_fixed:.3e}"
     assert ctl["contact_solves"] < fixed["contact_solves"]
     assert ctl["contact_solves"] <= 0.5 * fixed["contact_solves"]
+
+
+def test_wear_tol_gives_up_with_its_figures(small):
+    model, itf, T = small
+    with pytest.raises(StepSizeError, match=r"after 3 retries .*wear error estimate .* > "
+                                            r"wear_tol 1\.000e-15 m"):
+        list(wear_history(model, study.P_LINE, study.OMEGA, T, WearLaw(study.K_PAD), None,
+                          study.MU, scheme="implicit", interface=itf, wear_tol=1e-15,
+                          max_halvings=2))
