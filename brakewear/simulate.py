@@ -18,6 +18,10 @@ Time integration is explicit Euler.  The step is the smallest of
 and a step after which the contact pressure changes by more than ``dp_tol``
 (relative to its maximum), or the contact is lost, is rejected and retried
 at half the size.
+With ``wear_tol`` (m) the step control works on the local wear error
+instead: a step whose embedded estimate ``dt/2 max|rate(p_end) -
+rate(p_start)|`` exceeds ``wear_tol`` is retried smaller, and the next step
+aims at ``0.9 wear_tol`` (docs/theory.md, "Step control on the wear error").
 
 Checkpoints (``.npz``) hold the whole state; a run resumed from one repeats
 the uninterrupted run exactly, because every step is solved from the stored
