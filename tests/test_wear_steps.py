@@ -95,7 +95,6 @@ def test_wear_tol_resume_repeats_the_run(small, tmp_path):
     assert np.abs(full[-1].pad_wear - rest[-1].pad_wear).max() <= 1e-12 * full[-1].pad_wear.max()
 
 
-@pytest.mark.slow   # about 10 s alone, 20 s on the shared machine
 def test_wear_tol_beats_fixed_steps_over_a_long_history(small):
     """Running-in over 100 x the short horizon (10810 s, implicit): the wear error
     over the history (at every reported step) of the wear_tol control is no larger
@@ -116,6 +115,7 @@ def test_wear_tol_beats_fixed_steps_over_a_long_history(small):
     assert e_ref < 0.2 * e_ctl, f"reference error {e_ref:.2e} vs {e_ctl:.2e}"
     assert e_ctl <= e_fixed, f"wear_tol {e_ctl:.3e} > fixed {e_fixed:.3e}"
     assert ctl["contact_solves"] < fixed["contact_solves"]
+    # at most half: the dp_tol control (52 solves at its default 0.05) would fail here
     assert ctl["contact_solves"] <= 0.5 * fixed["contact_solves"]
 
 
