@@ -244,8 +244,9 @@ class Thermal:
 class Numerics:
     """How the wear loop integrates (:func:`brakewear.simulate.wear_history` arguments, SI).
 
-    ``steps = None``: automatic step control (``dp_tol``, ``dh_fraction`` or
-    ``max_dh``, ``stability``); a number: that many equal steps.
+    ``steps = None``: automatic step control (``dp_tol``, or ``wear_tol`` when
+    given, ``dh_fraction`` or ``max_dh``, ``stability``); a number: that many
+    equal steps.
     """
 
     scheme: str = "implicit"
@@ -254,6 +255,7 @@ class Numerics:
     dp_tol: float = 0.05
     dh_fraction: float = 0.1
     max_dh: float | None = None
+    wear_tol: float | None = None
     stability: float = 1.0
     tol: float = 1e-9
     max_halvings: int = 12
@@ -265,6 +267,7 @@ class Numerics:
         _check_number("numerics.dp_tol", self.dp_tol, 0.0)
         _check_number("numerics.dh_fraction", self.dh_fraction, 0.0, 1.0)
         _check_number("numerics.max_dh", self.max_dh, 0.0, unit="m", allow_none=True)
+        _check_number("numerics.wear_tol", self.wear_tol, 0.0, unit="m", allow_none=True)
         _check_number("numerics.stability", self.stability, 0.0, 2.0)
         _check_number("numerics.tol", self.tol, 0.0, 1e-3)
         _check_int("numerics.max_halvings", self.max_halvings, 0)
@@ -480,7 +483,8 @@ class Scene:
         model = self.build_model()
         n = self.numerics
         kw: dict[str, Any] = dict(steps=n.steps, max_dh=n.max_dh, dh_fraction=n.dh_fraction,
-                                  dp_tol=n.dp_tol, stability=n.stability, scheme=n.scheme,
+                                  dp_tol=n.dp_tol, wear_tol=n.wear_tol,
+                                  stability=n.stability, scheme=n.scheme,
                                   update=n.update, every=self.output.checkpoint_every,
                                   tol=n.tol, max_halvings=n.max_halvings)
         if self.interface.model == "winkler":
@@ -613,8 +617,8 @@ _SCHEMA: dict[str, dict[str, str]] = {
                 "T_initial": "temperature", "T_ref": "temperature",
                 "contact_conductance": "num", "mass": "str"},
     "numerics": {"scheme": "str", "update": "str", "steps": "int", "dp_tol": "num",
-                 "dh_fraction": "num", "max_dh": "length", "stability": "num", "tol": "num",
-                 "max_halvings": "int"},
+                 "dh_fraction": "num", "max_dh": "length", "wear_tol": "length",
+                 "stability": "num", "tol": "num", "max_halvings": "int"},
     "output": {"vtu_every": "int", "checkpoint_every": "int", "figures": "bool"},
 }
 _REQUIRED_TABLES = ("units", "scene", "components", "environment", "wear")

@@ -154,6 +154,7 @@ BAD = {
     "bad choice": (lambda d: d["numerics"].update(scheme="rk4"), "numerics.scheme",
                    "'explicit', 'implicit'"),
     "dp_tol": (lambda d: d["numerics"].update(dp_tol=0.0), "numerics.dp_tol", "> 0"),
+    "wear_tol": (lambda d: d["numerics"].update(wear_tol=-0.001), "numerics.wear_tol", "> 0"),
     "partition": (lambda d: d["thermal"].update(partition=1.5), "thermal.partition", "<= 1"),
     "implicit needs a=1": (lambda d: d["wear"]["pad"].update(a=2.0), "wear.pad.a",
                            "scheme = 'explicit'"),
@@ -237,3 +238,25 @@ def test_thermal_and_winkler_scenes_run(tmp_path):
     assert a["steps"] == 2 and a["final"]["pressure_max_Pa"] > 0
     b = Scene(**small, interface=Interface(model="winkler")).run(tmp_path / "w")
     assert b["steps"] == 2
+
+
+def test_wear_tol_is_a_length_passed_to_the_loop(tmp_path, monkeypatch):
+    """numerics.wear_tol is in the file's length unit (mm in the default scene) and
+    reaches wear_history in metres; absent, the loop gets None (dp_tol control)."""
+    d = _default_dict()
+    d["numerics"]["wear_tol"] = 0.002                       # mm
+    s = scene_from_dict(d)
+    assert s.numerics.wear_tol == pytest.approx(2e-6)
+    assert load_scene("default").numerics.wear_tol is None
+    import brakewear.history as history
+    seen = {}
+
+    def fake_run_wear(*args, **kw):
+        seen.update(kw)
+        raise RuntimeError("stop")
+    monkeypatch.setattr(history, "run_wear", fake_run_wear)
+    small = Scene(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0,
+                  numerics=Numerics(wear_tol=2e-6), output=Output(figures=False))
+    with pytest.raises(RuntimeError, match="stop"):
+        small.run(tmp_path / "w")
+    assert seen["wear_tol"] == 2e-6
