@@ -88,7 +88,8 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                             coords: np.ndarray, pair: ContactPair, compliance: np.ndarray,
                             initial_active: np.ndarray | None = None, tol: float = 1e-9,
                             max_iter: int = 60, solver=None, x0: np.ndarray | None = None,
-                            loose_tol: float | None = 1e-4) -> CompliantResult:
+                            loose_tol: float | None = 1e-4, release_tol: float = 1e-6,
+                            cycle_tol: float = 1e-3) -> CompliantResult:
     """Contact of ``pair`` through springs of compliance ``compliance`` (m/Pa per slave node).
 
     Parameters
@@ -119,10 +120,20 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
         checked with a tight solution.  A set that reappears during the loose
         phase switches to tight solves from there on (inexact solves can
         cycle where exact ones do not).  ``None``: every solve tight.
+    release_tol, cycle_tol
+        Hysteresis of the active set, relative to the largest spring force:
+        an active node is released when its spring pulls harder than
+        ``release_tol`` x that force, an open node enters when its spring
+        would push harder than that.  If a set repeats under tight solves
+        (friction makes the operator unsymmetric, and the sign rule can then
+        flip an edge node forever), the band widens to ``cycle_tol``; only a
+        cycle beyond that raises.  ``info`` reports the band used and the
+        largest kept tension and missed compression.
 
     The active set follows the penalty rule: a node is active while its
-    spring is compressed (``g0 + C u < 0``).  A set that repeats under tight
-    solves raises :class:`~brakewear.contact.ActiveSetError` with its figures.
+    spring is compressed (``g0 + C u < 0``), within the hysteresis band.  A
+    set that still repeats with the wide band raises
+    :class:`~brakewear.contact.ActiveSetError` with its figures.
     """
     from scipy.sparse.linalg import LinearOperator
 
@@ -177,6 +188,15 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
         if guess.any():
             active = guess
     seen, its, lin, solves, tight = set(), 0, 0, 0, loose_tol is None
+    band = release_tol
+
+    def update(x, active, band):
+        """The next set: an active node stays while its spring force is above
+        ``-band`` x the largest, an open node enters when its spring would be
+        compressed by more than ``band`` x the largest."""
+        force = -kappa * (pair.g0 + C @ x)
+        fmax = max(float(force[active].max()) if active.any() else 0.0, 1e-300)
+        return np.where(active, force >= -band * fmax, force > band * fmax)
     krylov = "gmres" if G is not None else "cg"
     for its in range(1, max_iter + 1):
         if not active.any():
@@ -201,7 +221,7 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
             x = amg.solve(b, x0=x, A=Aop, krylov=krylov)
             lin += amg.info.iterations
             solves += 1
-            new = pair.g0 + C @ x < 0
+            new = update(x, active, release_tol)
             if tight or not np.array_equal(new, active):
                 break
             tight = True     # the set stands under a loose solve: confirm it tightly
@@ -209,13 +229,29 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
             break
         key = np.packbits(new).tobytes()
         if key in seen:
-            if tight:
+            if not tight:
+                logger.debug("%s: loose active set repeats after %d iterations; tight "
+                             "solves from here", pair.name, its)
+                tight, seen = True, set()
+            elif band == release_tol:
+                # a repeat under tight solves: a node at the contact edge that is
+                # in tension when active and compressed when not (friction makes
+                # the operator unsymmetric, so the sign rule need not have a
+                # fixed point).  Widen the hysteresis band to cycle_tol: a node
+                # keeps its status while its force is that small
+                band = cycle_tol
+                new = update(x, active, band)
+                logger.info("%s: compliant active set repeats after %d iterations; "
+                            "status kept for forces within %.0e of the largest",
+                            pair.name, its, band)
+                if np.array_equal(new, active):
+                    break
+                seen = set()
+            else:
                 raise ActiveSetError(
                     f"{pair.name}: compliant active set cycles after {its} iterations "
-                    f"({int(active.sum())} -> {int(new.sum())} active) under tight solves")
-            logger.debug("%s: loose active set repeats after %d iterations; tight solves "
-                         "from here", pair.name, its)
-            tight, seen = True, set()
+                    f"({int(active.sum())} -> {int(new.sum())} active) under tight solves, "
+                    f"with a hysteresis band of {band:.0e} of the largest force")
         seen.add(np.packbits(active).tobytes())
         active = new
     else:
@@ -223,9 +259,18 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                              f"iterations (last count {int(active.sum())})")
     g = pair.g0 + C @ x
     force = np.where(active, -kappa * g, 0.0)
+    fmax = max(float(force.max()), 1e-300)
     info = {"active_set_iterations": its, "linear_iterations": lin, "linear_solves": solves,
-            "normal_force": float(force.sum()), "time_s": time.perf_counter() - t0, "u": x}
-    return CompliantResult(x, force / pair.area, force, g, active, info)
+            "normal_force": float(force.sum()), "time_s": time.perf_counter() - t0, "u": x,
+            "hysteresis_band": band,
+            # the largest tension an active node keeps (within the band) and
+            # the largest compression an open node misses, relative to the largest force
+            "max_tension": float(max(-force.min(), 0.0) / fmax) + 0.0,
+            "max_open_compression": float(max((-kappa * g)[~active].max(initial=0.0), 0.0)
+                                          / fmax)}
+    # the pressure: the springs' compressive force (a tension kept within the
+    # band counts as no pressure: no wear, no negative Archard rate)
+    return CompliantResult(x, np.maximum(force, 0.0) / pair.area, force, g, active, info)
 
 
 def compliant_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray,
