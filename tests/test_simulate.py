@@ -24,15 +24,19 @@ def test_worn_volume_equals_archard_integral(model):
     assert steps[-1].pad_volume / steps[-1].rotor_volume == pytest.approx(10.0, rel=1e-10)
 
 
-def test_resume_from_checkpoint_repeats_the_run(model, tmp_path):
+@pytest.mark.parametrize("scheme", ["explicit", "implicit"])
+def test_resume_from_checkpoint_repeats_the_run(model, tmp_path, scheme):
+    # implicit: the steps start from the displacement extrapolated from the last
+    # two steps, so the checkpoint must carry both
     ck = tmp_path / "run.npz"
-    full = list(wear_history(model, 1e6, 55.0, 3000.0, PAD, ROTOR, steps=6))
-    gen = wear_history(model, 1e6, 55.0, 3000.0, PAD, ROTOR, steps=6, checkpoint=ck, every=2)
+    full = list(wear_history(model, 1e6, 55.0, 3000.0, PAD, ROTOR, steps=6, scheme=scheme))
+    gen = wear_history(model, 1e6, 55.0, 3000.0, PAD, ROTOR, steps=6, checkpoint=ck, every=2,
+                       scheme=scheme)
     for s in gen:
         if s.step == 3:   # "killed" after step 3: the checkpoint holds step 2
             break
     rest = list(wear_history(model, 1e6, 55.0, 3000.0, PAD, ROTOR, steps=6, checkpoint=ck,
-                             every=2, resume=True))
+                             every=2, resume=True, scheme=scheme))
     assert [s.step for s in rest] == [3, 4, 5, 6]
     a, b = full[-1], rest[-1]
     assert np.abs(a.pad_wear - b.pad_wear).max() <= 1e-12 * np.abs(a.pad_wear).max()
