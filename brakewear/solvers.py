@@ -40,6 +40,8 @@ __all__ = [
     "amg_solver",
     "direct_solve",
     "DIRECT_MAX_DOFS",
+    "SA_OPTIONS",
+    "SMOOTHERS",
 ]
 
 #: Largest system :func:`direct_solve` accepts unless told otherwise: beyond
@@ -122,6 +124,51 @@ def _single_pass_spectral_radius():
         _pyamg_smooth.approximate_spectral_radius = saved
 
 
+#: pyamg ``smoothed_aggregation_solver`` options of every hierarchy (measured on
+#: a 380k-DOF rotor ring, docs/performance.md): node aggregation on the 3x3-block
+#: matrix, a small strength threshold.
+SA_OPTIONS = dict(
+    strength=("symmetric", {"theta": 0.05}),
+    smooth=("jacobi", {"omega": 4.0 / 3.0, "degree": 1}),
+    improve_candidates=None,
+    max_coarse=1000,
+    coarse_solver="splu",  # pyamg's default dense pinv costs O(n^3) on a big coarse level
+)
+#: (presmoother, postsmoother): point Gauss-Seidel, forward before and backward
+#: after, a symmetric V-cycle, so CG stays valid; 2-3x faster than pyamg's
+#: defaults with block Gauss-Seidel.
+SMOOTHERS = (("gauss_seidel", {"sweep": "forward"}),
+             ("gauss_seidel", {"sweep": "backward"}))
+
+
+def _v_cycle(ml) -> spla.LinearOperator:
+    """One V-cycle of ``ml`` from a zero guess, as a linear operator (the preconditioner).
+
+    The same cycle as ``ml.aspreconditioner("V")`` -- pre-smoothing,
+    restricted residual, coarse correction, post-smoothing on every level,
+    the coarsest solved by ``ml.coarse_solver`` -- without what pyamg's
+    ``solve(maxiter=1)`` adds around it: two residual norms on the finest
+    level (two extra fine-level products per application, about 15 % of a
+    V-cycle here) that a preconditioner never uses.
+    """
+    levels = ml.levels
+    last = len(levels) - 1
+
+    def cycle(i: int, b: np.ndarray) -> np.ndarray:
+        if i == last:
+            return np.asarray(ml.coarse_solver(levels[i].A, b), dtype=b.dtype).reshape(b.shape)
+        lv = levels[i]
+        x = np.zeros_like(b)
+        lv.presmoother(lv.A, x, b)
+        x += lv.P @ cycle(i + 1, lv.R @ (b - lv.A @ x))
+        lv.postsmoother(lv.A, x, b)
+        return x
+
+    A0 = levels[0].A
+    return spla.LinearOperator(A0.shape, lambda b: cycle(0, np.ravel(np.asarray(b, dtype=float))),
+                               dtype=A0.dtype)
+
+
 class AMGSolver:
     """Smoothed-aggregation AMG hierarchy + preconditioned CG.
 
@@ -136,30 +183,24 @@ class AMGSolver:
         Relative residual ``||b - A x|| / ||b||`` to reach.
     maxiter
         CG iterations before :class:`ConvergenceError`.
+    smoothers
+        (presmoother, postsmoother) in pyamg's ``change_smoothers`` form;
+        default :data:`SMOOTHERS`.
+    **sa_options
+        Override :data:`SA_OPTIONS` (pyamg ``smoothed_aggregation_solver``
+        keywords).
     """
 
     def __init__(self, A: sp.spmatrix, B: np.ndarray | None = None, tol: float = 1e-8,
-                 maxiter: int = 500, **sa_options):
+                 maxiter: int = 500, smoothers: tuple | None = None, **sa_options):
         if A.shape[0] != A.shape[1]:
             raise ValueError(f"AMGSolver: matrix must be square, got shape {A.shape}")
         self.A = A
         self.B = B
         self.tol = float(tol)
         self.maxiter = int(maxiter)
-        # Measured on a 380k-DOF rotor ring (docs/performance.md): node
-        # aggregation on the 3x3-block matrix, a small strength threshold and
-        # point Gauss-Seidel (forward before, backward after: a symmetric
-        # V-cycle, so CG stays valid) solve 2-3x faster than pyamg's defaults
-        # with block Gauss-Seidel.
-        self.options = dict(
-            strength=("symmetric", {"theta": 0.05}),
-            smooth=("jacobi", {"omega": 4.0 / 3.0, "degree": 1}),
-            improve_candidates=None,
-            max_coarse=1000,
-            coarse_solver="splu",  # pyamg's default dense pinv costs O(n^3) on a big coarse level
-        )
-        self.smoothers = (("gauss_seidel", {"sweep": "forward"}),
-                          ("gauss_seidel", {"sweep": "backward"}))
+        self.options = copy.deepcopy(SA_OPTIONS)
+        self.smoothers = copy.deepcopy(SMOOTHERS if smoothers is None else smoothers)
         self.options.update(sa_options)
         self.info = SolveInfo()
         self.builds = 0
@@ -186,7 +227,7 @@ class AMGSolver:
             if hasattr(level, "P"):  # CSR transfers: refreshed() restricts with them
                 level.P, level.R = level.P.tocsr(), level.R.tocsr()
         change_smoothers(self.ml, *self.smoothers)
-        self.M = self.ml.aspreconditioner(cycle="V")
+        self.M = _v_cycle(self.ml)
         self.builds += 1
         self.setup_s = time.perf_counter() - t0
         logger.debug("AMG hierarchy: %d levels, operator complexity %.2f, %.2f s",
@@ -215,7 +256,7 @@ class AMGSolver:
             hi.A = (hi.A + dA).tocsr()
         self.ml.coarse_solver = pyamg.multilevel.coarse_grid_solver(self.options["coarse_solver"])
         change_smoothers(self.ml, *self.smoothers)
-        self.M = self.ml.aspreconditioner(cycle="V")
+        self.M = _v_cycle(self.ml)
         self.refreshes = getattr(self, "refreshes", 0) + 1
         logger.debug("AMG refresh: %.2f s", time.perf_counter() - t0)
 
@@ -260,7 +301,7 @@ class AMGSolver:
         if levels[-1].A is base[-1].A:  # unchanged coarsest operator: share its factorisation
             new.ml.coarse_solver = self.ml.coarse_solver
         change_smoothers(new.ml, *self.smoothers)
-        new.M = new.ml.aspreconditioner(cycle="V")
+        new.M = _v_cycle(new.ml)
         new.info = SolveInfo()
         new.refreshes = getattr(self, "refreshes", 0) + 1
         logger.debug("AMG refreshed copy: %.2f s", time.perf_counter() - t0)
