@@ -101,3 +101,28 @@ def test_refreshed_copy_leaves_the_base_alone_and_is_history_free(ring):
         assert (lv.A != A0).nnz == 0, "refreshed() changed the base hierarchy"
     ud = direct_solve(A2, fd)
     assert np.abs(direct - ud).max() < 1e-7 * np.abs(ud).max()
+
+
+def test_v_cycle_is_pyamgs_v_cycle(ring):
+    """The preconditioner (own V-cycle without pyamg's residual norms) applies the same cycle."""
+    m, K, Kd, fd, fixed = ring
+    s = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8)
+    r = np.random.default_rng(3).normal(size=Kd.shape[0])
+    ours, theirs = s.M @ r, s.ml.aspreconditioner(cycle="V") @ r
+    assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max()
+    # symmetric (CG needs it): <M a, b> = <a, M b>
+    a, b = r, np.random.default_rng(4).normal(size=r.size)
+    lhs, rhs = (s.M @ a) @ b, a @ (s.M @ b)
+    assert abs(lhs - rhs) <= 1e-10 * abs(lhs), f"<Ma,b> {lhs:.6e} vs <a,Mb> {rhs:.6e}"
+
+
+def test_blas_threads_are_one_inside_and_restored_after():
+    from brakewear.solvers import _openblas_controls, _single_threaded_blas
+
+    controls = _openblas_controls()
+    if not controls:
+        pytest.skip("no OpenBLAS found in this process")
+    before = [get() for get, _ in controls]
+    with _single_threaded_blas():
+        assert [get() for get, _ in controls] == [1] * len(controls)
+    assert [get() for get, _ in controls] == before
