@@ -131,8 +131,10 @@ def _single_pass_spectral_radius():
 #: aggregation on the 3x3-block matrix with a small strength threshold (0.02
 #: or 0.1 instead of 0.05 cost more in all: docs/performance.md, "AMG
 #: settings").  Energy-minimising prolongation (2 CG steps) instead of one
-#: Jacobi step: sparser coarse operators and 25-30 % fewer iterations for
-#: about the same setup.  ``max_coarse`` counts block rows (nodes on the finest
+#: Jacobi step: on the brake systems sparser coarse operators and 25-30 % fewer
+#: iterations for about the same setup (on the structured rotor ring of the
+#: elasticity benchmark it saves no iterations and its setup costs ~40 % more;
+#: pass ``smooth=("jacobi", ...)`` there).  ``max_coarse`` counts block rows (nodes on the finest
 #: level, aggregates of 6 rigid-body modes below), so 300 keeps the coarsest
 #: level at most ~1800 rows: with 1000 the 5 mm brake stopped at 2 levels
 #: with a 2600-row, 10 %-dense coarse matrix to factorise.
