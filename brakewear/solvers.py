@@ -15,7 +15,9 @@ step, an active-set update): pass ``A=`` to :meth:`AMGSolver.solve`, and call
 from __future__ import annotations
 
 import copy
+import ctypes
 import logging
+import os
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -26,6 +28,7 @@ from functools import partial
 import numpy as np
 import pyamg
 import pyamg.aggregation.smooth as _pyamg_smooth
+import pyamg.util.linalg as _pyamg_linalg
 from pyamg.relaxation.smoothing import change_smoothers
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -40,6 +43,8 @@ __all__ = [
     "amg_solver",
     "direct_solve",
     "DIRECT_MAX_DOFS",
+    "SA_OPTIONS",
+    "SMOOTHERS",
 ]
 
 #: Largest system :func:`direct_solve` accepts unless told otherwise: beyond
@@ -122,6 +127,165 @@ def _single_pass_spectral_radius():
         _pyamg_smooth.approximate_spectral_radius = saved
 
 
+#: pyamg ``smoothed_aggregation_solver`` options of every hierarchy.  Node
+#: aggregation on the 3x3-block matrix with a small strength threshold (0.02
+#: or 0.1 instead of 0.05 cost more in all: docs/performance.md, "AMG
+#: settings").  Energy-minimising prolongation (2 CG steps) instead of one
+#: Jacobi step: on the brake systems sparser coarse operators and 25-30 % fewer
+#: iterations for about the same setup (on the structured rotor ring of the
+#: elasticity benchmark it saves no iterations and its setup costs ~40 % more;
+#: pass ``smooth=("jacobi", ...)`` there).  ``max_coarse`` counts block rows (nodes on the finest
+#: level, aggregates of 6 rigid-body modes below), so 300 keeps the coarsest
+#: level at most ~1800 rows: with 1000 the 5 mm brake stopped at 2 levels
+#: with a 2600-row, 10 %-dense coarse matrix to factorise.
+SA_OPTIONS = dict(
+    strength=("symmetric", {"theta": 0.05}),
+    smooth=("energy", {"degree": 1, "maxiter": 2}),
+    improve_candidates=None,
+    max_coarse=300,
+    coarse_solver="splu",  # pyamg's default dense pinv costs O(n^3) on a big coarse level
+)
+#: (presmoother, postsmoother): point Gauss-Seidel, forward before and backward
+#: after, a symmetric V-cycle, so CG stays valid; 2-3x faster than pyamg's
+#: defaults with block Gauss-Seidel.
+SMOOTHERS = (("gauss_seidel", {"sweep": "forward"}),
+             ("gauss_seidel", {"sweep": "backward"}))
+
+
+def _block_pinv(a: np.ndarray, tol: float | None = None, _loop=_pyamg_linalg.pinv_array) -> None:
+    """pyamg's ``pinv_array`` (in-place pseudo-inverse of each block ``a[k]``), batched.
+
+    pyamg inverts the (n, m, m) blocks one LAPACK call at a time from Python:
+    with energy-minimising prolongation that is the fine level's n ``B^T B``
+    blocks (6 x 6), a quarter of the setup on the 300k rotor ring.  The
+    blocks are inverted in one batched ``numpy.linalg.inv``; exactly singular
+    ones and those whose ``a inv(a)`` is not within 1e-9 of the identity
+    (badly conditioned, where the pseudo-inverse's cut-off may act) go
+    through pyamg's own routine, so the result is pyamg's to rounding.
+    """
+    if a.ndim != 3 or a.shape[1] != a.shape[2] or a.shape[1] == 1 or not np.isrealobj(a):
+        _loop(a, tol)
+        return
+    # exactly singular blocks (a zero pivot in LU, so det == 0; a supported node's
+    # zero rows) are left to pyamg's routine
+    finite = np.all(np.isfinite(a), axis=(1, 2))
+    with np.errstate(all="ignore"):
+        idx = np.flatnonzero(finite)[np.linalg.det(a[finite]) != 0]
+    try:
+        with np.errstate(all="ignore"):
+            inv = np.linalg.inv(a[idx])
+            ok = np.abs(a[idx] @ inv - np.eye(a.shape[1])).max(axis=(1, 2)) <= 1e-9
+    except np.linalg.LinAlgError:  # cannot happen after the det test; stay safe
+        _loop(a, tol)
+        return
+    rest = np.setdiff1d(np.arange(a.shape[0]), idx[ok], assume_unique=True)
+    a[idx[ok]] = inv[ok]
+    if rest.size:
+        sub = a[rest]
+        _loop(sub, tol)
+        a[rest] = sub
+
+
+@contextmanager
+def _batched_block_pinv():
+    """Let pyamg's setup invert its small blocks with :func:`_block_pinv`."""
+    saved = _pyamg_linalg.pinv_array
+    _pyamg_linalg.pinv_array = _block_pinv
+    try:
+        yield
+    finally:
+        _pyamg_linalg.pinv_array = saved
+
+
+_BLAS_CONTROLS: list | None = None
+
+
+def _openblas_controls() -> list:
+    """(get, set) thread-count functions of every OpenBLAS loaded in this process.
+
+    NumPy and SciPy each bundle their own OpenBLAS; both are found through
+    ``/proc/self/maps`` (Linux).  Elsewhere, or if the symbols are missing,
+    the list is empty and nothing is changed.
+    """
+    global _BLAS_CONTROLS
+    if _BLAS_CONTROLS is None:
+        _BLAS_CONTROLS = []
+        try:
+            with open("/proc/self/maps") as fh:
+                paths = sorted({ln.split()[-1] for ln in fh
+                                if "openblas" in os.path.basename(ln.split()[-1]).lower()
+                                and ".so" in ln})
+        except OSError:
+            paths = []
+        for path in paths:
+            try:
+                lib = ctypes.CDLL(path)
+            except OSError:
+                continue
+            for prefix in ("scipy_openblas", "openblas"):
+                for suffix in ("64_", ""):
+                    get = getattr(lib, f"{prefix}_get_num_threads{suffix}", None)
+                    put = getattr(lib, f"{prefix}_set_num_threads{suffix}", None)
+                    if get is not None and put is not None:
+                        get.restype, put.argtypes = ctypes.c_int, [ctypes.c_int]
+                        _BLAS_CONTROLS.append((get, put))
+                        break
+                else:
+                    continue
+                break
+    return _BLAS_CONTROLS
+
+
+@contextmanager
+def _single_threaded_blas():
+    """Run the block with one OpenBLAS thread, then restore the counts.
+
+    The AMG setup and the Krylov solves make thousands of level-1 BLAS calls
+    (dot products, norms) on vectors of 10^4-10^5 entries, and SuperLU's
+    coarse solves level-2 ones; the sparse kernels themselves are single
+    threaded.  With OpenBLAS's default threads each such call costs
+    milliseconds of spinning and waking on a loaded machine: measured on the
+    105k brake with 2 threads, twice the CPU time of the solve with 1
+    (docs/performance.md, "AMG settings").
+    """
+    saved = [(get(), put) for get, put in _openblas_controls()]
+    for _, put in saved:
+        put(1)
+    try:
+        yield
+    finally:
+        for n, put in saved:
+            put(n)
+
+
+def _v_cycle(ml) -> spla.LinearOperator:
+    """One V-cycle of ``ml`` from a zero guess, as a linear operator (the preconditioner).
+
+    The same cycle as ``ml.aspreconditioner("V")`` -- pre-smoothing,
+    restricted residual, coarse correction, post-smoothing on every level,
+    the coarsest solved by ``ml.coarse_solver`` -- without what pyamg's
+    ``solve(maxiter=1)`` adds around it: two residual norms on the finest
+    level (two extra fine-level products per application, about 15 % of a
+    V-cycle here) that a preconditioner never uses.
+    """
+    levels = ml.levels
+    last = len(levels) - 1
+
+    def cycle(i: int, b: np.ndarray) -> np.ndarray:
+        if i == last:
+            return np.asarray(ml.coarse_solver(levels[i].A, b), dtype=b.dtype).reshape(b.shape)
+        lv = levels[i]
+        x = np.zeros_like(b)
+        lv.presmoother(lv.A, x, b)
+        x += lv.P @ cycle(i + 1, lv.R @ (b - lv.A @ x))
+        lv.postsmoother(lv.A, x, b)
+        return x
+
+    A0 = levels[0].A
+    return spla.LinearOperator(A0.shape, lambda b: cycle(0, np.ravel(np.asarray(b, dtype=float))),
+                               dtype=A0.dtype)
+
+
 class AMGSolver:
     """Smoothed-aggregation AMG hierarchy + preconditioned CG.
 
@@ -136,30 +300,24 @@ class AMGSolver:
         Relative residual ``||b - A x|| / ||b||`` to reach.
     maxiter
         CG iterations before :class:`ConvergenceError`.
+    smoothers
+        (presmoother, postsmoother) in pyamg's ``change_smoothers`` form;
+        default :data:`SMOOTHERS`.
+    **sa_options
+        Override :data:`SA_OPTIONS` (pyamg ``smoothed_aggregation_solver``
+        keywords).
     """
 
     def __init__(self, A: sp.spmatrix, B: np.ndarray | None = None, tol: float = 1e-8,
-                 maxiter: int = 500, **sa_options):
+                 maxiter: int = 500, smoothers: tuple | None = None, **sa_options):
         if A.shape[0] != A.shape[1]:
             raise ValueError(f"AMGSolver: matrix must be square, got shape {A.shape}")
         self.A = A
         self.B = B
         self.tol = float(tol)
         self.maxiter = int(maxiter)
-        # Measured on a 380k-DOF rotor ring (docs/performance.md): node
-        # aggregation on the 3x3-block matrix, a small strength threshold and
-        # point Gauss-Seidel (forward before, backward after: a symmetric
-        # V-cycle, so CG stays valid) solve 2-3x faster than pyamg's defaults
-        # with block Gauss-Seidel.
-        self.options = dict(
-            strength=("symmetric", {"theta": 0.05}),
-            smooth=("jacobi", {"omega": 4.0 / 3.0, "degree": 1}),
-            improve_candidates=None,
-            max_coarse=1000,
-            coarse_solver="splu",  # pyamg's default dense pinv costs O(n^3) on a big coarse level
-        )
-        self.smoothers = (("gauss_seidel", {"sweep": "forward"}),
-                          ("gauss_seidel", {"sweep": "backward"}))
+        self.options = copy.deepcopy(SA_OPTIONS)
+        self.smoothers = copy.deepcopy(SMOOTHERS if smoothers is None else smoothers)
         self.options.update(sa_options)
         self.info = SolveInfo()
         self.builds = 0
@@ -176,7 +334,7 @@ class AMGSolver:
         rng_state = np.random.get_state()
         np.random.seed(20091)
         try:
-            with _single_pass_spectral_radius():
+            with _single_pass_spectral_radius(), _single_threaded_blas(), _batched_block_pinv():
                 self.ml = pyamg.smoothed_aggregation_solver(self.A, B=self.B, presmoother=None,
                                                             postsmoother=None, **self.options)
         finally:
@@ -186,7 +344,7 @@ class AMGSolver:
             if hasattr(level, "P"):  # CSR transfers: refreshed() restricts with them
                 level.P, level.R = level.P.tocsr(), level.R.tocsr()
         change_smoothers(self.ml, *self.smoothers)
-        self.M = self.ml.aspreconditioner(cycle="V")
+        self.M = _v_cycle(self.ml)
         self.builds += 1
         self.setup_s = time.perf_counter() - t0
         logger.debug("AMG hierarchy: %d levels, operator complexity %.2f, %.2f s",
@@ -215,7 +373,7 @@ class AMGSolver:
             hi.A = (hi.A + dA).tocsr()
         self.ml.coarse_solver = pyamg.multilevel.coarse_grid_solver(self.options["coarse_solver"])
         change_smoothers(self.ml, *self.smoothers)
-        self.M = self.ml.aspreconditioner(cycle="V")
+        self.M = _v_cycle(self.ml)
         self.refreshes = getattr(self, "refreshes", 0) + 1
         logger.debug("AMG refresh: %.2f s", time.perf_counter() - t0)
 
@@ -268,7 +426,7 @@ class AMGSolver:
         if levels[-1].A is base[-1].A:  # unchanged coarsest operator: share its factorisation
             new.ml.coarse_solver = self.ml.coarse_solver
         change_smoothers(new.ml, *self.smoothers)
-        new.M = new.ml.aspreconditioner(cycle="V")
+        new.M = _v_cycle(new.ml)
         new.info = SolveInfo()
         new.refreshes = getattr(self, "refreshes", 0) + 1
         logger.debug("AMG refreshed copy: %.2f s", time.perf_counter() - t0)
@@ -291,7 +449,7 @@ class AMGSolver:
             x = np.zeros_like(b)
             self.info = SolveInfo(0, [0.0], True, self.setup_s, 0.0)
             return x
-        with warnings.catch_warnings(record=True) as caught:
+        with warnings.catch_warnings(record=True) as caught, _single_threaded_blas():
             warnings.simplefilter("always")
             if krylov == "cg":
                 x, flag = pyamg.krylov.cg(op, b, x0=x0, tol=self.tol, maxiter=self.maxiter,

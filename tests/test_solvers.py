@@ -101,3 +101,53 @@ def test_refreshed_copy_leaves_the_base_alone_and_is_history_free(ring):
         assert (lv.A != A0).nnz == 0, "refreshed() changed the base hierarchy"
     ud = direct_solve(A2, fd)
     assert np.abs(direct - ud).max() < 1e-7 * np.abs(ud).max()
+
+
+def test_v_cycle_is_pyamgs_v_cycle(ring):
+    """The preconditioner (own V-cycle without pyamg's residual norms) applies the same cycle."""
+    m, K, Kd, fd, fixed = ring
+    s = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8)
+    r = np.random.default_rng(3).normal(size=Kd.shape[0])
+    ours, theirs = s.M @ r, s.ml.aspreconditioner(cycle="V") @ r
+    assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max()
+    # symmetric (CG needs it): <M a, b> = <a, M b>
+    a, b = r, np.random.default_rng(4).normal(size=r.size)
+    lhs, rhs = (s.M @ a) @ b, a @ (s.M @ b)
+    assert abs(lhs - rhs) <= 1e-10 * abs(lhs), f"<Ma,b> {lhs:.6e} vs <a,Mb> {rhs:.6e}"
+
+
+def test_blas_threads_are_one_inside_and_restored_after():
+    from brakewear.solvers import _openblas_controls, _single_threaded_blas
+
+    controls = _openblas_controls()
+    if not controls:
+        pytest.skip("no OpenBLAS found in this process")
+    before = [get() for get, _ in controls]
+    with _single_threaded_blas():
+        assert [get() for get, _ in controls] == [1] * len(controls)
+    assert [get() for get, _ in controls] == before
+
+
+def test_batched_block_pinv_is_pyamgs():
+    from pyamg.util.linalg import pinv_array
+
+    from brakewear.solvers import _block_pinv
+
+    rng = np.random.default_rng(2)
+    X = rng.normal(size=(400, 6, 9))
+    a = X @ X.transpose(0, 2, 1)          # SPD blocks, as B^T B
+    a[::7, 5, :] = a[::7, :, 5] = 0.0     # a supported DOF: singular
+    a[3::11] = rng.normal(size=a[3::11].shape)  # general blocks
+    a[5::13, :, 0] = a[5::13, :, 1] * (1 + 1e-13)  # nearly singular: pinv's cut-off acts
+    a[6] = 0.0
+    ref, got = a.copy(), a.copy()
+    pinv_array(ref)
+    looped = []
+    _block_pinv(got, None, lambda b, tol: (looped.append(len(b)), pinv_array(b, tol)))
+    assert sum(looped) < 0.3 * len(a), f"{sum(looped)} of {len(a)} blocks took pyamg's loop"
+    scale = np.maximum(np.abs(ref).max(axis=(1, 2)), 1e-300)
+    err = (np.abs(ref - got).max(axis=(1, 2)) / scale).max()
+    assert err < 1e-8, f"batched pseudo-inverse differs from pyamg's by {err:.2e}"
+    spd = a[1:3].copy()
+    _block_pinv(spd)
+    assert np.allclose(spd @ a[1:3], np.eye(6), atol=1e-9)

@@ -1,0 +1,151 @@
+"""CPU cost of AMG settings on the brake systems (docs/performance.md, "AMG settings").
+
+Two cases, each timed with ``time.process_time`` (the solves are single
+threaded, so CPU time is steadier than wall time on a shared machine):
+
+* ``tied`` -- the tied pad-rotor elasticity system of
+  :meth:`brakewear.scene.BrakeModel.solve_tied`: hierarchy setup (including
+  the coarse factorisation) and AMG-CG from zero to 1e-9 and to 1e-6;
+* ``comp`` -- one implicit wear step's compliant contact solve at mu = 0.4
+  (:class:`brakewear.simulate.FEInterface`, an 18 s step of k = 5e-15 1/Pa
+  at 55 rad/s), started from the converged rigid-contact active set: the
+  base hierarchy's setup, then the solve's active-set iterations and
+  V-cycles (FGMRES).
+
+Each setting overrides :data:`brakewear.solvers.SA_OPTIONS` /
+:data:`~brakewear.solvers.SMOOTHERS` for its run.  Run::
+
+    OPENBLAS_NUM_THREADS=1 python studies/amg_settings.py tied 1e5 default jacobi_P th0.02
+    OPENBLAS_NUM_THREADS=1 python studies/amg_settings.py comp 1e5 default jacobi_P
+
+(size: target DOFs of :func:`brakewear.bench.brake_resolution`, or ``5mm``
+for ``BrakeModel(size=5e-3)``).  Prints one markdown table row per setting.
+Timings vary by 10-30 % between runs on a loaded machine: compare settings
+within one run, and repeat close calls.
+"""
+from __future__ import annotations
+
+import copy
+import sys
+import time
+
+import numpy as np
+
+import brakewear.solvers as S
+
+_GS = "gauss_seidel"
+#: setting name -> (SA_OPTIONS overrides, smoothers or None)
+SETTINGS = {
+    "default": ({}, None),
+    # the settings before the "AMG settings" work: Jacobi prolongation, 1000 coarse blocks
+    "jacobi_P": ({"smooth": ("jacobi", {"omega": 4.0 / 3.0, "degree": 1}), "max_coarse": 1000},
+                 None),
+    "energy_4": ({"smooth": ("energy", {"degree": 1, "maxiter": 4})}, None),
+    "sym_gs": ({}, ((_GS, {"sweep": "symmetric"}),) * 2),
+    "gs_2": ({}, ((_GS, {"sweep": "forward", "iterations": 2}),
+                  (_GS, {"sweep": "backward", "iterations": 2}))),
+    "jacobi_smoother": ({}, (("jacobi", {"omega": 2.0 / 3.0, "withrho": True}),) * 2),
+    "th0.02": ({"strength": ("symmetric", {"theta": 0.02})}, None),
+    "th0.1": ({"strength": ("symmetric", {"theta": 0.1})}, None),
+    "mc100": ({"max_coarse": 100}, None),
+    "mc1000": ({"max_coarse": 1000}, None),
+    "cholesky": ({"coarse_solver": "cholesky"}, None),
+}
+
+
+def model_for(size: str):
+    from brakewear.bench import brake_resolution
+    from brakewear.scene import BrakeModel
+
+    if size == "5mm":
+        return BrakeModel(size=5e-3, rotor="elastic")
+    return brake_resolution(float(size))[1]
+
+
+def tied_system(model):
+    """(Kd, fd, coords, fixed) exactly as ``BrakeModel.solve_tied`` forms them."""
+    from brakewear.elasticity import apply_dirichlet
+
+    K, P, retained, col = model._reduced(tie_interface=True)
+    fixed = model._reduced_fixed(col, None)
+    Kd, fd = apply_dirichlet((P.T @ K @ P).tobsr(blocksize=(3, 3)), P.T @ model.loads(1e6), fixed)
+    return Kd, fd, model.coordinates()[:, retained], fixed
+
+
+class _Setting:
+    """Context: ``SA_OPTIONS``/``SMOOTHERS`` of one named setting."""
+
+    def __init__(self, name: str):
+        if name not in SETTINGS:
+            raise KeyError(f"setting {name!r}; allowed: {', '.join(SETTINGS)}")
+        self.opts, self.smoothers = SETTINGS[name]
+
+    def __enter__(self):
+        self.saved = copy.deepcopy(S.SA_OPTIONS), S.SMOOTHERS
+        S.SA_OPTIONS.update(self.opts)
+        if self.smoothers is not None:
+            S.SMOOTHERS = self.smoothers
+
+    def __exit__(self, *exc):
+        S.SA_OPTIONS.clear()
+        S.SA_OPTIONS.update(self.saved[0])
+        S.SMOOTHERS = self.saved[1]
+
+
+def _levels(solver) -> str:
+    return "/".join(str(lv.A.shape[0]) for lv in solver.ml.levels)
+
+
+def run_tied(model, names) -> None:
+    Kd, fd, coords, fixed = tied_system(model)
+    print(f"tied, {Kd.shape[0]} DOFs\n\n| setting | setup CPU s | V-cycles 1e-9 | solve CPU s | "
+          "total CPU s | V-cycles 1e-6 | solve CPU s | total CPU s | levels (rows) |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---|")
+    for name in names:
+        with _Setting(name):
+            t0 = time.process_time()
+            s = S.amg_solver(Kd, coords=coords, fixed=fixed, tol=1e-9, maxiter=400)
+            Ac = s.ml.levels[-1].A  # the coarse factorisation belongs to the setup
+            s.ml.coarse_solver(Ac, np.ones(Ac.shape[0]))
+            setup = time.process_time() - t0
+            cells = []
+            for tol in (1e-9, 1e-6):
+                s.tol = tol
+                t1 = time.process_time()
+                s.solve(fd)
+                dt = time.process_time() - t1
+                cells += [f"{s.info.iterations}", f"{dt:.2f}", f"{setup + dt:.2f}"]
+            print(f"| {name} | {setup:.2f} | " + " | ".join(cells) + f" | {_levels(s)} |",
+                  flush=True)
+
+
+def run_compliant(model, names) -> None:
+    from brakewear.compliant import compliant_preconditioner
+    from brakewear.simulate import FEInterface
+
+    itf = FEInterface(model, 1e6, 0.4)
+    _, active, _ = itf.solve(np.zeros(itf.area.size), None)  # the rigid contact set
+    eps = 5e-15 * 55.0 * itf.r * 18.0  # k v dt of an 18 s step
+    cs = itf.cs
+    print(f"compliant step, {cs.K.shape[0]} DOFs, mu 0.4\n\n| setting | setup CPU s | active "
+          "sets | V-cycles | solve CPU s | total CPU s | levels (rows) |\n"
+          "|---|---:|---:|---:|---:|---:|---|")
+    for name in names:
+        with _Setting(name):
+            t0 = time.process_time()
+            itf._base["compliant"] = compliant_preconditioner(cs.K, cs.fixed, cs.coords, itf.tol)
+            t1 = time.process_time()
+            _, _, info = itf.solve(np.zeros(itf.area.size), active, compliance=eps)
+            t2 = time.process_time()
+            print(f"| {name} | {t1 - t0:.2f} | {info['active_set_iterations']} | "
+                  f"{info['linear_iterations']} | {t2 - t1:.2f} | {t2 - t0:.2f} | "
+                  f"{_levels(itf._base['compliant'])} |", flush=True)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 3 or sys.argv[1] not in ("tied", "comp"):
+        sys.exit(__doc__)
+    case, size, *names = sys.argv[1:]
+    for n in names:
+        _Setting(n)  # unknown names fail before the model is built
+    (run_tied if case == "tied" else run_compliant)(model_for(size), names or ["default"])
