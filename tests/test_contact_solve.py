@@ -212,3 +212,20 @@ def test_wrong_shared_hierarchy_is_refused():
     other = contact_preconditioner(K2, fixed2, coords2, [pr2])
     with pytest.raises(ValueError, match="solver"):
         solve_contact(K, f, fixed, coords, [pr], linear="amg", solver=other)
+
+
+def test_stale_hierarchy_rule_compares_rates_not_counts():
+    """A refreshed hierarchy counts as stale when its solve reduces the residual
+    per iteration at less than half the first solve's rate (in decades), not
+    when a tight solve simply takes more iterations than a loose first one."""
+    from brakewear.contact import _stale
+    from brakewear.solvers import SolveInfo
+
+    first = 0.3 ** np.arange(4)                  # first (loose) solve: 0.3 per iteration
+    tight = 0.3 ** np.arange(21)                 # tight: 20 iterations at the same rate
+    slow = 0.7 ** np.arange(21)                  # 0.7 > sqrt(0.3) = 0.55: stale
+    ref = SolveInfo(3, list(first)).convergence_factor
+    assert ref == pytest.approx(0.3)
+    assert not _stale(SolveInfo(20, list(tight)), ref)
+    assert _stale(SolveInfo(20, list(slow)), ref)
+    assert not _stale(SolveInfo(2, [1.0, 0.9, 0.8]), ref)   # too short to judge
