@@ -127,6 +127,12 @@ def test_contact_rows_keys_and_types(contact_rows):
     assert brake["contact_step_active_set_iterations"] <= 2
     assert brake["contact_step_diff"] < 1e-6
     assert brake["contact_step_linear_iterations"] < brake["linear_iterations"]
+    # one solve at the converged set with its own hierarchy, and the speed-ups it gives
+    assert 1 <= brake["fixed_set_linear_iterations"] < brake["linear_iterations"]
+    for key, t in (("speedup_vs_direct_fixed_set", "fixed_set_solve_s"),
+                   ("speedup_vs_direct_step", "contact_step_s")):
+        assert brake[key] == pytest.approx(brake["direct_kkt_s"] / brake[t])
+    assert "speedup_vs_direct_fixed_set" not in hertz
     assert "case" in bench.format_contact_table(contact_rows)
 
 
