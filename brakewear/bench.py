@@ -36,7 +36,10 @@ Run ``python -m brakewear.bench elasticity [--json] [--sizes 3e4 1e5 ...]``;
 
 Contact (``brakewear bench contact [--json] [--sizes 5e4 1.5e5 5e5] [--cases
 hertz brake] [--direct-max N] [--repeats N]``): each case and size in a fresh
-process (after a tiny warm-up case), measured after assembly:
+process (after a tiny warm-up case), measured after assembly.  The contact
+solve and the elasticity solve are each timed twice in the process and the
+faster counts (``*_pair`` keys: both times): the first large solve in a fresh
+process also pays for growing its heap, which a wear run pays once.
 
 ``hertz``
     the Hertz model of :mod:`brakewear.verification` (rigid sphere on a
@@ -439,10 +442,31 @@ def _contact_row_base(case: str, target: float) -> dict:
     return row
 
 
+def _faster_of_two(run):
+    """``run()`` twice: the faster time, both times, the last result.
+
+    The first large solve in a fresh process also pays for growing its heap
+    (glibc maps each array above an adaptive size threshold afresh and
+    faults its pages in, until frees have raised the threshold): measured
+    0.5-0.7 s of 2.8 s for the first contact solve of the 57k brake, which a
+    wear run pays once.  Contact and elasticity solves are both timed this
+    way, so neither carries it (the wear benchmark does the same).
+    """
+    times, out = [], None
+    for _ in range(2):
+        out = None  # the first result's memory is free before the second run
+        t0 = time.perf_counter()
+        out = run()
+        times.append(time.perf_counter() - t0)
+    return min(times), times, out
+
+
 def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> dict:
     from .elasticity import apply_dirichlet
     from .solvers import amg_solver
-    from .verification import GAP_TOL, DELTA, hertz_problem, hertz_resolution, solve_problem
+    from .contact import solve_contact
+    from .verification import (GAP_TOL, DELTA, hertz_force, hertz_problem, hertz_resolution,
+                               solve_problem)
 
     row = _contact_row_base("hertz", target)
     ha = hertz_resolution(target)
@@ -453,8 +477,16 @@ def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     t0 = time.perf_counter()
     out, res, F_bc = solve_problem(prob, linear="amg")
     row["contact_outer_s"] = time.perf_counter() - t0
+    # the cold first solve of that iteration once more: the faster of the two, as the
+    # elasticity solve (_faster_of_two)
+    t0 = time.perf_counter()
+    solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [pair],
+                  fixed_values=prob.fixed_values(hertz_force()), linear="amg", tol=1e-10,
+                  gap_tol=GAP_TOL * DELTA)
+    cold = time.perf_counter() - t0
     row.update({
-        "contact_solve_s": out["solve_s"][0],
+        "contact_solve_s": min(out["solve_s"][0], cold),
+        "contact_solve_s_pair": [float(out["solve_s"][0]), cold],
         "active_set_iterations": int(out["active_set_iterations_per_solve"][0]),
         "linear_iterations": int(out["linear_iterations_per_solve"][0]),
         "outer_iterations": int(out["outer_iterations"]),
@@ -474,10 +506,13 @@ def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     t0 = time.perf_counter()
     Kd, fd = apply_dirichlet(prob.K.tobsr(blocksize=(3, 3)), np.zeros(prob.dofs), fixed, vals)
     row["dirichlet_s"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    solver = amg_solver(Kd, coords=prob.mesh.p, fixed=fixed, tol=1e-10)
-    u = solver.solve(fd)
-    row["elasticity_solve_s"] = time.perf_counter() - t0
+
+    def elasticity():
+        solver = amg_solver(Kd, coords=prob.mesh.p, fixed=fixed, tol=1e-10)
+        return solver, solver.solve(fd)
+
+    row["elasticity_solve_s"], row["elasticity_solve_s_pair"], (solver, u) = \
+        _faster_of_two(elasticity)
     row["elasticity_iterations"] = int(solver.info.iterations)
     row["elasticity_kind"] = ("AMG setup + CG (tol 1e-10) of the same K, final contact nodes "
                               "held along z, far field as in the last contact solve")
@@ -515,9 +550,8 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     coords = model.coordinates()[:, retained]
     row["assemble_s"] = time.perf_counter() - t0
     row["slave_nodes"] = int(pair.slave.size)
-    t0 = time.perf_counter()
-    res = solve_contact(Kr, fr, fixed_r, coords, [pair], tol=BRAKE_TOL, linear="amg")
-    row["contact_solve_s"] = time.perf_counter() - t0
+    row["contact_solve_s"], row["contact_solve_s_pair"], res = _faster_of_two(
+        lambda: solve_contact(Kr, fr, fixed_r, coords, [pair], tol=BRAKE_TOL, linear="amg"))
     row.update({"active_set_iterations": int(res.info["active_set_iterations"]),
                 "linear_iterations": int(res.info["linear_iterations"]),
                 "amg_builds": int(res.info["amg_builds"]),
@@ -549,8 +583,12 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     row["contact_step_active_set_iterations"] = int(step.info["active_set_iterations"])
     row["contact_step_diff"] = float(np.abs(step.u - res.u).max() / np.abs(res.u).max())
     del base, step
-    tied = model.solve_tied(BRAKE_PRESSURE, tol=BRAKE_TOL)
-    row["elasticity_solve_s"] = float(tied.info["amg_setup_s"] + tied.info["solve_s"])
+    pair_s = []
+    for _ in range(2):  # as _faster_of_two, on the solve's own setup + CG time
+        tied = None
+        tied = model.solve_tied(BRAKE_PRESSURE, tol=BRAKE_TOL)
+        pair_s.append(float(tied.info["amg_setup_s"] + tied.info["solve_s"]))
+    row["elasticity_solve_s"], row["elasticity_solve_s_pair"] = min(pair_s), pair_s
     row["elasticity_iterations"] = int(tied.info["iterations"])
     row["dirichlet_s"] = None
     row["elasticity_kind"] = ("BrakeModel.solve_tied (pad tied to rotor), AMG setup + CG "

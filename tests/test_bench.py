@@ -116,6 +116,8 @@ def test_contact_rows_keys_and_types(contact_rows):
             assert isinstance(row[key], typ), (row["case"], key, row[key])
         assert "direct_kkt_pardiso_s" in row  # None where pypardiso is not installed
         assert row["ratio"] == pytest.approx(row["contact_solve_s"] / row["elasticity_solve_s"])
+        for key in ("contact_solve_s", "elasticity_solve_s"):  # the faster of two runs
+            assert len(row[key + "_pair"]) == 2 and row[key] == min(row[key + "_pair"])
         assert row["active_set_iterations"] >= 1 and row["linear_iterations"] >= 1
         # the KKT system at the converged active set gives solve_contact's multipliers
         assert row["kkt_multiplier_diff"] < 1e-5
