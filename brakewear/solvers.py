@@ -286,6 +286,74 @@ def _v_cycle(ml) -> spla.LinearOperator:
                                dtype=A0.dtype)
 
 
+def _fgmres(A, b: np.ndarray, x0: np.ndarray | None, M, tol: float, restart: int,
+            maxiter: int, work: dict) -> tuple[np.ndarray, list]:
+    """Flexible GMRES, right-preconditioned (``x = x0 + Z y``), restarted.
+
+    Arnoldi by classical Gram-Schmidt applied twice (two matrix-vector
+    products with the basis per iteration, BLAS), Givens rotations for the
+    residual estimate.  pyamg's ``fgmres`` (Householder reflections applied
+    one by one, and two fresh ``restart x n`` arrays per call) cost 5-15 %
+    more per solve on the brake's contact operators for the same iterates
+    (measured: 57k, 25 iterations 0.48-0.52 s against 0.45 s; 154k, 24
+    iterations 1.34-1.52 s against 1.26-1.38 s).  ``work`` keeps the basis
+    arrays between calls.  Stops when the estimated residual is below
+    ``tol ||b||`` or after ``maxiter`` iterations; returns ``x`` and the
+    residual history (initial residual first; each cycle's last entry is
+    the true residual).
+    """
+    n = b.size
+    normb = float(np.linalg.norm(b)) or 1.0
+    x = np.zeros(n) if x0 is None else np.array(x0, dtype=float).ravel()
+    r = b - A @ x
+    beta = float(np.linalg.norm(r))
+    res = [beta]
+    key = (n, restart)
+    if work.get("key") != key:
+        work.clear()
+        work.update(key=key, V=np.empty((restart + 1, n)), Z=np.empty((restart, n)))
+    V, Z = work["V"], work["Z"]
+    its = 0
+    while beta > tol * normb and its < maxiter:
+        H = np.zeros((restart + 1, restart))
+        cs, sn = np.zeros(restart), np.zeros(restart)
+        g = np.zeros(restart + 1)
+        g[0] = beta
+        np.multiply(r, 1.0 / beta, out=V[0])
+        k = 0
+        for j in range(restart):
+            Z[j] = M @ V[j]
+            w = A @ Z[j]
+            h = V[:j + 1] @ w
+            w -= h @ V[:j + 1]
+            h2 = V[:j + 1] @ w  # the second pass: orthogonal to rounding
+            w -= h2 @ V[:j + 1]
+            col = np.empty(j + 2)
+            col[:j + 1] = h + h2
+            hn = float(np.linalg.norm(w))
+            col[j + 1] = hn
+            for i in range(j):  # the earlier rotations on the new column
+                col[i], col[i + 1] = (cs[i] * col[i] + sn[i] * col[i + 1],
+                                      -sn[i] * col[i] + cs[i] * col[i + 1])
+            d = float(np.hypot(col[j], col[j + 1]))
+            cs[j], sn[j] = (col[j] / d, col[j + 1] / d) if d > 0 else (1.0, 0.0)
+            col[j], col[j + 1] = d, 0.0
+            g[j + 1], g[j] = -sn[j] * g[j], cs[j] * g[j]
+            H[:j + 2, j] = col
+            its += 1
+            k = j + 1
+            res.append(abs(g[j + 1]))
+            if res[-1] <= tol * normb or hn == 0.0 or its >= maxiter:
+                break
+            np.multiply(w, 1.0 / hn, out=V[j + 1])
+        y = np.linalg.solve(H[:k, :k], g[:k]) if k else np.zeros(0)
+        x += y @ Z[:k]
+        r = b - A @ x
+        beta = float(np.linalg.norm(r))
+        res[-1] = beta
+    return x, res
+
+
 class AMGSolver:
     """Smoothed-aggregation AMG hierarchy + preconditioned CG.
 
@@ -321,6 +389,7 @@ class AMGSolver:
         self.options.update(sa_options)
         self.info = SolveInfo()
         self.builds = 0
+        self._krylov_work = {}  # FGMRES basis arrays, shared with refreshed copies
         self.rebuild(A)
 
     def rebuild(self, A: sp.spmatrix | None = None) -> None:
@@ -455,11 +524,9 @@ class AMGSolver:
                 x, flag = pyamg.krylov.cg(op, b, x0=x0, tol=self.tol, maxiter=self.maxiter,
                                           M=self.M, residuals=res)
             elif krylov == "gmres":  # unsymmetric operators; right preconditioning
-                # restart 30: the solves here take 5-30 iterations, and every restart
-                # cycle allocates (and zeroes) two n x restrt arrays
-                x, flag = pyamg.krylov.fgmres(op, b, x0=x0, tol=self.tol, restrt=30,
-                                              maxiter=max(self.maxiter // 30, 2), M=self.M,
-                                              residuals=res)
+                # restart 30: the solves here take 5-30 iterations
+                x, res = _fgmres(op, b, x0, self.M, self.tol, 30, self.maxiter,
+                                 self._krylov_work)
             else:
                 raise ValueError(f"krylov = {krylov!r}; allowed: 'cg', 'gmres'")
         notes = " ".join(str(w.message).strip() for w in caught)
