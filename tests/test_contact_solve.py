@@ -249,3 +249,35 @@ def test_node_flipping_twice_under_loose_solves_turns_them_tight():
     assert np.array_equal(ref.active[0], res.active[0])
     F = ref.force[0].sum()
     assert np.abs(ref.force[0] - res.force[0]).max() < 1e-8 * F
+
+
+def test_stale_rule_reference_is_a_solve_of_at_least_four_iterations(monkeypatch):
+    """The reference rate of the stale rule comes from the first solve of >= 4 iterations:
+    a 2-iteration first solve (Hertz's, from its small initial set) reduces the residual
+    far faster per iteration than any long tight solve, which then all looked stale (at
+    491k DOFs: a 9 s rebuild per active set)."""
+    from brakewear.solvers import AMGSolver
+    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+
+    solves, refs = [], []
+    real_solve, real_stale = AMGSolver.solve, bc._stale
+
+    def solve(self, *a, **k):
+        x = real_solve(self, *a, **k)
+        solves.append((self.info.iterations, self.info.convergence_factor))
+        return x
+
+    def stale(info, ref_rate):
+        refs.append(ref_rate)
+        return real_stale(info, ref_rate)
+
+    monkeypatch.setattr(AMGSolver, "solve", solve)
+    monkeypatch.setattr(bc, "_stale", stale)
+    prob = hertz_problem(0.12)
+    res = solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair],
+                        fixed_values=prob.fixed_values(hertz_force()), linear="amg",
+                        tol=1e-10, gap_tol=GAP_TOL * DELTA)
+    assert solves[0][0] < 4, "the case should start with a short solve"
+    long_first = next(rate for its, rate in solves if its >= 4)
+    assert refs and all(r == long_first for r in refs)
+    assert res.info["amg_builds"] == 1
