@@ -50,6 +50,9 @@ treated alike.
     ``contact_outer_s`` all of them; ``p0_error``/``a_error`` at convergence.
     ``elasticity_solve_s``: AMG setup + CG of the same stiffness with the final
     contact nodes held along z by Dirichlet conditions (same tolerance 1e-10).
+    ``fixed_set_solve_s``: one ``solve_contact`` given the converged active set
+    and the last far field (its own hierarchy, CG from zero), the like-for-like
+    of the direct KKT solve at that set.
 ``brake``
     the default brake, elastic rotor, 1 MPa line pressure, ``mu = 0.4``: the
     steps of :meth:`BrakeModel.solve_contact`, ``contact_solve_s`` the
@@ -64,7 +67,9 @@ treated alike.
 system at the converged active set (:func:`kkt_system`) is factorised and
 solved with SuperLU (``direct_kkt_superlu_s``) and, if the optional
 benchmark-only package ``pypardiso`` (MKL PARDISO) is installed, PARDISO
-(``direct_kkt_pardiso_s``; None without it); ``direct_kkt_s`` is the faster,
+(``direct_kkt_pardiso_s``, real unsymmetric; for the symmetric Hertz system
+also ``direct_kkt_pardiso_sym_s``, symmetric indefinite on the upper
+triangle; None without it); ``direct_kkt_s`` is the fastest,
 ``kkt_multiplier_diff`` its ``max|lambda_kkt - lambda| / max|lambda|``
 against ``solve_contact``, ``speedup_vs_direct = direct_kkt_s /
 contact_solve_s``.  pypardiso is not a runtime dependency of brakewear.
@@ -331,7 +336,7 @@ _BRAKE_REF = (0.0025, 81_570)  # default mesh size (m) and its DOF count
 _CONTACT_TIME_KEYS = ("assemble_s", "contact_solve_s", "elasticity_solve_s", "dirichlet_s",
                       "direct_kkt_superlu_s", "direct_kkt_pardiso_s", "direct_kkt_s",
                       "contact_outer_s", "contact_hierarchy_s", "contact_step_s",
-                      "fixed_set_solve_s")
+                      "fixed_set_solve_s", "direct_kkt_pardiso_sym_s")
 
 
 def brake_resolution(target_dofs: float) -> tuple[float, "object"]:
@@ -402,8 +407,31 @@ def kkt_system(K, f, fixed, fixed_values, pair, active):
     return M, np.concatenate([rhs_u, rhs_l]), free, idx
 
 
-def _kkt_solves(M, rhs, n_u: int, lam_ref: np.ndarray, row: dict, superlu: bool = True) -> None:
-    """Factorise and solve the KKT system with SuperLU and (if installed) PARDISO."""
+def symmetric_upper(M):
+    """The upper triangle of a symmetric sparse matrix with every diagonal entry
+    stored (explicit zeros on the multiplier block), as PARDISO's symmetric
+    matrix types require; CSR with sorted indices."""
+    import scipy.sparse as sp
+
+    U = sp.triu(M, format="coo")
+    off = U.row != U.col
+    n = M.shape[0]
+    d = np.zeros(n)
+    np.add.at(d, U.row[~off], U.data[~off])
+    rows = np.concatenate([U.row[off], np.arange(n)])
+    cols = np.concatenate([U.col[off], np.arange(n)])
+    vals = np.concatenate([U.data[off], d])
+    out = sp.csr_matrix((vals, (rows, cols)), shape=M.shape)  # keeps the explicit zeros
+    out.sort_indices()
+    return out
+
+
+def _kkt_solves(M, rhs, n_u: int, lam_ref: np.ndarray, row: dict, superlu: bool = True,
+                symmetric: bool = False) -> None:
+    """Factorise and solve the KKT system with SuperLU and (if installed) PARDISO:
+    as a real unsymmetric matrix (type 11) and, for a symmetric system (no
+    friction), also as a symmetric indefinite one (type -2, Bunch-Kaufman
+    pivoting on the upper triangle: about half the factor)."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
@@ -430,6 +458,18 @@ def _kkt_solves(M, rhs, n_u: int, lam_ref: np.ndarray, row: dict, superlu: bool 
         row["kkt_multiplier_diff_pardiso"] = float(np.abs(x[n_u:] - lam_ref).max() / scale)
         if best is None or row["direct_kkt_pardiso_s"] < best[1]:
             best = ("pardiso", row["direct_kkt_pardiso_s"], row["kkt_multiplier_diff_pardiso"])
+        if symmetric:
+            solver = pypardiso.PyPardisoSolver(mtype=-2)  # real symmetric indefinite
+            t0 = time.perf_counter()
+            U = symmetric_upper(M)
+            x = solver.solve(U, rhs)
+            row["direct_kkt_pardiso_sym_s"] = time.perf_counter() - t0
+            solver.free_memory(everything=True)
+            row["kkt_multiplier_diff_pardiso_sym"] = float(np.abs(x[n_u:] - lam_ref).max()
+                                                           / scale)
+            if row["direct_kkt_pardiso_sym_s"] < best[1]:
+                best = ("pardiso-sym", row["direct_kkt_pardiso_sym_s"],
+                        row["kkt_multiplier_diff_pardiso_sym"])
     if best is not None:
         row["direct_kkt_solver"], row["direct_kkt_s"], row["kkt_multiplier_diff"] = best
 
@@ -440,6 +480,8 @@ def _contact_row_base(case: str, target: float) -> dict:
               "kkt_multiplier_diff", "kkt_multiplier_diff_superlu", "kkt_multiplier_diff_pardiso",
               "kkt_size", "p0_error", "a_error", "speedup_vs_direct"):
         row[k] = None
+    if case == "hertz":  # frictionless: its KKT system is symmetric
+        row["direct_kkt_pardiso_sym_s"] = row["kkt_multiplier_diff_pardiso_sym"] = None
     return row
 
 
@@ -497,6 +539,17 @@ def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
         "p0_error": float(out["p0_err"]), "a_error": float(out["a_err"]),
         "l2_error": float(out["l2_err"]), "gap_tol": GAP_TOL * DELTA,
     })
+    # the direct KKT solve's like-for-like, as for the brake: one solve at the converged
+    # set and the last far field from nothing (its own hierarchy, CG from zero)
+    t0 = time.perf_counter()
+    fixed_set = solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [pair],
+                              fixed_values=prob.fixed_values(F_bc), linear="amg", tol=1e-10,
+                              gap_tol=GAP_TOL * DELTA, initial_active=res.active)
+    row["fixed_set_solve_s"] = time.perf_counter() - t0
+    row["fixed_set_linear_iterations"] = int(fixed_set.info["linear_iterations"])
+    row["fixed_set_active_set_iterations"] = int(fixed_set.info["active_set_iterations"])
+    row["fixed_set_diff"] = float(np.abs(fixed_set.u - res.u).max() / np.abs(res.u).max())
+    del fixed_set
     # the same stiffness with the final contact nodes held along the normal (z)
     act = res.active[0]
     s = pair.slave[act]
@@ -524,7 +577,7 @@ def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
                                        prob.fixed_values(F_bc), pair, act)
         row["kkt_size"] = int(M.shape[0])
         _kkt_solves(M, rhs, free.size, res.force[0][idx], row,
-                    superlu=prob.dofs <= superlu_max_dofs)
+                    superlu=prob.dofs <= superlu_max_dofs, symmetric=True)
     return row
 
 

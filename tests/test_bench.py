@@ -130,11 +130,18 @@ def test_contact_rows_keys_and_types(contact_rows):
     assert brake["contact_step_diff"] < 1e-6
     assert brake["contact_step_linear_iterations"] < brake["linear_iterations"]
     # one solve at the converged set with its own hierarchy, and the speed-ups it gives
-    assert 1 <= brake["fixed_set_linear_iterations"] < brake["linear_iterations"]
-    for key, t in (("speedup_vs_direct_fixed_set", "fixed_set_solve_s"),
-                   ("speedup_vs_direct_step", "contact_step_s")):
-        assert brake[key] == pytest.approx(brake["direct_kkt_s"] / brake[t])
-    assert "speedup_vs_direct_fixed_set" not in hertz
+    for row in contact_rows:
+        assert 1 <= row["fixed_set_linear_iterations"] < row["linear_iterations"], row["case"]
+        assert row["speedup_vs_direct_fixed_set"] == pytest.approx(
+            row["direct_kkt_s"] / row["fixed_set_solve_s"])
+    assert brake["speedup_vs_direct_step"] == pytest.approx(
+        brake["direct_kkt_s"] / brake["contact_step_s"])
+    # Hertz at its converged set and last far field: one set, the same answer
+    assert hertz["fixed_set_active_set_iterations"] == 1
+    assert hertz["fixed_set_diff"] < 1e-7
+    assert "speedup_vs_direct_step" not in hertz
+    # PARDISO's symmetric mode is tried where the system is symmetric (frictionless)
+    assert "direct_kkt_pardiso_sym_s" in hertz and "direct_kkt_pardiso_sym_s" not in brake
     assert "case" in bench.format_contact_table(contact_rows)
 
 
@@ -161,6 +168,35 @@ def test_contact_kkt_system_matches_contact_solve():
     np.testing.assert_allclose(x[free.size:], res.force[0][idx],
                                atol=1e-8 * np.abs(res.force[0]).max())
     assert abs(M - M.T).max() <= 1e-12 * abs(M).max()  # frictionless: symmetric
+
+
+def test_symmetric_upper_keeps_every_diagonal_entry():
+    import scipy.sparse as sp
+
+    M = sp.csr_matrix(np.array([[4.0, 1.0, 2.0], [1.0, 3.0, 0.0], [2.0, 0.0, 0.0]]))
+    U = bench.symmetric_upper(M)
+    assert U.nnz == 5 and U.has_sorted_indices  # (2, 2) stored though zero
+    np.testing.assert_array_equal(U.toarray(), np.triu(M.toarray()))
+    np.testing.assert_array_equal(U.diagonal(), [4.0, 3.0, 0.0])
+    assert all(U.indices[U.indptr[i]] == i for i in range(3))  # diagonal first in each row
+
+
+def test_pardiso_symmetric_kkt_matches_contact_solve():
+    pytest.importorskip("pypardiso")
+    from brakewear.contact import solve_contact
+    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+
+    prob = hertz_problem(0.5)
+    vals = prob.fixed_values(hertz_force())
+    res = solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair],
+                        fixed_values=vals, linear="direct", gap_tol=GAP_TOL * DELTA)
+    M, rhs, free, idx = bench.kkt_system(prob.K, np.zeros(prob.dofs), prob.fixed, vals,
+                                         prob.pair, res.active[0])
+    row = {}
+    bench._kkt_solves(M, rhs, free.size, res.force[0][idx], row, superlu=False, symmetric=True)
+    assert row["kkt_multiplier_diff_pardiso"] < 1e-8
+    assert row["kkt_multiplier_diff_pardiso_sym"] < 1e-8
+    assert row["direct_kkt_s"] == min(row["direct_kkt_pardiso_s"], row["direct_kkt_pardiso_sym_s"])
 
 
 def test_contact_cli_json_and_parser():
