@@ -142,6 +142,14 @@ def test_contact_rows_keys_and_types(contact_rows):
     assert "speedup_vs_direct_step" not in hertz
     # PARDISO's symmetric mode is tried where the system is symmetric (frictionless)
     assert "direct_kkt_pardiso_sym_s" in hertz and "direct_kkt_pardiso_sym_s" not in brake
+    for row in contact_rows:  # the cold problem solved by a direct active-set loop
+        if row["direct_active_set_s"] is None:  # pypardiso not installed
+            assert row["speedup_vs_direct_active_set"] is None
+            continue
+        assert row["direct_active_set_same_set"], row["case"]
+        assert row["direct_active_set_force_diff"] < 1e-6
+        assert row["speedup_vs_direct_active_set"] == pytest.approx(
+            row["direct_active_set_s"] / row["contact_solve_s"])
     assert "case" in bench.format_contact_table(contact_rows)
 
 
@@ -151,7 +159,9 @@ def test_contact_direct_skipped_above_limit():
     assert row["direct_kkt_pardiso_s"] is None and row["speedup_vs_direct"] is None
 
 
-def test_contact_kkt_system_matches_contact_solve():
+@pytest.fixture(scope="module")
+def hertz_kkt():
+    """A coarse Hertz contact solve and the KKT system at its converged set."""
     from brakewear.contact import solve_contact
     from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
 
@@ -161,6 +171,11 @@ def test_contact_kkt_system_matches_contact_solve():
                         fixed_values=vals, linear="direct", gap_tol=GAP_TOL * DELTA)
     M, rhs, free, idx = bench.kkt_system(prob.K, np.zeros(prob.dofs), prob.fixed, vals,
                                          prob.pair, res.active[0])
+    return res, M, rhs, free, idx
+
+
+def test_contact_kkt_system_matches_contact_solve(hertz_kkt):
+    res, M, rhs, free, idx = hertz_kkt
     import scipy.sparse.linalg as spla
 
     x = spla.spsolve(M.tocsc(), rhs)
@@ -181,22 +196,34 @@ def test_symmetric_upper_keeps_every_diagonal_entry():
     assert all(U.indices[U.indptr[i]] == i for i in range(3))  # diagonal first in each row
 
 
-def test_pardiso_symmetric_kkt_matches_contact_solve():
+def test_pardiso_symmetric_kkt_matches_contact_solve(hertz_kkt):
+    pytest.importorskip("pypardiso")
+    res, M, rhs, free, idx = hertz_kkt
+    row = {}
+    bench._kkt_solves(M, rhs, free.size, res.force[0][idx], row, superlu=False, symmetric=True)
+    assert row["kkt_multiplier_diff_pardiso"] < 1e-8
+    assert row["kkt_multiplier_diff_pardiso_sym"] < 1e-8
+    assert row["direct_kkt_s"] == min(row["direct_kkt_pardiso_s"], row["direct_kkt_pardiso_sym_s"])
+
+
+def test_direct_active_set_finds_the_contact_solution():
+    """The PARDISO active-set loop (the direct solve of a cold problem) ends at
+    solve_contact's set and forces; a budget it cannot meet raises."""
     pytest.importorskip("pypardiso")
     from brakewear.contact import solve_contact
     from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
 
     prob = hertz_problem(0.5)
     vals = prob.fixed_values(hertz_force())
+    args = (prob.K, np.zeros(prob.dofs), prob.fixed, vals, prob.pair, GAP_TOL * DELTA)
     res = solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair],
                         fixed_values=vals, linear="direct", gap_tol=GAP_TOL * DELTA)
-    M, rhs, free, idx = bench.kkt_system(prob.K, np.zeros(prob.dofs), prob.fixed, vals,
-                                         prob.pair, res.active[0])
-    row = {}
-    bench._kkt_solves(M, rhs, free.size, res.force[0][idx], row, superlu=False, symmetric=True)
-    assert row["kkt_multiplier_diff_pardiso"] < 1e-8
-    assert row["kkt_multiplier_diff_pardiso_sym"] < 1e-8
-    assert row["direct_kkt_s"] == min(row["direct_kkt_pardiso_s"], row["direct_kkt_pardiso_sym_s"])
+    out = bench.direct_active_set(*args, symmetric=True)
+    assert out["iterations"] >= 2  # the start set (g0 <= gap_tol) is not the answer
+    np.testing.assert_array_equal(out["active"], res.active[0])
+    np.testing.assert_allclose(out["force"], res.force[0], atol=1e-8 * res.force[0].max())
+    with pytest.raises(RuntimeError, match="no settled set in 1 iterations"):
+        bench.direct_active_set(*args, symmetric=True, max_iter=1)
 
 
 def test_contact_cli_json_and_parser():
