@@ -312,3 +312,45 @@ def test_after_the_loose_phase_medium_solves_then_one_tight_confirmation(monkeyp
     assert np.array_equal(ref.active[0], res.active[0])
     assert np.abs(ref.force[0] - res.force[0]).max() < 1e-8 * ref.force[0].sum()
     assert res.info["linear_iterations"] < ref.info["linear_iterations"]
+
+
+def test_set_operators_equal_the_full_sum_for_any_sequence_of_sets():
+    """The in-place operator of each active set is exactly Kd + dK, whatever set came before."""
+    K, f, fixed, coords, pr = two_blocks_system(4, 5, tilt=1e-4, mu=0.4)
+    N = K.shape[0]
+    is_fixed = np.zeros(N, dtype=bool)
+    is_fixed[fixed] = True
+    Kd = bc._dirichlet_base(K, is_fixed)
+    diagK = K.diagonal()
+    ops = bc._SetOperators(K, Kd, [pr], is_fixed)
+    rng = np.random.default_rng(3)
+    sets = [rng.random(pr.slave.size) < q for q in (1.0, 0.3, 0.8, 0.0, 0.5)]
+    sets.append(sets[1])  # back to an earlier set
+    for act in sets:
+        if not act.any():
+            act[0] = True
+        P, c, elim = bc._prolongation(N, [pr], [act])
+        dK = bc._mask_fixed(bc._set_delta(K, P, elim, is_fixed, diagK), is_fixed)
+        A = ops.matrix(dK)
+        ref = (Kd + dK).tocsr()
+        assert A.nnz >= ref.nnz
+        assert abs(A - ref).max() == 0.0  # the same single addition per entry
+
+
+def test_shared_hierarchy_update_uses_the_small_contact_difference():
+    """contact_preconditioner records its operator minus Kd; solve_contact then forms each
+    set's update from the two small differences -- the same as subtracting the matrices."""
+    K, f, fixed, coords, pr = two_blocks_system(5, 5, tilt=1e-4, load=-1e4, mu=0.4)
+    base = contact_preconditioner(K, fixed, coords, [pr])
+    A_base, dK_base = base.contact_delta
+    assert A_base is base.A
+    N = K.shape[0]
+    is_fixed = np.zeros(N, dtype=bool)
+    is_fixed[fixed] = True
+    Kd = bc._dirichlet_base(K, is_fixed)
+    assert abs((Kd + dK_base) - base.A.tocsr()).max() <= 1e-12 * abs(K).max()
+    res = solve_contact(K, f, fixed, coords, [pr], linear="amg", solver=base)
+    base.contact_delta = None  # without it: the full subtraction
+    full = solve_contact(K, f, fixed, coords, [pr], linear="amg", solver=base)
+    assert np.array_equal(res.active[0], full.active[0])
+    assert np.abs(res.u - full.u).max() <= 1e-9 * np.abs(full.u).max()
