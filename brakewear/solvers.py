@@ -197,6 +197,49 @@ def _batched_block_pinv():
         _pyamg_linalg.pinv_array = saved
 
 
+#: the scipy class whose ``sum_duplicates`` BSR matrices use
+_BSR_BASE = next(c for c in sp.bsr_array.__mro__ if "sum_duplicates" in c.__dict__)
+
+
+def _bsr_sum_duplicates(self) -> None:
+    """scipy's ``sum_duplicates`` of a BSR matrix, vectorised.
+
+    scipy sorts the block indices in C and then merges duplicate blocks in a
+    Python loop over every block row and block, even when there are none.
+    pyamg's energy-minimising prolongation takes ``abs(A)`` of each level's
+    BSR matrix, which runs it whenever the matrix is not flagged canonical
+    (a ``tobsr`` or a product): 3.4 s of a 10 s setup at 490k DOFs.  Same
+    result: blocks sorted by column, duplicates summed in order.
+    """
+    if self.has_canonical_format:
+        return
+    self.sort_indices()
+    ptr, ind = self.indptr, self.indices
+    n_row = ptr.size - 1
+    if ind.size:
+        rows = np.repeat(np.arange(n_row, dtype=ptr.dtype), np.diff(ptr))
+        first = np.ones(ind.size, dtype=bool)
+        first[1:] = (rows[1:] != rows[:-1]) | (ind[1:] != ind[:-1])
+        if not first.all():
+            starts = np.flatnonzero(first)
+            self.data = np.add.reduceat(self.data, starts, axis=0)
+            self.indices = ind[starts]
+            counts = np.bincount(rows[starts], minlength=n_row)
+            self.indptr = np.concatenate([[0], np.cumsum(counts)]).astype(ptr.dtype)
+    self.has_canonical_format = True
+
+
+@contextmanager
+def _vectorised_bsr_dedupe():
+    """Let BSR matrices merge duplicates with :func:`_bsr_sum_duplicates` during a setup."""
+    saved = _BSR_BASE.sum_duplicates
+    _BSR_BASE.sum_duplicates = _bsr_sum_duplicates
+    try:
+        yield
+    finally:
+        _BSR_BASE.sum_duplicates = saved
+
+
 _BLAS_CONTROLS: list | None = None
 
 
@@ -403,7 +446,8 @@ class AMGSolver:
         rng_state = np.random.get_state()
         np.random.seed(20091)
         try:
-            with _single_pass_spectral_radius(), _single_threaded_blas(), _batched_block_pinv():
+            with _single_pass_spectral_radius(), _single_threaded_blas(), _batched_block_pinv(), \
+                    _vectorised_bsr_dedupe():
                 self.ml = pyamg.smoothed_aggregation_solver(self.A, B=self.B, presmoother=None,
                                                             postsmoother=None, **self.options)
         finally:

@@ -172,3 +172,35 @@ def test_batched_block_pinv_is_pyamgs():
     spd = a[1:3].copy()
     _block_pinv(spd)
     assert np.allclose(spd @ a[1:3], np.eye(6), atol=1e-9)
+
+
+@pytest.mark.parametrize("duplicates", [False, True])
+def test_vectorised_bsr_sum_duplicates_is_scipys(duplicates):
+    """Unsorted blocks (as from tobsr) and, if asked, duplicate ones: the same
+    arrays as scipy's own loop, and the patch is undone after the setup."""
+    from brakewear.solvers import _BSR_BASE, _bsr_sum_duplicates, _vectorised_bsr_dedupe
+
+    rng = np.random.default_rng(4)
+    n_brow, per_row = 50, 6
+    rows = np.repeat(np.arange(n_brow), per_row)
+    cols = np.concatenate([rng.permutation(40)[:per_row] for _ in range(n_brow)])
+    if duplicates:
+        cols[1::per_row] = cols[::per_row]  # the second block of each row repeats the first
+    indptr = np.arange(0, rows.size + 1, per_row)
+    data = rng.normal(size=(rows.size, 3, 3))
+
+    def make():
+        return sp.bsr_array((data.copy(), cols.copy(), indptr.copy()), shape=(150, 120))
+
+    ref, got = make(), make()
+    assert not got.has_canonical_format
+    _BSR_BASE.sum_duplicates(ref)
+    _bsr_sum_duplicates(got)
+    assert got.has_canonical_format
+    for name in ("indptr", "indices", "data"):
+        np.testing.assert_array_equal(getattr(got, name), getattr(ref, name), err_msg=name)
+    np.testing.assert_allclose(got.toarray(), make().toarray(), atol=1e-14)
+    saved = _BSR_BASE.sum_duplicates
+    with _vectorised_bsr_dedupe():
+        assert _BSR_BASE.sum_duplicates is _bsr_sum_duplicates
+    assert _BSR_BASE.sum_duplicates is saved
