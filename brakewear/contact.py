@@ -543,9 +543,10 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     a second).  While the set moves, the first solve stops at
     ``1e-2`` and later ones at a tenth of their warm-start residual; once it
     repeats (or an edge node flips twice), the solves stop at ``1e-6`` while
-    the set still changes, and one solve to ``tol`` confirms the last one.  The near-nullspace keeps
-    the rigid-body modes on the dummy DOFs, so a hierarchy built at one set
-    still serves the others (33 instead of 44 CG iterations, measured).
+    the set still changes, and one solve to ``tol`` confirms the last one.
+    The near-nullspace keeps the rigid-body modes on the dummy DOFs, so a
+    hierarchy built at one set still serves the others (33 instead of 44 CG
+    iterations, measured).
     """
     from .solvers import amg_solver, direct_solve
 
@@ -839,13 +840,13 @@ class _SetOperators:
         code.sort_indices()
         self.shape = Kd.shape
         self.indptr, self.indices = code.indptr, code.indices
-        self.kd = np.zeros(code.nnz)
-        self.kd[code.data != 2.0] = Kd.data
-        self.zpos = np.flatnonzero(code.data >= 2.0)
+        self.data = np.zeros(code.nnz)  # the buffer, Kd's values to start with
+        self.data[code.data != 2.0] = Kd.data
+        self.zpos = np.flatnonzero(code.data >= 2.0)  # where a difference may go
+        self.kd_z = self.data[self.zpos].copy()       # Kd's values there
         zrow = np.searchsorted(self.indptr, self.zpos, side="right") - 1
         self.zkeys = zrow.astype(np.int64) * N + self.indices[self.zpos]
-        self.data = self.kd.copy()
-        self.current = np.zeros(0, dtype=np.int64)
+        self.current = np.zeros(0, dtype=np.int64)    # the entries of zpos changed now
 
     def matrix(self, dK) -> sp.csr_matrix:
         """``Kd + dK`` on the shared pattern and buffer."""
@@ -856,10 +857,9 @@ class _SetOperators:
         i = np.minimum(np.searchsorted(self.zkeys, keys), self.zkeys.size - 1)
         if not np.array_equal(self.zkeys[i], keys):  # cannot happen: Z is a structural superset
             raise RuntimeError("contact difference outside the all-active pattern")
-        pos = self.zpos[i]
-        self.data[self.current] = self.kd[self.current]
-        self.data[pos] = self.kd[pos] + dK.data
-        self.current = pos
+        self.data[self.zpos[self.current]] = self.kd_z[self.current]
+        self.data[self.zpos[i]] = self.kd_z[i] + dK.data
+        self.current = i
         return sp.csr_matrix((self.data, self.indices, self.indptr), shape=self.shape)
 
 
