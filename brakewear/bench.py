@@ -841,28 +841,24 @@ def format_contact_table(rows: Sequence[dict]) -> str:
                    f"{_fmt(r.get('speedup_vs_direct'), '8.1f'):>8} "
                    f"{_fmt(r.get('kkt_multiplier_diff'), '8.1e'):>8} "
                    f"{_fmt(r.get('p0_error'), '+8.3f'):>8} {_fmt(r.get('a_error'), '+8.3f'):>8}")
-    steps = [r for r in rows if r.get("contact_step_s") is not None]
-    if steps:
-        out.append("wear step (shared hierarchy, from the converged set): " + "; ".join(
-            f"{r['case']} {r['dofs']} DOFs: hierarchy {r['contact_hierarchy_s']:.2f} s once, "
-            f"step {r['contact_step_s']:.2f} s ({r['contact_step_linear_iterations']} its)"
-            for r in steps))
-    fixed = [r for r in rows if r.get("fixed_set_solve_s") is not None]
-    if fixed:
-        out.append("one solve at the converged set, own hierarchy (the direct solve's "
-                   "like-for-like): " + "; ".join(
-                       f"{r['case']} {r['dofs']} DOFs: {r['fixed_set_solve_s']:.2f} s "
-                       f"({r['fixed_set_linear_iterations']} its)"
-                       + (f", direct / this {r['speedup_vs_direct_fixed_set']:.1f}"
-                          if r.get("speedup_vs_direct_fixed_set") is not None else "")
-                       for r in fixed))
-    das = [r for r in rows if r.get("direct_active_set_s") is not None]
-    if das:
-        out.append("the cold problem solved directly (PARDISO on the KKT system of every "
-                   "active set): " + "; ".join(
-                       f"{r['case']} {r['dofs']} DOFs: {r['direct_active_set_s']:.2f} s "
-                       f"({r['direct_active_set_iterations']} sets), direct / contact "
-                       f"{r['speedup_vs_direct_active_set']:.1f}" for r in das))
+    def summary(key, title, item):  # one line over the rows that have ``key``
+        have = [r for r in rows if r.get(key) is not None]
+        if have:
+            out.append(title + ": " + "; ".join(
+                f"{r['case']} {r['dofs']} DOFs: " + item(r) for r in have))
+
+    summary("contact_step_s", "wear step (shared hierarchy, from the converged set)",
+            lambda r: f"hierarchy {r['contact_hierarchy_s']:.2f} s once, step "
+                      f"{r['contact_step_s']:.2f} s ({r['contact_step_linear_iterations']} its)")
+    summary("fixed_set_solve_s", "one solve at the converged set, own hierarchy (the direct "
+            "solve's like-for-like)",
+            lambda r: f"{r['fixed_set_solve_s']:.2f} s ({r['fixed_set_linear_iterations']} its)"
+                      + (f", direct / this {r['speedup_vs_direct_fixed_set']:.1f}"
+                         if r.get("speedup_vs_direct_fixed_set") is not None else ""))
+    summary("direct_active_set_s", "the cold problem solved directly (PARDISO on the KKT "
+            "system of every active set)",
+            lambda r: f"{r['direct_active_set_s']:.2f} s ({r['direct_active_set_iterations']} "
+                      f"sets), direct / contact {r['speedup_vs_direct_active_set']:.1f}")
     out.append("ratio = contact / elasticity solve; speed-up = best direct KKT / contact solve; "
                "lam diff = max|lam_kkt - lam| / max|lam|")
     return "\n".join(out)
