@@ -25,6 +25,8 @@ import scipy.sparse.linalg as spla
 import skfem as fem
 from scipy.spatial import cKDTree
 
+from .solvers import PatchedMatrix
+
 logger = logging.getLogger(__name__)
 
 __all__ = [
@@ -588,7 +590,9 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     Kd = _dirichlet_base(K, is_fixed)
     diagK = K.diagonal()
     base = solver  # the hierarchy every refresh starts from; never modified here
+    bodies = False  # node labels of K's bodies for the hierarchy's aggregates, when needed
     fine = None    # _SetOperators, from the second active set on
+    coarse = None  # the base hierarchy's coarse operators in place (AMGSolver.level_buffers)
     work = None    # the preconditioner of the current active set
     set_key = None
     # inexact phase: while the active set moves, each solve only has to cut its
@@ -638,16 +642,22 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
             if linear == "amg":
                 if base is None or (ref_rate is not None and _stale(work.info, ref_rate)):
                     # the first set, or the aggregates have gone stale: a hierarchy of this set
+                    if bodies is False:
+                        bodies = _bodies(K)
                     base = amg_solver(A.tobsr(blocksize=(3, 3)),
-                                      B=_reduced_modes(coords, pairs, active, fixed), tol=tol)
+                                      B=_reduced_modes(coords, pairs, active, fixed), tol=tol,
+                                      bodies=bodies)
                     base_delta = dK
                     builds += 1
                     work = base
                 else:  # same aggregates, operators of this set (base left as it is)
                     # A - base.A from the two small contact differences: at 490k DOFs the
                     # subtraction of the two full matrices took 0.7 s per set
+                    if fine is not None and (coarse is None or coarse.ml is not base.ml):
+                        coarse = base.level_buffers(fine.Z)
                     work = base.refreshed(A, depth=_REFRESH_DEPTH,
-                                          dA=None if base_delta is None else dK - base_delta)
+                                          dA=None if base_delta is None else dK - base_delta,
+                                          buffers=coarse)
                     refreshes += 1
         if linear == "direct":
             x = direct_solve(Aop, bd)
@@ -808,18 +818,19 @@ def _set_delta(K, P, elim, is_fixed, diagK):
     return delta
 
 
-class _SetOperators:
-    """``Kd + dK`` for every active set of one solve on a single sparsity pattern.
+class _SetOperators(PatchedMatrix):
+    """``Kd + dK`` for every active set of one solve on a single sparsity pattern
+    (:class:`~brakewear.solvers.PatchedMatrix`).
 
-    The pattern is the union of ``Kd``'s and of the structural pattern of the
-    difference with *every* slave node active (absolute values multiplied, so
-    no cancellation drops an entry), which contains the difference of any
-    active set.  The values live in one buffer: a new set restores the
-    previous set's entries to ``Kd`` and adds its own -- work in the size of
-    the difference, where ``Kd + dK`` is a pass over the whole matrix (at 490k
-    DOFs, 21M entries: 0.4-0.6 s per set).  The matrix of the previous set is
-    overwritten, so only the current one may be used.  Entries equal ``Kd +
-    dK`` exactly (the same single addition), plus explicit zeros.
+    The pattern is the union of ``Kd``'s and of the structural pattern ``Z``
+    of the difference with *every* slave node active (absolute values
+    multiplied, so no cancellation drops an entry) and the slave DOFs'
+    diagonal (the dummy rows), which contains the difference of any active
+    set.  A new set restores the previous set's entries to ``Kd`` and adds
+    its own -- work in the size of the difference, where ``Kd + dK`` is a
+    pass over the whole matrix (at 490k DOFs, 21M entries: 0.4-0.6 s per
+    set).  ``Z`` also gives the coarse levels' patterns
+    (:meth:`~brakewear.solvers.AMGSolver.level_buffers`).
     """
 
     def __init__(self, K, Kd, pairs, is_fixed):
@@ -830,37 +841,13 @@ class _SetOperators:
         rows = np.flatnonzero(np.diff(D.indptr))
         Dr, Kr = D[rows], abs(K[rows])
         KD = (Kr.T @ Dr).tocsr()
-        Z = KD + KD.T + Dr.T @ (Kr[:, rows] @ Dr) + sp.identity(N, format="csr")
-        Z = _mask_fixed(Z, is_fixed)
-        Kd = Kd.tocsr()
-        Kd.sum_duplicates()
-        # 1 = Kd only, 2 = Z only, 3 = both: Kd's entries are those with an odd code, in order
-        code = (sp.csr_matrix((np.ones(Kd.nnz), Kd.indices, Kd.indptr), shape=Kd.shape)
-                + sp.csr_matrix((np.full(Z.nnz, 2.0), Z.indices, Z.indptr), shape=Z.shape))
-        code.sort_indices()
-        self.shape = Kd.shape
-        self.indptr, self.indices = code.indptr, code.indices
-        self.data = np.zeros(code.nnz)  # the buffer, Kd's values to start with
-        self.data[code.data != 2.0] = Kd.data
-        self.zpos = np.flatnonzero(code.data >= 2.0)  # where a difference may go
-        self.kd_z = self.data[self.zpos].copy()       # Kd's values there
-        zrow = np.searchsorted(self.indptr, self.zpos, side="right") - 1
-        self.zkeys = zrow.astype(np.int64) * N + self.indices[self.zpos]
-        self.current = np.zeros(0, dtype=np.int64)    # the entries of zpos changed now
-
-    def matrix(self, dK) -> sp.csr_matrix:
-        """``Kd + dK`` on the shared pattern and buffer."""
-        dK = dK.tocsr()
-        dK.sum_duplicates()
-        N = self.shape[0]
-        keys = np.repeat(np.arange(N, dtype=np.int64), np.diff(dK.indptr)) * N + dK.indices
-        i = np.minimum(np.searchsorted(self.zkeys, keys), self.zkeys.size - 1)
-        if not np.array_equal(self.zkeys[i], keys):  # cannot happen: Z is a structural superset
-            raise RuntimeError("contact difference outside the all-active pattern")
-        self.data[self.zpos[self.current]] = self.kd_z[self.current]
-        self.data[self.zpos[i]] = self.kd_z[i] + dK.data
-        self.current = i
-        return sp.csr_matrix((self.data, self.indices, self.indptr), shape=self.shape)
+        dofs = np.unique(np.concatenate([3 * pr.slave[:, None] + np.arange(3) for pr in pairs]
+                                        ).ravel())
+        Z = KD + KD.T + Dr.T @ (Kr[:, rows] @ Dr) + sp.csr_matrix(
+            (np.ones(dofs.size), (dofs, dofs)), shape=(N, N))
+        self.Z = _mask_fixed(Z, is_fixed)
+        self.Z.eliminate_zeros()
+        super().__init__(Kd, self.Z)
 
 
 def _contact_system(K, Kd, f, pairs, active, P, c, elim, is_fixed, u_fixed, frictional,
@@ -944,7 +931,7 @@ def contact_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray
     A, _, _, dK = _contact_system(K, _dirichlet_base(K, is_fixed), np.zeros(N), pairs, active,
                                   P, c, elim, is_fixed, np.zeros(N), False)
     solver = amg_solver(A.tobsr(blocksize=(3, 3)), B=_reduced_modes(coords, pairs, active, fixed),
-                        tol=tol)
+                        tol=tol, bodies=_bodies(K))
     # its operator minus the Dirichlet-masked K, valid while solver.A is this operator:
     # solve_contact forms each set's update from it instead of subtracting two full matrices
     solver.contact_delta = (solver.A, dK)
@@ -988,6 +975,19 @@ def _conservative_update(active, lam, gaps, gap_tol, ltol):
     worst = min((float(np.min(np.where(a, l, np.inf))) for a, l in zip(active, lam) if a.any()),
                 default=0.0)
     return [a & ~((l < 0.5 * worst) & (l < -lt)) for a, l, lt in zip(active, lam, ltol)]
+
+
+def _bodies(K: sp.csr_matrix) -> np.ndarray | None:
+    """Body label per node: the connected components of ``K``'s node graph
+    (contact couples bodies only through the constraints); None for one body."""
+    from scipy.sparse.csgraph import connected_components
+
+    K = K.tocsr()
+    first = K[::3]  # a node's x row couples to every node its y and z rows do
+    graph = sp.csr_matrix((np.ones(first.nnz, dtype=np.int8), first.indices // 3,
+                           first.indptr), shape=(K.shape[0] // 3, K.shape[0] // 3))
+    n, labels = connected_components(graph, directed=False)
+    return labels if n > 1 else None
 
 
 def _reduced_modes(coords, pairs, active, fixed):

@@ -354,3 +354,17 @@ def test_shared_hierarchy_update_uses_the_small_contact_difference():
     full = solve_contact(K, f, fixed, coords, [pr], linear="amg", solver=base)
     assert np.array_equal(res.active[0], full.active[0])
     assert np.abs(res.u - full.u).max() <= 1e-9 * np.abs(full.u).max()
+
+
+def test_bodies_are_the_components_of_the_stiffness():
+    """The hierarchy's aggregates stay inside the bodies of K: two blocks, two labels;
+    one block alone, no split."""
+    K, f, fixed, coords, pr = two_blocks_system(3, 4)
+    labels = bc._bodies(K)
+    assert labels is not None and labels.shape == (K.shape[0] // 3,)
+    assert np.unique(labels).size == 2
+    lower = labels[coords[2] < -0.5]
+    upper = labels[pr.slave]  # the upper block's bottom face
+    assert np.unique(lower).size == 1 and np.unique(upper).size == 1 and lower[0] != upper[0]
+    nL = int(pr.slave.min())  # the upper block's nodes come after the lower block's
+    assert bc._bodies(K[:3 * nL, :3 * nL]) is None

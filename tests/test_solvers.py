@@ -204,3 +204,116 @@ def test_vectorised_bsr_sum_duplicates_is_scipys(duplicates):
     with _vectorised_bsr_dedupe():
         assert _BSR_BASE.sum_duplicates is _bsr_sum_duplicates
     assert _BSR_BASE.sum_duplicates is saved
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_patched_matrix_is_the_sum_for_any_sequence_of_differences(seed):
+    """M + D on the shared buffer, entry for entry, whatever difference came before;
+    with Z inside M's pattern the structure is M's own arrays."""
+    from brakewear.solvers import PatchedMatrix
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(5, 60))
+    M = sp.random(n, n, density=0.3, random_state=seed, format="csr")
+    M.sum_duplicates()  # canonical, as the levels of a hierarchy are
+    Z = sp.random(n, n, density=0.1, random_state=seed + 100, format="csr")
+    inside = seed % 2 == 0
+    if inside:  # the coarse-level case: the pattern holds every difference already
+        Z = sp.csr_matrix((np.ones(M.nnz), M.indices, M.indptr), shape=M.shape)
+        Z = Z.multiply(rng.random((n, n)) < 0.5).tocsr()
+    pm = PatchedMatrix(M, Z)
+    if inside:
+        assert np.shares_memory(pm.indices, M.indices) and np.shares_memory(pm.indptr, M.indptr)
+    M0 = M.copy()
+    for _ in range(4):
+        D = Z.copy()
+        D.data = rng.normal(size=D.nnz)
+        D = D.multiply(rng.random((n, n)) < 0.6).tocsr()
+        A = pm.matrix(D)
+        assert np.array_equal(A.toarray(), (M + D).toarray())
+    assert (M != M0).nnz == 0, "M itself changed"
+    outside = sp.csr_matrix(([1.0], ([0], [0])), shape=M.shape)
+    if Z[0, 0] == 0:
+        with pytest.raises(ValueError, match="outside the pattern"):
+            pm.matrix(outside)
+
+
+def two_rings(ring):
+    """Two copies of the ring, the second's inner face tied to the first's outer one
+    by springs: a two-body operator."""
+    m, K, Kd, fd, fixed = ring
+    n = Kd.shape[0]
+    A = sp.block_diag([Kd, Kd], format="csr")
+    r = np.hypot(m.p[0], m.p[1])
+    outer = np.flatnonzero(np.isclose(r, r.max()))[:20]
+    k = Kd.diagonal().max()
+    dofs = (3 * outer[:, None] + np.arange(3)).ravel()
+    rows = np.concatenate([dofs, dofs + n, dofs, dofs + n])
+    cols = np.concatenate([dofs, dofs + n, dofs + n, dofs])
+    vals = np.concatenate([np.full(2 * dofs.size, k), np.full(2 * dofs.size, -k)])
+    A = (A + sp.csr_matrix((vals, (rows, cols)), shape=A.shape)).tocsr()
+    coords = np.hstack([m.p, m.p])
+    fixed2 = np.concatenate([fixed, fixed + n])
+    labels = np.repeat([0, 1], n // 3)
+    return A, np.concatenate([fd, fd]), coords, fixed2, labels
+
+
+def test_bodies_keep_every_prolongator_inside_its_body(ring):
+    A, f, coords, fixed, labels = two_rings(ring)
+
+    def shared_columns(s):
+        """Coarse DOFs of the first level that take values in both bodies."""
+        P = sp.csc_matrix(s.ml.levels[0].P)
+        body = np.repeat(labels, 3)[P.indices]
+        col = np.repeat(np.arange(P.shape[1]), np.diff(P.indptr))
+        lo = np.full(P.shape[1], 2)
+        hi = np.full(P.shape[1], -1)
+        np.minimum.at(lo, col, body)
+        np.maximum.at(hi, col, body)
+        return int(np.count_nonzero(lo < hi))
+
+    split = amg_solver(A.tobsr(blocksize=(3, 3)), coords=coords, fixed=fixed, tol=1e-10,
+                       bodies=labels)
+    joint = amg_solver(A.tobsr(blocksize=(3, 3)), coords=coords, fixed=fixed, tol=1e-10)
+    assert shared_columns(joint) > 0, "the springs are too weak to matter"
+    assert shared_columns(split) == 0, "a prolongator couples two bodies"
+    x = split.solve(f)
+    assert np.linalg.norm(A @ x - f) <= 1e-9 * np.linalg.norm(f)
+    with pytest.raises(ValueError, match="bodies has shape"):
+        amg_solver(A.tobsr(blocksize=(3, 3)), coords=coords, fixed=fixed, bodies=labels[:-1])
+    with pytest.raises(ValueError, match="strength 'symmetric'"):
+        amg_solver(A.tobsr(blocksize=(3, 3)), coords=coords, fixed=fixed, bodies=labels,
+                   strength=("classical", {}))
+
+
+def test_level_buffers_give_the_same_levels_as_the_full_sums(ring):
+    """refreshed(..., buffers=) writes the coarse operators in place: the same values as
+    the full sums, for any sequence of differences inside the pattern."""
+    m, K, Kd, fd, fixed = ring
+    base = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-10)
+    Kd = Kd.tocsr()
+    free = np.setdiff1d(np.arange(Kd.shape[0]), fixed)
+    rng = np.random.default_rng(1)
+    pick = rng.choice(free, 30, replace=False)
+    Z = sp.csr_matrix((np.ones(pick.size ** 2), (np.repeat(pick, pick.size),
+                                                 np.tile(pick, pick.size))), shape=Kd.shape)
+    buffers = base.level_buffers(Z)
+    before = [lv.A.copy() for lv in base.ml.levels]
+    for trial in range(3):
+        sub = pick[rng.random(pick.size) < 0.6]
+        c = 0.05 * Kd.diagonal()[sub].min()
+        dA = sp.csr_matrix((np.full(sub.size, c), (sub, sub)), shape=Kd.shape)
+        dA = dA + sp.csr_matrix((np.full(sub.size - 1, -0.3 * c), (sub[:-1], sub[1:])),
+                                shape=Kd.shape)
+        dA = (dA + dA.T).tocsr()
+        A = (Kd + dA).tocsr()
+        fast = base.refreshed(A, dA=dA, buffers=buffers)
+        full = base.refreshed(A, dA=dA)
+        for k, (a, b) in enumerate(zip(fast.ml.levels, full.ml.levels)):
+            assert abs(a.A - b.A).max() <= 1e-14 * abs(b.A).max(), f"set {trial}, level {k}"
+        assert np.array_equal(fast.solve(fd), full.solve(fd))
+    for lv, A0 in zip(base.ml.levels, before):
+        assert (lv.A != A0).nnz == 0, "the buffers changed the base hierarchy"
+    other = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-10)
+    with pytest.raises(ValueError, match="another hierarchy"):
+        other.refreshed(Kd, buffers=buffers)
