@@ -593,6 +593,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     bodies = False  # node labels of K's bodies for the hierarchy's aggregates, when needed
     fine = None    # _SetOperators, from the second active set on
     coarse = None  # the base hierarchy's coarse operators in place (AMGSolver.level_buffers)
+    refreshes_of_base = 0
     work = None    # the preconditioner of the current active set
     set_key = None
     # inexact phase: while the active set moves, each solve only has to cut its
@@ -644,35 +645,43 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
                     # the first set, or the aggregates have gone stale: a hierarchy of this set
                     if bodies is False:
                         bodies = _bodies(K)
+                    # the set's CSR operator serves as the finest level unless it lives
+                    # in fine's buffer, which the next set overwrites
                     base = amg_solver(A.tobsr(blocksize=(3, 3)),
                                       B=_reduced_modes(coords, pairs, active, fixed), tol=tol,
-                                      bodies=bodies)
+                                      bodies=bodies, fine_csr=A if fine is None else None)
                     base_delta = dK
                     builds += 1
+                    refreshes_of_base = 0
                     work = base
                 else:  # same aggregates, operators of this set (base left as it is)
                     # A - base.A from the two small contact differences: at 490k DOFs the
                     # subtraction of the two full matrices took 0.7 s per set
-                    if fine is not None and (coarse is None or coarse.ml is not base.ml):
+                    # coarse operators in place from the second refresh of a hierarchy on:
+                    # their setup (1-1.8 s at 490k: a copy of every coarse level) pays
+                    # from about the third set, a full sum per level costing 0.3-0.5 s
+                    if fine is not None and refreshes_of_base >= 1 and \
+                            (coarse is None or coarse.ml is not base.ml):
                         coarse = base.level_buffers(fine.Z)
                     work = base.refreshed(A, depth=_REFRESH_DEPTH,
                                           dA=None if base_delta is None else dK - base_delta,
                                           buffers=coarse)
                     refreshes += 1
+                    refreshes_of_base += 1
         if linear == "direct":
             x = direct_solve(Aop, bd)
             its = "direct"
         else:
             work.tol = tol
+            rtol0 = None
             if tight and medium:
                 work.tol = max(tol, _MEDIUM)
             elif not tight:
                 if x is None:
                     work.tol = max(tol, _FIRST)
-                else:
-                    r0 = np.linalg.norm(bd - Aop @ x) / max(np.linalg.norm(bd), 1e-300)
-                    work.tol = max(tol, _INEXACT * r0)
-            x = work.solve(bd, x0=x, A=Aop, krylov="gmres" if frictional else "cg")
+                else:  # cut the warm start's residual by _INEXACT
+                    rtol0 = _INEXACT
+            x = work.solve(bd, x0=x, A=Aop, krylov="gmres" if frictional else "cg", rtol0=rtol0)
             its = work.info.iterations
             if ref_rate is None and its >= 4:
                 # the reference rate of this hierarchy: a solve of at least 4 iterations
@@ -801,11 +810,17 @@ def _mask_fixed_rows(M: sp.spmatrix, is_fixed: np.ndarray) -> sp.csr_matrix:
 
 
 def _dirichlet_base(K: sp.csr_matrix, is_fixed: np.ndarray) -> sp.csr_matrix:
-    """``K`` with the rows and columns of supported DOFs zeroed, their diagonal kept."""
-    diag = K.diagonal()
-    Kd = _mask_fixed(K, is_fixed)
-    idx = np.flatnonzero(is_fixed)
-    return (Kd + sp.csr_matrix((diag[idx], (idx, idx)), shape=K.shape)).tocsr()
+    """``K`` with the rows and columns of supported DOFs zeroed, their diagonal kept
+    (one filtering pass; a stored diagonal entry is kept as it is)."""
+    K = K.tocsr()
+    if not K.has_canonical_format:
+        K = K.copy()
+        K.sum_duplicates()
+    row = np.repeat(np.arange(K.shape[0]), np.diff(K.indptr))
+    keep = (~is_fixed[row] & ~is_fixed[K.indices]) | (row == K.indices)
+    indptr = np.zeros(K.shape[0] + 1, dtype=K.indptr.dtype)
+    np.cumsum(np.bincount(row[keep], minlength=K.shape[0]), out=indptr[1:])
+    return sp.csr_matrix((K.data[keep], K.indices[keep], indptr), shape=K.shape)
 
 
 def _set_delta(K, P, elim, is_fixed, diagK):
@@ -931,7 +946,7 @@ def contact_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray
     A, _, _, dK = _contact_system(K, _dirichlet_base(K, is_fixed), np.zeros(N), pairs, active,
                                   P, c, elim, is_fixed, np.zeros(N), False)
     solver = amg_solver(A.tobsr(blocksize=(3, 3)), B=_reduced_modes(coords, pairs, active, fixed),
-                        tol=tol, bodies=_bodies(K))
+                        tol=tol, bodies=_bodies(K), fine_csr=A)
     # its operator minus the Dirichlet-masked K, valid while solver.A is this operator:
     # solve_contact forms each set's update from it instead of subtracting two full matrices
     solver.contact_delta = (solver.A, dK)

@@ -294,7 +294,8 @@ def test_after_the_loose_phase_medium_solves_then_one_tight_confirmation(monkeyp
     real_solve = AMGSolver.solve
 
     def solve(self, *a, **k):
-        tols.append(self.tol)
+        # a loose solve either stops at a loose tol or cuts its warm start's residual
+        tols.append(np.inf if k.get("rtol0") is not None else self.tol)
         return real_solve(self, *a, **k)
 
     monkeypatch.setattr(AMGSolver, "solve", solve)
