@@ -631,6 +631,8 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
                 fine = _SetOperators(K, Kd, pairs, is_fixed)
             A, E, bd, dK = _contact_system(K, Kd, f, pairs, active, P, c, elim, is_fixed,
                                            u_fixed, frictional, diagK, fine)
+            if x is not None:  # warm start: the last displacement in this set's unknowns
+                x = _reduced_start(u, pairs, active)
             set_key = key
             if E is None:
                 Aop = A
@@ -901,6 +903,35 @@ def _contact_system(K, Kd, f, pairs, active, P, c, elim, is_fixed, u_fixed, fric
         b = b - Au
     b[is_fixed] = diagK[is_fixed] * u_fixed[is_fixed]
     return A, E, b, dK
+
+
+def _reduced_start(u: np.ndarray, pairs, active) -> np.ndarray:
+    """The reduced unknowns ``x`` of ``active``'s system that give ``u`` as closely
+    as its constraints allow: the warm start after an active-set change.
+
+    Reusing the last set's ``x`` instead would read a released node's dummy
+    (0) as its normal displacement -- a jump of the pad's whole approach at
+    every released node -- and a new contact node's axis components as its
+    tangential coordinates (490k brake, cold solve: 66 linear iterations in
+    11 sets that way, 58 in 10 with this start; the last sets begin 3-400x
+    closer to their solution).  Here an open node takes ``u``; a contact node's
+    two retained slots take the coordinates along its tangential directions
+    ``T[a]`` (``u_s + alpha n`` with zero dominant component) and its dummy 0.
+    """
+    x = np.array(u, dtype=float)
+    for pr, act in zip(pairs, active):
+        s = pr.slave[act]
+        if s.size == 0:
+            continue
+        n = pr.normal[:, act]
+        k, slots, _ = _local_frames(n)
+        idx = np.arange(s.size)
+        us = u.reshape(-1, 3)[s]  # (ns, 3)
+        alpha = -us[idx, k] / n[k, idx]
+        for a in range(2):
+            x[3 * s + slots[:, a]] = us[idx, slots[:, a]] + alpha * n[slots[:, a], idx]
+        x[3 * s + k] = 0.0
+    return x
 
 
 def _set_key(active) -> bytes:

@@ -231,20 +231,36 @@ def test_stale_hierarchy_rule_compares_rates_not_counts():
     assert not _stale(SolveInfo(2, [1.0, 0.9, 0.8]), ref)   # too short to judge
 
 
-def test_node_flipping_twice_under_loose_solves_turns_them_tight():
-    """Hertz at h/a = 1/4 (14.6k DOFs): under loose AMG solves one edge node enters,
-    leaves and enters again (the pressure goes to zero at the edge, so the solver's
-    noise decides it).  The second flip turns every later solve tight, and the answer
-    is the one of exact (direct) solves: the same set, the same forces."""
+def test_node_flipping_twice_under_loose_solves_turns_them_tight(monkeypatch):
+    """Under loose solves an edge node can leave and re-enter (the pressure goes to zero
+    at the edge, so the solver's noise decides it).  Hertz at h/a = 1/4 (14.6k DOFs):
+    the first time the set would repeat, its least loaded node is released by hand; the
+    primal-dual rule takes it back -- its second flip, which turns every later solve
+    tight.  The answer is the one of exact (direct) solves: the same set and forces."""
     from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
 
+    real = bc._pdas_update
+    nudged = []
+
+    def update(active, lam, gaps, gap_tol, ltol):
+        new = real(active, lam, gaps, gap_tol, ltol)
+        if not nudged and all(np.array_equal(a, b) for a, b in zip(active, new)):
+            j = int(np.argmin(np.where(active[0], lam[0], np.inf)))
+            new[0] = new[0].copy()
+            new[0][j] = False
+            nudged.append(j)
+        return new
+
+    monkeypatch.setattr(bc, "_pdas_update", update)
     prob = hertz_problem(0.25)
     args = (prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair])
     kw = dict(fixed_values=prob.fixed_values(hertz_force()), gap_tol=GAP_TOL * DELTA)
     res = solve_contact(*args, linear="amg", tol=1e-10, **kw)
+    assert nudged, "the set never repeated under loose solves"
     assert res.info["tight_reason"] == "flip"
     # tight from the iteration after the flip, and only a few sets after it
     assert res.info["active_set_iterations"] - res.info["tight_from"] <= 2
+    monkeypatch.setattr(bc, "_pdas_update", real)
     ref = solve_contact(*args, linear="direct", **kw)
     assert np.array_equal(ref.active[0], res.active[0])
     F = ref.force[0].sum()
@@ -273,6 +289,9 @@ def test_stale_rule_reference_is_a_solve_of_at_least_four_iterations(monkeypatch
 
     monkeypatch.setattr(AMGSolver, "solve", solve)
     monkeypatch.setattr(bc, "_stale", stale)
+    # the loose solves after the first cut their residual 1000x instead of 10x: long
+    # enough (>= 4 iterations) to be a reference, with set changes after them
+    monkeypatch.setattr(bc, "_INEXACT", 1e-3)
     prob = hertz_problem(0.12)
     res = solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair],
                         fixed_values=prob.fixed_values(hertz_force()), linear="amg",
@@ -285,8 +304,11 @@ def test_stale_rule_reference_is_a_solve_of_at_least_four_iterations(monkeypatch
 
 def test_after_the_loose_phase_medium_solves_then_one_tight_confirmation(monkeypatch):
     """Once the loose phase ends, solves stop at 1e-6 while the set still moves, and
-    one solve to tol confirms the last set (Hertz h/a = 1/8.3, 52k DOFs: 41 -> 33
-    iterations).  The answer is the one of tight solves throughout."""
+    one solve to tol confirms the last set.  The answer is the one of tight solves
+    throughout.  (Hertz h/a = 1/8.3, 52k DOFs: 41 -> 33 iterations when each new set
+    started from the last set's unknowns; since it starts from the last displacement
+    the sets settle before the medium solves could save anything: 25 either way, and
+    at most one iteration apart on the brake and Hertz up to 490k DOFs.)"""
     from brakewear.solvers import AMGSolver
     from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
 
@@ -312,7 +334,7 @@ def test_after_the_loose_phase_medium_solves_then_one_tight_confirmation(monkeyp
     ref = solve_contact(*args, **kw)
     assert np.array_equal(ref.active[0], res.active[0])
     assert np.abs(ref.force[0] - res.force[0]).max() < 1e-8 * ref.force[0].sum()
-    assert res.info["linear_iterations"] < ref.info["linear_iterations"]
+    assert res.info["linear_iterations"] <= ref.info["linear_iterations"] + 1
 
 
 def test_set_operators_equal_the_full_sum_for_any_sequence_of_sets():
@@ -369,3 +391,22 @@ def test_bodies_are_the_components_of_the_stiffness():
     assert np.unique(lower).size == 1 and np.unique(upper).size == 1 and lower[0] != upper[0]
     nL = int(pr.slave.min())  # the upper block's nodes come after the lower block's
     assert bc._bodies(K[:3 * nL, :3 * nL]) is None
+
+
+@pytest.mark.parametrize("tilt", [0.0, 0.2])
+def test_reduced_start_recovers_the_unknowns_of_a_displacement(tilt):
+    """For a displacement that satisfies a set's constraints, the warm start of that set
+    is exactly its reduced unknowns (dummies 0), also for normals off the axes."""
+    K, f, fixed, coords, pr = two_blocks_system(3, 4, tilt=tilt)
+    N = K.shape[0]
+    if tilt:  # normals off the axes: rotate them about x
+        c, s = np.cos(tilt), np.sin(tilt)
+        pr.normal = np.array([[1, 0, 0], [0, c, -s], [0, s, c]]) @ pr.normal
+    rng = np.random.default_rng(2)
+    act = rng.random(pr.slave.size) < 0.5
+    P, cvec, elim = bc._prolongation(N, [pr], [act])
+    x = rng.normal(size=N)
+    x[elim] = 0.0
+    u = P @ x + cvec
+    x0 = bc._reduced_start(u, [pr], [act])
+    assert np.abs(x0 - x).max() <= 1e-12 * np.abs(x).max()
