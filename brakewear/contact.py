@@ -400,17 +400,22 @@ def _local_frames(n: np.ndarray):
     return k, slots, T
 
 
+def _active_frames(pairs, active):
+    """Per pair with active nodes: the pair, its mask, the active slave nodes, their
+    normals and local frames (:func:`_local_frames`)."""
+    for pr, act in zip(pairs, active):
+        s = pr.slave[act]
+        if s.size:
+            n = pr.normal[:, act]
+            yield (pr, act, s, n, *_local_frames(n))
+
+
 def _prolongation(N: int, pairs, active):
     """``u = P x + c`` for the active constraints; also the dummy DOFs."""
     elim = []
     rows, cols, vals = [], [], []
     c = np.zeros(N)
-    for pr, act in zip(pairs, active):
-        s = pr.slave[act]
-        if s.size == 0:
-            continue
-        n = pr.normal[:, act]
-        k, slots, T = _local_frames(n)
+    for pr, act, s, n, k, slots, T in _active_frames(pairs, active):
         elim.append(3 * s + k)
         for a in range(2):
             for i in range(3):
@@ -919,12 +924,7 @@ def _reduced_start(u: np.ndarray, pairs, active) -> np.ndarray:
     ``T[a]`` (``u_s + alpha n`` with zero dominant component) and its dummy 0.
     """
     x = np.array(u, dtype=float)
-    for pr, act in zip(pairs, active):
-        s = pr.slave[act]
-        if s.size == 0:
-            continue
-        n = pr.normal[:, act]
-        k, slots, _ = _local_frames(n)
+    for _, _, s, n, k, slots, _ in _active_frames(pairs, active):
         idx = np.arange(s.size)
         us = u.reshape(-1, 3)[s]  # (ns, 3)
         alpha = -us[idx, k] / n[k, idx]
