@@ -664,11 +664,11 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
                 else:  # same aggregates, operators of this set (base left as it is)
                     # A - base.A from the two small contact differences: at 490k DOFs the
                     # subtraction of the two full matrices took 0.7 s per set
-                    # coarse operators in place from the second refresh of a hierarchy on:
-                    # their setup (1-1.8 s at 490k: a copy of every coarse level) pays
-                    # from about the third set, a full sum per level costing 0.3-0.5 s
+                    # coarse operators in place from the second refresh of a big hierarchy
+                    # on (_BUFFER_MIN_NNZ)
                     if fine is not None and refreshes_of_base >= 1 and \
-                            (coarse is None or coarse.ml is not base.ml):
+                            (coarse is None or coarse.ml is not base.ml) and \
+                            sum(lv.A.nnz for lv in base.ml.levels[1:]) >= _BUFFER_MIN_NNZ:
                         coarse = base.level_buffers(fine.Z)
                     work = base.refreshed(A, depth=_REFRESH_DEPTH,
                                           dA=None if base_delta is None else dK - base_delta,
@@ -999,6 +999,13 @@ def _stale(info, ref_rate: float) -> bool:
 # every level updated, 24 for one built at that set), went stale and was rebuilt once
 # per cold solve: 9.1-9.7 s against 6.1-6.7 s with every level (57k: 72 -> 48 iterations)
 _REFRESH_DEPTH = None
+# coarse operators written in place (AMGSolver.level_buffers) only for hierarchies whose
+# coarse levels hold at least this many entries: their setup (a copy of each coarse level
+# and the search of the pushed-down pattern, which covers 14-31 % of the first coarse
+# level) cost 0.14-0.26 s on the 57k brake and 0.47 s on the 154k one, against full sums
+# of 0.02-0.04 s and about 0.08 s per refresh; at 490k (17M coarse entries) 0.9-1.8 s
+# against 0.35-0.5 s per refresh, paid back from the third or fourth set
+_BUFFER_MIN_NNZ = 10_000_000
 _SETTLING = 0.1  # an update changing at most this share of the active nodes: nearly settled
 _FIRST = 1e-2  # relative tolerance of the first, cold solve
 _MEDIUM = 1e-6  # relative tolerance of the solves after the loose phase, before the last

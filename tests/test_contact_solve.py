@@ -410,3 +410,30 @@ def test_reduced_start_recovers_the_unknowns_of_a_displacement(tilt):
     u = P @ x + cvec
     x0 = bc._reduced_start(u, [pr], [act])
     assert np.abs(x0 - x).max() <= 1e-12 * np.abs(x).max()
+
+
+def test_coarse_levels_in_place_give_the_same_solve(monkeypatch):
+    """With the coarse operators written in place (forced on for this small model) a
+    cold solve through several active sets gives the answer of full sums per level."""
+    from brakewear.solvers import AMGSolver
+
+    K, f, fixed, coords, pr = two_blocks_system(5, 6, tilt=2e-4, load=-1e4, mu=0.4)
+    calls = []
+    real = AMGSolver.level_buffers
+
+    def level_buffers(self, Z):
+        calls.append(Z.nnz)
+        return real(self, Z)
+
+    monkeypatch.setattr(AMGSolver, "level_buffers", level_buffers)
+    monkeypatch.setattr(bc, "_BUFFER_MIN_NNZ", 0)
+    fast = solve_contact(K, f, fixed, coords, [pr], linear="amg")
+    assert calls, "the buffers were not used"
+    assert fast.info["amg_refreshes"] >= 2
+    monkeypatch.setattr(bc, "_BUFFER_MIN_NNZ", np.inf)
+    n_calls = len(calls)
+    full = solve_contact(K, f, fixed, coords, [pr], linear="amg")
+    assert len(calls) == n_calls
+    assert np.array_equal(fast.active[0], full.active[0])
+    assert fast.info["linear_iterations"] == full.info["linear_iterations"]
+    assert np.abs(fast.u - full.u).max() <= 1e-12 * np.abs(full.u).max()
