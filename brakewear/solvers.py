@@ -664,33 +664,6 @@ class AMGSolver:
         logger.debug("AMG hierarchy: %d levels, operator complexity %.2f, %.2f s",
                      len(self.ml.levels), self.ml.operator_complexity(), self.setup_s)
 
-    def refresh(self, A: sp.spmatrix) -> None:
-        """Keep the aggregates and prolongators, update the level operators to ``A``.
-
-        Much cheaper than :meth:`rebuild` and nearly as good when ``A`` differs
-        from the current operator locally (a new contact active set): only the
-        difference is pushed down the hierarchy (``R dA P`` per level), and the
-        coarse factorisation is redone.
-        """
-        t0 = time.perf_counter()
-        levels = self.ml.levels
-        A = A.tocsr()
-        dA = (A - levels[0].A).tocsr()
-        dA.eliminate_zeros()
-        self.A = A
-        levels[0].A = A
-        for lo, hi in zip(levels[:-1], levels[1:]):
-            if dA.nnz == 0:
-                break
-            dA = (lo.R @ (dA @ lo.P)).tocsr()
-            dA.eliminate_zeros()
-            hi.A = (hi.A + dA).tocsr()
-        self.ml.coarse_solver = pyamg.multilevel.coarse_grid_solver(self.options["coarse_solver"])
-        change_smoothers(self.ml, *self.smoothers)
-        self.M = _v_cycle(self.ml)
-        self.refreshes = getattr(self, "refreshes", 0) + 1
-        logger.debug("AMG refresh: %.2f s", time.perf_counter() - t0)
-
     def level_buffers(self, Z: sp.spmatrix) -> LevelBuffers:
         """Buffers for :meth:`refreshed` to write the coarse operators in place.
 
@@ -718,8 +691,11 @@ class AMGSolver:
                   buffers: LevelBuffers | None = None) -> "AMGSolver":
         """A new solver for ``A`` on this hierarchy's aggregates; ``self`` is not changed.
 
-        Like :meth:`refresh` (level operators updated by ``R dA P``, coarse
-        factorisation redone) but the result is a separate object whose
+        Keeps the aggregates and prolongators and updates the level operators
+        by ``R dA P`` (the coarse factorisation redone): much cheaper than
+        :meth:`rebuild` and nearly as good when ``A`` differs from the
+        current operator locally (a new contact active set).  The result is
+        a separate object whose
         hierarchy depends only on this one and on ``A``, never on earlier
         refreshes: the base can be shared by many solves (a wear history)
         and every solve stays exactly repeatable.  ``depth``: update only
