@@ -391,6 +391,9 @@ def test_bodies_are_the_components_of_the_stiffness():
     assert np.unique(lower).size == 1 and np.unique(upper).size == 1 and lower[0] != upper[0]
     nL = int(pr.slave.min())  # the upper block's nodes come after the lower block's
     assert bc._bodies(K[:3 * nL, :3 * nL]) is None
+    # the contact hierarchy is built with them
+    base = contact_preconditioner(K, fixed, coords, [pr])
+    assert np.array_equal(base.bodies, labels)
 
 
 @pytest.mark.parametrize("tilt", [0.0, 0.2])
