@@ -317,3 +317,18 @@ def test_level_buffers_give_the_same_levels_as_the_full_sums(ring):
     other = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-10)
     with pytest.raises(ValueError, match="another hierarchy"):
         other.refreshed(Kd, buffers=buffers)
+
+
+def test_fine_csr_is_the_finest_level_and_is_checked(ring):
+    """The caller's CSR copy of A serves as the finest level (no conversion back from
+    BSR), with the same solution; a wrong one is refused before the setup."""
+    m, K, Kd, fd, fixed = ring
+    A = sp.csr_matrix(Kd)
+    s = amg_solver(A.tobsr(blocksize=(3, 3)), coords=m.p, fixed=fixed, tol=1e-10, fine_csr=A)
+    assert s.ml.levels[0].A is A
+    ref = amg_solver(A.tobsr(blocksize=(3, 3)), coords=m.p, fixed=fixed, tol=1e-10)
+    assert np.array_equal(s.solve(fd), ref.solve(fd))
+    with pytest.raises(ValueError, match="fine_csr must be A in CSR"):
+        amg_solver(A.tobsr(blocksize=(3, 3)), coords=m.p, fixed=fixed, fine_csr=A.tocsc())
+    with pytest.raises(ValueError, match="fine_csr must be A in CSR"):
+        amg_solver(A.tobsr(blocksize=(3, 3)), coords=m.p, fixed=fixed, fine_csr=A[:-3, :-3])
