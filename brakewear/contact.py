@@ -804,11 +804,15 @@ def _reduce_delta(K: sp.csr_matrix, P: sp.csr_matrix) -> sp.csr_matrix:
     return (KD + KD.T + DKD).tocsr()
 
 
-def _mask_fixed(M: sp.spmatrix, is_fixed: np.ndarray) -> sp.csr_matrix:
-    """``M`` without the rows and columns of supported DOFs (CSR, structure filtered)."""
+def _mask_fixed(M: sp.spmatrix, is_fixed: np.ndarray,
+                keep_diagonal: bool = False) -> sp.csr_matrix:
+    """``M`` without the rows and columns of supported DOFs (CSR, structure
+    filtered); with ``keep_diagonal`` their stored diagonal entries stay."""
     M = M.tocsr()
     row = np.repeat(np.arange(M.shape[0]), np.diff(M.indptr))
     keep = ~is_fixed[row] & ~is_fixed[M.indices]
+    if keep_diagonal:
+        keep |= row == M.indices
     indptr = np.zeros(M.shape[0] + 1, dtype=M.indptr.dtype)
     np.cumsum(np.bincount(row[keep], minlength=M.shape[0]), out=indptr[1:])
     return sp.csr_matrix((M.data[keep], M.indices[keep], indptr), shape=M.shape)
@@ -826,11 +830,7 @@ def _dirichlet_base(K: sp.csr_matrix, is_fixed: np.ndarray) -> sp.csr_matrix:
     if not K.has_canonical_format:
         K = K.copy()
         K.sum_duplicates()
-    row = np.repeat(np.arange(K.shape[0]), np.diff(K.indptr))
-    keep = (~is_fixed[row] & ~is_fixed[K.indices]) | (row == K.indices)
-    indptr = np.zeros(K.shape[0] + 1, dtype=K.indptr.dtype)
-    np.cumsum(np.bincount(row[keep], minlength=K.shape[0]), out=indptr[1:])
-    return sp.csr_matrix((K.data[keep], K.indices[keep], indptr), shape=K.shape)
+    return _mask_fixed(K, is_fixed, keep_diagonal=True)
 
 
 def _set_delta(K, P, elim, is_fixed, diagK):
