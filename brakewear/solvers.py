@@ -29,6 +29,7 @@ import numpy as np
 import pyamg
 import pyamg.aggregation.smooth as _pyamg_smooth
 import pyamg.util.linalg as _pyamg_linalg
+from pyamg import amg_core
 from pyamg.relaxation.smoothing import change_smoothers
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -353,7 +354,58 @@ def _single_threaded_blas():
             put(n)
 
 
-def _v_cycle(ml) -> spla.LinearOperator:
+def _reversed_csr(A: sp.csr_matrix) -> tuple:
+    """``J A J`` (``J`` the exchange matrix: rows and columns in reverse order) as CSR arrays.
+
+    Row ``k`` of the result is row ``n-1-k`` of ``A`` with its entries in
+    reverse order, so the whole value array is ``A.data`` reversed.
+    Returns ``(indptr, indices, data)``.
+    """
+    n = A.shape[0]
+    return (np.ascontiguousarray(A.indptr[-1] - A.indptr[::-1], dtype=A.indptr.dtype),
+            np.ascontiguousarray((n - 1) - A.indices[::-1], dtype=A.indices.dtype),
+            A.data[::-1].copy())
+
+
+class _BackwardSweeps:
+    """Backward Gauss-Seidel sweeps as forward sweeps over reversed copies of the levels.
+
+    A backward sweep over ``A`` is a forward sweep over ``J A J`` applied to
+    the reversed vectors (:func:`_reversed_csr`): the same updates in the
+    same order, the sums within a row taken in reverse order (equal to
+    rounding).  pyamg's backward kernel walks memory downwards and runs
+    2.2x slower than its forward one on these matrices (docs/performance.md).
+    A level's copy is made when it is first smoothed (one pass over its
+    entries) and kept while the level matrix is the same object; it doubles
+    the memory of the smoothed matrices.  ``inherit``: the sweeps of the
+    hierarchy a refreshed copy came from, whose copies serve the levels the
+    two share.
+    """
+
+    def __init__(self, n_levels: int, inherit: "_BackwardSweeps | None" = None):
+        self.copies: list = [None] * n_levels  # (A, indptr, indices, data) per level
+        self.inherit = inherit
+
+    def __call__(self, i: int, A: sp.csr_matrix, x: np.ndarray, b: np.ndarray) -> None:
+        c = self.copies[i]
+        if c is None or c[0] is not A:
+            old = self.inherit.copies[i] if self.inherit is not None and \
+                i < len(self.inherit.copies) else None
+            c = old if old is not None and old[0] is A else (A,) + _reversed_csr(A)
+            self.copies[i] = c
+        xr = x[::-1].copy()
+        amg_core.gauss_seidel(c[1], c[2], c[3], xr, b[::-1].copy(), 0, A.shape[0], 1)
+        x[:] = xr[::-1]
+
+
+def _one_backward_sweep(spec) -> bool:
+    """Whether a pyamg smoother spec is one plain backward Gauss-Seidel sweep."""
+    name, opts = (spec, {}) if isinstance(spec, str) else spec
+    return (name == "gauss_seidel" and opts.get("sweep") == "backward"
+            and opts.get("iterations", 1) == 1 and set(opts) <= {"sweep", "iterations"})
+
+
+def _v_cycle(ml, backward: _BackwardSweeps | None = None) -> spla.LinearOperator:
     """One V-cycle of ``ml`` from a zero guess, as a linear operator (the preconditioner).
 
     The same cycle as ``ml.aspreconditioner("V")`` -- pre-smoothing,
@@ -361,7 +413,10 @@ def _v_cycle(ml) -> spla.LinearOperator:
     the coarsest solved by ``ml.coarse_solver`` -- without what pyamg's
     ``solve(maxiter=1)`` adds around it: two residual norms on the finest
     level (two extra fine-level products per application, about 15 % of a
-    V-cycle here) that a preconditioner never uses.
+    V-cycle here) that a preconditioner never uses.  ``backward``: the
+    post-smoother is one backward Gauss-Seidel sweep, done by these
+    (:class:`_BackwardSweeps`) instead of ``level.postsmoother``; the
+    operator keeps them as its ``backward`` attribute.
     """
     levels = ml.levels
     last = len(levels) - 1
@@ -373,12 +428,17 @@ def _v_cycle(ml) -> spla.LinearOperator:
         x = np.zeros_like(b)
         lv.presmoother(lv.A, x, b)
         x += lv.P @ cycle(i + 1, lv.R @ (b - lv.A @ x))
-        lv.postsmoother(lv.A, x, b)
+        if backward is None:
+            lv.postsmoother(lv.A, x, b)
+        else:
+            backward(i, lv.A, x, b)
         return x
 
     A0 = levels[0].A
-    return spla.LinearOperator(A0.shape, lambda b: cycle(0, np.ravel(np.asarray(b, dtype=float))),
-                               dtype=A0.dtype)
+    op = spla.LinearOperator(A0.shape, lambda b: cycle(0, np.ravel(np.asarray(b, dtype=float))),
+                             dtype=A0.dtype)
+    op.backward = backward
+    return op
 
 
 def _fgmres(A, b: np.ndarray, x0: np.ndarray | None, M, tol: float, restart: int,
@@ -658,7 +718,8 @@ class AMGSolver:
             if hasattr(level, "P"):  # CSR transfers: refreshed() restricts with them
                 level.P, level.R = level.P.tocsr(), level.R.tocsr()
         change_smoothers(self.ml, *self.smoothers)
-        self.M = _v_cycle(self.ml)
+        self.M = _v_cycle(self.ml, _BackwardSweeps(len(self.ml.levels))
+                          if _one_backward_sweep(self.smoothers[1]) else None)
         self.builds += 1
         self.setup_s = time.perf_counter() - t0
         logger.debug("AMG hierarchy: %d levels, operator complexity %.2f, %.2f s",
@@ -749,7 +810,8 @@ class AMGSolver:
         if levels[-1].A is base[-1].A:  # unchanged coarsest operator: share its factorisation
             new.ml.coarse_solver = self.ml.coarse_solver
         change_smoothers(new.ml, *self.smoothers)
-        new.M = _v_cycle(new.ml)
+        new.M = _v_cycle(new.ml, None if self.M.backward is None else
+                         _BackwardSweeps(len(levels), inherit=self.M.backward))
         new.info = SolveInfo()
         new.refreshes = getattr(self, "refreshes", 0) + 1
         logger.debug("AMG refreshed copy: %.2f s", time.perf_counter() - t0)

@@ -286,15 +286,20 @@ def test_bodies_keep_every_prolongator_inside_its_body(ring):
                    strength=("classical", {}))
 
 
+def _base_and_free_dofs(ring, seed: int, count: int):
+    """A hierarchy of the ring, its matrix in CSR, a generator and ``count`` free DOFs."""
+    m, K, Kd, fd, fixed = ring
+    base = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-10)
+    free = np.setdiff1d(np.arange(Kd.shape[0]), fixed)
+    rng = np.random.default_rng(seed)
+    return base, Kd.tocsr(), rng, rng.choice(free, count, replace=False)
+
+
 def test_level_buffers_give_the_same_levels_as_the_full_sums(ring):
     """refreshed(..., buffers=) writes the coarse operators in place: the same values as
     the full sums, for any sequence of differences inside the pattern."""
     m, K, Kd, fd, fixed = ring
-    base = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-10)
-    Kd = Kd.tocsr()
-    free = np.setdiff1d(np.arange(Kd.shape[0]), fixed)
-    rng = np.random.default_rng(1)
-    pick = rng.choice(free, 30, replace=False)
+    base, Kd, rng, pick = _base_and_free_dofs(ring, seed=1, count=30)
     Z = sp.csr_matrix((np.ones(pick.size ** 2), (np.repeat(pick, pick.size),
                                                  np.tile(pick, pick.size))), shape=Kd.shape)
     buffers = base.level_buffers(Z)
@@ -332,3 +337,60 @@ def test_fine_csr_is_the_finest_level_and_is_checked(ring):
         amg_solver(A.tobsr(blocksize=(3, 3)), coords=m.p, fixed=fixed, fine_csr=A.tocsc())
     with pytest.raises(ValueError, match="fine_csr must be A in CSR"):
         amg_solver(A.tobsr(blocksize=(3, 3)), coords=m.p, fixed=fixed, fine_csr=A[:-3, :-3])
+
+
+def test_backward_sweep_over_the_reversed_copy_is_pyamgs_backward_sweep():
+    """One forward sweep over J A J on reversed vectors is pyamg's backward sweep over A,
+    also for an unsymmetric matrix with unsorted column indices."""
+    from pyamg.relaxation.relaxation import gauss_seidel
+    from brakewear.solvers import _BackwardSweeps
+
+    rng = np.random.default_rng(5)
+    n = 300
+    A = sp.random(n, n, density=0.03, random_state=6, format="csr") + sp.eye(n) * 4.0
+    A = sp.csr_matrix(A)
+    perm = [rng.permutation(np.arange(A.indptr[i], A.indptr[i + 1])) for i in range(n)]
+    A = sp.csr_matrix((A.data[np.concatenate(perm)], A.indices[np.concatenate(perm)],
+                       A.indptr), shape=A.shape)
+    assert not A.has_sorted_indices
+    b, x0 = rng.normal(size=n), rng.normal(size=n)
+    ref = x0.copy()
+    gauss_seidel(A, ref, b, iterations=1, sweep="backward")
+    sweeps = _BackwardSweeps(2)
+    ours = x0.copy()
+    sweeps(0, A, ours, b)
+    assert np.abs(ours - ref).max() <= 1e-13 * np.abs(ref).max()
+    # the copy is kept for the same matrix, remade for another
+    kept = sweeps.copies[0]
+    sweeps(0, A, x0.copy(), b)
+    assert sweeps.copies[0] is kept
+    B = (A * 2.0).tocsr()
+    x = x0.copy()
+    sweeps(0, B, x, b)
+    ref = x0.copy()
+    gauss_seidel(B, ref, b, iterations=1, sweep="backward")
+    assert sweeps.copies[0][0] is B and np.abs(x - ref).max() <= 1e-13 * np.abs(ref).max()
+
+
+def test_refreshed_cycles_never_smooth_with_a_stale_reversed_copy(ring):
+    """Refreshed copies written in place (level buffers) and the base they share levels
+    with: each V-cycle, applied in any order, is pyamg's cycle of its own levels."""
+    base, Kd, rng, pick = _base_and_free_dofs(ring, seed=2, count=20)
+    Z = sp.csr_matrix((np.ones(pick.size), (pick, pick)), shape=Kd.shape)
+    buffers = base.level_buffers(Z)
+    r = rng.normal(size=Kd.shape[0])
+    base.M @ r  # the base's copies exist before the refreshes
+    for trial, scale in enumerate((0.5, 2.0, 0.1)):
+        dA = sp.csr_matrix((scale * Kd.diagonal()[pick], (pick, pick)), shape=Kd.shape)
+        new = base.refreshed((Kd + dA).tocsr(), dA=dA, buffers=buffers)
+        ours, theirs = new.M @ r, new.ml.aspreconditioner(cycle="V") @ r
+        assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max(), f"refresh {trial}"
+        ours, theirs = base.M @ r, base.ml.aspreconditioner(cycle="V") @ r
+        assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max(), f"base {trial}"
+    # unchanged coarse levels are smoothed with the base's copies (no second copy)
+    new = base.refreshed((Kd + dA).tocsr(), dA=dA, depth=0)
+    new.M @ r
+    for i in range(1, len(base.ml.levels) - 1):
+        assert new.M.backward.copies[i] is base.M.backward.copies[i]
+    assert new.M.backward.copies[0] is not base.M.backward.copies[0]
+
