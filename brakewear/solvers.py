@@ -149,7 +149,8 @@ SA_OPTIONS = dict(
 )
 #: (presmoother, postsmoother): point Gauss-Seidel, forward before and backward
 #: after, a symmetric V-cycle, so CG stays valid; 2-3x faster than pyamg's
-#: defaults with block Gauss-Seidel.
+#: defaults with block Gauss-Seidel.  The backward sweep runs as a forward one
+#: over a reversed copy of the level (:class:`_BackwardSweeps`).
 SMOOTHERS = (("gauss_seidel", {"sweep": "forward"}),
              ("gauss_seidel", {"sweep": "backward"}))
 
@@ -354,6 +355,10 @@ def _single_threaded_blas():
             put(n)
 
 
+#: backward sweeps by pyamg's kernel on a level matrix before it gets a reversed copy
+_COPY_AFTER = 3
+
+
 def _reversed_csr(A: sp.csr_matrix) -> tuple:
     """``J A J`` (``J`` the exchange matrix: rows and columns in reverse order) as CSR arrays.
 
@@ -375,15 +380,19 @@ class _BackwardSweeps:
     same order, the sums within a row taken in reverse order (equal to
     rounding).  pyamg's backward kernel walks memory downwards and runs
     2.2x slower than its forward one on these matrices (docs/performance.md).
-    A level's copy is made when it is first smoothed (one pass over its
-    entries) and kept while the level matrix is the same object; it doubles
-    the memory of the smoothed matrices.  ``inherit``: the sweeps of the
-    hierarchy a refreshed copy came from, whose copies serve the levels the
-    two share.
+    A copy costs about three forward sweeps (more where fresh memory is
+    slow), so a level matrix is swept by pyamg's backward kernel for its
+    first :data:`_COPY_AFTER` sweeps and copied at the next: short solves
+    (a loose contact set of 2-4 iterations) never pay for a copy, long ones
+    pay for it within a few V-cycles.  The copy doubles the memory of the
+    smoothed matrices and is kept while the level matrix is the same object.
+    ``inherit``: the sweeps of the hierarchy a refreshed copy came from,
+    whose copies serve the levels the two share.
     """
 
     def __init__(self, n_levels: int, inherit: "_BackwardSweeps | None" = None):
         self.copies: list = [None] * n_levels  # (A, indptr, indices, data) per level
+        self.uses: list = [(None, 0)] * n_levels  # (A, backward sweeps so far) per level
         self.inherit = inherit
 
     def __call__(self, i: int, A: sp.csr_matrix, x: np.ndarray, b: np.ndarray) -> None:
@@ -391,8 +400,18 @@ class _BackwardSweeps:
         if c is None or c[0] is not A:
             old = self.inherit.copies[i] if self.inherit is not None and \
                 i < len(self.inherit.copies) else None
-            c = old if old is not None and old[0] is A else (A,) + _reversed_csr(A)
-            self.copies[i] = c
+            if old is not None and old[0] is A:
+                c = self.copies[i] = old
+            else:
+                seen, count = self.uses[i]
+                count = count + 1 if seen is A else 1
+                if count <= _COPY_AFTER:
+                    self.uses[i] = (A, count)
+                    amg_core.gauss_seidel(A.indptr, A.indices, A.data, x, b,
+                                          A.shape[0] - 1, -1, -1)
+                    return
+                c = self.copies[i] = (A,) + _reversed_csr(A)
+                self.uses[i] = (None, 0)
         xr = x[::-1].copy()
         amg_core.gauss_seidel(c[1], c[2], c[3], xr, b[::-1].copy(), 0, A.shape[0], 1)
         x[:] = xr[::-1]

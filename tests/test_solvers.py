@@ -341,9 +341,10 @@ def test_fine_csr_is_the_finest_level_and_is_checked(ring):
 
 def test_backward_sweep_over_the_reversed_copy_is_pyamgs_backward_sweep():
     """One forward sweep over J A J on reversed vectors is pyamg's backward sweep over A,
-    also for an unsymmetric matrix with unsorted column indices."""
+    also for an unsymmetric matrix with unsorted column indices; the copy is made after
+    _COPY_AFTER sweeps of the same matrix, kept for it and remade for another."""
     from pyamg.relaxation.relaxation import gauss_seidel
-    from brakewear.solvers import _BackwardSweeps
+    from brakewear.solvers import _COPY_AFTER, _BackwardSweeps
 
     rng = np.random.default_rng(5)
     n = 300
@@ -354,42 +355,45 @@ def test_backward_sweep_over_the_reversed_copy_is_pyamgs_backward_sweep():
                        A.indptr), shape=A.shape)
     assert not A.has_sorted_indices
     b, x0 = rng.normal(size=n), rng.normal(size=n)
-    ref = x0.copy()
-    gauss_seidel(A, ref, b, iterations=1, sweep="backward")
     sweeps = _BackwardSweeps(2)
-    ours = x0.copy()
-    sweeps(0, A, ours, b)
-    assert np.abs(ours - ref).max() <= 1e-13 * np.abs(ref).max()
-    # the copy is kept for the same matrix, remade for another
-    kept = sweeps.copies[0]
-    sweeps(0, A, x0.copy(), b)
-    assert sweeps.copies[0] is kept
-    B = (A * 2.0).tocsr()
-    x = x0.copy()
-    sweeps(0, B, x, b)
-    ref = x0.copy()
-    gauss_seidel(B, ref, b, iterations=1, sweep="backward")
-    assert sweeps.copies[0][0] is B and np.abs(x - ref).max() <= 1e-13 * np.abs(ref).max()
+    for M in (A, (A * 2.0).tocsr()):
+        ref = x0.copy()
+        gauss_seidel(M, ref, b, iterations=1, sweep="backward")
+        for k in range(_COPY_AFTER + 2):
+            ours = x0.copy()
+            sweeps(0, M, ours, b)
+            copied = sweeps.copies[0] is not None and sweeps.copies[0][0] is M
+            assert copied == (k >= _COPY_AFTER), f"sweep {k}: copied {copied}"
+            assert np.abs(ours - ref).max() <= 1e-13 * np.abs(ref).max(), f"sweep {k}"
+        kept = sweeps.copies[0]
+        sweeps(0, M, x0.copy(), b)
+        assert sweeps.copies[0] is kept
 
 
 def test_refreshed_cycles_never_smooth_with_a_stale_reversed_copy(ring):
     """Refreshed copies written in place (level buffers) and the base they share levels
     with: each V-cycle, applied in any order, is pyamg's cycle of its own levels."""
+    from brakewear.solvers import _COPY_AFTER
+
     base, Kd, rng, pick = _base_and_free_dofs(ring, seed=2, count=20)
     Z = sp.csr_matrix((np.ones(pick.size), (pick, pick)), shape=Kd.shape)
     buffers = base.level_buffers(Z)
     r = rng.normal(size=Kd.shape[0])
-    base.M @ r  # the base's copies exist before the refreshes
+    for _ in range(_COPY_AFTER + 1):  # the base's copies exist before the refreshes
+        base.M @ r
     for trial, scale in enumerate((0.5, 2.0, 0.1)):
         dA = sp.csr_matrix((scale * Kd.diagonal()[pick], (pick, pick)), shape=Kd.shape)
         new = base.refreshed((Kd + dA).tocsr(), dA=dA, buffers=buffers)
-        ours, theirs = new.M @ r, new.ml.aspreconditioner(cycle="V") @ r
-        assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max(), f"refresh {trial}"
+        for k in range(_COPY_AFTER + 1):  # before and after the copies
+            ours, theirs = new.M @ r, new.ml.aspreconditioner(cycle="V") @ r
+            assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max(), \
+                f"refresh {trial}, cycle {k}"
         ours, theirs = base.M @ r, base.ml.aspreconditioner(cycle="V") @ r
         assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max(), f"base {trial}"
     # unchanged coarse levels are smoothed with the base's copies (no second copy)
     new = base.refreshed((Kd + dA).tocsr(), dA=dA, depth=0)
-    new.M @ r
+    for _ in range(_COPY_AFTER + 1):
+        new.M @ r
     for i in range(1, len(base.ml.levels) - 1):
         assert new.M.backward.copies[i] is base.M.backward.copies[i]
     assert new.M.backward.copies[0] is not base.M.backward.copies[0]
