@@ -381,15 +381,20 @@ def test_refreshed_cycles_never_smooth_with_a_stale_reversed_copy(ring):
     r = rng.normal(size=Kd.shape[0])
     for _ in range(_COPY_AFTER + 1):  # the base's copies exist before the refreshes
         base.M @ r
+    where = []  # the memory of each refreshed copy's reversed finest level
+    new = None
     for trial, scale in enumerate((0.5, 2.0, 0.1)):
         dA = sp.csr_matrix((scale * Kd.diagonal()[pick], (pick, pick)), shape=Kd.shape)
+        new = None  # the last copy is dropped: its reversed copies go to the pool
         new = base.refreshed((Kd + dA).tocsr(), dA=dA, buffers=buffers)
         for k in range(_COPY_AFTER + 1):  # before and after the copies
             ours, theirs = new.M @ r, new.ml.aspreconditioner(cycle="V") @ r
             assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max(), \
                 f"refresh {trial}, cycle {k}"
+        where.append(new.M.backward.copies[0][3].__array_interface__["data"][0])
         ours, theirs = base.M @ r, base.ml.aspreconditioner(cycle="V") @ r
         assert np.abs(ours - theirs).max() <= 1e-12 * np.abs(theirs).max(), f"base {trial}"
+    assert where[1] == where[0] and where[2] == where[0], "the pooled arrays were not reused"
     # unchanged coarse levels are smoothed with the base's copies (no second copy)
     new = base.refreshed((Kd + dA).tocsr(), dA=dA, depth=0)
     for _ in range(_COPY_AFTER + 1):
