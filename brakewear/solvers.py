@@ -439,7 +439,9 @@ class _BackwardSweeps:
                     amg_core.gauss_seidel(A.indptr, A.indices, A.data, x, b,
                                           A.shape[0] - 1, -1, -1)
                     return
-                spare = self._owned.pop(i, None) or self.pool.pop(i, None)
+                # only the pool's arrays are written into: this object's own may be
+                # lent to a refreshed copy (inherit) that still smooths with them
+                spare = self.pool.pop(i, None)
                 arrays = _reversed_csr(A, spare)
                 self._owned[i] = arrays if spare is None else \
                     tuple(s if s.size >= a.size else a for s, a in zip(spare, arrays))
