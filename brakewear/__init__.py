@@ -1,12 +1,88 @@
 """brakewear: wear of disc-brake pads and rotors by 3D finite elements.
 
 Built on scikit-fem (assembly), pyamg (solvers), meshio (files) and pyvista
-(figures).  See docs/ for the theory and the user guide.
+(figures).  The names below are the public API; the subpackages
+(:mod:`brakewear.contact`, :mod:`brakewear.fem`, :mod:`brakewear.mesh`,
+:mod:`brakewear.solvers`, ...) hold the specialist parts, each with its own
+``__all__``.  A typical session::
+
+    import brakewear as bw
+
+    model = bw.BrakeModel("default", size=12e-3)       # mesh and materials
+    res = model.solve_contact(1e6, mu=0.4)             # 1 MPa line pressure
+    steps = list(bw.wear_history(model, 1e6, 55.0, 60.0, bw.WearLaw(5e-15),
+                                 mu=0.4, numerics=bw.Numerics(steps=2)))
+
+The names are loaded on first use, so ``import brakewear`` stays light and a
+run that never asks for thermal coupling never imports it.
 """
+from __future__ import annotations
+
+import importlib
 import logging
+
+from .errors import (
+    ActiveSetError,
+    BrakewearError,
+    ContactLostError,
+    ContactSearchError,
+    ConvergenceError,
+    FoundationError,
+    FoundationSolveError,
+    GeometryError,
+    InputError,
+    MaterialError,
+    MeshFileError,
+    MeshQualityError,
+    SceneError,
+    SolverError,
+    StepSizeError,
+    ThermalError,
+    WearError,
+)
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__"]
+#: public name -> the module that defines it (imported on first use)
+_LAZY = {
+    "BrakeGeometry": "geometry", "load_geometry": "geometry",
+    "available_geometries": "geometry",
+    "MATERIALS": "materials", "Material": "materials", "Isotropic": "materials",
+    "TransverselyIsotropic": "materials", "Thermal": "materials", "get_material": "materials",
+    "WearLaw": "laws", "FrictionLaw": "laws",
+    "BrakeModel": "model", "StaticResult": "model",
+    "FEInterface": "interfaces", "FoundationInterface": "interfaces",
+    "WinklerInterface": "interfaces", "calibrate": "interfaces",
+    "Numerics": "wear", "WearStep": "wear", "wear_history": "wear",
+    "ThermalModel": "thermal",
+    "BrakeMotion": "motion",
+    "Scene": "scene", "load_scene": "scene", "scene_from_dict": "scene",
+    "available_scenes": "scene",
+    "run_wear": "output", "run_scene": "output",
+    "read_mesh": "mesh", "write_mesh": "mesh",
+}
+
+__all__ = [
+    "__version__",
+    "BrakewearError", "InputError", "SolverError",
+    "GeometryError", "MaterialError", "MeshFileError", "SceneError", "WearError",
+    "ThermalError", "FoundationError", "ConvergenceError", "ActiveSetError",
+    "ContactLostError", "ContactSearchError", "StepSizeError", "MeshQualityError",
+    "FoundationSolveError",
+    *_LAZY,
+]
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'brakewear' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

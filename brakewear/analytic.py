@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .errors import FoundationError
+
 __all__ = [
     "effective_modulus",
     "thick_cylinder_coefficients",
@@ -23,6 +25,10 @@ __all__ = [
     "slab_temperature",
     "semi_infinite_surface_temperature",
     "semi_infinite_temperature",
+    "johnson_modulus",
+    "winkler_sphere",
+    "winkler_sphere_pressure",
+    "winkler_sphere_approach",
 ]
 
 
@@ -31,8 +37,6 @@ def effective_modulus(E1: float, nu1: float, E2: float = np.inf, nu2: float = 0.
     inv = (1.0 - nu1 ** 2) / E1 + (0.0 if np.isinf(E2) else (1.0 - nu2 ** 2) / E2)
     return 1.0 / inv
 
-
-# ------------------------------------------------------------ elasticity ---
 
 def thick_cylinder_coefficients(a: float, b: float, p_i: float) -> tuple[float, float]:
     """Lamé coefficients ``A, B`` of a thick cylinder a < r < b under internal pressure."""
@@ -54,8 +58,6 @@ def thick_cylinder_displacement(r, a: float, b: float, p_i: float, E: float, nu:
     r = np.asarray(r, dtype=float)
     return (1.0 + nu) / E * ((1.0 - 2.0 * nu) * A * r + B / r)
 
-
-# --------------------------------------------------------------- contact ---
 
 def hertz_sphere(F: float, R: float, Es: float) -> dict:
     """Sphere of radius ``R`` on a flat under force ``F``: contact radius ``a``,
@@ -89,8 +91,6 @@ def flat_punch_settlement(F: float, a: float, Es: float) -> float:
     return F / (2.0 * a * Es)
 
 
-# ------------------------------------------------------------------ wear ---
-
 def uniform_wear_pressure(r, F: float, theta: float, ri: float, ro: float):
     """Steady uniform-wear pressure of an annular-sector pad: p = F / (theta (ro - ri) r)."""
     return F / (theta * (ro - ri) * np.asarray(r, dtype=float))
@@ -106,8 +106,6 @@ def uniform_pressure_effective_radius(ri: float, ro: float) -> float:
     return 2.0 / 3.0 * (ro ** 3 - ri ** 3) / (ro ** 2 - ri ** 2)
 
 
-# ------------------------------------------------------------------ heat ---
-
 def slab_temperature(x, q: float, L: float, kappa: float, T0: float = 0.0):
     """Steady slab, flux ``q`` into x = 0, T = T0 at x = L: T0 + q (L - x) / kappa."""
     return T0 + q * (L - np.asarray(x, dtype=float)) / kappa
@@ -119,28 +117,6 @@ def semi_infinite_surface_temperature(t, q: float, kappa: float, rho: float, c: 
     return T0 + 2.0 * q * np.sqrt(np.asarray(t, dtype=float) / (np.pi * kappa * rho * c))
 
 
-# ======================================================================
-# Elastic foundation (Winkler) -- added with brakewear.foundation (issue 7)
-# ======================================================================
-# Johnson, Contact Mechanics (1985), ch. 9 (section 9.2, "simple elastic
-# foundation"): a layer of thickness h on a rigid base, loaded over its face,
-# responds locally, p = k * (local interference), with
-#   k = E (1 - nu) / ((1 + nu) (1 - 2 nu) h)   thin layer, laterally constrained
-#   k = E / h                                  thin layer, free to expand laterally.
-# A rigid sphere (radius R) pressed a depth delta into such a foundation has
-# interference delta - r^2 / (2 R), hence
-#   contact radius a = sqrt(2 R delta)     (Hertz: a = sqrt(R delta))
-#   p(r) = k (delta - r^2 / (2 R)),  p0 = k delta
-#   F = pi k R delta^2.
-
-__all__ += [
-    "johnson_modulus",
-    "winkler_sphere",
-    "winkler_sphere_pressure",
-    "winkler_sphere_approach",
-]
-
-
 def johnson_modulus(E: float, nu: float, thickness: float, constrained: bool = True) -> float:
     """Foundation modulus ``k`` (Pa/m) of a thin elastic layer on a rigid base.
 
@@ -150,16 +126,16 @@ def johnson_modulus(E: float, nu: float, thickness: float, constrained: bool = T
 
     Raises
     ------
-    ValueError
+    FoundationError
         If ``E`` or ``thickness`` is not a finite positive number, or ``nu``
         is outside (-1, 0.5).
     """
     for name, val in (("E", E), ("thickness", thickness)):
         if not (np.isfinite(val) and val > 0):
-            raise ValueError(f"johnson_modulus: {name} = {val!r} is not allowed; need a finite "
+            raise FoundationError(f"johnson_modulus: {name} = {val!r} is not allowed; need a finite "
                              "value > 0")
     if not (-1.0 < nu < 0.5):
-        raise ValueError(f"johnson_modulus: nu = {nu!r} is not allowed; need -1 < nu < 0.5")
+        raise FoundationError(f"johnson_modulus: nu = {nu!r} is not allowed; need -1 < nu < 0.5")
     if constrained:
         return E * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu) * thickness)
     return E / thickness

@@ -23,9 +23,10 @@ import sys
 import time
 from pathlib import Path
 
-__all__ = ["main", "run_demo", "run_demo_wear", "run_scene"]
-
 logger = logging.getLogger(__name__)
+
+__all__ = ["main", "run_demo", "run_demo_wear", "run_scene_file"]
+
 
 EXIT_OK, EXIT_BAD_INPUT, EXIT_SOLVER, EXIT_INTERRUPTED = 0, 2, 3, 130
 
@@ -37,8 +38,8 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     import numpy as np
 
     from .figures import plot_field, plot_named_surfaces
-    from .mesh import write_mesh
-    from .scene import BrakeModel
+    from .mesh.io import write_mesh
+    from .model import BrakeModel
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -111,20 +112,21 @@ class _Progress:
             self.bar = None
 
 
-def run_scene(scene: str, out: str | Path | None = None, resume: bool = False,
+def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,
               quiet: bool = False) -> dict:
     """Load a scene (name or file), check it, run it into ``out``; return the summary.
 
     ``out`` defaults to ``brakewear-<scene name>``.  A progress bar (stderr)
     advances in simulated time unless ``quiet``.
     """
-    from .scenefile import load_scene
+    from .output import run_scene
+    from .scene import load_scene
 
     sc = load_scene(scene)
     out = Path(out) if out is not None else Path(f"brakewear-{sc.name}")
     bar = _Progress(sc, quiet)
     try:
-        summary = sc.run(out, resume=resume, progress=bar)
+        summary = run_scene(sc, out, resume=resume, progress=bar)
     except KeyboardInterrupt:
         bar.close()
         raise _Interrupted(sc, out, bar.step) from None
@@ -139,7 +141,8 @@ def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = 
     """The demo's second half: the default scene (running-in under drag) into ``out``."""
     import dataclasses
 
-    from .scenefile import load_scene
+    from .output import run_scene
+    from .scene import load_scene
 
     sc = load_scene("default")
     if duration is not None:
@@ -148,7 +151,7 @@ def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = 
         sc = dataclasses.replace(sc, output=dataclasses.replace(sc.output, figures=False))
     bar = _Progress(sc, quiet)
     try:
-        summary = sc.run(out, progress=bar)
+        summary = run_scene(sc, out, progress=bar)
     finally:
         bar.close()
     summary["out"] = str(out)
@@ -188,7 +191,7 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("--quiet", action="store_true", help="no progress bar")
     b = sub.add_parser("bench", help="benchmarks (timings and errors)")
     try:
-        from .bench import add_bench_parser
+        from .bench.core import add_bench_parser
         add_bench_parser(b.add_subparsers(dest="bench", required=True))
     except ImportError:  # pragma: no cover
         pass
@@ -199,23 +202,11 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
-    from .contact import ActiveSetError, ContactLostError, ContactSearchError
-    from .foundation import FoundationError, FoundationSolveError
-    from .geometry import GeometryError
-    from .materials import MaterialError
-    from .motion import MeshQualityError
-    from .scene import SceneError
-    from .simulate import StepSizeError
-    from .solvers import ConvergenceError
-    from .thermal import ThermalError
-    from .wear import WearError
-    solver_errors = (ConvergenceError, ActiveSetError, StepSizeError, MeshQualityError,
-                     ContactLostError, ContactSearchError, FoundationSolveError)
-    input_errors = (GeometryError, MaterialError, SceneError, WearError, ThermalError,
-                    FoundationError, ValueError, OSError)
+    from .errors import InputError, SolverError
+
     try:
         if args.command == "run":
-            s = run_scene(args.scene, args.out, args.resume, args.quiet)
+            s = run_scene_file(args.scene, args.out, args.resume, args.quiet)
             f = s["final"]
             if s.get("already_finished"):
                 print(f"brakewear run: {s['out']} already holds the finished run "
@@ -255,7 +246,7 @@ def main(argv: list[str] | None = None) -> int:
                       f"{f['pr_spread']:.3f}; wrote {w['out']}/")
             return 0
         if args.command == "bench":
-            from .bench import run_bench
+            from .bench.core import run_bench
             return run_bench(args)
     except _Interrupted as e:
         ck = Path(e.out) / "checkpoint.npz"
@@ -268,11 +259,11 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("brakewear: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    # solver errors first: MeshQualityError is also a ValueError
-    except solver_errors as e:
+    except SolverError as e:
         print(f"brakewear: solver failed ({type(e).__name__}): {e}", file=sys.stderr)
         return EXIT_SOLVER
-    except input_errors as e:
+    # InputError, and bad input that a library below reports as ValueError or OSError
+    except (InputError, ValueError, OSError) as e:
         print(f"brakewear: error: {e}", file=sys.stderr)
         return EXIT_BAD_INPUT
     return 1

@@ -16,11 +16,19 @@ import skfem as fem
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["skfem_to_pyvista", "facets_to_pyvista", "plot_named_surfaces", "plot_field",
-           "label_log_axis"]
+__all__ = [
+    "skfem_to_pyvista",
+    "facets_to_pyvista",
+    "plot_named_surfaces",
+    "plot_field",
+    "label_log_axis",
+]
+
 
 # VTK cell type of a linear tetrahedron / triangle
 _VTK_TETRA = 10
+
+
 _VTK_TRIANGLE = 5
 
 
@@ -88,6 +96,7 @@ _PALETTE = [
     (0.00, 0.20, 0.50), (0.99, 0.55, 0.38), (0.60, 0.00, 0.30), (0.65, 0.85, 0.33),
     (0.20, 0.20, 0.20), (0.70, 0.70, 1.00), (0.50, 0.25, 0.00), (1.00, 0.75, 0.80),
 ]
+
 
 _DEFAULT_SHIFT = {"rotor": -0.02, "pad": 0.0, "piston": 0.02}
 

@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import MaterialError
+
 __all__ = [
     "Isotropic",
     "TransverselyIsotropic",
@@ -21,12 +23,9 @@ __all__ = [
     "Material",
     "MATERIALS",
     "get_material",
-    "MaterialError",
+    "T_AMBIENT_DEFAULT",
+    "H_CONV_DEFAULT",
 ]
-
-
-class MaterialError(ValueError):
-    """Invalid or unknown material data (names the field and allowed range)."""
 
 
 def _positive(owner: str, name: str, value: float) -> float:
@@ -211,3 +210,13 @@ def get_material(name: str) -> Material:
         raise MaterialError(
             f"unknown material {name!r}; known materials: {', '.join(sorted(MATERIALS))}"
         ) from None
+
+
+#: Default convection coefficient on free surfaces (W/m^2 K).  A solid rotor
+#: turning at 50-100 rad/s sees roughly 20-100 W/m^2 K (forced convection of a
+#: rotating disc); 40 is a moderate value for a light drag.  Calibrate it.
+H_CONV_DEFAULT = 40.0
+
+
+#: Default ambient (and stress-free reference) temperature, 20 C in kelvin.
+T_AMBIENT_DEFAULT = 293.15

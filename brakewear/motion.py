@@ -3,7 +3,7 @@
 The wear loop gives a worn depth ``h >= 0`` at every node of a worn surface
 (the pad's and the rotor's ``friction`` facets).  Two ways to account for it:
 
-* *gap offset* (``brakewear.simulate``): the meshes stay and ``h`` is added to
+* *gap offset* (``brakewear.wear``): the meshes stay and ``h`` is added to
   the contact gap -- cheap, valid while ``h`` is far below the element size;
 * *geometry update* (this module): every surface node moves by ``h`` along
   the inward normal, and the nodes beneath follow with a weight that falls
@@ -12,7 +12,7 @@ The wear loop gives a worn depth ``h >= 0`` at every node of a worn surface
   factor ``1 - h/D``, which is the gentlest compression that moves the face
   by ``h`` and keeps everything below ``D`` in place.  Elements with a moved
   vertex are the only ones whose stiffness changes, so only they are
-  integrated again (:func:`brakewear.elasticity.stiffness_update`).
+  integrated again (:func:`brakewear.fem.stiffness_update`).
 
 The motion is always computed from the *reference* (unworn) coordinates and
 the *cumulative* wear, so repeated updates do not drift, and a step can be
@@ -22,22 +22,21 @@ refuses the update (nothing is changed) if one is inverted or degenerate.
 from __future__ import annotations
 
 import logging
-import sys
 import time
 
 import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from .contact import (facet_normals, mortar_coupling, project_nodes, surface_nodes,
-                      tributary_areas)
-from .elasticity import assemble_stiffness, stiffness_update
-from .mesh import _keep_topology, facet_indices
+from .contact.surface import mortar_coupling, project_nodes
+from .errors import MeshQualityError
+from .fem.assembly import assemble_stiffness, stiffness_update
+from .mesh.surface import facet_normals, surface_nodes, tributary_areas
+from .mesh.topology import facet_indices, keep_topology
 
 logger = logging.getLogger(__name__)
 
 __all__ = [
-    "MeshQualityError",
     "element_volumes",
     "element_quality",
     "check_quality",
@@ -48,28 +47,13 @@ __all__ = [
     "DEFAULT_MIN_QUALITY",
 ]
 
+
 #: Smallest accepted element quality (mean ratio, 1 = regular tetrahedron).
 #: The default brake's meshes start at 0.56 (pad) and 0.13 (rotor); the pad
 #: worn to half its friction layer keeps 0.37 (docs/motion.md).  A regular
 #: tetrahedron squashed 10x has 0.32, 100x 0.07; 0.02 (about 600x) is degenerate.
 DEFAULT_MIN_QUALITY = 0.02
 
-
-class MeshQualityError(ValueError):
-    """A geometry update would leave an inverted or degenerate element.
-
-    Attributes ``step``, ``body``, ``element`` (index into the body's
-    ``mesh.t``), ``quality`` and ``min_quality`` say which and how bad.
-    """
-
-    def __init__(self, message: str, *, step=None, body: str = "", element: int = -1,
-                 quality: float = float("nan"), min_quality: float = float("nan")):
-        super().__init__(message)
-        self.step, self.body, self.element = step, body, element
-        self.quality, self.min_quality = quality, min_quality
-
-
-# ------------------------------------------------------------ measures --
 
 def _corners(mesh: fem.Mesh) -> np.ndarray:
     if mesh.t.shape[0] < 4 or mesh.p.shape[0] != 3:
@@ -158,7 +142,7 @@ def surface_element_height(mesh: fem.Mesh, facets) -> np.ndarray:
     For every facet of the set, the height of its element over it (the
     distance from the opposite vertex, ``3 V / A``); per surface node the
     smallest over its facets.  Returned in the order of
-    :func:`brakewear.contact.surface_nodes`.  A wear step should move a node
+    :func:`brakewear.mesh.surface_nodes`.  A wear step should move a node
     by a fraction of this, so that the first layer never collapses.
     """
     facets = facet_indices(mesh, facets)
@@ -183,14 +167,12 @@ def segment_average(mesh: fem.Mesh, facets="friction", level: int = 2) -> sp.csr
     ``h`` changes that pair's ``g0`` by ``A @ h`` (not by ``h``: the two differ
     where ``h`` is not constant, most at the face's edges), so a gap-offset
     update consistent with the geometry update adds ``A @ h_pad``.  Rows and
-    columns in :func:`brakewear.contact.surface_nodes` order.
+    columns in :func:`brakewear.mesh.surface_nodes` order.
     """
     nodes = surface_nodes(mesh, facets)
     W, _, _ = mortar_coupling(mesh, facets, nodes, mesh, facets, mesh.nvertices, level)
     return W[:, nodes].tocsr()
 
-
-# ------------------------------------------------------------ follower --
 
 class SurfaceFollower:
     """Moves one worn surface and the band of nodes beneath it.
@@ -282,8 +264,6 @@ class SurfaceFollower:
         return np.vstack([self.F @ s[i] for i in range(3)])
 
 
-# -------------------------------------------------------- the brake ---
-
 def _check_wear(name: str, h, n: int, body: str) -> np.ndarray:
     """Validate a worn-depth array before anything is computed."""
     try:
@@ -309,11 +289,11 @@ def _check_wear(name: str, h, n: int, body: str) -> np.ndarray:
 def _moved_mesh(mesh: fem.Mesh, p: np.ndarray) -> fem.Mesh:
     """A new mesh with coordinates ``p`` and everything else of ``mesh``."""
     new = type(mesh)(p, mesh.t, mesh._boundaries, mesh._subdomains, validate=False)
-    return _keep_topology(new, mesh)
+    return keep_topology(new, mesh)
 
 
 class BrakeMotion:
-    """Worn geometry of a :class:`brakewear.scene.BrakeModel`.
+    """Worn geometry of a :class:`brakewear.model.BrakeModel`.
 
     The meshes of ``model`` when this is built are the reference (unworn)
     geometry.  :meth:`apply` puts the model into the worn geometry for the
@@ -480,166 +460,3 @@ class BrakeMotion:
             h = self.pad_wear if b == "pad" else self.rotor_wear
             out[b] = float((h * tributary_areas(ref, "friction", fol.nodes)).sum())
         return out
-
-
-# ---------------------------------------------------------- measuring --
-
-def measure_cost(size: float | None = None, repeats: int = 3) -> dict:
-    """Time :meth:`BrakeMotion.apply` with partial and with full reassembly.
-
-    The default brake at mesh ``size`` (m), both stiffness matrices cached;
-    wear: the pad tapered 0.5 -> 1.5 mm from leading to trailing edge (every
-    pad friction node moves), the rotor 0.1 mm over the pad's radial track.
-    Steps alternate partial / full (``repeats`` each, slightly deeper every
-    step, so every step moves every band node); medians are reported.
-    """
-    from .scene import BrakeModel
-
-    model = BrakeModel(size=size)
-    t0 = time.perf_counter()
-    for b in model.bodies:
-        model.stiffness(b)
-    t_first = time.perf_counter() - t0
-    motion = BrakeMotion(model)
-    g = model.geometry.pad
-    xp = model.meshes["pad"].p[:, motion.followers["pad"].nodes]
-    th = np.arctan2(xp[1], xp[0])
-    hp = 1e-3 * (0.5 + (th - th.min()) / np.ptp(th))
-    xr = model.meshes["rotor"].p[:, motion.followers["rotor"].nodes]
-    s = (np.hypot(xr[0], xr[1]) - g.inner_radius) / (g.outer_radius - g.inner_radius)
-    hr = np.where((s >= 0) & (s <= 1), 1e-4, 0.0)
-    runs: dict = {"partial": [], "full": []}
-    st = {}
-    for k in range(2 * repeats):
-        mode = ("partial", "full")[k % 2]
-        st = motion.apply(hp * (1 + 0.01 * k), hr * (1 + 0.01 * k), step=k + 1, reassembly=mode)
-        runs[mode].append((st["reassembly_s"], st["total_s"]))
-    row = {"size_m": model.geometry.mesh.size if size is None else float(size),
-           "first_assembly_s": t_first,
-           "dofs": int(model.dofs)}
-    for b in motion.followers:
-        row[f"{b}_moved_elements"] = st[b]["moved_elements"]
-        row[f"{b}_elements"] = st[b]["elements"]
-        row[f"{b}_band_depth_m"] = motion.followers[b].depth
-    for mode, v in runs.items():
-        a = np.median(np.array(v), axis=0)
-        row[f"{mode}_reassembly_s"], row[f"{mode}_apply_s"] = float(a[0]), float(a[1])
-    row["partial_over_full"] = row["partial_apply_s"] / row["full_apply_s"]
-    return row
-
-
-def quality_curve(fractions=(0.0, 0.25, 0.5, 0.75, 0.9, 0.95), size: float | None = None,
-                  taper: bool = False) -> list[dict]:
-    """Smallest pad element quality of the default brake worn to ``fraction``
-    of its friction layer (uniformly, or tapered from 0 at the leading to
-    ``fraction`` at the trailing edge)."""
-    from .scene import BrakeModel
-
-    model = BrakeModel(size=size)
-    motion = BrakeMotion(model, min_quality=1e-9)
-    tf = model.geometry.pad.friction_thickness
-    x = model.meshes["pad"].p[:, motion.followers["pad"].nodes]
-    th = np.arctan2(x[1], x[0])
-    shape = (th - th.min()) / np.ptp(th) if taper else np.ones_like(th)
-    out = []
-    for f in fractions:
-        st = motion.apply(f * tf * shape)
-        q = element_quality(model.meshes["pad"])
-        out.append({"fraction": float(f), "taper": bool(taper), "min_quality": float(q.min()),
-                    "moved_elements": st["pad"]["moved_elements"]})
-    return out
-
-
-def pad_section_figure(path, fraction: float = 0.5, size: float | None = None) -> dict:
-    """Draw the pad's mesh in the (arc length, z) plane at its mid radius, new
-    and worn (tapered to ``fraction`` of the friction layer at the trailing edge)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .scene import BrakeModel
-
-    model = BrakeModel(size=size)
-    motion = BrakeMotion(model)
-    g = model.geometry.pad
-    x = model.meshes["pad"].p[:, motion.followers["pad"].nodes]
-    th = np.arctan2(x[1], x[0])
-    motion.apply(fraction * g.friction_thickness * (th - th.min()) / np.ptp(th))
-    p0, p1 = motion.reference["pad"], model.meshes["pad"].p
-    r = np.hypot(p0[0], p0[1])
-    radii = np.unique(np.round(r, 9))
-    rk = radii[len(radii) // 2]
-    sel = np.nonzero(np.abs(r - rk) < 1e-9)[0]
-    ang = np.arctan2(p0[1, sel], p0[0, sel])
-    fig, axes = plt.subplots(2, 1, figsize=(9, 4.8), sharex=True)
-    for ax, p, title in ((axes[0], p0, "new"),
-                         (axes[1], p1, f"worn: 0 -> {fraction:g} x friction layer, "
-                                       "leading -> trailing")):
-        s_mm = rk * ang * 1e3
-        z_mm = p[2, sel] * 1e3
-        ua, uz = np.unique(np.round(ang, 9)), np.unique(np.round(p0[2, sel], 9))
-        ia = np.searchsorted(ua, np.round(ang, 9))
-        iz = np.searchsorted(uz, np.round(p0[2, sel], 9))
-        S = np.full((ua.size, uz.size), np.nan)
-        Z = np.full((ua.size, uz.size), np.nan)
-        S[ia, iz], Z[ia, iz] = s_mm, z_mm
-        ax.plot(S, Z, color="0.3", lw=0.6)
-        ax.plot(S.T, Z.T, color="0.3", lw=0.6)
-        ax.axhline(g.friction_thickness * 1e3, color="tab:red", lw=1.0, ls="--",
-                   label="band bottom = backplate interface")
-        ax.set_title(f"pad at r = {rk * 1e3:.1f} mm, {title}", fontsize=9)
-        ax.set_ylabel("z (mm)")
-        ax.set_aspect("equal")
-    axes[0].legend(loc="upper right", fontsize=7)
-    axes[1].set_xlabel("arc length r theta (mm), rotor enters at the left")
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    q = element_quality(model.meshes["pad"])
-    return {"radius_m": float(rk), "fraction": fraction, "min_quality": float(q.min())}
-
-
-def main(argv=None) -> int:
-    """``python -m brakewear.motion [--sizes 2.5e-3 6e-3] [--repeats 3] [--json FILE]``."""
-    import argparse
-    import json
-
-    ap = argparse.ArgumentParser(prog="python -m brakewear.motion",
-                                 description="cost of the worn-geometry update")
-    ap.add_argument("--sizes", type=float, nargs="+", default=[2.5e-3, 6e-3])
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--json", default=None, help="also write the rows to this file")
-    ap.add_argument("--quality", default=None,
-                    help="write the pad quality against wear (CSV) to this file instead")
-    ap.add_argument("--figure", default=None,
-                    help="draw the pad section worn to half (PNG) to this file instead")
-    args = ap.parse_args(argv)
-    if args.quality or args.figure:
-        if args.quality:
-            rows = quality_curve() + quality_curve(taper=True)
-            with open(args.quality, "w") as fh:
-                fh.write("fraction,taper,min_quality,moved_elements\n")
-                for r in rows:
-                    fh.write(f"{r['fraction']},{int(r['taper'])},{r['min_quality']:.6f},"
-                             f"{r['moved_elements']}\n")
-            sys.stdout.write("".join(f"{r}\n" for r in rows))
-        if args.figure:
-            sys.stdout.write(f"{pad_section_figure(args.figure)}\n")
-        return 0
-    rows = [measure_cost(s, args.repeats) for s in args.sizes]
-    for r in rows:
-        sys.stdout.write(
-            f"size {r['size_m'] * 1e3:.2f} mm, {r['dofs']} DOFs: moved pad "
-            f"{r['pad_moved_elements']}/{r['pad_elements']}, rotor {r['rotor_moved_elements']}/"
-            f"{r['rotor_elements']} elements; apply partial {r['partial_apply_s']:.3f} s "
-            f"(reassembly {r['partial_reassembly_s']:.3f}), full {r['full_apply_s']:.3f} s "
-            f"(reassembly {r['full_reassembly_s']:.3f}); ratio {r['partial_over_full']:.2f}; "
-            f"first assembly {r['first_assembly_s']:.3f} s\n")
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(rows, fh, indent=1)
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

@@ -59,38 +59,84 @@ from dataclasses import dataclass
 import numpy as np
 
 from .analytic import effective_modulus, hertz_sphere, hertz_sphere_pressure
-from .contact import pair_to_rigid, solve_contact
-from .elasticity import assemble_stiffness, boundary_dofs
+from .contact.lagrange import solve_contact
+from .contact.pairs import pair_to_rigid
+from .fem.assembly import assemble_stiffness
+from .fem.boundary import boundary_dofs
 from .materials import Isotropic
-from .mesh import _KUHN, mapped_mesh, structured_tets
+from .mesh.structured import KUHN, mapped_mesh, structured_tets
 
 logger = logging.getLogger(__name__)
 
+__all__ = [
+    "MATERIAL",
+    "R",
+    "A0",
+    "ES",
+    "DELTA",
+    "L_OVER_A",
+    "FINE_XY",
+    "FINE_Z",
+    "GROWTH",
+    "FIT_R",
+    "RECOVERY",
+    "GAP_TOL",
+    "boussinesq",
+    "sphere_height",
+    "axis",
+    "mirrored_tets",
+    "block_mesh",
+    "HertzProblem",
+    "hertz_dofs",
+    "hertz_resolution",
+    "hertz_problem",
+    "hertz_force",
+    "solve_problem",
+    "solve",
+    "recovered_pressure",
+    "measure",
+]
 
-__all__ = ["MATERIAL", "R", "A0", "ES", "DELTA", "L_OVER_A", "FINE_XY", "FINE_Z", "GROWTH",
-           "FIT_R", "RECOVERY", "GAP_TOL", "boussinesq", "sphere_height", "axis", "mirrored_tets",
-           "block_mesh", "HertzProblem", "hertz_dofs", "hertz_resolution", "hertz_problem",
-           "hertz_force", "solve_problem", "solve", "recovered_pressure", "measure"]
 
 MATERIAL = Isotropic(E=210e9, nu=0.3, name="steel")
+
+
 R = 0.01            # sphere radius (m)
+
+
 A0 = 1e-4           # design contact radius (m), a/R = 0.01
+
+
 ES = effective_modulus(MATERIAL.E, MATERIAL.nu)   # rigid sphere: E / (1 - nu^2)
+
+
 DELTA = A0 ** 2 / R  # prescribed approach: Hertz's a(F(delta)) = A0
+
+
 L_OVER_A = 12.0     # block size / contact radius
+
+
 FINE_XY = 1.25      # uniform spacing out to this multiple of a in x and y
+
+
 FINE_Z = 0.5        # ... and to this depth / a
+
+
 GROWTH = 1.2        # cell growth factor beyond the fine region
+
+
 FIT_R = 0.85        # contact-radius fit over r < FIT_R a
+
+
 RECOVERY = 2.0      # pressure recovery window half-width / h (see recovered_pressure)
+
+
 # penetration tolerated before a node is activated, relative to the approach: the
 # default (1e-10 x model size = 2e-7 delta) and the fixed multiplier tolerance
 # (1e-12 max) are below the AMG solver noise of a node at
 # the contact edge, whose gap and multiplier are both ~0, and the set cycles
 GAP_TOL = 1e-4
 
-
-# ----------------------------------------------------------------- fields --
 
 def boussinesq(x: np.ndarray, F: float, E: float = MATERIAL.E, nu: float = MATERIAL.nu) -> np.ndarray:
     """Displacement (3, n) of a half-space z < 0 under a point force ``F`` at
@@ -124,8 +170,6 @@ def sphere_height(delta: float, profile: str = "sphere"):
     raise ValueError(f"profile = {profile!r}; allowed: 'sphere', 'paraboloid'")
 
 
-# ------------------------------------------------------------------- mesh --
-
 def axis(h: float, fine: float, length: float, growth: float | None = None) -> np.ndarray:
     """Nodes from 0 to ``length``: spacing ``h`` up to ``fine`` (rounded up
     to a whole number of cells), then cells growing by ``growth``."""
@@ -154,7 +198,7 @@ def mirrored_tets(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[np.ndarr
     i, j, k = (c.ravel() for c in np.meshgrid(np.arange(nx - 1), np.arange(ny - 1),
                                                np.arange(nz - 1), indexing="ij"))
     tets = []
-    for path in _KUHN:
+    for path in KUHN:
         tets.append(np.vstack([idx[i + (dx ^ (i & 1)), j + (dy ^ (j & 1)), k + (dz ^ (k & 1))]
                                for dx, dy, dz in path]))
     return p, np.hstack(tets)
@@ -188,9 +232,6 @@ def block_mesh(h: float, a: float = A0, split: str = "mirrored", model: str = "q
         "xL": lambda q: np.abs(q[0]) > L - tol,
         "yL": lambda q: np.abs(q[1]) > L - tol,
     })
-
-
-# ------------------------------------------------------------------ solve --
 
 
 @dataclass

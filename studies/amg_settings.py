@@ -4,10 +4,10 @@ Two cases, each timed with ``time.process_time`` (the solves are single
 threaded, so CPU time is steadier than wall time on a shared machine):
 
 * ``tied`` -- the tied pad-rotor elasticity system of
-  :meth:`brakewear.scene.BrakeModel.solve_tied`: hierarchy setup (including
+  :meth:`brakewear.model.BrakeModel.solve_tied`: hierarchy setup (including
   the coarse factorisation) and AMG-CG from zero to 1e-9 and to 1e-6;
 * ``comp`` -- one implicit wear step's compliant contact solve at mu = 0.4
-  (:class:`brakewear.simulate.FEInterface`, an 18 s step of k = 5e-15 1/Pa
+  (:class:`brakewear.FEInterface`, an 18 s step of k = 5e-15 1/Pa
   at 55 rad/s), started from the converged rigid-contact active set: the
   base hierarchy's setup, then the solve's active-set iterations and
   V-cycles (FGMRES).
@@ -55,7 +55,7 @@ SETTINGS = {
 
 def model_for(size: str):
     from brakewear.bench import brake_resolution
-    from brakewear.scene import BrakeModel
+    from brakewear.model import BrakeModel
 
     if size == "5mm":
         return BrakeModel(size=5e-3, rotor="elastic")
@@ -64,7 +64,7 @@ def model_for(size: str):
 
 def tied_system(model):
     """(Kd, fd, coords, fixed) exactly as ``BrakeModel.solve_tied`` forms them."""
-    from brakewear.elasticity import apply_dirichlet
+    from brakewear.fem import apply_dirichlet
 
     K, P, retained, col = model._reduced(tie_interface=True)
     fixed = model._reduced_fixed(col, None)
@@ -120,8 +120,8 @@ def run_tied(model, names) -> None:
 
 
 def run_compliant(model, names) -> None:
-    from brakewear.compliant import compliant_preconditioner
-    from brakewear.simulate import FEInterface
+    from brakewear.contact import compliant_preconditioner
+    from brakewear.interfaces import FEInterface
 
     itf = FEInterface(model, 1e6, 0.4)
     _, active, _ = itf.solve(np.zeros(itf.area.size), None)  # the rigid contact set

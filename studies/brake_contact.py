@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.scene import BrakeModel
+from brakewear.model import BrakeModel
 
 
 def centre_of_pressure(model: BrakeModel, res) -> tuple[float, float]:

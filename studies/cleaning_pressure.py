@@ -20,7 +20,7 @@ Model (stated choices, see docs/cleaning.md):
 - the default brake, rigid rotor (the plane z = 0; the rotor's wear is
   revolution-averaged on rings at the pad-node radii), pad + backplate
   elastic, clamp force as a traction on the piston footprint; mesh 4 mm;
-- two-surface Archard wear (:func:`brakewear.simulate.wear_history`,
+- two-surface Archard wear (:func:`brakewear.wear_history`,
   implicit pad wear): pad ``k = 5e-15 1/Pa`` (``pad_resin``); rotor
   ``k_corrosion`` (default 1e-12 1/Pa) while a ring still carries corrosion,
   ``k = 5e-16 1/Pa`` (``grey_cast_iron``) once worn through;
@@ -47,9 +47,10 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.materials import MATERIALS
-from brakewear.scene import BrakeModel
-from brakewear.simulate import FEInterface, wear_history
-from brakewear.wear import WearLaw
+from brakewear.model import BrakeModel
+from brakewear.interfaces import FEInterface
+from brakewear.wear import wear_history
+from brakewear.laws import WearLaw
 
 logger = logging.getLogger("cleaning_pressure")
 
@@ -158,8 +159,8 @@ def run_pressure(task: dict) -> dict:
     a contact or step-control failure returns ``{"pressure_MPa", "error"}``
     (the sweep reports it and leaves the pressure out of the answer).
     """
-    from brakewear.contact import ActiveSetError
-    from brakewear.simulate import StepSizeError
+    from brakewear.errors import ActiveSetError
+    from brakewear.errors import StepSizeError
 
     try:
         return _run_pressure(task)

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.wear import WearLaw
+from brakewear.laws import WearLaw
 
 logger = logging.getLogger(__name__)
 

@@ -19,9 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from brakewear import analytic as an
-from brakewear.foundation import (WinklerInterface, calibrate, compare, fe_lever_arm,
-                                  johnson_modulus)
-from brakewear.scene import BrakeModel
+from brakewear.interfaces import WinklerInterface, calibrate, compare, fe_lever_arm
+from brakewear.analytic import johnson_modulus
+from brakewear.model import BrakeModel
 
 
 def sphere_check(n: int = 161) -> dict:

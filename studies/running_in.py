@@ -29,11 +29,12 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.analytic import uniform_wear_torque
-from brakewear.history import step_figures
+from brakewear.output import step_figures
 from brakewear.materials import MATERIALS
-from brakewear.scene import BrakeModel
-from brakewear.simulate import FEInterface, wear_history
-from brakewear.wear import WearLaw
+from brakewear.model import BrakeModel
+from brakewear.interfaces import FEInterface
+from brakewear.wear import wear_history
+from brakewear.laws import WearLaw
 
 logger = logging.getLogger(__name__)
 

@@ -54,11 +54,12 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
 
-from brakewear.contact import surface_nodes
-from brakewear.foundation import WinklerInterface, calibrate
-from brakewear.scene import BrakeModel
-from brakewear.simulate import FEInterface, FoundationInterface, wear_history
-from brakewear.wear import WearLaw
+from brakewear.mesh.surface import surface_nodes
+from brakewear.interfaces import WinklerInterface, calibrate
+from brakewear.model import BrakeModel
+from brakewear.interfaces import FEInterface, FoundationInterface
+from brakewear.wear import wear_history
+from brakewear.laws import WearLaw
 
 logger = logging.getLogger(__name__)
 

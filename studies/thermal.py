@@ -33,8 +33,9 @@ from brakewear import analytic as an
 from brakewear.contact import solve_contact
 from brakewear.figures import label_log_axis
 from brakewear.materials import MATERIALS
-from brakewear.scene import BrakeModel
-from brakewear.thermal import HeatConduction, ThermalModel
+from brakewear.model import BrakeModel
+from brakewear.fem import HeatConduction
+from brakewear.thermal import ThermalModel
 
 PAD = MATERIALS["pad_resin"]
 Q, T_PROBE, LENGTH, T_AMB = 1e5, 10.0, 0.02, 300.0

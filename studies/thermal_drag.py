@@ -53,11 +53,12 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.contact import surface_nodes, tributary_areas
-from brakewear.scene import BrakeModel
-from brakewear.simulate import wear_history
+from brakewear.mesh.surface import surface_nodes, tributary_areas
+from brakewear.model import BrakeModel
+from brakewear.wear import wear_history
 from brakewear.thermal import ThermalModel
-from brakewear.wear import WearLaw, rotor_rings
+from brakewear.laws import WearLaw
+from brakewear.rings import rotor_rings
 
 logger = logging.getLogger("thermal_drag")
 
@@ -69,9 +70,10 @@ H_C = 1e5
 _FRESH = """
 import json, sys, time
 import brakewear
-from brakewear.scene import BrakeModel
-from brakewear.simulate import FEInterface, wear_history
-from brakewear.wear import WearLaw, rotor_rings
+from brakewear import BrakeModel
+from brakewear import FEInterface, wear_history
+from brakewear import WearLaw
+from brakewear.rings import rotor_rings
 a = json.loads(sys.argv[1])
 m = BrakeModel(size=a["size"])
 times, cpu = [], []

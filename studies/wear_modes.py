@@ -32,9 +32,10 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.motion import element_quality
-from brakewear.scene import BrakeModel
-from brakewear.simulate import FEInterface, wear_history
-from brakewear.wear import WearLaw
+from brakewear.model import BrakeModel
+from brakewear.interfaces import FEInterface
+from brakewear.wear import wear_history
+from brakewear.laws import WearLaw
 
 logger = logging.getLogger(__name__)
 

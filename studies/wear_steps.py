@@ -43,9 +43,11 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.scene import BrakeModel
-from brakewear.simulate import WEAR_TOL_GROWTH, FEInterface, wear_history
-from brakewear.wear import WearLaw
+from brakewear.model import BrakeModel
+from brakewear.wear.stepper import WEAR_TOL_GROWTH
+from brakewear.interfaces import FEInterface
+from brakewear.wear import wear_history
+from brakewear.laws import WearLaw
 
 logger = logging.getLogger(__name__)
 

@@ -21,7 +21,7 @@ Writes ``winkler_running_in.json``, ``winkler_running_in_steps.csv`` and
 ``winkler_running_in_profiles.csv`` (``OUT/data``) and
 ``winkler_running_in_{pressure,wear,history}.png`` (``OUT/figures``).
 
-The pressure of a :class:`~brakewear.simulate.WearStep` is the one at the
+The pressure of a :class:`~brakewear.wear.WearStep` is the one at the
 start of its step and its wear the one at the end, so the runs take one step
 more than ``steps`` (``duration`` is the time of the last stage): the state
 at time ``t_j = j duration / steps`` is the pressure of record ``j`` and the
@@ -38,11 +38,12 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.foundation import WinklerInterface, calibrate, compare
-from brakewear.history import ring_profile
-from brakewear.scene import BrakeModel
-from brakewear.simulate import FoundationInterface, wear_history
-from brakewear.wear import WearLaw
+from brakewear.interfaces import WinklerInterface, calibrate, compare
+from brakewear.output import ring_profile
+from brakewear.model import BrakeModel
+from brakewear.interfaces import FoundationInterface
+from brakewear.wear import wear_history
+from brakewear.laws import WearLaw
 
 logger = logging.getLogger(__name__)
 
@@ -197,7 +198,7 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
     # the runs
     runs, walls, itfs = {}, {}, {}
     logger.info("FE run: %d steps", steps + 1)
-    from brakewear.simulate import FEInterface
+    from brakewear.interfaces import FEInterface
     itfs["fe"] = FEInterface(model, line_pressure, mu)
     runs["fe"], walls["fe"] = run(model, itfs["fe"], line_pressure, omega, duration, steps,
                                   pad_law, rotor_law, mu)

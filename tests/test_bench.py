@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 import skfem as fem
 
-from brakewear import bench
-from brakewear.elasticity import assemble_stiffness, elasticity_form, scalar_element, _intorder
+from brakewear.bench import core as bench
+from brakewear.fem import assemble_stiffness, elasticity_form, scalar_element
+from brakewear.fem.forms import _intorder
 from brakewear.mesh import annulus_mesh
 
 KEYS = {"dofs": int, "mesh_s": float, "assemble_s": float, "amg_setup_s": float, "solve_s": float,

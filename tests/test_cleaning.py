@@ -156,7 +156,7 @@ def test_cli_help():
 
 
 def test_a_failed_pressure_is_reported_not_hidden(monkeypatch):
-    from brakewear.contact import ActiveSetError
+    from brakewear.errors import ActiveSetError
 
     def fake(task):
         p = task["pressure"]

@@ -35,7 +35,7 @@ from pathlib import Path  # noqa: E402
 import pytest  # noqa: E402
 
 import brakewear.cli as cli  # noqa: E402
-from brakewear.scenefile import scene_file  # noqa: E402
+from brakewear.scene import scene_file
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -127,12 +127,12 @@ def test_unknown_scene_name_exits_2(capsys):
 
 
 def test_solver_failure_exits_3(tmp_path, capsys, monkeypatch):
-    from brakewear.scenefile import Scene
-    from brakewear.simulate import StepSizeError
+    import brakewear.output
+    from brakewear.errors import StepSizeError
 
-    def fail(self, out, resume=False, progress=None):
+    def fail(scene, out, resume=False, progress=None):
         raise StepSizeError("step 7: no acceptable wear step after 13 halvings")
-    monkeypatch.setattr(Scene, "run", fail)
+    monkeypatch.setattr(brakewear.output, "run_scene", fail)
     assert main(["run", "default", "--out", str(tmp_path), "--quiet"]) == 3
     err = capsys.readouterr().err
     assert "solver failed (StepSizeError): step 7" in err
@@ -166,7 +166,7 @@ def test_interrupt_before_the_first_checkpoint_says_start_again(tmp_path, capsys
 def test_demo_runs_the_default_scene_after_the_static_solve(tmp_path, monkeypatch):
     import json
 
-    import brakewear.scenefile as sf
+    import brakewear.scene as sf
     real = sf.load_scene
 
     def small(name):                       # the default scene on a coarse mesh, 2 steps

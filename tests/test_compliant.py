@@ -1,10 +1,10 @@
-"""Contact through a compliant layer (the implicit wear step), brakewear.compliant."""
+"""Contact through a compliant layer (the implicit wear step), brakewear.contact.compliant."""
 import numpy as np
 import pytest
 
-from brakewear.compliant import compliant_preconditioner, solve_compliant_contact
+from brakewear.contact import compliant_preconditioner, solve_compliant_contact
 from brakewear.contact import solve_contact
-from brakewear.scene import BrakeModel
+from brakewear.model import BrakeModel
 
 
 @pytest.fixture(scope="module")

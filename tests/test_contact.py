@@ -3,9 +3,10 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from brakewear.contact import (ContactSearchError, facet_normals, project_nodes, surface_nodes,
-                               tie_prolongation, tributary_areas)
-from brakewear.elasticity import apply_dirichlet, assemble_stiffness, assemble_traction, boundary_dofs
+from brakewear.errors import ContactSearchError
+from brakewear.mesh.surface import facet_normals, surface_nodes, tributary_areas
+from brakewear.contact import project_nodes, tie_prolongation
+from brakewear.fem import apply_dirichlet, assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.materials import Isotropic
 from brakewear.mesh import mapped_mesh, structured_tets
 from brakewear.solvers import direct_solve

@@ -3,10 +3,11 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-import brakewear.contact as bc
-from brakewear.contact import (ContactLostError, contact_preconditioner, pair_to_rigid,
-                               pair_to_surface, solve_contact)
-from brakewear.elasticity import assemble_stiffness, assemble_traction, boundary_dofs
+import brakewear.contact.elimination as el
+import brakewear.contact.lagrange as bc
+from brakewear.errors import ContactLostError
+from brakewear.contact import contact_preconditioner, pair_to_rigid, pair_to_surface, solve_contact
+from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.materials import Isotropic
 from brakewear.mesh import mapped_mesh, structured_tets
 
@@ -218,7 +219,7 @@ def test_stale_hierarchy_rule_compares_rates_not_counts():
     """A refreshed hierarchy counts as stale when its solve reduces the residual
     per iteration at less than half the first solve's rate (in decades), not
     when a tight solve simply takes more iterations than a loose first one."""
-    from brakewear.contact import _stale
+    from brakewear.contact.lagrange import _stale
     from brakewear.solvers import SolveInfo
 
     first = 0.3 ** np.arange(4)                  # first (loose) solve: 0.3 per iteration
@@ -343,17 +344,17 @@ def test_set_operators_equal_the_full_sum_for_any_sequence_of_sets():
     N = K.shape[0]
     is_fixed = np.zeros(N, dtype=bool)
     is_fixed[fixed] = True
-    Kd = bc._dirichlet_base(K, is_fixed)
+    Kd = el._dirichlet_base(K, is_fixed)
     diagK = K.diagonal()
-    ops = bc._SetOperators(K, Kd, [pr], is_fixed)
+    ops = el._SetOperators(K, Kd, [pr], is_fixed)
     rng = np.random.default_rng(3)
     sets = [rng.random(pr.slave.size) < q for q in (1.0, 0.3, 0.8, 0.0, 0.5)]
     sets.append(sets[1])  # back to an earlier set
     for act in sets:
         if not act.any():
             act[0] = True
-        P, c, elim = bc._prolongation(N, [pr], [act])
-        dK = bc._mask_fixed(bc._set_delta(K, P, elim, is_fixed, diagK), is_fixed)
+        P, c, elim = el._prolongation(N, [pr], [act])
+        dK = el._mask_fixed(el._set_delta(K, P, elim, is_fixed, diagK), is_fixed)
         A = ops.matrix(dK)
         ref = (Kd + dK).tocsr()
         assert A.nnz >= ref.nnz
@@ -370,7 +371,7 @@ def test_shared_hierarchy_update_uses_the_small_contact_difference():
     N = K.shape[0]
     is_fixed = np.zeros(N, dtype=bool)
     is_fixed[fixed] = True
-    Kd = bc._dirichlet_base(K, is_fixed)
+    Kd = el._dirichlet_base(K, is_fixed)
     assert abs((Kd + dK_base) - base.A.tocsr()).max() <= 1e-12 * abs(K).max()
     res = solve_contact(K, f, fixed, coords, [pr], linear="amg", solver=base)
     base.contact_delta = None  # without it: the full subtraction
@@ -383,14 +384,14 @@ def test_bodies_are_the_components_of_the_stiffness():
     """The hierarchy's aggregates stay inside the bodies of K: two blocks, two labels;
     one block alone, no split."""
     K, f, fixed, coords, pr = two_blocks_system(3, 4)
-    labels = bc._bodies(K)
+    labels = el._bodies(K)
     assert labels is not None and labels.shape == (K.shape[0] // 3,)
     assert np.unique(labels).size == 2
     lower = labels[coords[2] < -0.5]
     upper = labels[pr.slave]  # the upper block's bottom face
     assert np.unique(lower).size == 1 and np.unique(upper).size == 1 and lower[0] != upper[0]
     nL = int(pr.slave.min())  # the upper block's nodes come after the lower block's
-    assert bc._bodies(K[:3 * nL, :3 * nL]) is None
+    assert el._bodies(K[:3 * nL, :3 * nL]) is None
     # the contact hierarchy is built with them
     base = contact_preconditioner(K, fixed, coords, [pr])
     assert np.array_equal(base.bodies, labels)
@@ -407,11 +408,11 @@ def test_reduced_start_recovers_the_unknowns_of_a_displacement(tilt):
         pr.normal = np.array([[1, 0, 0], [0, c, -s], [0, s, c]]) @ pr.normal
     rng = np.random.default_rng(2)
     act = rng.random(pr.slave.size) < 0.5
-    P, cvec, elim = bc._prolongation(N, [pr], [act])
+    P, cvec, elim = el._prolongation(N, [pr], [act])
     x = rng.normal(size=N)
     x[elim] = 0.0
     u = P @ x + cvec
-    x0 = bc._reduced_start(u, [pr], [act])
+    x0 = el._reduced_start(u, [pr], [act])
     assert np.abs(x0 - x).max() <= 1e-12 * np.abs(x).max()
 
 

@@ -3,10 +3,7 @@ import numpy as np
 import pytest
 import skfem as fem
 
-from brakewear.elasticity import (apply_dirichlet, assemble_pressure, assemble_stiffness,
-                                  assemble_traction, boundary_dofs, elasticity_form,
-                                  element_stress, scalar_element, thermal_strain_form,
-                                  von_mises)
+from brakewear.fem import apply_dirichlet, assemble_pressure, assemble_stiffness, assemble_traction, boundary_dofs, elasticity_form, element_stress, scalar_element, thermal_strain_form, von_mises
 from brakewear.materials import Isotropic, MaterialError, TransverselyIsotropic, get_material
 from brakewear.mesh import annulus_mesh, mapped_mesh, structured_tets
 from brakewear.solvers import direct_solve, rigid_body_modes

@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 from brakewear import analytic as an
-from brakewear.foundation import (FoundationError, FoundationSolveError, WinklerInterface,
-                                  calibrate, compare, fe_approach, johnson_modulus,
-                                  layer_modulus)
-from brakewear.scene import BrakeModel
+from brakewear.errors import FoundationError, FoundationSolveError
+from brakewear.interfaces import WinklerInterface, calibrate, compare, fe_approach, layer_modulus
+from brakewear.analytic import johnson_modulus
+from brakewear.model import BrakeModel
 
 
 # ------------------------------------------------------------- sphere ---
@@ -74,7 +74,7 @@ def fe(model):
 def test_from_model_nodes_areas_modulus(model):
     wi = WinklerInterface.from_model(model)
     g = model.geometry
-    from brakewear.contact import surface_nodes
+    from brakewear.mesh.surface import surface_nodes
     assert np.array_equal(wi.nodes, surface_nodes(model.meshes["pad"], "friction"))
     assert wi.area.sum() == pytest.approx(g.pad.area, rel=2e-2)  # faceted arcs
     C33 = g.pad.friction_material.elastic.voigt()[2, 2]
@@ -226,7 +226,7 @@ def test_calibrate_stiffness_report(model, fe, rotor):
 def test_lever_arm_from_fe_abutment(model, fe):
     """The FE abutment reaction acts low on the backplate's end faces; with its
     height as the lever arm the Winkler friction shift matches the FE's."""
-    from brakewear.foundation import fe_lever_arm
+    from brakewear.interfaces import fe_lever_arm
     g = model.geometry.pad
     lever = fe_lever_arm(model, fe[0.4])
     assert g.friction_thickness < lever < g.friction_thickness + 0.5 * g.backplate_thickness

@@ -12,8 +12,8 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 import brakewear.mesh as bmesh
-from brakewear.geometry import (BrakeGeometry, GeometryError, available_geometries, geometry_file,
-                                geometry_from_dict, load_geometry)
+from brakewear.geometry import BrakeGeometry, available_geometries, geometry_file, geometry_from_dict, load_geometry
+from brakewear.errors import GeometryError
 from brakewear.materials import MATERIALS
 
 

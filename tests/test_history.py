@@ -10,19 +10,20 @@ import meshio
 import numpy as np
 import pytest
 
-from brakewear.contact import surface_nodes, tributary_areas
-from brakewear.history import run_wear
-from brakewear.scene import BrakeModel
-from brakewear.wear import WearError, WearLaw
+from brakewear.mesh.surface import surface_nodes, tributary_areas
+from brakewear.output import run_wear
+from brakewear.model import BrakeModel
+from brakewear.errors import WearError
+from brakewear.laws import WearLaw
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
 ARGS = (1e6, 55.0, 3000.0, PAD, ROTOR)
 
 SCRIPT = textwrap.dedent("""
     import sys
-    from brakewear.history import run_wear
-    from brakewear.scene import BrakeModel
-    from brakewear.wear import WearLaw
+    from brakewear import run_wear
+    from brakewear import BrakeModel
+    from brakewear import WearLaw
     m = BrakeModel("default", size=8e-3)
     run_wear(m, sys.argv[1], 1e6, 55.0, 3000.0, WearLaw(5e-15), WearLaw(5e-16), steps=6,
              every=1, vtu_every=1, progress=lambda s: print(s.step, flush=True))

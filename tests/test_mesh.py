@@ -6,8 +6,8 @@ import pytest
 import skfem as fem
 
 from brakewear.geometry import load_geometry
-from brakewear.mesh import (MeshFileError, brake_meshes, component_materials,
-                            element_materials, read_mesh, write_mesh)
+from brakewear.errors import MeshFileError
+from brakewear.mesh import brake_meshes, component_materials, element_materials, read_mesh, write_mesh
 
 
 @pytest.fixture(scope="module")

@@ -5,11 +5,12 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem as fem
 
-from brakewear.contact import mortar_coupling, surface_nodes, tributary_areas
-from brakewear.elasticity import assemble_stiffness, stiffness_update
+from brakewear.contact.surface import mortar_coupling
+from brakewear.mesh.surface import surface_nodes, tributary_areas
+from brakewear.fem import assemble_stiffness, stiffness_update
 from brakewear.motion import (BrakeMotion, MeshQualityError, SurfaceFollower, check_quality,
                               element_quality, element_volumes, surface_element_height)
-from brakewear.scene import BrakeModel
+from brakewear.model import BrakeModel
 
 COARSE = 6e-3  # m: a coarse brake, a second to build and assemble
 

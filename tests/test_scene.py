@@ -2,8 +2,9 @@
 import numpy as np
 import pytest
 
-from brakewear.geometry import GeometryError
-from brakewear.scene import BrakeModel, SceneError
+from brakewear.errors import GeometryError
+from brakewear.model import BrakeModel
+from brakewear.errors import SceneError
 
 
 @pytest.fixture(scope="module")

@@ -6,12 +6,15 @@ import sys
 
 import pytest
 
-import brakewear.scene as scene_mod
-from brakewear.geometry import GeometryError, geometry_file
+import brakewear.model as scene_mod
+from brakewear.errors import GeometryError
+from brakewear.geometry import geometry_file
 from brakewear.mesh import pad_mesh, piston_mesh, rotor_mesh
-from brakewear.scenefile import (SURFACES, Interface, Numerics, Output, Scene, SceneError,
-                                 Thermal, WearSpec, available_scenes, load_scene,
-                                 scene_file, scene_from_dict)
+from brakewear.output import run_scene
+from brakewear.scene import SURFACES, InterfaceSpec, OutputSpec, Scene, WearSpec, available_scenes, load_scene, scene_file, scene_from_dict
+from brakewear.wear import Numerics
+from brakewear.errors import SceneError
+from brakewear.scene import ThermalSpec
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -79,17 +82,17 @@ def test_python_built_scene_equals_the_file():
         rotor="elastic", piston="traction",
         mesh_size=6e-3,
         line_pressure=1e6, omega=55.0, duration=3600.0, ambient=293.15,
-        interface=Interface(model="fe", surfaces=("pad.friction", "rotor.friction"), mu=0.4),
+        interface=InterfaceSpec(model="fe", surfaces=("pad.friction", "rotor.friction"), mu=0.4),
         pad_wear=WearSpec(k=None, a=1.0, b=1.0),
         rotor_wear=WearSpec(k=None),
-        thermal=Thermal(enabled=False),
+        thermal=ThermalSpec(enabled=False),
         numerics=Numerics(scheme="implicit", update="gap", dp_tol=0.05, dh_fraction=0.1),
-        output=Output(vtu_every=10, checkpoint_every=5, figures=True),
+        output=OutputSpec(vtu_every=10, checkpoint_every=5, figures=True),
         name="default",
     )
     assert py == load_scene("default")
     assert py != Scene(geometry="default", duration=3600.0, mesh_size=6e-3,
-                       interface=Interface(mu=0.3))
+                       interface=InterfaceSpec(mu=0.3))
 
 
 def test_same_scene_in_other_units():
@@ -205,13 +208,13 @@ def test_geometry_path_is_relative_to_the_scene_file(tmp_path):
 
 def test_python_built_bad_values_name_the_key():
     with pytest.raises(SceneError, match=r"interface.mu: -1"):
-        Interface(mu=-1)
+        InterfaceSpec(mu=-1)
     with pytest.raises(SceneError, match=r"environment.line_pressure: -5"):
         Scene(line_pressure=-5.0)
     with pytest.raises(SceneError, match=r"numerics.update: 'mesh' is not allowed"):
         Numerics(update="mesh")
     with pytest.raises(SceneError, match=r"thermal.h_conv.disc: unknown body"):
-        Thermal(h_conv={"disc": 10.0})
+        ThermalSpec(h_conv={"disc": 10.0})
 
 
 def test_unknown_scene_name_lists_the_packaged_ones():
@@ -222,10 +225,10 @@ def test_unknown_scene_name_lists_the_packaged_ones():
 def test_combinations_the_loop_refuses_are_refused_before_meshing(no_meshing, tmp_path):
     s = load_scene("default")
     with pytest.raises(SceneError, match="numerics.update: 'geometry' cannot be combined"):
-        Scene(geometry=s.geometry, thermal=Thermal(enabled=True),
+        Scene(geometry=s.geometry, thermal=ThermalSpec(enabled=True),
               numerics=Numerics(update="geometry"))
     with pytest.raises(SceneError, match="numerics.update: 'geometry' moves the FE meshes"):
-        Scene(geometry=s.geometry, interface=Interface(model="winkler"),
+        Scene(geometry=s.geometry, interface=InterfaceSpec(model="winkler"),
               numerics=Numerics(update="geometry"))
 
 
@@ -233,10 +236,10 @@ def test_thermal_and_winkler_scenes_run(tmp_path):
     s = load_scene("default")
     small = dict(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0,
                  numerics=Numerics(steps=2, scheme="implicit"))
-    small["output"] = Output(figures=False)
-    a = Scene(**small, thermal=Thermal(enabled=True, contact_conductance=1e5)).run(tmp_path / "t")
+    small["output"] = OutputSpec(figures=False)
+    a = run_scene(Scene(**small, thermal=ThermalSpec(enabled=True, contact_conductance=1e5)), tmp_path / "t")
     assert a["steps"] == 2 and a["final"]["pressure_max_Pa"] > 0
-    b = Scene(**small, interface=Interface(model="winkler")).run(tmp_path / "w")
+    b = run_scene(Scene(**small, interface=InterfaceSpec(model="winkler")), tmp_path / "w")
     assert b["steps"] == 2
 
 
@@ -248,7 +251,7 @@ def test_wear_tol_is_a_length_passed_to_the_loop(tmp_path, monkeypatch):
     s = scene_from_dict(d)
     assert s.numerics.wear_tol == pytest.approx(2e-6)
     assert load_scene("default").numerics.wear_tol is None
-    import brakewear.history as history
+    import brakewear.output as history
     seen = {}
 
     def fake_run_wear(*args, **kw):
@@ -256,7 +259,7 @@ def test_wear_tol_is_a_length_passed_to_the_loop(tmp_path, monkeypatch):
         raise RuntimeError("stop")
     monkeypatch.setattr(history, "run_wear", fake_run_wear)
     small = Scene(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0,
-                  numerics=Numerics(wear_tol=2e-6), output=Output(figures=False))
+                  numerics=Numerics(wear_tol=2e-6), output=OutputSpec(figures=False))
     with pytest.raises(RuntimeError, match="stop"):
-        small.run(tmp_path / "w")
+        run_scene(small, tmp_path / "w")
     assert seen["wear_tol"] == 2e-6

@@ -2,9 +2,11 @@
 import numpy as np
 import pytest
 
-from brakewear.scene import BrakeModel
-from brakewear.simulate import StepSizeError, wear_history
-from brakewear.wear import WearError, WearLaw
+from brakewear.model import BrakeModel
+from brakewear.errors import StepSizeError
+from brakewear.wear import wear_history
+from brakewear.errors import WearError
+from brakewear.laws import WearLaw
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
 
@@ -76,7 +78,7 @@ def test_rigid_rotor_wears_by_rings_and_conserves_volume():
     assert abs(s.rotor_volume - s.rotor_archard) <= 1e-10 * s.rotor_archard
     assert s.pad_volume / s.rotor_volume == pytest.approx(10.0, rel=1e-10)
     # one wear value per ring of pad friction-node radii, every ring worn
-    from brakewear.contact import surface_nodes
+    from brakewear.mesh.surface import surface_nodes
     pad = m.meshes["pad"]
     x = pad.p[:, surface_nodes(pad, "friction")]
     assert s.rotor_wear.size == np.unique(np.round(np.hypot(x[0], x[1]), 9)).size

@@ -5,11 +5,14 @@ import sys
 import numpy as np
 import pytest
 
-from brakewear.foundation import WinklerInterface
-from brakewear.scene import BrakeModel
-from brakewear.simulate import FoundationInterface, wear_history
-from brakewear.thermal import FrictionLaw, ThermalModel
-from brakewear.wear import WearError, WearLaw
+from brakewear.interfaces import WinklerInterface
+from brakewear.model import BrakeModel
+from brakewear.interfaces import FoundationInterface
+from brakewear.wear import wear_history
+from brakewear.laws import FrictionLaw
+from brakewear.thermal import ThermalModel
+from brakewear.errors import WearError
+from brakewear.laws import WearLaw
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
 HOT_PAD = WearLaw(5e-15, activation_energy=5e4, T_threshold=320.0)
@@ -69,8 +72,8 @@ def test_friction_law_needs_thermal(model):
 
 
 def test_loop_without_thermal_never_imports_it():
-    code = ("import sys; from brakewear.scene import BrakeModel; from brakewear.simulate import "
-            "wear_history; from brakewear.wear import WearLaw; m = BrakeModel(size=1.2e-2); "
+    code = ("import sys; from brakewear import BrakeModel; from brakewear import "
+            "wear_history; from brakewear import WearLaw; m = BrakeModel(size=1.2e-2); "
             "list(wear_history(m, 1e6, 55.0, 10.0, WearLaw(5e-15), steps=1)); "
             "assert 'brakewear.thermal' not in sys.modules, 'thermal imported'")
     subprocess.run([sys.executable, "-c", code], check=True)

@@ -3,10 +3,11 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from brakewear.elasticity import apply_dirichlet, assemble_pressure, assemble_stiffness, boundary_dofs
+from brakewear.fem import apply_dirichlet, assemble_pressure, assemble_stiffness, boundary_dofs
 from brakewear.materials import get_material
 from brakewear.mesh import annulus_mesh
-from brakewear.solvers import (ConvergenceError, amg_solver, direct_solve, rigid_body_modes)
+from brakewear.errors import ConvergenceError
+from brakewear.solvers import amg_solver, direct_solve, rigid_body_modes
 
 
 @pytest.fixture(scope="module")
@@ -138,7 +139,7 @@ def test_v_cycle_is_pyamgs_v_cycle(ring):
 
 
 def test_blas_threads_are_one_inside_and_restored_after():
-    from brakewear.solvers import _openblas_controls, _single_threaded_blas
+    from brakewear.solvers.threads import _openblas_controls, _single_threaded_blas
 
     controls = _openblas_controls()
     if not controls:
@@ -152,7 +153,7 @@ def test_blas_threads_are_one_inside_and_restored_after():
 def test_batched_block_pinv_is_pyamgs():
     from pyamg.util.linalg import pinv_array
 
-    from brakewear.solvers import _block_pinv
+    from brakewear.solvers.patches import _block_pinv
 
     rng = np.random.default_rng(2)
     X = rng.normal(size=(400, 6, 9))
@@ -178,7 +179,7 @@ def test_batched_block_pinv_is_pyamgs():
 def test_vectorised_bsr_sum_duplicates_is_scipys(duplicates):
     """Unsorted blocks (as from tobsr) and, if asked, duplicate ones: the same
     arrays as scipy's own loop, and the patch is undone after the setup."""
-    from brakewear.solvers import _BSR_BASE, _bsr_sum_duplicates, _vectorised_bsr_dedupe
+    from brakewear.solvers.patches import _BSR_BASE, _bsr_sum_duplicates, _vectorised_bsr_dedupe
 
     rng = np.random.default_rng(4)
     n_brow, per_row = 50, 6
@@ -344,7 +345,7 @@ def test_backward_sweep_over_the_reversed_copy_is_pyamgs_backward_sweep():
     also for an unsymmetric matrix with unsorted column indices; the copy is made after
     _COPY_AFTER sweeps of the same matrix, kept for it and remade for another."""
     from pyamg.relaxation.relaxation import gauss_seidel
-    from brakewear.solvers import _COPY_AFTER, _BackwardSweeps
+    from brakewear.solvers.cycle import _COPY_AFTER, _BackwardSweeps
 
     rng = np.random.default_rng(5)
     n = 300
@@ -373,7 +374,7 @@ def test_backward_sweep_over_the_reversed_copy_is_pyamgs_backward_sweep():
 def test_refreshed_cycles_never_smooth_with_a_stale_reversed_copy(ring):
     """Refreshed copies written in place (level buffers) and the base they share levels
     with: each V-cycle, applied in any order, is pyamg's cycle of its own levels."""
-    from brakewear.solvers import _COPY_AFTER
+    from brakewear.solvers.cycle import _COPY_AFTER
 
     base, Kd, rng, pick = _base_and_free_dofs(ring, seed=2, count=20)
     Z = sp.csr_matrix((np.ones(pick.size), (pick, pick)), shape=Kd.shape)

@@ -16,14 +16,14 @@ import skfem as fem
 
 from brakewear import analytic as an
 from brakewear.contact import solve_contact
-from brakewear.elasticity import (apply_dirichlet, assemble_stiffness, boundary_dofs,
-                                  thermal_strain_form)
+from brakewear.fem import apply_dirichlet, assemble_stiffness, boundary_dofs, thermal_strain_form
 from brakewear.materials import MATERIALS
-from brakewear.scene import BrakeModel
+from brakewear.model import BrakeModel
 from brakewear.solvers import direct_solve
-from brakewear.thermal import (FrictionLaw, HeatConduction, ThermalError, ThermalModel,
-                               heat_flux, partition_effusivity, staggered_amplification,
-                               thermal_load_matrix, thermal_stress)
+from brakewear.laws import FrictionLaw
+from brakewear.fem import HeatConduction
+from brakewear.errors import ThermalError
+from brakewear.thermal import ThermalModel, heat_flux, partition_effusivity, staggered_amplification, thermal_load_matrix, thermal_stress
 
 PAD = MATERIALS["pad_resin"]
 
@@ -278,7 +278,7 @@ def test_thermal_load_global_numbering(brake):
 
 
 def test_scene_without_thermal_builds_nothing_thermal():
-    code = ("import sys; from brakewear.scene import BrakeModel; m = BrakeModel(size=8e-3); "
+    code = ("import sys; from brakewear import BrakeModel; m = BrakeModel(size=8e-3); "
             "m.solve_contact(1e6, mu=0.4); "
             "assert 'brakewear.thermal' not in sys.modules, 'thermal imported'")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)

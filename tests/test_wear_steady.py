@@ -15,9 +15,10 @@ import pytest
 
 from brakewear.analytic import uniform_wear_torque
 from brakewear.geometry import load_geometry
-from brakewear.scene import BrakeModel
-from brakewear.simulate import FEInterface, wear_history
-from brakewear.wear import WearLaw
+from brakewear.model import BrakeModel
+from brakewear.interfaces import FEInterface
+from brakewear.wear import wear_history
+from brakewear.laws import WearLaw
 
 P_LINE, OMEGA, MU = 1e6, 55.0, 0.4
 K_PAD = 5e-13          # 100 x a resin pad's k: the same worn shape in 1/100 of the time

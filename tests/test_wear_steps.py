@@ -34,9 +34,13 @@ def test_fixed_steps_converge_at_first_order(tmp_path):
 
 import numpy as np  # noqa: E402
 
-from brakewear.scene import BrakeModel  # noqa: E402
-from brakewear.simulate import FEInterface, StepSizeError, wear_history  # noqa: E402
-from brakewear.wear import WearError, WearLaw, rotor_wear_rate  # noqa: E402
+from brakewear.model import BrakeModel
+from brakewear.interfaces import FEInterface
+from brakewear.errors import StepSizeError
+from brakewear.wear import wear_history
+from brakewear.errors import WearError
+from brakewear.laws import WearLaw
+from brakewear.rings import rotor_wear_rate
 
 
 @pytest.mark.parametrize("bad", [0.0, -1e-6, float("nan"), float("inf"), "1e-6", True])

@@ -29,12 +29,17 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .contact import ActiveSetError, ContactLostError, ContactPair
+from ..errors import ActiveSetError, ContactLostError
+from .pairs import ContactPair
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["constraint_rows", "solve_compliant_contact", "compliant_preconditioner",
-           "CompliantResult"]
+__all__ = [
+    "constraint_rows",
+    "solve_compliant_contact",
+    "compliant_preconditioner",
+    "CompliantResult",
+]
 
 
 @dataclass
@@ -137,7 +142,6 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     """
     from scipy.sparse.linalg import LinearOperator
 
-    from .solvers import amg_solver
 
     t0 = time.perf_counter()
     K = K.tocsr()
@@ -278,8 +282,8 @@ def compliant_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarr
     """The base AMG hierarchy of ``K`` with its supports, for
     ``solve_compliant_contact(..., solver=)``: built once per stiffness (a
     wear history in gap-offset mode keeps it for every step)."""
-    from .elasticity import apply_dirichlet
-    from .solvers import amg_solver
+    from ..fem.boundary import apply_dirichlet
+    from ..solvers.amg import amg_solver
 
     K = K.tocsr()
     fixed = np.unique(np.asarray(fixed, dtype=np.int64))

@@ -18,23 +18,31 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .contact import (ContactPair, pair_to_rigid, pair_to_surface, project_nodes, solve_contact,
-                      surface_nodes, tie_prolongation, tributary_areas)
-from .elasticity import (BlockPattern, apply_dirichlet, assemble_stiffness, assemble_traction,
-                         boundary_dofs, element_stress, nodal_stress, von_mises)
-from .geometry import BrakeGeometry, load_geometry
-from .mesh import component_materials, element_materials, pad_mesh, piston_mesh, rotor_mesh
-from .solvers import amg_solver
+from .contact.lagrange import solve_contact
+from .contact.pairs import ContactPair, pair_to_rigid, pair_to_surface
+from .contact.surface import project_nodes, tie_prolongation
+from .errors import SceneError
+from .fem.assembly import BlockPattern, assemble_stiffness
+from .fem.boundary import apply_dirichlet, assemble_traction, boundary_dofs
+from .fem.stress import element_stress, nodal_stress, von_mises
+from .geometry.files import load_geometry
+from .geometry.parts import BrakeGeometry
+from .mesh.brake import (
+    component_materials,
+    element_materials,
+    pad_mesh,
+    piston_mesh,
+    rotor_mesh,
+)
+from .mesh.surface import surface_nodes, tributary_areas
+from .solvers.amg import amg_solver
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["BrakeModel", "StaticResult", "SceneError", "ContactSystem"]
+__all__ = ["BrakeModel", "StaticResult", "ContactSystem"]
+
 
 _MESHERS = {"rotor": rotor_mesh, "pad": pad_mesh, "piston": piston_mesh}
-
-
-class SceneError(ValueError):
-    """A scene asks for something inconsistent (names the option and the allowed values)."""
 
 
 @dataclass

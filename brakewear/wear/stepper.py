@@ -38,20 +38,15 @@ from pathlib import Path
 from typing import Iterator
 
 import numpy as np
-import scipy.sparse as sp
 
-from .compliant import compliant_preconditioner, solve_compliant_contact
-from .contact import (ContactLostError, contact_preconditioner, solve_contact, surface_nodes,
-                      tributary_areas)
-from .wear import WearError, WearLaw, rotor_rings, rotor_wear_rate
+from ..errors import ContactLostError, StepSizeError, WearError
+from ..interfaces.fe import FEInterface
+from ..laws import WearLaw
+from ..rings import rotor_wear_rate
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearStep", "wear_history", "StepSizeError", "FEInterface", "FoundationInterface"]
-
-
-class StepSizeError(RuntimeError):
-    """The step control could not find an acceptable wear step."""
+__all__ = ["WearStep", "wear_history"]
 
 
 @dataclass
@@ -83,148 +78,11 @@ class WearStep:
     active_end: np.ndarray | None = None
 
 
-class FEInterface:
-    """The finite-element contact interface as the wear loop sees it.
-
-    Holds the assembled contact system of a :class:`~brakewear.scene.BrakeModel`
-    and answers one question: the pressure at the pad's friction nodes for a
-    given extra gap (the worn depths).  Also provides what the rotor's
-    revolution-averaged wear needs: the coupling ``W`` from pad nodes to the
-    rotor's wear nodes, their rings and areas.  With an elastic rotor the
-    wear nodes are the rotor's friction-face nodes; with a rigid rotor (the
-    plane z = 0, nothing meshed) they are rings at the radii of the pad's
-    nodes, each carrying the annulus between its neighbours' mid-radii.
-    """
-
-    def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
-        self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
-        pad = model.meshes["pad"]
-        self.pad_nodes = surface_nodes(pad, "friction")
-        self.x = pad.p[:, self.pad_nodes]
-        self.r = np.hypot(self.x[0], self.x[1])
-        self.area = tributary_areas(pad, "friction", self.pad_nodes)
-        if model.rotor == "elastic":
-            rotor = model.meshes["rotor"]
-            self.rotor_nodes = face = surface_nodes(rotor, "friction")
-            self.ring, _ = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
-            self.rotor_area = tributary_areas(rotor, "friction", face)
-            self.rotor_x = rotor.p[:, face]
-        else:
-            self.rotor_nodes = None
-            self._W, self.ring, self.rotor_area, self.rotor_x = _ring_wear_nodes(self.r)
-        self.extra_load = None
-        self.rebuild()
-
-    def rebuild(self, opening: float = 0.0) -> None:
-        """(Re)build the contact system from the model's current meshes and stiffness.
-
-        ``opening`` (m): the largest gap the worn surfaces have opened; the
-        contact search reaches that much further.
-        """
-        model = self.model
-        radius = 2.0 * model.geometry.mesh.size + 1e-9 + opening
-        self.cs = cs = model.contact_system(self.line_pressure, self.mu, search_radius=radius)
-        self.pair = pair = cs.pair
-        self.g0 = pair.g0.copy()
-        if model.rotor == "elastic":
-            face_r = cs.col[self.rotor_nodes + model.offsets["rotor"]]   # retained numbering
-            self.W = pair.coupling[:, face_r].tocsr()
-        else:
-            self.W = self._W
-        # hierarchies of this stiffness, built on first use and shared by every
-        # solve (never modified: each solve refreshes its own copy)
-        self._base = {}
-        # normal stiffness row sums of the pad's friction face (Gershgorin bound
-        # of the pressure response to a gap change, used by the stability bound)
-        dz = 3 * pair.slave + 2
-        self.normal_stiffness = np.asarray(abs(cs.K[dz][:, dz]).sum(axis=1)).ravel()
-
-    def solve(self, offset: np.ndarray, active: np.ndarray | None, compliance=None,
-              x0: np.ndarray | None = None):
-        """Contact solve with ``offset`` (m) added to the gap: (pressure, active, info).
-
-        With ``compliance`` (m/Pa per pad node) the interface is a compliant
-        layer: the implicit wear step (:mod:`brakewear.compliant`), whose
-        Krylov solves start from ``x0`` (the previous step's displacement,
-        ``info["u"]``), when given.
-        """
-        self.pair.g0 = self.g0 + offset
-        cs = self.cs
-        f = cs.f if self.extra_load is None else cs.f + cs.P.T @ self.extra_load
-        if compliance is not None:
-            if "compliant" not in self._base:
-                self._base["compliant"] = compliant_preconditioner(cs.K, cs.fixed, cs.coords,
-                                                                   self.tol)
-            res = solve_compliant_contact(cs.K, f, cs.fixed, cs.coords, self.pair,
-                                          compliance, initial_active=active, tol=self.tol,
-                                          solver=self._base["compliant"], x0=x0)
-            return res.pressure, res.active, res.info
-        if "contact" not in self._base:
-            self._base["contact"] = contact_preconditioner(cs.K, cs.fixed, cs.coords,
-                                                           [self.pair], tol=self.tol)
-        init = None if active is None else [np.asarray(active, dtype=bool)]
-        res = solve_contact(cs.K, f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
-                            initial_active=init, solver=self._base["contact"])
-        return res.pressure[0], res.active[0], {**res.info, "u": res.u}
-
-    def set_mu(self, mu: float) -> None:
-        """Friction coefficient of the next solves (e.g. mu(T) of a friction law)."""
-        self.pair.mu = float(mu)
-
-
-def _ring_wear_nodes(r: np.ndarray):
-    """Rotor wear nodes of an unmeshed rotor: one ring per distinct pad-node radius,
-    carrying the annulus between its neighbours' mid-radii.  (W, ring, area, x)."""
-    ring, radii = rotor_rings(r)
-    edges = np.concatenate([[radii[0]], 0.5 * (radii[1:] + radii[:-1]), [radii[-1]]])
-    W = sp.csr_matrix((np.ones(ring.size), (np.arange(ring.size), ring)),
-                      shape=(ring.size, radii.size))
-    x = np.vstack([radii, np.zeros_like(radii), np.zeros_like(radii)])
-    return W, np.arange(radii.size), np.pi * (edges[1:] ** 2 - edges[:-1] ** 2), x
-
-
-class FoundationInterface:
-    """An elastic-foundation (Winkler) interface as the wear loop's interface model.
-
-    Wraps a :class:`brakewear.foundation.WinklerInterface` (pad face on a rigid
-    backing, foundation modulus per node); the rotor wears by rings of the pad
-    nodes' radii as an unmeshed rotor does.  Milliseconds per solve.  The
-    implicit step puts the step's wear compliance in series with the
-    foundation: modulus ``1 / (1/k + eps)``.
-    """
-
-    def __init__(self, model, winkler, line_pressure: float, mu: float = 0.0):
-        self.model, self.winkler, self.line_pressure, self.mu = model, winkler, line_pressure, mu
-        pad = model.meshes["pad"]
-        self.pad_nodes = surface_nodes(pad, "friction")
-        if winkler.nodes is not None and not np.array_equal(winkler.nodes, self.pad_nodes):
-            raise WearError("the foundation's nodes are not the pad's friction nodes of this "
-                            "model (build it with WinklerInterface.from_model(model))")
-        self.x = pad.p[:, self.pad_nodes]
-        self.r = np.hypot(self.x[0], self.x[1])
-        self.area = np.asarray(winkler.area, dtype=float)
-        self.rotor_nodes = None
-        self.W, self.ring, self.rotor_area, self.rotor_x = _ring_wear_nodes(self.r)
-        self.normal_stiffness = np.asarray(winkler.modulus) * self.area
-        self.extra_load = None
-
-    def solve(self, offset: np.ndarray, active, compliance=None, x0=None):
-        w = self.winkler
-        if compliance is not None:
-            w = w.with_modulus(1.0 / (1.0 / np.asarray(w.modulus) + compliance))
-        res = w.solve(self.line_pressure, self.mu, gap=offset)
-        if not res.active.any():
-            raise ContactLostError("foundation: no node in contact")
-        return res.pressure, res.active, {"iterations": res.iterations, "time_s": res.time_s}
-
-    def set_mu(self, mu: float) -> None:
-        self.mu = float(mu)
-
-
 #: Largest growth of the step from one step to the next under ``wear_tol``
 #: control (measured, docs/wear.md "Step convergence": 2, 4 and 8 give the same
 #: runs within one step; 4 saves the step after the first guess, adds no retry).
 WEAR_TOL_GROWTH = 4.0
+
 
 _STATE_KEYS = ("step", "time", "pad_wear", "rotor_wear", "pad_archard", "rotor_archard",
                "pressure", "active", "dt_next", "u", "u_prev", "dt_last")
@@ -245,14 +103,14 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     Parameters
     ----------
     model
-        A :class:`brakewear.scene.BrakeModel` (elastic or rigid rotor).
+        A :class:`brakewear.model.BrakeModel` (elastic or rigid rotor).
     line_pressure, omega, duration
         Pa, rad/s (rotor speed, > 0), s.
     pad_law, rotor_law
         Wear laws of pad and rotor (``rotor_law=None``: the rotor does not wear).
     mu
         Friction coefficient (sliding friction drags the pad along the rotor),
-        or a :class:`brakewear.thermal.FrictionLaw` (``mu(T)`` at the pad
+        or a :class:`brakewear.laws.FrictionLaw` (``mu(T)`` at the pad
         face's mean temperature, updated every step; needs ``thermal``).
     steps
         Fixed number of equal steps (no step control, no stability bound);
@@ -289,13 +147,13 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         ``"explicit"`` (Euler: the pressure at the start of the step) or
         ``"implicit"`` (backward Euler for the pad: the pressure at the end of
         the step, solved as contact through the step's wear compliance,
-        :mod:`brakewear.compliant`; unconditionally stable; the rotor's
+        :mod:`brakewear.contact.compliant`; unconditionally stable; the rotor's
         ring-averaged wear stays explicit).  Implicit needs a pad law with a = 1.
     update
         ``"gap"`` (the worn depths offset the contact gap; meshes stay) or
         ``"geometry"`` (after every accepted step both worn faces move and the
         layers beneath follow, :class:`brakewear.motion.BrakeMotion`; a
-        degenerate element raises :class:`~brakewear.motion.MeshQualityError`
+        degenerate element raises :class:`~brakewear.errors.MeshQualityError`
         naming the step).  Elastic rotor, or rigid rotor (pad moves only).
     checkpoint, every, resume
         ``.npz`` file written every ``every`` accepted steps (and at the end);
@@ -382,7 +240,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     itf = FEInterface(model, line_pressure, mu, tol) if interface is None else interface
     motion = None
     if update == "geometry":
-        from .motion import BrakeMotion
+        from ..motion import BrakeMotion
         motion = BrakeMotion(model)
     A_pad, ring, A_rot = itf.area, itf.ring, itf.rotor_area
     if initial_gap is not None and initial_gap.shape != A_pad.shape:
@@ -392,7 +250,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     v = omega * itf.r                                  # sliding speed at each pad node
     r_mean = 0.5 * (model.geometry.pad.inner_radius + model.geometry.pad.outer_radius)
     if max_dh is None:
-        from .motion import surface_element_height
+        from ..motion import surface_element_height
         dh_limit = dh_fraction * surface_element_height(model.meshes["pad"], "friction")
     else:
         dh_limit = np.full(A_pad.size, float(max_dh))

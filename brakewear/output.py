@@ -1,6 +1,6 @@
 """A wear history on disk: VTU time series (ParaView), a CSV of per-step figures, a JSON summary.
 
-:func:`run_wear` drives :func:`brakewear.simulate.wear_history` and writes
+:func:`run_wear` drives :func:`brakewear.wear.wear_history` and writes
 
 - ``pad.pvd`` + ``pad_NNNNN.vtu``: the pad mesh with the point fields
   ``pressure`` (Pa), ``pad_wear`` (m), ``active`` (1 in contact) on its
@@ -10,10 +10,11 @@
 - ``checkpoint.npz``: the loop's state (resume with ``resume=True``);
 - ``summary.json``: what a user asks first (wear, pressure, steps, cost).
 
-ParaView opens the ``.pvd`` files as time series.  A resumed run drops the
-files written after its checkpoint and continues the series, so a run
-killed at any point and resumed leaves the same files as an uninterrupted
-one.
+:func:`run_scene` does the same for a :class:`~brakewear.scene.Scene`, with
+``scene.json`` (the scene in SI units) and PNG figures.  ParaView opens the
+``.pvd`` files as time series.  A resumed run drops the files written after
+its checkpoint and continues the series, so a run killed at any point and
+resumed leaves the same files as an uninterrupted one.
 """
 from __future__ import annotations
 
@@ -24,15 +25,68 @@ import os
 import re
 import time
 from pathlib import Path
+from typing import Any, Callable
 
 import meshio
 import numpy as np
 
-from .simulate import FEInterface, WearStep, wear_history
+from .errors import SceneError
+from .interfaces.fe import FEInterface
+from .scene.spec import _first_difference
+from .wear.stepper import WearStep, wear_history
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["SeriesWriter", "run_wear", "step_figures", "ring_profile"]
+
+
+def _figures(model, out: Path, scene) -> list[str]:
+    """Final pad wear and pressure on the friction face; wear and pressure histories."""
+    import csv
+
+    import meshio
+    import numpy as np
+
+    from .figures import plot_field
+
+    files = []
+    pvd = out / "pad.pvd"
+    last = sorted(out.glob("pad_*.vtu"))
+    if pvd.exists() and last:
+        m = meshio.read(last[-1])
+        pad = model.meshes["pad"]
+        for fld, png, scale, label, cmap in (
+                ("pad_wear", "pad_wear.png", 1e6, "pad wear (um)", "viridis"),
+                ("pressure", "pad_pressure.png", 1e-6, "pressure (MPa)", "inferno")):
+            files.append(str(plot_field(
+                pad, m.point_data[fld] * scale, out / png,
+                f"{scene.name}: {label}, last step", label=label, cmap=cmap,
+                facets="friction", view=(0.0, 0.0, -1.0))))
+    with open(out / "history.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    if rows:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        t = np.array([0.0] + [float(r["time_s"]) for r in rows])
+        t_start = np.array([float(r["time_s"]) - float(r["dt_s"]) for r in rows])
+        fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+        for key, label in (("pad_wear_max_m", "pad, max"), ("pad_wear_mean_m", "pad, mean"),
+                           ("rotor_wear_max_m", "rotor, max")):
+            ax[0].plot(t, [0.0] + [1e6 * float(r[key]) for r in rows], label=label)
+        ax[0].set(xlabel="time (s)", ylabel="wear depth (um)", title="wear")
+        ax[0].legend()
+        ax[1].plot(t_start, [1e-6 * float(r["pressure_max_Pa"]) for r in rows], marker=".")
+        ax[1].set(xlabel="time (s)", ylabel="max contact pressure (MPa)",
+                  title="pressure at the start of each step")
+        fig.suptitle(f"{scene.name}: {scene.line_pressure / 1e6:g} MPa, "
+                     f"{scene.omega:g} rad/s, mu {scene.interface.mu:g}")
+        fig.tight_layout()
+        path = out / "history.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        files.append(str(path))
+    return files
 
 
 class SeriesWriter:
@@ -94,7 +148,7 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
              vtu_every: int = 10, resume: bool = False, progress=None, **kwargs) -> dict:
     """Run a wear history and write it to ``out`` (see the module docstring).
 
-    ``kwargs`` go to :func:`~brakewear.simulate.wear_history` (``steps``,
+    ``kwargs`` go to :func:`~brakewear.wear.wear_history` (``steps``,
     ``max_dh``, ``dp_tol``, ``every``, ...).  ``progress`` is called with each
     :class:`WearStep` (e.g. to advance a progress bar).  Returns the summary.
     """
@@ -107,7 +161,7 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     start = None
     if resume:
         if not ck.exists():
-            from .wear import WearError
+            from .errors import WearError
             raise WearError(f"resume=True but {ck} does not exist")
         with np.load(ck) as d:
             start = int(d["step"])
@@ -184,3 +238,86 @@ def _write_csv(path: Path, rows: list) -> None:
         w.writeheader()
         w.writerows(rows)
     os.replace(tmp, path)
+
+
+def run_scene(scene, out: str | os.PathLike, resume: bool = False,
+              progress: Callable | None = None) -> dict:
+    """Build a scene's model and run its wear history into ``out``; return the summary.
+
+    Writes what :func:`brakewear.output.run_wear` writes, plus
+    ``scene.json`` (this scene, SI) and, with ``output.figures``, PNG
+    figures.  ``resume=True`` continues from ``out/checkpoint.npz`` and
+    refuses a folder written by a different scene.  ``progress`` is
+    called with each :class:`~brakewear.wear.WearStep`.
+    """
+    out = Path(out)
+    record = scene.to_dict()
+    rec_path = out / "scene.json"
+    if resume:
+        ck = out / "checkpoint.npz"
+        if not ck.exists():
+            raise SceneError(f"--resume: {ck} does not exist (no checkpoint was written: "
+                             "run without --resume to start)")
+        # outputs may change on resume, and so may the duration under automatic
+        # step control (a longer one extends the run)
+        ignore = {"output"} | ({"duration"} if scene.numerics.steps is None else set())
+        if rec_path.exists():
+            old = json.loads(rec_path.read_text())
+            diff = _first_difference({k: v for k, v in old.items() if k not in ignore},
+                                     {k: v for k, v in record.items() if k not in ignore})
+            if diff is not None:
+                raise SceneError(f"--resume: {out} holds a run of a different scene "
+                                 f"({diff}); resume with the same scene or choose another "
+                                 "--out")
+        import numpy as np
+        with np.load(ck) as d:
+            t_done, step_done = float(d["time"]), int(d["step"])
+        if t_done > scene.duration * (1 + 1e-12):
+            raise SceneError(f"--resume: the run in {out} has already reached t = "
+                             f"{t_done:.6g} s, beyond environment.duration = "
+                             f"{scene.duration:.6g} s; allowed: a duration >= {t_done:.6g} s")
+        if t_done >= scene.duration * (1 - 1e-12):
+            logger.info("run in %s already finished (step %d)", out, step_done)
+            summ = out / "summary.json"
+            if not summ.exists():
+                raise SceneError(f"--resume: the run in {out} has finished (step "
+                                 f"{step_done}, t = {t_done:.6g} s) but its summary.json "
+                                 "is missing; run again without --resume to redo it")
+            s = json.loads(summ.read_text())
+            s["already_finished"] = True
+            return s
+    out.mkdir(parents=True, exist_ok=True)
+    rec_path.write_text(json.dumps(record, indent=2))
+    pad_law, rotor_law = scene.wear_laws()
+    model = scene.build_model()
+    n = scene.numerics
+    kw: dict[str, Any] = dict(steps=n.steps, max_dh=n.max_dh, dh_fraction=n.dh_fraction,
+                              dp_tol=n.dp_tol, wear_tol=n.wear_tol,
+                              stability=n.stability, scheme=n.scheme,
+                              update=n.update, every=scene.output.checkpoint_every,
+                              tol=n.tol, max_halvings=n.max_halvings)
+    if scene.interface.model == "winkler":
+        from .interfaces.foundation import FoundationInterface
+        from .interfaces.winkler import WinklerInterface
+        winkler = WinklerInterface.from_model(model, modulus=scene.interface.winkler_modulus,
+                                              rotor=scene.interface.winkler_rotor)
+        kw["interface"] = FoundationInterface(model, winkler, scene.line_pressure,
+                                              scene.interface.mu)
+    if scene.thermal.enabled:
+        from .thermal.model import ThermalModel
+        t = scene.thermal
+        kw["thermal"] = ThermalModel(model, partition=t.partition, h_conv=t.h_conv,
+                                     T_ambient=scene.ambient, T_ref=t.T_ref, mass=t.mass,
+                                     T_initial=t.T_initial,
+                                     contact_conductance=t.contact_conductance)
+    summary = run_wear(model, out, scene.line_pressure, scene.omega, scene.duration, pad_law,
+                       rotor_law, scene.interface.mu, vtu_every=scene.output.vtu_every,
+                       resume=resume, progress=progress, **kw)
+    summary["scene"] = {"name": scene.name, "source": scene.source,
+                        "interface": scene.interface.model, "scheme": n.scheme,
+                        "update": n.update, "mesh_size_m": model.geometry.mesh.size
+                        if scene.mesh_size is None else scene.mesh_size}
+    if scene.output.figures:
+        summary["figures"] = _figures(model, out, scene)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    return summary

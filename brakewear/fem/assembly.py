@@ -1,18 +1,14 @@
-"""Linear elasticity of brake components: scikit-fem forms and fast assembly.
+"""Fast assembly of the elasticity stiffness, tested against scikit-fem's forms.
 
-Two ways to the same stiffness matrix:
-
-* :func:`elasticity_form` -- a plain scikit-fem ``BilinearForm`` for an
-  anisotropic Voigt stiffness ``C`` (isotropic and transversely isotropic are
-  special cases).  It is the reference, readable and general.
-* :func:`assemble_stiffness` -- the production path.  It takes the basis
-  function gradients, quadrature weights and DOF numbering from a scikit-fem
-  ``Basis`` (chunk by chunk, via ``Basis(..., elements=chunk)``), forms all
-  element matrices of a chunk at once as ``B^T C B`` with batched matrix
-  products, and adds them into a 3x3-block (BSR) matrix whose sparsity
-  pattern is computed once per mesh (:class:`BlockPattern`).  No per-element
-  temporaries outlive a chunk, so peak memory is the matrix plus one chunk.
-  The tests check it against :func:`elasticity_form` to round-off.
+:func:`assemble_stiffness` takes the basis-function gradients, quadrature
+weights and DOF numbering from a scikit-fem ``Basis`` (chunk by chunk, via
+``Basis(..., elements=chunk)``), forms all element matrices of a chunk at
+once as ``B^T C B`` with batched matrix products, and adds them into a
+3x3-block (BSR) matrix whose sparsity pattern is computed once per mesh
+(:class:`BlockPattern`).  No per-element temporaries outlive a chunk, so
+peak memory is the matrix plus one chunk.  The tests check it against
+:func:`brakewear.fem.elasticity_form` to round-off.
+:func:`stiffness_update` reintegrates only the elements that moved.
 
 DOF numbering everywhere is scikit-fem's for ``ElementVector``: scalar DOF
 ``s`` (a vertex, or an edge for P2) owns vector DOFs ``3 s + i``, i = x, y, z.
@@ -24,123 +20,26 @@ import os
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Iterable, Sequence
+from typing import Sequence
 
 import numpy as np
 import scipy.sparse as sp
 import skfem as fem
-from skfem.helpers import dot, sym_grad
 
-from .mesh import _ensure_topology, facet_indices
+from .forms import _VOIGT, _intorder, scalar_element
 
 logger = logging.getLogger(__name__)
 
-__all__ = [
-    "lame_parameters",
-    "scalar_element",
-    "voigt_strain",
-    "elasticity_form",
-    "thermal_strain_form",
-    "traction_form",
-    "pressure_form",
-    "BlockPattern",
-    "assemble_stiffness",
-    "stiffness_update",
-    "assemble_traction",
-    "assemble_pressure",
-    "boundary_dofs",
-    "apply_dirichlet",
-    "element_stress",
-    "nodal_stress",
-    "von_mises",
-]
+__all__ = ["BlockPattern", "assemble_stiffness", "stiffness_update"]
+
 
 #: Worker threads of :func:`assemble_stiffness` (element matrices of the next
 #: chunks are computed while the current ones are added into the matrix).
 _ASSEMBLY_THREADS = min(2, os.cpu_count() or 1)
 
+
 Groups = Sequence[tuple[np.ndarray | None, np.ndarray]]
 
-
-def lame_parameters(E: float, nu: float) -> tuple[float, float]:
-    """Lamé's lambda and mu from Young's modulus and Poisson's ratio."""
-    return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))
-
-
-def scalar_element(mesh: fem.Mesh) -> fem.Element:
-    """The scalar Lagrange element matching a tetrahedral mesh's order."""
-    if isinstance(mesh, fem.MeshTet2):
-        return fem.ElementTetP2()
-    if isinstance(mesh, fem.MeshTet1):
-        return fem.ElementTetP1()
-    raise TypeError(f"unsupported mesh type {type(mesh).__name__}; need MeshTet or MeshTet2")
-
-
-def _intorder(elem: fem.Element) -> int:
-    # P1: the integrand is constant, one point is exact.  P2 meshes here are
-    # isoparametric (curved), where the integrand is rational: degree 4 makes
-    # the quadrature error negligible against the discretisation error.
-    return 1 if elem.maxdeg == 1 else 2 * elem.maxdeg
-
-
-# ----------------------------------------------------------------- forms ---
-
-def voigt_strain(u) -> list:
-    """Strain of a skfem vector field in Voigt order, engineering shear."""
-    e = sym_grad(u)
-    return [e[0, 0], e[1, 1], e[2, 2], 2 * e[1, 2], 2 * e[0, 2], 2 * e[0, 1]]
-
-
-def elasticity_form(C: np.ndarray) -> fem.BilinearForm:
-    """``BilinearForm`` of ``eps(u) : C : eps(v)`` for a 6x6 Voigt stiffness ``C``."""
-    C = np.asarray(C, dtype=float)
-
-    @fem.BilinearForm
-    def form(u, v, w):
-        eu, ev = voigt_strain(u), voigt_strain(v)
-        return sum(C[i, j] * eu[j] * ev[i] for i in range(6) for j in range(6) if C[i, j] != 0.0)
-
-    return form
-
-
-def thermal_strain_form(C: np.ndarray, alpha: float) -> fem.LinearForm:
-    """Load of a thermal strain ``alpha dT I``; ``dT`` arrives as ``w['dT']``.
-
-    ``int eps(v) : C : (alpha dT I)``; with this load a free body under a
-    uniform ``dT`` expands stress-free.
-    """
-    s = np.asarray(C, dtype=float) @ np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]) * alpha
-
-    @fem.LinearForm
-    def form(v, w):
-        ev = voigt_strain(v)
-        return w["dT"] * sum(s[i] * ev[i] for i in range(6) if s[i] != 0.0)
-
-    return form
-
-
-def traction_form(t: Sequence[float]) -> fem.LinearForm:
-    """Facet ``LinearForm`` of a constant traction vector ``t`` (Pa)."""
-    tv = np.asarray(t, dtype=float)
-
-    @fem.LinearForm
-    def form(v, w):
-        return tv[0] * v[0] + tv[1] * v[1] + tv[2] * v[2]
-
-    return form
-
-
-def pressure_form(p: float) -> fem.LinearForm:
-    """Facet ``LinearForm`` of a pressure ``p`` (Pa) acting against the outward normal."""
-
-    @fem.LinearForm
-    def form(v, w):
-        return -p * dot(w.n, v)
-
-    return form
-
-
-# --------------------------------------------------------- fast assembly ---
 
 @dataclass
 class BlockPattern:
@@ -211,10 +110,6 @@ def _as_groups(mesh: fem.Mesh, materials) -> list[tuple[np.ndarray | None, np.nd
         C = mat.voigt() if hasattr(mat, "voigt") else np.asarray(mat, dtype=float)
         out.append((None if elems is None else np.asarray(elems), C))
     return out
-
-
-# Voigt index of the strain component (k, l): 0 xx, 1 yy, 2 zz, 3 yz, 4 xz, 5 xy
-_VOIGT = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]])
 
 
 def _tensor_matrix(C: np.ndarray) -> np.ndarray:
@@ -466,162 +361,3 @@ def stiffness_update(K: sp.bsr_matrix, pattern: BlockPattern, old_mesh: fem.Mesh
                 for j in range(3):
                     band[:, i, j] += np.bincount(pos, weights=KT[3 * i + j], minlength=hi - lo)
     return sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))
-
-
-def _vector_facet_basis(mesh: fem.Mesh, facets) -> fem.FacetBasis:
-    # FacetBasis needs the facet-to-element maps of the whole mesh: build them
-    # by the fast route if the mesh does not carry them yet
-    _ensure_topology(mesh)
-    elem = fem.ElementVector(scalar_element(mesh))
-    return fem.FacetBasis(mesh, elem, facets=facets, intorder=2 * elem.maxdeg,
-                          disable_doflocs=True)
-
-
-def assemble_traction(mesh: fem.Mesh, facets, t: Sequence[float]) -> np.ndarray:
-    """Load vector of a constant traction ``t`` on named facets (or facet indices)."""
-    return traction_form(t).assemble(_vector_facet_basis(mesh, facets))
-
-
-def assemble_pressure(mesh: fem.Mesh, facets, p: float) -> np.ndarray:
-    """Load vector of a pressure ``p`` pushing against the outward normal of ``facets``."""
-    return pressure_form(p).assemble(_vector_facet_basis(mesh, facets))
-
-
-def boundary_dofs(mesh: fem.Mesh, facets, components: Iterable[int] = (0, 1, 2)) -> np.ndarray:
-    """Vector DOFs of the given components on named facets (or facet indices)."""
-    facets = facet_indices(mesh, facets)
-    if isinstance(scalar_element(mesh), fem.ElementTetP1):
-        # P1: the scalar DOFs are the vertices of the facets, in ascending
-        # order (what skfem's Dofs gives, without building all mesh edges)
-        sdofs = np.unique(_ensure_topology(mesh).facets[:, facets])
-    else:
-        # vertices of the facets plus edge DOFs for P2, in scalar numbering
-        sdofs = fem.Dofs(mesh, scalar_element(mesh)).get_facet_dofs(facets).all()
-    comps = np.asarray(list(components), dtype=np.int64)
-    return (3 * sdofs[:, None] + comps[None, :]).ravel()
-
-
-def _dirichlet_bsr(K: sp.bsr_matrix, fixed: np.ndarray) -> tuple[sp.bsr_matrix, np.ndarray]:
-    """Zero rows/columns ``fixed`` of a square-block BSR matrix, keep their diagonal.
-
-    Same result as adding the diagonal back with a BSR sum (all-zero blocks
-    dropped), but touches only the blocks of fixed nodes and copies the big
-    arrays once.
-    """
-    R = K.blocksize[0]
-    nbr = K.shape[0] // R
-    diag = K.diagonal()
-    nodes = fixed.reshape(nbr, R).any(axis=1)
-    counts = np.diff(K.indptr)
-    brow = np.repeat(np.arange(nbr, dtype=K.indices.dtype), counts)
-    cand = np.flatnonzero(nodes[brow] | nodes[K.indices])
-    cb, cc = brow[cand], K.indices[cand]
-    sub = K.data[cand].copy()
-    rmask = fixed[R * cb[:, None] + np.arange(R)]
-    cmask = fixed[R * cc[:, None] + np.arange(R)]
-    sub[rmask[:, :, None] | cmask[:, None, :]] = 0.0
-    on_diag = cb == cc
-    if np.count_nonzero(on_diag & nodes[cb]) != np.count_nonzero(nodes):
-        # a fixed node without a diagonal block: the general route adds one
-        K_new = K.copy()
-        K_new.data[cand] = sub
-        K_new = K_new + sp.bsr_matrix(sp.diags(np.where(fixed, diag, 0.0)).tocsr(),
-                                      blocksize=(R, R))
-        return K_new, diag
-    for c in range(R):
-        r = R * cb + c
-        sel = on_diag & fixed[r]
-        sub[sel, c, c] = diag[r[sel]]
-    keep = K.data.reshape(K.data.shape[0], -1).any(axis=1)
-    keep[cand] = sub.reshape(sub.shape[0], -1).any(axis=1)
-    if keep.all():
-        data = K.data.copy()
-        data[cand] = sub
-        indices, indptr = K.indices.copy(), K.indptr.copy()
-    else:
-        newpos = np.cumsum(keep) - 1
-        data = K.data[keep]
-        kc = keep[cand]
-        data[newpos[cand[kc]]] = sub[kc]
-        indices = K.indices[keep]
-        indptr = np.zeros_like(K.indptr)
-        np.cumsum(np.bincount(brow[keep], minlength=nbr), out=indptr[1:])
-    return sp.bsr_matrix((data, indices, indptr), shape=K.shape), diag
-
-
-def apply_dirichlet(K: sp.spmatrix, f: np.ndarray, dofs: np.ndarray,
-                    values: np.ndarray | float = 0.0) -> tuple[sp.spmatrix, np.ndarray]:
-    """Impose ``u[dofs] = values`` symmetrically, keeping size and block structure.
-
-    Rows and columns of ``dofs`` are zeroed, their diagonal keeps its value
-    (so the scaling of the system is not disturbed) and the right-hand side
-    carries the prescribed values.  Returns new arrays; ``K`` and ``f`` are
-    not modified.
-    """
-    dofs = np.asarray(dofs, dtype=np.int64)
-    N = K.shape[0]
-    u0 = np.zeros(N)
-    u0[dofs] = values
-    fixed = np.zeros(N, dtype=bool)
-    fixed[dofs] = True
-    f_new = np.asarray(f, dtype=float) - K @ u0
-    if (sp.isspmatrix_bsr(K) or isinstance(K, sp.bsr_array)) and K.blocksize[0] == K.blocksize[1]:
-        K_new, diag = _dirichlet_bsr(K, fixed)
-    elif sp.isspmatrix_bsr(K) or isinstance(K, sp.bsr_array):
-        R, Cb = K.blocksize
-        nbr = K.shape[0] // R
-        brow = np.repeat(np.arange(nbr), np.diff(K.indptr))
-        rmask = fixed[R * brow[:, None] + np.arange(R)]
-        cmask = fixed[Cb * K.indices[:, None] + np.arange(Cb)]
-        diag = K.diagonal()
-        data = K.data.copy()
-        data[rmask[:, :, None] | cmask[:, None, :]] = 0.0
-        K_new = sp.bsr_matrix((data, K.indices.copy(), K.indptr.copy()), shape=K.shape)
-        K_new = K_new + sp.bsr_matrix(sp.diags(np.where(fixed, diag, 0.0)).tocsr(), blocksize=(R, Cb))
-    else:
-        K = K.tocsr()
-        diag = K.diagonal()
-        keep = sp.diags((~fixed).astype(float))
-        K_new = (keep @ K @ keep + sp.diags(np.where(fixed, diag, 0.0))).tocsr()
-    f_new[fixed] = diag[fixed] * u0[fixed]
-    return K_new, f_new
-
-
-# ------------------------------------------------------ stress recovery ---
-
-def element_stress(mesh: fem.Mesh, u: np.ndarray, materials) -> np.ndarray:
-    """Stress at each element's quadrature-point average, Voigt order (6, nelements)."""
-    elem = scalar_element(mesh)
-    out = np.zeros((6, mesh.nelements))
-    for elems, C in _as_groups(mesh, materials):
-        idx = np.arange(mesh.nelements) if elems is None else elems
-        basis = fem.Basis(mesh, elem, intorder=1 if elem.maxdeg == 1 else 2, elements=idx)
-        nb = len(basis.basis)
-        G = np.stack([basis.basis[a][0].grad for a in range(nb)])  # (nb, 3, ne, nq)
-        ue = u[3 * basis.element_dofs[:, None, :] + np.arange(3)[None, :, None]]  # (nb, 3, ne)
-        H = np.einsum("ajeq,aie->ijeq", G, ue)  # du_i/dx_j
-        eps = np.stack([H[0, 0], H[1, 1], H[2, 2], H[1, 2] + H[2, 1], H[0, 2] + H[2, 0],
-                        H[0, 1] + H[1, 0]])
-        w = basis.dx / basis.dx.sum(axis=1, keepdims=True)
-        out[:, idx] = C @ (eps * w[None]).sum(axis=2)
-    return out
-
-
-def nodal_stress(mesh: fem.Mesh, sigma_e: np.ndarray) -> np.ndarray:
-    """Volume-weighted average of element stresses at the mesh vertices (6, nvertices)."""
-    vol = fem.Basis(mesh, fem.ElementTetP1() if not isinstance(mesh, fem.MeshTet2) else fem.ElementTetP2(),
-                    intorder=1).dx.sum(axis=1)
-    t = mesh.t[:4]
-    num = np.zeros((6, mesh.nvertices))
-    den = np.zeros(mesh.nvertices)
-    for a in range(4):
-        np.add.at(den, t[a], vol)
-        for k in range(6):
-            np.add.at(num[k], t[a], vol * sigma_e[k])
-    return num / np.maximum(den, 1e-300)
-
-
-def von_mises(s: np.ndarray) -> np.ndarray:
-    """Von Mises equivalent stress of Voigt stresses (6, ...)."""
-    return np.sqrt(0.5 * ((s[0] - s[1]) ** 2 + (s[1] - s[2]) ** 2 + (s[2] - s[0]) ** 2)
-                   + 3.0 * (s[3] ** 2 + s[4] ** 2 + s[5] ** 2))

@@ -101,7 +101,6 @@ __all__ = [
     "format_table",
     "add_bench_parser",
     "run_bench",
-    "main",
     "CONTACT_SIZES",
     "CONTACT_CASES",
     "brake_resolution",
@@ -115,19 +114,25 @@ __all__ = [
     "format_wear_table",
 ]
 
+
 #: Target DOF counts of ``brakewear bench elasticity``.
 DEFAULT_SIZES = (30e3, 100e3, 300e3, 1e6)
+
+
 #: Pad pressure of the benchmark case (Pa).
 PRESSURE = 1.0e6
+
+
 #: Relative residual the AMG-CG solve must reach.
 TOL = 1e-8
+
 
 _TIME_KEYS = ("mesh_s", "assemble_s", "amg_setup_s", "solve_s", "total_s", "direct_s")
 
 
 def _ring_dims() -> dict:
     """Rotor ring half and pad footprint of the default geometry (SI units)."""
-    from .geometry import load_geometry
+    from ..geometry.files import load_geometry
 
     g = load_geometry("default")
     return dict(ri=g.rotor.inner_radius, ro=g.rotor.outer_radius, height=0.5 * g.rotor.thickness,
@@ -170,9 +175,11 @@ def run_elasticity_case(target_dofs: float, direct_max_dofs: int = 100_000) -> d
     """Build, assemble and solve the benchmark case once in this process; return its figures."""
     import scipy.sparse as sp  # noqa: F401  (import cost outside the timings)
 
-    from .elasticity import apply_dirichlet, assemble_pressure, assemble_stiffness, boundary_dofs
-    from .mesh import annulus_mesh
-    from .solvers import amg_solver, direct_solve
+    from ..fem.assembly import assemble_stiffness
+    from ..fem.boundary import apply_dirichlet, assemble_pressure, boundary_dofs
+    from ..mesh.structured import annulus_mesh
+    from ..solvers.amg import amg_solver
+    from ..solvers.direct import direct_solve
 
     d = _ring_dims()
     nr, nth, nz = ring_resolution(target_dofs, d)
@@ -318,20 +325,29 @@ def format_table(rows: Sequence[dict]) -> str:
     return "\n".join(out)
 
 
-# ============================================================== contact ===
-#
-# ``brakewear bench contact``: see the module docstring's Contact part.
-
 #: Target DOF counts and cases of ``brakewear bench contact``.
 CONTACT_SIZES = (50e3, 150e3, 500e3)
+
+
 CONTACT_CASES = ("hertz", "brake")
+
+
 #: Largest system whose KKT system is also factorised (SuperLU and PARDISO).
 CONTACT_DIRECT_MAX = 200_000
+
+
 #: Brake case: line pressure (Pa), friction coefficient and contact tolerance.
 BRAKE_PRESSURE = 1.0e6
+
+
 BRAKE_MU = 0.4
+
+
 BRAKE_TOL = 1e-9
+
+
 _BRAKE_REF = (0.0025, 81_570)  # default mesh size (m) and its DOF count
+
 
 _CONTACT_TIME_KEYS = ("assemble_s", "contact_solve_s", "elasticity_solve_s", "dirichlet_s",
                       "direct_kkt_superlu_s", "direct_kkt_pardiso_s", "direct_kkt_s",
@@ -341,7 +357,7 @@ _CONTACT_TIME_KEYS = ("assemble_s", "contact_solve_s", "elasticity_solve_s", "di
 
 def brake_resolution(target_dofs: float) -> tuple[float, "object"]:
     """Mesh size (m) of the default brake with about ``target_dofs`` DOFs and the model."""
-    from .scene import BrakeModel
+    from ..model import BrakeModel
 
     size = _BRAKE_REF[0] * (_BRAKE_REF[1] / float(target_dofs)) ** (1.0 / 3.0)
     model = BrakeModel(size=size, rotor="elastic")
@@ -371,7 +387,7 @@ def kkt_system(K, f, fixed, fixed_values, pair, active):
     """
     import scipy.sparse as sp
 
-    from .contact import _friction_operators
+    from ..contact.elimination import _friction_operators
 
     N = K.shape[0]
     idx = np.flatnonzero(active)
@@ -495,7 +511,6 @@ def direct_active_set(K, f, fixed, fixed_values, pair, gap_tol: float, symmetric
         import pypardiso
     except ImportError:
         return None
-    from .contact import _gaps
 
     N = K.shape[0]
     uc = np.zeros(N)
@@ -515,7 +530,7 @@ def direct_active_set(K, f, fixed, fixed_values, pair, gap_tol: float, symmetric
         u[free] = x[:free.size]
         lam = np.zeros(pair.slave.size)
         lam[idx] = x[free.size:]
-        gaps = np.where(active, 0.0, _gaps(u, pair))
+        gaps = np.where(active, 0.0, pair.gaps(u))
         ltol = release_tol * max(np.abs(lam).max(), 1e-300)
         new = (active & (lam > -ltol)) | (~active & (gaps < -gap_tol))
         t_solve += time.perf_counter() - t1
@@ -573,11 +588,17 @@ def _faster_of_two(run):
 
 
 def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> dict:
-    from .elasticity import apply_dirichlet
-    from .solvers import amg_solver
-    from .contact import solve_contact
-    from .verification import (GAP_TOL, DELTA, hertz_force, hertz_problem, hertz_resolution,
-                               solve_problem)
+    from ..contact.lagrange import solve_contact
+    from ..fem.boundary import apply_dirichlet
+    from ..solvers.amg import amg_solver
+    from ..verification import (
+        DELTA,
+        GAP_TOL,
+        hertz_force,
+        hertz_problem,
+        hertz_resolution,
+        solve_problem,
+    )
 
     row = _contact_row_base("hertz", target)
     ha = hertz_resolution(target)
@@ -659,7 +680,7 @@ def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
 
 
 def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> dict:
-    from .contact import solve_contact
+    from ..contact.lagrange import solve_contact
 
     row = _contact_row_base("brake", target)
     t0 = time.perf_counter()
@@ -700,7 +721,7 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     del fixed_set
     # a wear step: the hierarchy built once (contact_preconditioner, timed apart), the
     # solve started from the converged active set of the step before
-    from .contact import contact_preconditioner
+    from ..contact.lagrange import contact_preconditioner
 
     t0 = time.perf_counter()
     base = contact_preconditioner(Kr, fixed_r, coords, [pair], tol=BRAKE_TOL)
@@ -864,11 +885,6 @@ def format_contact_table(rows: Sequence[dict]) -> str:
     return "\n".join(out)
 
 
-# ------------------------------------------------------------------ CLI ---
-
-# ------------------------------------------------------------------ wear ---
-# ``brakewear bench wear``: the cost of a wear step against one contact solve.
-
 WEAR_SIZES = (3e4, 1e5)
 
 
@@ -884,7 +900,7 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     interface's assembly plus every step), ``per_step_s = total_s / steps``,
     the shares of ``total_s`` spent in contact solves (``contact_share``: every
     solve of the loop, including its first one before step 1, which the first
-    :class:`~brakewear.simulate.WearStep` counts; ``step_solves_s`` is the
+    :class:`~brakewear.wear.WearStep` counts; ``step_solves_s`` is the
     records' own sum), in
     assembling the contact system (``assembly_share``: the first build and,
     in geometry mode, every rebuild) and in moving the worn meshes with their
@@ -895,11 +911,12 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     two solves: the first pays for first-call set-up).  The ``*_cpu_s`` keys
     are the same in process CPU time (steadier on a shared machine).
     """
-    from .materials import MATERIALS
-    from .motion import BrakeMotion
-    from .scene import BrakeModel
-    from .simulate import FEInterface, wear_history
-    from .wear import WearLaw
+    from ..interfaces.fe import FEInterface
+    from ..laws import WearLaw
+    from ..materials import MATERIALS
+    from ..model import BrakeModel
+    from ..motion import BrakeMotion
+    from ..wear.stepper import wear_history
 
     if update not in ("gap", "geometry"):
         raise ValueError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")

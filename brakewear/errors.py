@@ -1,0 +1,139 @@
+"""The errors brakewear raises: one base, an input branch and a solver branch.
+
+Every error of the package is a :class:`BrakewearError`, in one of two
+branches that the command line maps to its exit codes:
+
+* :class:`InputError` (a ``ValueError``, exit code 2): the input asks for
+  something brakewear cannot do.  The message names the file or the
+  parameter (the scene key), the value in the user's units and what is
+  allowed; it is raised before any long computation and before anything is
+  written.
+* :class:`SolverError` (a ``RuntimeError``, exit code 3): a computation
+  that did not succeed (a linear solve that did not converge, an active set
+  that cycles, no acceptable wear step, a degenerate element).  The message
+  gives the figures a user needs to act; nothing returns a wrong answer
+  quietly.
+
+The kinds below say which part of the input or which solver; catch a
+branch to handle all of its kinds::
+
+    import brakewear as bw
+
+    try:
+        bw.load_scene("no/such/scene.toml")
+    except bw.InputError as exc:
+        print(f"bad input (exit code {exc.exit_code}): {exc}")
+"""
+from __future__ import annotations
+
+__all__ = [
+    "BrakewearError",
+    "InputError",
+    "SolverError",
+    "GeometryError",
+    "MaterialError",
+    "MeshFileError",
+    "SceneError",
+    "WearError",
+    "ThermalError",
+    "FoundationError",
+    "ConvergenceError",
+    "ActiveSetError",
+    "ContactLostError",
+    "ContactSearchError",
+    "StepSizeError",
+    "MeshQualityError",
+    "FoundationSolveError",
+]
+
+
+class BrakewearError(Exception):
+    """Base of every error brakewear raises; ``exit_code`` is the CLI's exit status."""
+
+    exit_code = 1
+
+
+class InputError(BrakewearError, ValueError):
+    """The input asks for something brakewear cannot do (exit code 2)."""
+
+    exit_code = 2
+
+
+class SolverError(BrakewearError, RuntimeError):
+    """A computation did not succeed; the message gives its figures (exit code 3)."""
+
+    exit_code = 3
+
+
+# ------------------------------------------------------------------ input --
+
+class GeometryError(InputError):
+    """Invalid brake geometry (names the file, the field, the value and the allowed range)."""
+
+
+class MaterialError(InputError):
+    """Invalid or unknown material data (names the field and allowed range)."""
+
+
+class MeshFileError(InputError):
+    """A mesh file that cannot be used (no tetrahedra, missing tags, ...)."""
+
+
+class SceneError(InputError):
+    """A scene asks for something inconsistent (names the file, the key and the allowed values)."""
+
+
+class WearError(InputError):
+    """Invalid wear input (names the parameter, the value and what is allowed)."""
+
+
+class ThermalError(InputError):
+    """Invalid thermal input; the message names the body, the field and the value."""
+
+
+class FoundationError(InputError):
+    """Bad input to the foundation model (names the parameter, the value, what is allowed)."""
+
+
+# ----------------------------------------------------------------- solver --
+
+class ConvergenceError(SolverError):
+    """An iterative solve stopped without reaching its tolerance (``info``: its figures)."""
+
+    def __init__(self, message: str, info=None):
+        super().__init__(message)
+        self.info = info
+
+
+class ActiveSetError(SolverError):
+    """The active-set iteration did not settle (names its figures)."""
+
+
+class ContactLostError(SolverError):
+    """No node is left in contact: the load separates the bodies."""
+
+
+class ContactSearchError(SolverError):
+    """A slave node found no master facet within the search radius."""
+
+
+class StepSizeError(SolverError):
+    """The step control could not find an acceptable wear step."""
+
+
+class MeshQualityError(SolverError):
+    """A geometry update would leave an inverted or degenerate element.
+
+    Attributes ``step``, ``body``, ``element`` (index into the body's
+    ``mesh.t``), ``quality`` and ``min_quality`` say which and how bad.
+    """
+
+    def __init__(self, message: str, *, step=None, body: str = "", element: int = -1,
+                 quality: float = float("nan"), min_quality: float = float("nan")):
+        super().__init__(message)
+        self.step, self.body, self.element = step, body, element
+        self.quality, self.min_quality = quality, min_quality
+
+
+class FoundationSolveError(SolverError):
+    """No equilibrium: the pad lifts off entirely or tips off its contact (with the figures)."""

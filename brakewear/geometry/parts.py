@@ -1,0 +1,210 @@
+"""The parts of a brake as frozen dataclasses in SI units: rotor, pad, piston, mesh settings."""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+from ..materials import Material
+
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "RotorGeometry",
+    "PadGeometry",
+    "PistonGeometry",
+    "MeshSettings",
+    "BrakeGeometry",
+    "LENGTH_UNITS",
+    "ANGLE_UNITS",
+    "MODULUS_UNITS",
+]
+
+
+LENGTH_UNITS = {"mm": 1e-3, "m": 1.0}
+
+
+ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
+
+
+MODULUS_UNITS = {"Pa": 1.0, "MPa": 1e6, "GPa": 1e9}
+
+
+# defaults of the optional [mesh] fields (angles in degrees, converted on load)
+MESH_DEFAULTS = {
+    "order": 1,
+    "rotor_coarse_factor": 4.0,
+    "rotor_margin": 10.0,
+    "rotor_z_ratio": 3.0,
+    "pad_z_ratio": 2.0,
+}
+
+
+# optional thermal / wear data of custom materials come from a built-in "base"
+_BASE_DEFAULT = {"isotropic": "steel", "transversely_isotropic": "pad_resin"}
+
+
+@dataclass(frozen=True)
+class RotorGeometry:
+    """The friction ring of the rotor (SI units).
+
+    Attributes
+    ----------
+    inner_radius, outer_radius : float
+        Radii of the friction ring (m).
+    thickness : float
+        Full thickness of the ring (m); the model meshes the inboard half.
+    material : Material
+        Rotor material.
+    """
+
+    inner_radius: float
+    outer_radius: float
+    thickness: float
+    material: Material
+
+
+@dataclass(frozen=True)
+class PadGeometry:
+    """An annular-sector pad: friction layer (z = 0 side) on a steel backplate.
+
+    Attributes
+    ----------
+    inner_radius, outer_radius : float
+        Radii of the pad outline (m).
+    arc_angle : float
+        Angular extent of the pad (rad), in (0, pi).
+    center_angle : float
+        Angle of the pad centre line (rad); 0 is the +x axis.
+    friction_thickness, backplate_thickness : float
+        Layer thicknesses (m); the friction layer touches the rotor.
+    friction_material, backplate_material : Material
+        Layer materials.
+    """
+
+    inner_radius: float
+    outer_radius: float
+    arc_angle: float
+    center_angle: float
+    friction_thickness: float
+    backplate_thickness: float
+    friction_material: Material
+    backplate_material: Material
+
+    @property
+    def thickness(self) -> float:
+        """Total pad thickness, friction layer plus backplate (m)."""
+        return self.friction_thickness + self.backplate_thickness
+
+    @property
+    def leading_angle(self) -> float:
+        """Angle of the leading edge (rad): the rotor turns in +theta, so a rotor
+        point enters under the pad at the smaller angle."""
+        return self.center_angle - 0.5 * self.arc_angle
+
+    @property
+    def trailing_angle(self) -> float:
+        """Angle of the trailing edge (rad), where rotor points leave the pad."""
+        return self.center_angle + 0.5 * self.arc_angle
+
+    @property
+    def area(self) -> float:
+        """Area of the friction face (m^2)."""
+        return 0.5 * self.arc_angle * (self.outer_radius ** 2 - self.inner_radius ** 2)
+
+
+@dataclass(frozen=True)
+class PistonGeometry:
+    """A solid cylindrical piston pressing on the back of the pad.
+
+    Attributes
+    ----------
+    diameter : float
+        Diameter of the footprint on the backplate, which is also the diameter
+        of the meshed cylinder (m).
+    radius : float
+        Radial position of the piston axis (m).
+    angle : float
+        Angular position of the piston axis *relative to the pad centre line*
+        (rad); positive towards the trailing edge.
+    length : float
+        Length of the meshed cylinder along z (m).
+    material : Material
+        Piston material.
+    bore_diameter : float
+        Hydraulic bore diameter (m), which converts line pressure to clamp
+        force (:attr:`hydraulic_area`); defaults to ``diameter``.
+    """
+
+    diameter: float
+    radius: float
+    angle: float
+    length: float
+    material: Material
+    bore_diameter: float
+
+    @property
+    def hydraulic_area(self) -> float:
+        """Area that the line pressure acts on (m^2): pi bore_diameter^2 / 4."""
+        return 0.25 * math.pi * self.bore_diameter ** 2
+
+
+@dataclass(frozen=True)
+class MeshSettings:
+    """Mesh controls (SI units).
+
+    Attributes
+    ----------
+    size : float
+        Target in-plane element size at the friction interface (m).
+    order : int
+        Geometric and element order, 1 (P1) or 2 (isoparametric P2).
+    rotor_coarse_factor : float
+        Rotor element size away from the pad arc, as a multiple of ``size``.
+    rotor_margin : float
+        Angle (rad) added on both sides of the pad arc over which the rotor is
+        meshed at the fine size.
+    rotor_z_ratio, pad_z_ratio : float
+        Largest over smallest element thickness through the rotor half and the
+        friction layer; the smallest elements touch the friction interface.
+    """
+
+    size: float
+    order: int = 1
+    rotor_coarse_factor: float = MESH_DEFAULTS["rotor_coarse_factor"]
+    rotor_margin: float = math.radians(MESH_DEFAULTS["rotor_margin"])
+    rotor_z_ratio: float = MESH_DEFAULTS["rotor_z_ratio"]
+    pad_z_ratio: float = MESH_DEFAULTS["pad_z_ratio"]
+
+
+@dataclass(frozen=True)
+class BrakeGeometry:
+    """A checked brake geometry in SI units.
+
+    Attributes
+    ----------
+    rotor, pad, piston, mesh
+        The components and the mesh controls.
+    materials : dict
+        Every material the file can name: the built-ins plus its
+        ``[materials.NAME]`` tables.
+    source : str
+        Where the geometry came from (file path or ``"<dict>"``).
+    units : dict
+        The ``[units]`` table of the file (for messages and write-back).
+    """
+
+    rotor: RotorGeometry
+    pad: PadGeometry
+    piston: PistonGeometry
+    mesh: MeshSettings
+    materials: Mapping[str, Material] = field(compare=False, repr=False, default_factory=dict)
+    source: str = field(default="<dict>", compare=False)
+    units: Mapping[str, str] = field(default_factory=dict, compare=False)
+
+    @property
+    def piston_center(self) -> tuple[float, float]:
+        """Cartesian (x, y) of the piston axis (m)."""
+        ang = self.pad.center_angle + self.piston.angle
+        return (self.piston.radius * math.cos(ang), self.piston.radius * math.sin(ang))

@@ -1,0 +1,104 @@
+"""The finite-element contact interface as the wear loop sees it (:class:`FEInterface`)."""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from ..contact.compliant import compliant_preconditioner, solve_compliant_contact
+from ..contact.lagrange import contact_preconditioner, solve_contact
+from ..mesh.surface import surface_nodes, tributary_areas
+from ..rings import ring_wear_nodes, rotor_rings
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["FEInterface"]
+
+
+class FEInterface:
+    """The finite-element contact interface as the wear loop sees it.
+
+    Holds the assembled contact system of a :class:`~brakewear.model.BrakeModel`
+    and answers one question: the pressure at the pad's friction nodes for a
+    given extra gap (the worn depths).  Also provides what the rotor's
+    revolution-averaged wear needs: the coupling ``W`` from pad nodes to the
+    rotor's wear nodes, their rings and areas.  With an elastic rotor the
+    wear nodes are the rotor's friction-face nodes; with a rigid rotor (the
+    plane z = 0, nothing meshed) they are rings at the radii of the pad's
+    nodes, each carrying the annulus between its neighbours' mid-radii.
+    """
+
+    def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
+        self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
+        pad = model.meshes["pad"]
+        self.pad_nodes = surface_nodes(pad, "friction")
+        self.x = pad.p[:, self.pad_nodes]
+        self.r = np.hypot(self.x[0], self.x[1])
+        self.area = tributary_areas(pad, "friction", self.pad_nodes)
+        if model.rotor == "elastic":
+            rotor = model.meshes["rotor"]
+            self.rotor_nodes = face = surface_nodes(rotor, "friction")
+            self.ring, _ = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
+            self.rotor_area = tributary_areas(rotor, "friction", face)
+            self.rotor_x = rotor.p[:, face]
+        else:
+            self.rotor_nodes = None
+            self._W, self.ring, self.rotor_area, self.rotor_x = ring_wear_nodes(self.r)
+        self.extra_load = None
+        self.rebuild()
+
+    def rebuild(self, opening: float = 0.0) -> None:
+        """(Re)build the contact system from the model's current meshes and stiffness.
+
+        ``opening`` (m): the largest gap the worn surfaces have opened; the
+        contact search reaches that much further.
+        """
+        model = self.model
+        radius = 2.0 * model.geometry.mesh.size + 1e-9 + opening
+        self.cs = cs = model.contact_system(self.line_pressure, self.mu, search_radius=radius)
+        self.pair = pair = cs.pair
+        self.g0 = pair.g0.copy()
+        if model.rotor == "elastic":
+            face_r = cs.col[self.rotor_nodes + model.offsets["rotor"]]   # retained numbering
+            self.W = pair.coupling[:, face_r].tocsr()
+        else:
+            self.W = self._W
+        # hierarchies of this stiffness, built on first use and shared by every
+        # solve (never modified: each solve refreshes its own copy)
+        self._base = {}
+        # normal stiffness row sums of the pad's friction face (Gershgorin bound
+        # of the pressure response to a gap change, used by the stability bound)
+        dz = 3 * pair.slave + 2
+        self.normal_stiffness = np.asarray(abs(cs.K[dz][:, dz]).sum(axis=1)).ravel()
+
+    def solve(self, offset: np.ndarray, active: np.ndarray | None, compliance=None,
+              x0: np.ndarray | None = None):
+        """Contact solve with ``offset`` (m) added to the gap: (pressure, active, info).
+
+        With ``compliance`` (m/Pa per pad node) the interface is a compliant
+        layer: the implicit wear step (:mod:`brakewear.contact.compliant`), whose
+        Krylov solves start from ``x0`` (the previous step's displacement,
+        ``info["u"]``), when given.
+        """
+        self.pair.g0 = self.g0 + offset
+        cs = self.cs
+        f = cs.f if self.extra_load is None else cs.f + cs.P.T @ self.extra_load
+        if compliance is not None:
+            if "compliant" not in self._base:
+                self._base["compliant"] = compliant_preconditioner(cs.K, cs.fixed, cs.coords,
+                                                                   self.tol)
+            res = solve_compliant_contact(cs.K, f, cs.fixed, cs.coords, self.pair,
+                                          compliance, initial_active=active, tol=self.tol,
+                                          solver=self._base["compliant"], x0=x0)
+            return res.pressure, res.active, res.info
+        if "contact" not in self._base:
+            self._base["contact"] = contact_preconditioner(cs.K, cs.fixed, cs.coords,
+                                                           [self.pair], tol=self.tol)
+        init = None if active is None else [np.asarray(active, dtype=bool)]
+        res = solve_contact(cs.K, f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
+                            initial_active=init, solver=self._base["contact"])
+        return res.pressure[0], res.active[0], {**res.info, "u": res.u}
+
+    def set_mu(self, mu: float) -> None:
+        """Friction coefficient of the next solves (e.g. mu(T) of a friction law)."""
+        self.pair.mu = float(mu)

@@ -1,0 +1,109 @@
+"""Friction and wear laws: what a surface does under pressure, speed and temperature.
+
+:class:`WearLaw` -- the generalised Archard law ``dh/dt = k(T) p^a v^b``
+(``a = b = 1``: Archard, ``k`` in 1/Pa = m^2/N), with an Arrhenius rise of
+``k`` above a threshold temperature (Liu and Rhee).  :class:`FrictionLaw` --
+``mu(T)``, a linear fade above a reference temperature.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ThermalError, WearError
+from .materials import T_AMBIENT_DEFAULT
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["WearLaw", "FrictionLaw"]
+
+
+#: Universal gas constant (J/mol K) for the Arrhenius temperature law.
+R_GAS = 8.314462618
+
+
+@dataclass(frozen=True)
+class WearLaw:
+    """``dh/dt = k(T) p^a v^b``.
+
+    Parameters
+    ----------
+    k
+        Wear coefficient at or below ``T_threshold`` (1/Pa for a = b = 1).
+    a, b
+        Pressure and speed exponents (Rhee's law; 1, 1 is Archard).
+    T_threshold, activation_energy
+        Above ``T_threshold`` (K) the coefficient rises as
+        ``k exp(E/R (1/T_threshold - 1/T))`` (Arrhenius, Liu and Rhee);
+        ``activation_energy = 0`` (default) means no temperature dependence.
+    """
+
+    k: float
+    a: float = 1.0
+    b: float = 1.0
+    T_threshold: float = 503.15  # 230 C: resin-bonded pads wear faster above it
+    activation_energy: float = 0.0  # J/mol
+
+    def __post_init__(self):
+        if not (np.isfinite(self.k) and self.k > 0):
+            raise WearError(f"wear coefficient k = {self.k!r} is not allowed; need k > 0 (1/Pa)")
+        for name in ("a", "b"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise WearError(f"wear exponent {name} = {v!r} is not allowed; need {name} > 0")
+        if not (np.isfinite(self.T_threshold) and self.T_threshold > 0):
+            raise WearError(f"T_threshold = {self.T_threshold!r} K is not allowed; need > 0 K")
+        if not (np.isfinite(self.activation_energy) and self.activation_energy >= 0):
+            raise WearError(f"activation_energy = {self.activation_energy!r} J/mol; need >= 0")
+
+    def coefficient(self, T=None) -> np.ndarray | float:
+        """``k(T)``; ``T`` in kelvin (None: the base coefficient)."""
+        if T is None or self.activation_energy == 0.0:
+            return self.k
+        T = np.asarray(T, dtype=float)
+        if np.any(T <= 0):
+            raise WearError(f"temperature {T.min()!r} K is not allowed; need T > 0 K")
+        boost = np.exp(self.activation_energy / R_GAS
+                       * (1.0 / self.T_threshold - 1.0 / np.maximum(T, self.T_threshold)))
+        return self.k * boost
+
+    def rate(self, p, v, T=None) -> np.ndarray:
+        """Wear rate ``dh/dt`` (m/s) at pressure ``p`` (Pa, tension counts as 0) and
+        sliding speed ``v`` (m/s, must be >= 0)."""
+        p = np.asarray(p, dtype=float)
+        v = np.asarray(v, dtype=float)
+        if np.any(v < 0):
+            raise WearError(f"sliding speed {v.min()!r} m/s is not allowed; need v >= 0 "
+                            "(a speed, not a velocity component)")
+        return self.coefficient(T) * np.clip(p, 0.0, None) ** self.a * v ** self.b
+
+
+@dataclass(frozen=True)
+class FrictionLaw:
+    """Temperature-dependent friction (fade): ``mu(T) = max(mu_min, mu0 + slope (T - T_ref))``.
+
+    ``slope = 0`` (default) is a constant ``mu0``.  A resin-bonded pad fades
+    above a few hundred degrees C: a negative slope above ``T_ref`` models
+    it to first order.
+    """
+
+    mu0: float
+    slope: float = 0.0       # 1/K
+    T_ref: float = T_AMBIENT_DEFAULT
+    mu_min: float = 0.0
+
+    def __post_init__(self):
+        for key in ("mu0", "mu_min"):
+            v = getattr(self, key)
+            if not (np.isfinite(v) and v >= 0):
+                raise ThermalError(f"FrictionLaw: {key} = {v!r} is not allowed; need >= 0")
+        if not np.isfinite(self.slope):
+            raise ThermalError(f"FrictionLaw: slope = {self.slope!r} is not allowed; need finite")
+
+    def mu(self, T=None):
+        """``mu`` at temperature ``T`` (K; None: ``mu0``)."""
+        if T is None or self.slope == 0.0:
+            return self.mu0
+        return np.maximum(self.mu_min, self.mu0 + self.slope * (np.asarray(T, float) - self.T_ref))

@@ -1,0 +1,81 @@
+"""The rotor's rings and the revolution average: what a rotor point sees of the pad.
+
+A rotor point at radius ``r`` passes under the pad once per revolution, so
+whatever the pad does to the rotor -- wear, frictional heat -- reaches the
+rotor as the circumferential mean: the volume (or power) the pad delivers
+per unit time at radius ``r`` is spread over the whole ring of rotor nodes
+at that radius.  The distribution conserves the total exactly.
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import scipy.sparse as sp
+
+from .errors import WearError
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["rotor_rings", "rotor_wear_rate", "ring_wear_nodes"]
+
+
+
+def rotor_rings(r_nodes: np.ndarray, tol: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Group rotor friction-face nodes into rings of equal radius.
+
+    Returns ``ring`` (index per node) and the ring radii.  Nodes whose radii
+    differ by less than ``tol`` (default 1e-9 of the largest radius) share a
+    ring; the rotor meshes of brakewear are structured in r, so every ring is
+    a full circle of nodes.
+    """
+    r = np.asarray(r_nodes, dtype=float)
+    tol = 1e-9 * r.max() if tol is None else tol
+    order = np.argsort(r)
+    new = np.concatenate([[True], np.diff(r[order]) > tol])
+    ring_sorted = np.cumsum(new) - 1
+    ring = np.empty(r.size, dtype=np.int64)
+    ring[order] = ring_sorted
+    radii = np.bincount(ring, weights=r) / np.bincount(ring)
+    return ring, radii
+
+
+def rotor_wear_rate(volume_rate: np.ndarray, coupling: sp.spmatrix, ring: np.ndarray,
+                    area: np.ndarray) -> np.ndarray:
+    """Revolution-averaged rotor wear rate at each rotor friction-face node (m/s).
+
+    Parameters
+    ----------
+    volume_rate
+        (n_slave,) volume the pad removes from the rotor per unit time at each
+        pad contact node (``k_rotor p v A``, m^3/s).
+    coupling
+        (n_slave, n_rotor) which rotor nodes lie under each pad node (rows sum
+        to one: a contact pair's coupling restricted to the rotor's face nodes).
+    ring, area
+        Ring index and tributary area of each rotor face node (:func:`rotor_rings`,
+        :func:`brakewear.mesh.tributary_areas`).
+
+    The volume each pad node takes from the rotor nodes under it is summed
+    per ring and spread uniformly (by area) over the whole ring: the rotor
+    passes under the pad once per revolution.  The rotor's volume rate equals
+    ``volume_rate.sum()`` exactly.
+    """
+    per_node = sp.csr_matrix(coupling).T @ np.asarray(volume_rate, dtype=float)
+    n_ring = int(ring.max()) + 1
+    ring_volume = np.bincount(ring, weights=per_node, minlength=n_ring)
+    ring_area = np.bincount(ring, weights=area, minlength=n_ring)
+    if np.any((ring_volume > 0) & (ring_area <= 0)):
+        raise WearError("a rotor ring receives wear but has no area")
+    return (ring_volume / np.where(ring_area > 0, ring_area, 1.0))[ring]
+
+
+def ring_wear_nodes(r: np.ndarray):
+    """Rotor wear nodes of an unmeshed rotor: one ring per distinct pad-node radius,
+    carrying the annulus between its neighbours' mid-radii.  (W, ring, area, x)."""
+    ring, radii = rotor_rings(r)
+    edges = np.concatenate([[radii[0]], 0.5 * (radii[1:] + radii[:-1]), [radii[-1]]])
+    W = sp.csr_matrix((np.ones(ring.size), (np.arange(ring.size), ring)),
+                      shape=(ring.size, radii.size))
+    x = np.vstack([radii, np.zeros_like(radii), np.zeros_like(radii)])
+    return W, np.arange(radii.size), np.pi * (edges[1:] ** 2 - edges[:-1] ** 2), x

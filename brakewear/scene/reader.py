@@ -1,0 +1,317 @@
+"""Scene files: read a TOML scene, check every table and key, convert to SI units.
+
+:func:`load_scene` / :func:`scene_from_dict` check the whole scene -- unknown
+keys (the allowed keys are listed), wrong types, unknown units, missing
+tables or bodies, values out of range -- and raise
+:class:`~brakewear.errors.SceneError` naming the file, the key, the value and
+what is allowed, *before* anything is meshed.  The result is a frozen
+:class:`~brakewear.scene.Scene` in SI units (m, Pa, s, rad/s, K).  The
+packaged scenes live in the top-level ``geometry/scenes`` folder.
+"""
+from __future__ import annotations
+
+import logging
+import math
+import sys
+from os import PathLike
+from pathlib import Path
+from typing import Any, Mapping
+
+from ..checks import fail
+from ..errors import SceneError
+from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
+from ..wear.numerics import Numerics
+from .spec import UNITS, InterfaceSpec, OutputSpec, Scene, ThermalSpec, WearSpec
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on 3.10 only
+    import tomli as tomllib
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["load_scene", "scene_from_dict", "scene_dir", "scene_file", "available_scenes"]
+
+
+#: table -> key -> kind.  Kinds: a unit quantity ("length", "pressure", "time",
+#: "angular_speed", "temperature"), or "str", "num", "int", "bool", "surfaces",
+#: "geometry", "k", "h_conv", "partition".
+_SCHEMA: dict[str, dict[str, str]] = {
+    "units": {q: "unit" for q in UNITS},
+    "scene": {"name": "str", "description": "str", "geometry": "geometry"},
+    "components": {"rotor": "str", "pad": "str", "piston": "str"},
+    "mesh": {"size": "length", "order": "int"},
+    "environment": {"line_pressure": "pressure", "omega": "angular_speed", "duration": "time",
+                    "ambient": "temperature"},
+    "interface": {"model": "str", "surfaces": "surfaces", "mu": "num", "method": "str",
+                  "winkler_modulus": "num", "winkler_rotor": "str"},
+    "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
+                 "activation_energy": "num"},
+    "wear.rotor": {"enabled": "bool", "k": "k", "a": "num", "b": "num",
+                   "T_threshold": "temperature", "activation_energy": "num"},
+    "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
+                "T_initial": "temperature", "T_ref": "temperature",
+                "contact_conductance": "num", "mass": "str"},
+    "numerics": {"scheme": "str", "update": "str", "steps": "int", "dp_tol": "num",
+                 "dh_fraction": "num", "max_dh": "length", "wear_tol": "length",
+                 "stability": "num", "tol": "num", "max_halvings": "int"},
+    "output": {"vtu_every": "int", "checkpoint_every": "int", "figures": "bool"},
+}
+
+
+_REQUIRED_TABLES = ("units", "scene", "components", "environment", "wear")
+
+
+_REQUIRED_KEYS = {
+    "units": set(UNITS),
+    "components": {"rotor", "pad"},
+    "environment": {"line_pressure", "omega", "duration"},
+}
+
+
+_TOP = ("units", "scene", "geometry", "components", "mesh", "environment", "interface", "wear",
+        "thermal", "numerics", "output")
+
+
+def scene_dir():
+    """The folder of the packaged scene files.
+
+    In a source checkout: ``geometry/scenes`` beside the ``brakewear`` folder
+    (looked at first, so that a checkout never reads the scenes of another
+    installed copy); installed: ``brakewear.geometries/scenes`` (setup.cfg
+    ships them as package data).
+    """
+    here = Path(__file__).resolve().parent.parent / "geometry" / "scenes"
+    if here.is_dir():
+        return here
+    return geometry_dir() / "scenes"
+
+
+def scene_file(name: str = "default"):
+    """The packaged scene file of a name (a Traversable; may not exist)."""
+    return scene_dir() / f"{name}.toml"
+
+
+def available_scenes() -> list[str]:
+    """Names of the scene files shipped with brakewear."""
+    return sorted(p.name[:-5] for p in scene_dir().iterdir() if p.name.endswith(".toml"))
+
+
+def load_scene(path_or_name: str | PathLike = "default") -> Scene:
+    """Load and check a scene file (nothing is meshed).
+
+    Parameters
+    ----------
+    path_or_name
+        A packaged scene name (``"default"``) or the path of a TOML file; a
+        string with a path separator or ending in ``.toml`` is a path.
+
+    Raises
+    ------
+    SceneError
+        Naming the file, the key, the value and what is allowed.
+    GeometryError
+        From the scene's geometry (naming its file and field).
+    """
+    s = str(path_or_name)
+    if isinstance(path_or_name, PathLike) or "/" in s or "\\" in s or s.endswith(".toml"):
+        path = Path(path_or_name)
+        source, base = str(path), path.parent
+        try:
+            data = path.read_bytes()
+        except OSError as exc:
+            raise SceneError(f"{source}: cannot read scene file ({exc})") from None
+    else:
+        res = scene_file(s)
+        source, base = f"brakewear scene {s!r}", None
+        if not res.is_file():
+            raise SceneError(f"unknown scene name {s!r}; packaged scenes: "
+                             f"{', '.join(available_scenes())} (or give the path of a .toml file)")
+        data = res.read_bytes()
+    try:
+        d = tomllib.loads(data.decode("utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise SceneError(f"{source}: not a valid TOML file: {exc}") from None
+    scene = scene_from_dict(d, source=source, base=base)
+    logger.info("loaded scene %r from %s", scene.name, source)
+    return scene
+
+
+def scene_from_dict(d: Mapping[str, Any], source: str = "<dict>",
+                    base: str | PathLike | None = None) -> Scene:
+    """Check a scene given as nested dicts (the parsed TOML) and convert it to SI.
+
+    Parameters
+    ----------
+    d
+        The tables of docs/scenes.md.
+    source
+        Name used in messages (the file path when loading a file).
+    base
+        Folder that relative geometry paths are relative to (the scene
+        file's folder); default the working directory.
+    """
+    try:
+        return _parse(d, source, None if base is None else Path(base))
+    except SceneError as exc:
+        raise SceneError(f"{source}: {exc}") from None
+
+
+def _parse(d: Any, source: str, base: Path | None) -> Scene:
+    if not isinstance(d, Mapping):
+        raise fail("<top level>", f"expected tables, got {type(d).__name__}")
+    unknown = sorted(set(d) - set(_TOP))
+    if unknown:
+        raise fail(unknown[0], f"unknown table [{unknown[0]}]; allowed tables: "
+                                f"{', '.join(_TOP)}")
+    for t in _REQUIRED_TABLES:
+        if t not in d:
+            raise fail(t, f"missing required table [{t}]")
+    tables: dict[str, dict] = {}
+    for t in _TOP:
+        if t in d and t not in ("wear", "geometry"):
+            tables[t] = _table(d[t], t)
+    wear = _table(d["wear"], "wear")
+    bad = sorted(set(wear) - {"pad", "rotor"})
+    if bad:
+        raise fail(f"wear.{bad[0]}", f"unknown table [wear.{bad[0]}]; allowed: [wear.pad], "
+                                      "[wear.rotor]")
+    if "pad" not in wear:
+        raise fail("wear.pad", "missing required table [wear.pad] (the pad always wears)")
+    for b in ("pad", "rotor"):
+        if b in wear:
+            tables[f"wear.{b}"] = _table(wear[b], f"wear.{b}")
+    for t, tab in tables.items():
+        allowed = _SCHEMA[t]
+        unknown = sorted(set(tab) - set(allowed))
+        if unknown:
+            raise fail(f"{t}.{unknown[0]}", f"unknown key {unknown[0]!r} in [{t}]; allowed "
+                                             f"keys: {', '.join(allowed)}")
+        for k in sorted(_REQUIRED_KEYS.get(t, set()) - set(tab)):
+            what = "body" if t == "components" else "key"
+            raise fail(f"{t}.{k}", f"missing required {what} {k!r} in [{t}]" + (
+                "; a brake scene needs a pad and a rotor" if t == "components" else ""))
+
+    units = {}
+    for q, choices in UNITS.items():
+        u = tables["units"][q]
+        if not isinstance(u, str) or u not in choices:
+            raise fail(f"units.{q}", f"{u!r} is not allowed; allowed units: "
+                                      f"{', '.join(repr(c) for c in choices)}")
+        units[q] = u
+
+    def val(t: str, k: str, default: Any = None) -> Any:
+        tab = tables.get(t, {})
+        if k not in tab:
+            return default
+        return _convert(f"{t}.{k}", tab[k], _SCHEMA[t][k], units)
+
+    # geometry: inline table, name or path
+    sc = tables["scene"]
+    if "geometry" in d:
+        if "geometry" in sc:
+            raise fail("scene.geometry", "given twice: as scene.geometry and as a [geometry] "
+                                          "table; keep one")
+        geometry = geometry_from_dict(_table(d["geometry"], "geometry"),
+                                      source=f"{source}: [geometry]")
+    else:
+        g = sc.get("geometry", "default")
+        if not isinstance(g, str):
+            raise fail("scene.geometry", f"{g!r} is a {type(g).__name__}; expected a geometry "
+                                          "name or a .toml path (or a [geometry] table)")
+        is_path = "/" in g or "\\" in g or g.endswith(".toml")
+        if is_path and base is not None and not Path(g).is_absolute():
+            g = str(base / g)
+        geometry = load_geometry(g)
+
+    comps = tables["components"]
+    for k in comps:
+        _convert(f"components.{k}", comps[k], "str", units)
+    if comps["pad"] != "elastic":
+        raise fail("components.pad", f"{comps['pad']!r} is not allowed; allowed: 'elastic' "
+                                      "(the pad is always meshed)")
+
+    iface = tables.get("interface", {})
+    ikw = {k: val("interface", k) for k in iface}
+    if "surfaces" in ikw:
+        ikw["surfaces"] = tuple(ikw["surfaces"])
+    interface = InterfaceSpec(**ikw)
+
+    def wear_spec(b: str) -> WearSpec | None:
+        t = f"wear.{b}"
+        if t not in tables:
+            return None
+        tab = dict(tables[t])
+        if b == "rotor" and not val(t, "enabled", True):
+            return None
+        tab.pop("enabled", None)
+        return WearSpec(**{k: val(t, k) for k in tab})
+
+    thermal = ThermalSpec(**{k: val("thermal", k) for k in tables.get("thermal", {})})
+    numerics = Numerics(**{k: val("numerics", k) for k in tables.get("numerics", {})})
+    output = OutputSpec(**{k: val("output", k) for k in tables.get("output", {})})
+    env = {k: val("environment", k) for k in tables["environment"]}
+    name = val("scene", "name", Path(source).stem if source.endswith(".toml") else source)
+    return Scene(geometry=geometry, rotor=comps["rotor"],
+                 piston=comps.get("piston", "traction"),
+                 mesh_size=val("mesh", "size"), order=val("mesh", "order"),
+                 interface=interface, pad_wear=wear_spec("pad"), rotor_wear=wear_spec("rotor"),
+                 thermal=thermal, numerics=numerics, output=output, name=name,
+                 description=val("scene", "description", ""), source=source, **env)
+
+
+def _table(v: Any, name: str) -> dict:
+    if not isinstance(v, Mapping):
+        raise fail(name, f"expected a table [{name}], got {type(v).__name__} {v!r}")
+    return dict(v)
+
+
+def _convert(key: str, v: Any, kind: str, units: Mapping[str, str]) -> Any:
+    """Type-check one value and convert it to SI."""
+    def number() -> float:
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise fail(key, f"{v!r} is a {type(v).__name__}; expected a number")
+        if not math.isfinite(v):
+            raise fail(key, f"{v!r} is not allowed; it must be a finite number")
+        return float(v)
+
+    if kind in ("str", "geometry"):
+        if not isinstance(v, str):
+            raise fail(key, f"{v!r} is a {type(v).__name__}; expected a string")
+        return v
+    if kind == "bool":
+        if not isinstance(v, bool):
+            raise fail(key, f"{v!r} is a {type(v).__name__}; expected true or false")
+        return v
+    if kind == "int":
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise fail(key, f"{v!r} is a {type(v).__name__}; expected a whole number")
+        return v
+    if kind == "num":
+        return number()
+    if kind == "k":
+        if v == "material":
+            return None
+        if isinstance(v, str):
+            raise fail(key, f"{v!r} is not allowed; expected a number (1/Pa) or \"material\"")
+        return number()
+    if kind == "partition":
+        return v if isinstance(v, str) else number()
+    if kind == "h_conv":
+        if isinstance(v, Mapping):
+            return {b: _convert(f"{key}.{b}", h, "num", units) for b, h in v.items()}
+        return number()
+    if kind == "surfaces":
+        if not isinstance(v, list) or not all(isinstance(s, str) for s in v):
+            raise fail(key, f"{v!r} is not allowed; expected a list of two strings "
+                             "\"body.surface\"")
+        return v
+    if kind in UNITS:
+        x = number()
+        u = units[kind]
+        if kind == "temperature":
+            return x + UNITS[kind][u]
+        if x <= 0:
+            raise fail(key, f"{x!r} {u} is not allowed; it must be > 0 {u}")
+        return x * UNITS[kind][u]
+    raise AssertionError(kind)  # pragma: no cover

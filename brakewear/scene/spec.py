@@ -1,0 +1,357 @@
+"""Scenes: one brake model plus what to compute, in SI units.
+
+A scene names the brake geometry, the **components** (rigid or elastic
+rotor, piston as a traction or a body), the **interface** (FE contact or a
+Winkler foundation, the surfaces it joins, friction), the **environment**
+(line pressure, rotor speed, duration, ambient temperature), the **wear
+laws** of pad and rotor, optional **thermal** coupling, the **numerics** of
+the wear loop and the **output**.  :class:`Scene` and its tables check their
+values on construction and raise :class:`~brakewear.errors.SceneError`
+naming the key; files are read by :mod:`brakewear.scene.reader` and run by
+:func:`brakewear.output.run_scene`.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import math
+from dataclasses import asdict, dataclass, field, fields
+from os import PathLike
+from typing import Any, Mapping
+
+from ..checks import check_bool, check_choice, check_int, check_number, fail
+from ..geometry.files import load_geometry
+from ..geometry.parts import BrakeGeometry
+from ..wear.numerics import Numerics
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["Scene", "InterfaceSpec", "WearSpec", "ThermalSpec", "OutputSpec", "SURFACES", "UNITS"]
+
+
+#: Units a scene file may state, per quantity: name -> factor to SI (temperatures: offset).
+UNITS: dict[str, dict[str, float]] = {
+    "length": {"mm": 1e-3, "m": 1.0},
+    "pressure": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "bar": 1e5},
+    "time": {"s": 1.0, "min": 60.0, "h": 3600.0},
+    "angular_speed": {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0},
+    "temperature": {"K": 0.0, "C": 273.15},   # offsets: T_K = T + offset
+}
+
+
+#: The named surfaces (facet sets) of each body of a :class:`~brakewear.model.BrakeModel`
+#: (brakewear.mesh.pad_mesh, rotor_mesh, piston_mesh); tests compare them with the meshes.
+SURFACES: dict[str, tuple[str, ...]] = {
+    "pad": ("friction", "back", "piston_face", "leading", "trailing", "abutment", "inner",
+            "outer"),
+    "rotor": ("friction", "midplane", "rotor_clamp", "outer"),
+    "piston": ("piston_face", "piston_back", "piston_side"),
+}
+
+
+# the one sliding interface the wear loop integrates
+_WEAR_INTERFACE = ("pad.friction", "rotor.friction")
+
+
+@dataclass(frozen=True)
+class InterfaceSpec:
+    """The pad-rotor interface.
+
+    Parameters
+    ----------
+    model
+        ``"fe"``: node-to-surface FE contact; ``"winkler"``: an elastic
+        foundation (:class:`brakewear.interfaces.WinklerInterface`).
+    surfaces
+        The two surfaces it joins, ``"body.surface"`` (see :data:`SURFACES`).
+    mu
+        Sliding friction coefficient (>= 0).
+    method
+        FE contact discretisation (``"segment"``; FE only).
+    winkler_modulus
+        Foundation modulus (Pa/m); ``None``: Johnson's layer modulus of the
+        friction layer (Winkler only).
+    winkler_rotor
+        ``"rigid"`` or ``"foundation"`` (rotor half thickness in series; Winkler only).
+    """
+
+    model: str = "fe"
+    surfaces: tuple[str, str] = _WEAR_INTERFACE
+    mu: float = 0.0
+    method: str = "segment"
+    winkler_modulus: float | None = None
+    winkler_rotor: str = "rigid"
+
+    def __post_init__(self):
+        check_choice("interface.model", self.model, ("fe", "winkler"))
+        if (not isinstance(self.surfaces, (tuple, list)) or len(self.surfaces) != 2
+                or not all(isinstance(s, str) for s in self.surfaces)):
+            raise fail("interface.surfaces", f"{self.surfaces!r} is not allowed; expected two "
+                                              "names \"body.surface\", e.g. "
+                                              "[\"pad.friction\", \"rotor.friction\"]")
+        object.__setattr__(self, "surfaces", tuple(self.surfaces))
+        check_number("interface.mu", self.mu, 0.0, lo_open=False)
+        check_choice("interface.method", self.method, ("segment",))
+        check_number("interface.winkler_modulus", self.winkler_modulus, 0.0, unit="Pa/m",
+                      allow_none=True)
+        check_choice("interface.winkler_rotor", self.winkler_rotor, ("rigid", "foundation"))
+
+
+@dataclass(frozen=True)
+class WearSpec:
+    """A wear law ``dh/dt = k(T) p^a v^b`` (see :class:`brakewear.laws.WearLaw`).
+
+    ``k = None`` takes the material's ``wear_k`` (pad: the friction
+    material, rotor: the rotor material).  ``k`` is in SI units
+    (1/Pa = m^2/N for a = b = 1; in general m/s per Pa^a (m/s)^b).
+    """
+
+    k: float | None = None
+    a: float = 1.0
+    b: float = 1.0
+    T_threshold: float = 503.15
+    activation_energy: float = 0.0
+
+    def check(self, sec: str) -> None:
+        check_number(f"{sec}.k", self.k, 0.0, unit="1/Pa", allow_none=True)
+        check_number(f"{sec}.a", self.a, 0.0)
+        check_number(f"{sec}.b", self.b, 0.0)
+        check_number(f"{sec}.T_threshold", self.T_threshold, 0.0, unit="K")
+        check_number(f"{sec}.activation_energy", self.activation_energy, 0.0, lo_open=False,
+                      unit="J/mol")
+
+    def law(self, material, sec: str):
+        """The :class:`~brakewear.laws.WearLaw` (``material`` supplies a missing k)."""
+        from ..laws import WearLaw
+        k = self.k
+        if k is None:
+            k = material.wear_k
+            if k is None:
+                raise fail(f"{sec}.k", f"not given and material {material.name!r} has no "
+                                        "wear_k; give k (1/Pa)")
+        return WearLaw(k, self.a, self.b, self.T_threshold, self.activation_energy)
+
+
+@dataclass(frozen=True)
+class ThermalSpec:
+    """Thermal coupling (:class:`brakewear.thermal.ThermalModel` arguments, SI).
+
+    ``T_ambient`` is the scene's ``environment.ambient``.
+    """
+
+    enabled: bool = False
+    partition: str | float = "effusivity"
+    h_conv: float | Mapping[str, float] = 40.0
+    T_initial: float | None = None
+    T_ref: float | None = None
+    contact_conductance: float = 0.0
+    mass: str = "consistent"
+
+    def __post_init__(self):
+        check_bool("thermal.enabled", self.enabled)
+        if isinstance(self.partition, str):
+            check_choice("thermal.partition", self.partition, ("effusivity", "effusivity_area"))
+        else:
+            check_number("thermal.partition", self.partition, 0.0, 1.0, lo_open=False)
+        if isinstance(self.h_conv, Mapping):
+            unknown = sorted(set(self.h_conv) - {"pad", "rotor"})
+            if unknown:
+                raise fail(f"thermal.h_conv.{unknown[0]}", "unknown body; allowed: pad, rotor")
+            for b, h in self.h_conv.items():
+                check_number(f"thermal.h_conv.{b}", h, 0.0, lo_open=False, unit="W/m^2 K")
+            object.__setattr__(self, "h_conv", dict(self.h_conv))
+        else:
+            check_number("thermal.h_conv", self.h_conv, 0.0, lo_open=False, unit="W/m^2 K")
+        check_number("thermal.T_initial", self.T_initial, 0.0, unit="K", allow_none=True)
+        check_number("thermal.T_ref", self.T_ref, 0.0, unit="K", allow_none=True)
+        check_number("thermal.contact_conductance", self.contact_conductance, 0.0,
+                      lo_open=False, unit="W/m^2 K")
+        check_choice("thermal.mass", self.mass, ("consistent", "lumped"))
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    """What the run writes: VTU every ``vtu_every`` steps, a checkpoint every
+    ``checkpoint_every`` steps, PNG figures at the end."""
+
+    vtu_every: int = 10
+    checkpoint_every: int = 10
+    figures: bool = True
+
+    def __post_init__(self):
+        check_int("output.vtu_every", self.vtu_every, 1)
+        check_int("output.checkpoint_every", self.checkpoint_every, 1)
+        check_bool("output.figures", self.figures)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A brake scene in SI units: what to build and what to compute.
+
+    Parameters
+    ----------
+    geometry
+        A :class:`~brakewear.geometry.BrakeGeometry`, or a packaged geometry
+        name / ``.toml`` path (loaded and checked at once; no meshing).
+    rotor, piston
+        Components: ``"elastic"`` | ``"rigid"`` rotor; ``"traction"`` | ``"body"`` piston.
+    mesh_size, order
+        Interface element size (m) and element order; ``None``: the geometry's.
+    line_pressure, omega, duration, ambient
+        Pa, rad/s, s, K: steady drag at constant line pressure and rotor speed.
+    interface, pad_wear, rotor_wear, thermal, numerics, output
+        The tables of the scene file; ``rotor_wear = None``: the rotor does not wear.
+    name, description, source
+        For messages and the summary (not compared).
+    """
+
+    geometry: BrakeGeometry | str = "default"
+    duration: float = 600.0
+    line_pressure: float = 1e6
+    omega: float = 55.0
+    ambient: float = 293.15
+    rotor: str = "elastic"
+    piston: str = "traction"
+    mesh_size: float | None = None
+    order: int | None = None
+    interface: InterfaceSpec = field(default_factory=InterfaceSpec)
+    pad_wear: WearSpec = field(default_factory=WearSpec)
+    rotor_wear: WearSpec | None = field(default_factory=WearSpec)
+    thermal: ThermalSpec = field(default_factory=ThermalSpec)
+    numerics: Numerics = field(default_factory=Numerics)
+    output: OutputSpec = field(default_factory=OutputSpec)
+    name: str = field(default="scene", compare=False)
+    description: str = field(default="", compare=False)
+    source: str = field(default="<python>", compare=False)
+
+    def __post_init__(self):
+        g = self.geometry
+        if isinstance(g, (str, PathLike)):
+            object.__setattr__(self, "geometry", load_geometry(g))
+        elif not isinstance(g, BrakeGeometry):
+            raise fail("scene.geometry", f"{g!r} is not a geometry; expected a name, a path "
+                                          "or a BrakeGeometry")
+        check_choice("components.rotor", self.rotor, ("elastic", "rigid"))
+        check_choice("components.piston", self.piston, ("traction", "body"))
+        check_number("environment.line_pressure", self.line_pressure, 0.0, unit="Pa")
+        check_number("environment.omega", self.omega, 0.0, unit="rad/s")
+        check_number("environment.duration", self.duration, 0.0, unit="s")
+        check_number("environment.ambient", self.ambient, 0.0, unit="K")
+        width = self.geometry.pad.outer_radius - self.geometry.pad.inner_radius
+        check_number("mesh.size", self.mesh_size, 0.0, 0.5 * width, unit="m", allow_none=True)
+        check_int("mesh.order", self.order, 1, allow_none=True)
+        if self.order not in (None, 1):
+            raise fail("mesh.order", f"{self.order!r} is not allowed; a brake with a pad-rotor "
+                                      "interface supports P1 meshes only: allowed 1")
+        for name, cls in (("interface", InterfaceSpec), ("thermal", ThermalSpec),
+                          ("numerics", Numerics), ("output", OutputSpec)):
+            if not isinstance(getattr(self, name), cls):
+                raise fail(name, f"{getattr(self, name)!r} is not a {cls.__name__}")
+        for sec, spec in (("wear.pad", self.pad_wear), ("wear.rotor", self.rotor_wear)):
+            if spec is None and sec == "wear.rotor":
+                continue
+            if not isinstance(spec, WearSpec):
+                raise fail(sec, f"{spec!r} is not a WearSpec")
+            spec.check(sec)
+        self._check_interface()
+        self._check_consistency()
+
+    # ------------------------------------------------------------ checks --
+    def _bodies(self) -> dict[str, str]:
+        return {"rotor": self.rotor, "pad": "elastic", "piston": self.piston}
+
+    def _check_interface(self) -> None:
+        bodies = self._bodies()
+        for s in self.interface.surfaces:
+            body, _, surf = s.partition(".")
+            if body not in SURFACES:
+                raise fail("interface.surfaces", f"{s!r} names no body of the scene; "
+                                                  f"bodies: {', '.join(SURFACES)} "
+                                                  "(write \"body.surface\")")
+            if body == "piston" and bodies["piston"] != "body":
+                raise fail("interface.surfaces", f"{s!r}: the piston is not a body of this "
+                                                  "scene (components.piston = 'traction')")
+            if surf not in SURFACES[body]:
+                raise fail("interface.surfaces", f"{s!r}: the {body} has no surface {surf!r}; "
+                                                  f"{body} surfaces: "
+                                                  f"{', '.join(SURFACES[body])}")
+        if tuple(sorted(self.interface.surfaces)) != _WEAR_INTERFACE:
+            raise fail("interface.surfaces",
+                        f"{list(self.interface.surfaces)!r}: the wear loop's sliding interface is "
+                        f"{' against '.join(_WEAR_INTERFACE)}; allowed: "
+                        f"{list(_WEAR_INTERFACE)!r}")
+
+    def _check_consistency(self) -> None:
+        n = self.numerics
+        if n.scheme == "implicit" and self.pad_wear.a != 1.0:
+            raise fail("wear.pad.a", f"{self.pad_wear.a!r} is not allowed with numerics.scheme "
+                                      "= 'implicit' (backward Euler needs a law linear in p): "
+                                      "allowed 1, or use scheme = 'explicit'")
+        if n.update == "geometry" and self.interface.model != "fe":
+            raise fail("numerics.update", "'geometry' moves the FE meshes; it needs "
+                                           "interface.model = 'fe'")
+        if n.update == "geometry" and self.thermal.enabled:
+            raise fail("numerics.update", "'geometry' cannot be combined with thermal coupling "
+                                           "(thermal.enabled = true): the thermal meshes do not "
+                                           "follow the worn faces; allowed: 'gap'")
+        if self.thermal.contact_conductance > 0 and self.rotor != "elastic":
+            raise fail("thermal.contact_conductance", "> 0 needs an elastic rotor "
+                                                       "(components.rotor = 'elastic')")
+
+    # -------------------------------------------------------------- build --
+    def build_model(self):
+        """The :class:`~brakewear.model.BrakeModel` of the scene (this meshes)."""
+        from ..model import BrakeModel
+        return BrakeModel(self.geometry, piston=self.piston, size=self.mesh_size,
+                          order=self.order, rotor=self.rotor)
+
+    def wear_laws(self):
+        """(pad law, rotor law or None)."""
+        g = self.geometry
+        pad = self.pad_wear.law(g.pad.friction_material, "wear.pad")
+        rot = None if self.rotor_wear is None else self.rotor_wear.law(g.rotor.material,
+                                                                        "wear.rotor")
+        return pad, rot
+
+    def to_dict(self) -> dict:
+        """A JSON-ready record of the scene in SI units (written to ``scene.json``)."""
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "geometry"}
+        for k in ("interface", "pad_wear", "rotor_wear", "thermal", "numerics", "output"):
+            d[k] = None if d[k] is None else asdict(d[k])
+        d["interface"]["surfaces"] = list(d["interface"]["surfaces"])
+        g = self.geometry
+        d["geometry"] = {"source": str(g.source), "rotor": _geom_record(g.rotor),
+                         "pad": _geom_record(g.pad), "piston": _geom_record(g.piston),
+                         "mesh": asdict(g.mesh)}
+        return json.loads(json.dumps(d, default=str))
+
+
+def _geom_record(obj) -> dict:
+    return {k: (v.name if hasattr(v, "elastic") else v) for k, v in vars(obj).items()}
+
+
+def _first_difference(a: Any, b: Any, path: str = "") -> str | None:
+    """The first key where two JSON records differ (None if equal)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if k in ("name", "description", "source"):
+                continue
+            d = _first_difference(a.get(k), b.get(k), f"{path}.{k}" if path else k)
+            if d is not None:
+                return d
+        return None
+    if isinstance(a, float) and isinstance(b, float) and math.isclose(a, b, rel_tol=1e-12):
+        return None
+    if a == b:
+        return None
+    top, _, rest = path.partition(".")
+    key = _RECORD_KEYS.get(top, top) + (f".{rest}" if rest else "")
+    return f"{key}: {a!r} then, {b!r} now"
+
+
+# Scene field -> scene-file key, for messages about scene.json records
+_RECORD_KEYS = {"duration": "environment.duration", "line_pressure": "environment.line_pressure",
+                "omega": "environment.omega", "ambient": "environment.ambient",
+                "rotor": "components.rotor", "piston": "components.piston",
+                "mesh_size": "mesh.size", "order": "mesh.order", "pad_wear": "wear.pad",
+                "rotor_wear": "wear.rotor", "geometry": "geometry"}

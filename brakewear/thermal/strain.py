@@ -1,0 +1,61 @@
+"""Thermal strain: the load ``int eps(v) : C : alpha (T - T_ref) I`` and thermal stresses."""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import scipy.sparse as sp
+import skfem as fem
+
+from ..errors import ThermalError
+from ..fem.heat import body_label, check_thermal, material_groups, thermal_coupling
+from ..fem.stress import element_stress
+from ..materials import Material
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["thermal_load_matrix", "thermal_stress"]
+
+
+def _elastic_groups(mesh: fem.Mesh, materials, name: str) -> list[tuple[np.ndarray, Material]]:
+    groups = material_groups(mesh, materials, name)
+    for _, m in groups:
+        if not isinstance(m, Material):
+            raise ThermalError(f"body {name!r}: a thermal-strain load needs Material objects "
+                               f"(elastic and thermal data), got {type(m).__name__}")
+        check_thermal(m, body_label(name, m), ("alpha",))
+    return groups
+
+
+def thermal_load_matrix(mesh: fem.Mesh, materials, name: str = "body") -> sp.csr_matrix:
+    """``G`` (3N x N): the thermal-strain load is ``G @ (T - T_ref)`` (N per node).
+
+    Vector DOF ``3 s + i`` as in :mod:`brakewear.fem`; each material
+    group contributes with its own ``C`` and ``alpha``.
+    """
+    if not isinstance(mesh, fem.MeshTet1):
+        raise ThermalError(f"body {name!r}: thermal load needs a P1 MeshTet, got "
+                           f"{type(mesh).__name__}")
+    G = sp.csr_matrix((3 * mesh.nvertices, mesh.nvertices))
+    for e, m in _elastic_groups(mesh, materials, name):
+        sb = fem.Basis(mesh, fem.ElementTetP1(), intorder=1, elements=e)
+        vb = fem.Basis(mesh, fem.ElementVector(fem.ElementTetP1()), intorder=1, elements=e)
+        G = G + thermal_coupling(m.voigt(), m.thermal.alpha).assemble(sb, vb)
+    return G.tocsr()
+
+
+def thermal_stress(mesh: fem.Mesh, u: np.ndarray, materials, dT: np.ndarray,
+                   name: str = "body") -> np.ndarray:
+    """Element stresses ``C (eps(u) - alpha dT I)`` (6, n_elements), Voigt order.
+
+    ``dT`` is the nodal temperature rise over the stress-free reference; the
+    element value is its mean over the element's vertices (exact for P1
+    strains, which are constant per element).
+    """
+    groups = _elastic_groups(mesh, materials, name)
+    s = element_stress(mesh, u, groups)
+    dTe = np.asarray(dT, dtype=float)[mesh.t[:4]].mean(axis=0)
+    for e, m in groups:
+        s[:, e] -= (m.voigt() @ np.array([1.0, 1.0, 1.0, 0, 0, 0]) * m.thermal.alpha)[:, None] \
+            * dTe[None, e]
+    return s
