@@ -1,45 +1,6 @@
 """Benchmarks behind ``brakewear bench``: timings and errors, on the public API."""
 
-from .core import (
-    CONTACT_CASES,
-    CONTACT_SIZES,
-    DEFAULT_SIZES,
-    WEAR_SIZES,
-    add_bench_parser,
-    bench_contact,
-    bench_elasticity,
-    bench_wear,
-    brake_resolution,
-    fit_exponent,
-    format_contact_table,
-    format_table,
-    format_wear_table,
-    kkt_system,
-    ring_resolution,
-    run_bench,
-    run_contact_case,
-    run_elasticity_case,
-    run_wear_case,
-)
+from . import core
+from .core import *  # noqa: F403
 
-__all__ = [
-    "DEFAULT_SIZES",
-    "ring_resolution",
-    "run_elasticity_case",
-    "bench_elasticity",
-    "fit_exponent",
-    "format_table",
-    "add_bench_parser",
-    "run_bench",
-    "CONTACT_SIZES",
-    "CONTACT_CASES",
-    "brake_resolution",
-    "kkt_system",
-    "run_contact_case",
-    "bench_contact",
-    "format_contact_table",
-    "WEAR_SIZES",
-    "run_wear_case",
-    "bench_wear",
-    "format_wear_table",
-]
+__all__ = [*core.__all__]

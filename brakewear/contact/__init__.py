@@ -13,28 +13,10 @@
   through a compliant layer: the implicit wear step.
 """
 
-from .compliant import (
-    CompliantResult,
-    compliant_preconditioner,
-    constraint_rows,
-    solve_compliant_contact,
-)
-from .lagrange import ContactResult, contact_preconditioner, solve_contact
-from .pairs import ContactPair, pair_to_rigid, pair_to_surface
-from .surface import Projection, project_nodes, tie_prolongation
+from . import compliant, lagrange, pairs, surface
+from .compliant import *  # noqa: F403
+from .lagrange import *  # noqa: F403
+from .pairs import *  # noqa: F403
+from .surface import *  # noqa: F403
 
-__all__ = [
-    "constraint_rows",
-    "solve_compliant_contact",
-    "compliant_preconditioner",
-    "CompliantResult",
-    "ContactResult",
-    "solve_contact",
-    "contact_preconditioner",
-    "ContactPair",
-    "pair_to_surface",
-    "pair_to_rigid",
-    "Projection",
-    "project_nodes",
-    "tie_prolongation",
-]
+__all__ = [*compliant.__all__, *lagrange.__all__, *pairs.__all__, *surface.__all__]

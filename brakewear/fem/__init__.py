@@ -7,54 +7,17 @@ recovery (:mod:`~brakewear.fem.stress`) and transient heat conduction of one
 body (:mod:`~brakewear.fem.heat`).
 """
 
-from .assembly import BlockPattern, assemble_stiffness, stiffness_update
-from .boundary import (
-    apply_dirichlet,
-    assemble_pressure,
-    assemble_traction,
-    boundary_dofs,
-)
-from .forms import (
-    elasticity_form,
-    lame_parameters,
-    pressure_form,
-    scalar_element,
-    thermal_strain_form,
-    traction_form,
-    voigt_strain,
-)
-from .heat import (
-    HeatConduction,
-    capacity,
-    conduction,
-    convection,
-    surface_flux,
-    thermal_coupling,
-)
-from .stress import element_stress, nodal_stress, von_mises
+from . import assembly, boundary, forms, heat, stress
+from .assembly import *  # noqa: F403
+from .boundary import *  # noqa: F403
+from .forms import *  # noqa: F403
+from .heat import *  # noqa: F403
+from .stress import *  # noqa: F403
 
 __all__ = [
-    "BlockPattern",
-    "assemble_stiffness",
-    "stiffness_update",
-    "assemble_traction",
-    "assemble_pressure",
-    "boundary_dofs",
-    "apply_dirichlet",
-    "lame_parameters",
-    "scalar_element",
-    "voigt_strain",
-    "elasticity_form",
-    "thermal_strain_form",
-    "traction_form",
-    "pressure_form",
-    "conduction",
-    "capacity",
-    "convection",
-    "surface_flux",
-    "thermal_coupling",
-    "HeatConduction",
-    "element_stress",
-    "nodal_stress",
-    "von_mises",
+    *assembly.__all__,
+    *boundary.__all__,
+    *forms.__all__,
+    *heat.__all__,
+    *stress.__all__,
 ]

@@ -163,6 +163,17 @@ def _chunk_products(basis: fem.CellBasis) -> np.ndarray:
     return P.reshape(9, -1)
 
 
+def _scatter_blocks(data, KT, pos):
+    """Add the 3x3 element blocks ``KT`` (9 rows, one column per block entry)
+    into the BSR block array ``data`` at block positions ``pos`` (modified)."""
+    lo, hi = int(pos.min()), int(pos.max()) + 1
+    pos = pos - lo
+    band = data[lo:hi]
+    for i in range(3):
+        for j in range(3):
+            band[:, i, j] += np.bincount(pos, weights=KT[3 * i + j], minlength=hi - lo)
+
+
 def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None = None,
                        chunk: int = 150_000, intorder: int | None = None,
                        elements: np.ndarray | None = None
@@ -217,12 +228,7 @@ def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None =
         return KT, pos
 
     def add(KT, pos):
-        lo, hi = int(pos.min()), int(pos.max()) + 1
-        pos -= lo
-        band = data[lo:hi]
-        for i in range(3):
-            for j in range(3):
-                band[:, i, j] += np.bincount(pos, weights=KT[3 * i + j], minlength=hi - lo)
+        _scatter_blocks(data, KT, pos)
 
     subset = None if elements is None else _element_subset(mesh, elements, "assemble_stiffness")
     tasks = []
@@ -353,11 +359,5 @@ def stiffness_update(K: sp.bsr_matrix, pattern: BlockPattern, old_mesh: fem.Mesh
             dP = _chunk_products(bn)
             dP -= _chunk_products(basis(old_mesh, sd_old, part))
             KT = M @ dP
-            pos = pattern.positions(bn.element_dofs, lookup).ravel()
-            lo, hi = int(pos.min()), int(pos.max()) + 1
-            pos -= lo
-            band = data[lo:hi]
-            for i in range(3):
-                for j in range(3):
-                    band[:, i, j] += np.bincount(pos, weights=KT[3 * i + j], minlength=hi - lo)
+            _scatter_blocks(data, KT, pattern.positions(bn.element_dofs, lookup).ravel())
     return sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))

@@ -5,36 +5,8 @@ mesh settings), :mod:`~brakewear.geometry.files` reads and checks geometry
 files (docs: reference/geometry).
 """
 
-from .files import (
-    available_geometries,
-    geometry_dir,
-    geometry_file,
-    geometry_from_dict,
-    load_geometry,
-)
-from .parts import (
-    ANGLE_UNITS,
-    LENGTH_UNITS,
-    MODULUS_UNITS,
-    BrakeGeometry,
-    MeshSettings,
-    PadGeometry,
-    PistonGeometry,
-    RotorGeometry,
-)
+from . import files, parts
+from .files import *  # noqa: F403
+from .parts import *  # noqa: F403
 
-__all__ = [
-    "load_geometry",
-    "geometry_from_dict",
-    "available_geometries",
-    "geometry_dir",
-    "geometry_file",
-    "RotorGeometry",
-    "PadGeometry",
-    "PistonGeometry",
-    "MeshSettings",
-    "BrakeGeometry",
-    "LENGTH_UNITS",
-    "ANGLE_UNITS",
-    "MODULUS_UNITS",
-]
+__all__ = [*files.__all__, *parts.__all__]

@@ -9,26 +9,10 @@ returns the contact pressure, the active set and the displacement
 against FE contact by :func:`calibrate`).
 """
 
-from .calibration import (
-    CalibrationReport,
-    calibrate,
-    compare,
-    fe_approach,
-    fe_lever_arm,
-)
-from .fe import FEInterface
-from .foundation import FoundationInterface
-from .winkler import FoundationResult, WinklerInterface, layer_modulus
+from . import calibration, fe, foundation, winkler
+from .calibration import *  # noqa: F403
+from .fe import *  # noqa: F403
+from .foundation import *  # noqa: F403
+from .winkler import *  # noqa: F403
 
-__all__ = [
-    "CalibrationReport",
-    "fe_approach",
-    "fe_lever_arm",
-    "compare",
-    "calibrate",
-    "FEInterface",
-    "FoundationInterface",
-    "layer_modulus",
-    "WinklerInterface",
-    "FoundationResult",
-]
+__all__ = [*calibration.__all__, *fe.__all__, *foundation.__all__, *winkler.__all__]

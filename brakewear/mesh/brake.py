@@ -142,12 +142,7 @@ def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None =
     smaller angle: ``leading`` is the end face at ``center - arc/2`` and
     ``trailing`` the one at ``center + arc/2``.
 
-    Parameters
-    ----------
-    geom : BrakeGeometry
-        The checked brake geometry (SI units).
-    size, order
-        Override ``geom.mesh.size`` (m) and ``geom.mesh.order``.
+    Parameters are those of :func:`rotor_mesh`.
 
     Returns
     -------

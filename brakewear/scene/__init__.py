@@ -1,27 +1,7 @@
 """Scenes: one brake model plus what to compute, from a TOML file or from Python."""
 
-from .reader import available_scenes, load_scene, scene_dir, scene_file, scene_from_dict
-from .spec import (
-    SURFACES,
-    UNITS,
-    InterfaceSpec,
-    OutputSpec,
-    Scene,
-    ThermalSpec,
-    WearSpec,
-)
+from . import reader, spec
+from .reader import *  # noqa: F403
+from .spec import *  # noqa: F403
 
-__all__ = [
-    "load_scene",
-    "scene_from_dict",
-    "scene_dir",
-    "scene_file",
-    "available_scenes",
-    "Scene",
-    "InterfaceSpec",
-    "WearSpec",
-    "ThermalSpec",
-    "OutputSpec",
-    "SURFACES",
-    "UNITS",
-]
+__all__ = [*reader.__all__, *spec.__all__]

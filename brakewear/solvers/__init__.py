@@ -1,24 +1,8 @@
 """Linear solvers: pyamg smoothed aggregation with the rigid-body near-nullspace, Krylov, direct."""
 
-from .amg import (
-    SA_OPTIONS,
-    SMOOTHERS,
-    AMGSolver,
-    SolveInfo,
-    amg_solver,
-    rigid_body_modes,
-)
-from .direct import DIRECT_MAX_DOFS, direct_solve
-from .patched import PatchedMatrix
+from . import amg, direct, patched
+from .amg import *  # noqa: F403
+from .direct import *  # noqa: F403
+from .patched import *  # noqa: F403
 
-__all__ = [
-    "SolveInfo",
-    "rigid_body_modes",
-    "AMGSolver",
-    "amg_solver",
-    "SA_OPTIONS",
-    "SMOOTHERS",
-    "direct_solve",
-    "DIRECT_MAX_DOFS",
-    "PatchedMatrix",
-]
+__all__ = [*amg.__all__, *direct.__all__, *patched.__all__]

@@ -1,18 +1,17 @@
 """Frictional heating of the brake: heat partition, temperatures of pad and rotor, thermal strain."""
 
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
-from .model import ThermalModel
-from .partition import heat_flux, partition_effusivity
-from .stability import staggered_amplification
-from .strain import thermal_load_matrix, thermal_stress
+from . import model, partition, stability, strain
+from .model import *  # noqa: F403
+from .partition import *  # noqa: F403
+from .stability import *  # noqa: F403
+from .strain import *  # noqa: F403
 
 __all__ = [
-    "ThermalModel",
-    "partition_effusivity",
-    "heat_flux",
     "H_CONV_DEFAULT",
     "T_AMBIENT_DEFAULT",
-    "staggered_amplification",
-    "thermal_load_matrix",
-    "thermal_stress",
+    *model.__all__,
+    *partition.__all__,
+    *stability.__all__,
+    *strain.__all__,
 ]

@@ -1,7 +1,7 @@
 """The wear loop: Archard wear of pad and rotor integrated in time."""
 
+from . import numerics, stepper
+from .numerics import *  # noqa: F403
+from .stepper import *  # noqa: F403
 
-from .numerics import Numerics
-from .stepper import WearStep, wear_history
-
-__all__ = ["Numerics", "WearStep", "wear_history"]
+__all__ = [*numerics.__all__, *stepper.__all__]
