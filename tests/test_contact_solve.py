@@ -1,8 +1,11 @@
 """Contact solves: patch tests, the checks every solve must pass, hard cases."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
+import brakewear.contact.active_set as aset
 import brakewear.contact.elimination as el
 import brakewear.contact.lagrange as bc
 from brakewear.errors import ContactLostError
@@ -136,18 +139,18 @@ def test_load_that_lifts_off_raises():
 
 def test_cycling_active_set_is_detected_and_resolved(monkeypatch):
     calls = {"n": 0, "first": None}
-    real = bc._pdas_update
+    real = aset.pdas_update
 
-    def cycling(active, lam, gaps, gap_tol, ltol):
+    def cycling(active, margins):
         calls["n"] += 1
         if calls["first"] is None:
-            calls["first"] = [a.copy() for a in active]
+            calls["first"] = active.copy()
         # every other update returns the first active set: A0 -> A1 -> A0 -> ...
         if calls["n"] % 2 == 0:
-            return [a.copy() for a in calls["first"]]
-        return real(active, lam, gaps, gap_tol, ltol)
+            return calls["first"].copy()
+        return real(active, margins)
 
-    monkeypatch.setattr(bc, "_pdas_update", cycling)
+    monkeypatch.setattr(aset, "pdas_update", cycling)
     res, pr, _ = two_blocks(6, 6, tilt=1e-4, load=-1e4)
     assert res.info["conservative"], "cycle not detected"
     check_solution(res, pr, 1e4)
@@ -240,19 +243,19 @@ def test_node_flipping_twice_under_loose_solves_turns_them_tight(monkeypatch):
     tight.  The answer is the one of exact (direct) solves: the same set and forces."""
     from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
 
-    real = bc._pdas_update
+    real = aset.pdas_update
     nudged = []
 
-    def update(active, lam, gaps, gap_tol, ltol):
-        new = real(active, lam, gaps, gap_tol, ltol)
-        if not nudged and all(np.array_equal(a, b) for a, b in zip(active, new)):
-            j = int(np.argmin(np.where(active[0], lam[0], np.inf)))
-            new[0] = new[0].copy()
-            new[0][j] = False
+    def update(active, margins):
+        new = real(active, margins)
+        if not nudged and np.array_equal(active, new):
+            j = int(np.argmin(np.where(active, margins.stay, np.inf)))
+            new = new.copy()
+            new[j] = False
             nudged.append(j)
         return new
 
-    monkeypatch.setattr(bc, "_pdas_update", update)
+    monkeypatch.setattr(aset, "pdas_update", update)
     prob = hertz_problem(0.25)
     args = (prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair])
     kw = dict(fixed_values=prob.fixed_values(hertz_force()), gap_tol=GAP_TOL * DELTA)
@@ -261,7 +264,7 @@ def test_node_flipping_twice_under_loose_solves_turns_them_tight(monkeypatch):
     assert res.info["tight_reason"] == "flip"
     # tight from the iteration after the flip, and only a few sets after it
     assert res.info["active_set_iterations"] - res.info["tight_from"] <= 2
-    monkeypatch.setattr(bc, "_pdas_update", real)
+    monkeypatch.setattr(aset, "pdas_update", real)
     ref = solve_contact(*args, linear="direct", **kw)
     assert np.array_equal(ref.active[0], res.active[0])
     F = ref.force[0].sum()
@@ -292,11 +295,11 @@ def test_stale_rule_reference_is_a_solve_of_at_least_four_iterations(monkeypatch
     monkeypatch.setattr(bc, "_stale", stale)
     # the loose solves after the first cut their residual 1000x instead of 10x: long
     # enough (>= 4 iterations) to be a reference, with set changes after them
-    monkeypatch.setattr(bc, "_INEXACT", 1e-3)
     prob = hertz_problem(0.12)
     res = solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair],
                         fixed_values=prob.fixed_values(hertz_force()), linear="amg",
-                        tol=1e-10, gap_tol=GAP_TOL * DELTA)
+                        tol=1e-10, gap_tol=GAP_TOL * DELTA,
+                        options=replace(aset.LAGRANGE, inexact=1e-3))
     assert solves[0][0] < 4, "the case should start with a short solve"
     long_first = next(rate for its, rate in solves if its >= 4)
     assert refs and all(r == long_first for r in refs)
@@ -329,10 +332,10 @@ def test_after_the_loose_phase_medium_solves_then_one_tight_confirmation(monkeyp
     res = solve_contact(*args, **kw)
     k = res.info["tight_from"] - 1
     assert all(t > 1e-6 for t in tols[:k]), "loose phase"
-    assert tols[k:-1] and all(t == bc._MEDIUM for t in tols[k:-1]), "medium solves"
+    assert tols[k:-1] and all(t == aset.LAGRANGE.medium_tol for t in tols[k:-1]), "medium"
     assert tols[-1] == 1e-10, "the last solve is tight"
-    monkeypatch.setattr(bc, "_MEDIUM", 1e-10)  # tight solves after the loose phase
-    ref = solve_contact(*args, **kw)
+    # tight solves after the loose phase
+    ref = solve_contact(*args, **kw, options=replace(aset.LAGRANGE, medium_tol=1e-10))
     assert np.array_equal(ref.active[0], res.active[0])
     assert np.abs(ref.force[0] - res.force[0]).max() < 1e-8 * ref.force[0].sum()
     assert res.info["linear_iterations"] <= ref.info["linear_iterations"] + 1

@@ -24,12 +24,12 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ActiveSetError, ContactLostError
+from .active_set import COMPLIANT, ActiveSetDriver, ActiveSetOptions, Margins
 from .pairs import ContactPair
 
 logger = logging.getLogger(__name__)
@@ -94,7 +94,8 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                             initial_active: np.ndarray | None = None, tol: float = 1e-9,
                             max_iter: int = 60, solver=None, x0: np.ndarray | None = None,
                             loose_tol: float | None = 1e-4, release_tol: float = 1e-6,
-                            cycle_tol: float = 1e-3) -> CompliantResult:
+                            cycle_tol: float = 1e-3,
+                            options: ActiveSetOptions | None = None) -> CompliantResult:
     """Contact of ``pair`` through springs of compliance ``compliance`` (m/Pa per slave node).
 
     Parameters
@@ -135,14 +136,16 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
         cycle beyond that raises.  ``info`` reports the band used and the
         largest kept tension and missed compression.
 
+    options
+        The active-set policy (default :data:`~brakewear.contact.active_set.COMPLIANT`
+        with ``max_iter``, ``loose_tol``, ``release_tol`` and ``cycle_tol`` from
+        the arguments).
+
     The active set follows the penalty rule: a node is active while its
     spring is compressed (``g0 + C u < 0``), within the hysteresis band.  A
     set that still repeats with the wide band raises
     :class:`~brakewear.contact.ActiveSetError` with its figures.
     """
-    from scipy.sparse.linalg import LinearOperator
-
-
     t0 = time.perf_counter()
     K = K.tocsr()
     N = K.shape[0]
@@ -151,9 +154,6 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     if eps.shape != (ns,) or not np.all(np.isfinite(eps)) or np.any(eps <= 0):
         raise ValueError(f"{pair.name}: compliance must be ({ns},) finite and > 0 m/Pa; got "
                          f"shape {eps.shape}, min {np.min(eps) if eps.size else None!r}")
-    if loose_tol is not None and not (np.isfinite(loose_tol) and 0 < loose_tol < 1):
-        raise ValueError(f"loose_tol = {loose_tol!r} is not allowed; need 0 < loose_tol < 1 "
-                         "or None")
     if x0 is not None and np.shape(x0) != (N,):
         raise ValueError(f"x0 has shape {np.shape(x0)}; the system has {N} DOFs")
     kappa = pair.area / eps
@@ -191,82 +191,18 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
         guess = pair.g0 + C @ x < 0
         if guess.any():
             active = guess
-    seen, its, lin, solves, tight = set(), 0, 0, 0, loose_tol is None
-    band = release_tol
-
-    def update(x, active, band):
-        """The next set: an active node stays while its spring force is above
-        ``-band`` x the largest, an open node enters when its spring would be
-        compressed by more than ``band`` x the largest."""
-        force = -kappa * (pair.g0 + C @ x)
-        fmax = max(float(force[active].max()) if active.any() else 0.0, 1e-300)
-        return np.where(active, force >= -band * fmax, force > band * fmax)
-    krylov = "gmres" if G is not None else "cg"
-    for its in range(1, max_iter + 1):
-        if not active.any():
-            raise ContactLostError(f"{pair.name}: no node is compressed after {its - 1} "
-                                   "iteration(s): the load separates the bodies")
-        Ca = C[active]
-        ka = kappa[active]
-        D = (Ca.T @ sp.diags(ka) @ Ca).tocsr()
-        b = fd - Ca.T @ (ka * pair.g0[active])
-        amg = base.refreshed(Kd + D, dA=D)
-        Aop = None
-        if G is not None:
-            # friction = G lambda with lambda = -kappa (g0 + C u): linear in u
-            Ga = G[:, active]
-            E = (Ga @ sp.diags(ka) @ Ca).tocsr()
-            b = b - Ga @ (ka * pair.g0[active])
-            A = amg.A
-            Aop = LinearOperator((N, N), matvec=lambda v, A=A, E=E: A @ v + E @ v,
-                                 dtype=float)
-        while True:
-            amg.tol = tol if tight else max(loose_tol, tol)
-            x = amg.solve(b, x0=x, A=Aop, krylov=krylov)
-            lin += amg.info.iterations
-            solves += 1
-            new = update(x, active, release_tol)
-            if tight or not np.array_equal(new, active):
-                break
-            tight = True     # the set stands under a loose solve: confirm it tightly
-        if np.array_equal(new, active):
-            break
-        key = np.packbits(new).tobytes()
-        if key in seen:
-            if not tight:
-                logger.debug("%s: loose active set repeats after %d iterations; tight "
-                             "solves from here", pair.name, its)
-                tight, seen = True, set()
-            elif band == release_tol:
-                # a repeat under tight solves: a node at the contact edge that is
-                # in tension when active and compressed when not (friction makes
-                # the operator unsymmetric, so the sign rule need not have a
-                # fixed point).  Widen the hysteresis band to cycle_tol: a node
-                # keeps its status while its force is that small
-                band = cycle_tol
-                new = update(x, active, band)
-                logger.info("%s: compliant active set repeats after %d iterations; "
-                            "status kept for forces within %.0e of the largest",
-                            pair.name, its, band)
-                if np.array_equal(new, active):
-                    break
-                seen = set()
-            else:
-                raise ActiveSetError(
-                    f"{pair.name}: compliant active set cycles after {its} iterations "
-                    f"({int(active.sum())} -> {int(new.sum())} active) under tight solves, "
-                    f"with a hysteresis band of {band:.0e} of the largest force")
-        seen.add(np.packbits(active).tobytes())
-        active = new
-    else:
-        raise ActiveSetError(f"{pair.name}: compliant active set did not settle in {max_iter} "
-                             f"iterations (last count {int(active.sum())})")
+    options = replace(options or COMPLIANT, max_iter=max_iter, loose_tol=loose_tol,
+                      release_tol=release_tol, cycle_band=cycle_tol)
+    problem = _CompliantSets(pair, kappa, C, G, Kd, fd, base, x)
+    driver = ActiveSetDriver(options, tol, name=pair.name)
+    active = driver.run(problem, active)
+    x = problem.x
     g = pair.g0 + C @ x
     force = np.where(active, -kappa * g, 0.0)
     fmax = max(float(force.max()), 1e-300)
-    info = {"active_set_iterations": its, "linear_iterations": lin, "linear_solves": solves,
-            "normal_force": float(force.sum()), "time_s": time.perf_counter() - t0, "u": x,
-            "hysteresis_band": band,
+    info = {**driver.report(), "linear_iterations": problem.lin,
+            "linear_solves": driver.solves, "normal_force": float(force.sum()),
+            "time_s": time.perf_counter() - t0, "u": x,
             # the largest tension an active node keeps (within the band) and
             # the largest compression an open node misses, relative to the largest force
             "max_tension": float(max(-force.min(), 0.0) / fmax) + 0.0,
@@ -275,6 +211,56 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     # the pressure: the springs' compressive force (a tension kept within the
     # band counts as no pressure: no wear, no negative Archard rate)
     return CompliantResult(x, np.maximum(force, 0.0) / pair.area, force, g, active, info)
+
+
+class _CompliantSets:
+    """The compliant contact problem of one active set after another (a
+    :class:`~brakewear.contact.active_set.SetProblem`): ``K_d`` plus the springs
+    of the active nodes, preconditioned by a refreshed copy of the base hierarchy."""
+
+    def __init__(self, pair, kappa, C, G, Kd, fd, base, x):
+        self.pair, self.kappa, self.C, self.G, self.Kd, self.fd = pair, kappa, C, G, Kd, fd
+        self.base, self.x = base, x
+        self.key = None
+        self.lin = 0
+
+    def _new_set(self, active: np.ndarray) -> None:
+        from scipy.sparse.linalg import LinearOperator
+
+        pair, C = self.pair, self.C
+        Ca = C[active]
+        ka = self.kappa[active]
+        D = (Ca.T @ sp.diags(ka) @ Ca).tocsr()
+        self.b = self.fd - Ca.T @ (ka * pair.g0[active])
+        self.amg = self.base.refreshed(self.Kd + D, dA=D)
+        self.Aop = None
+        if self.G is not None:
+            # friction = G lambda with lambda = -kappa (g0 + C u): linear in u
+            Ga = self.G[:, active]
+            E = (Ga @ sp.diags(ka) @ Ca).tocsr()
+            self.b = self.b - Ga @ (ka * pair.g0[active])
+            A = self.amg.A
+            N = A.shape[0]
+            self.Aop = LinearOperator((N, N), matvec=lambda v, A=A, E=E: A @ v + E @ v,
+                                      dtype=float)
+
+    def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
+        key = np.packbits(active).tobytes()
+        if key != self.key:
+            self._new_set(active)
+            self.key = key
+        self.amg.tol = tol
+        self.x = self.amg.solve(self.b, x0=self.x, A=self.Aop,
+                                krylov="gmres" if self.G is not None else "cg", rtol0=rtol0)
+        self.lin += self.amg.info.iterations
+
+    def margins(self, active: np.ndarray, band: float) -> Margins:
+        """An active node stays while its spring force is above ``-band`` x the
+        largest, an open node enters when its spring would be compressed by more
+        than ``band`` x the largest."""
+        force = -self.kappa * (self.pair.g0 + self.C @ self.x)
+        fmax = max(float(force[active].max()) if active.any() else 0.0, 1e-300)
+        return Margins(force, band * fmax, force, band * fmax)
 
 
 def compliant_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray,
