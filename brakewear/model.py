@@ -11,6 +11,7 @@ Global numbering: the scalar DOFs of the bodies are stacked in the order of
 """
 from __future__ import annotations
 
+import copy
 import logging
 import time
 from dataclasses import dataclass, field
@@ -136,6 +137,33 @@ class BrakeModel:
                                         pattern=self._patterns.get(body))
             self._K[body], self._patterns[body] = K, pat
         return self._K[body]
+
+    def assembled(self, body: str):
+        """``(K, pattern)`` of a body whose stiffness is already assembled, else None
+        (nothing is assembled here)."""
+        if body not in self._K:
+            return None
+        return self._K[body], self._patterns[body]
+
+    def with_geometry(self, meshes: dict, stiffness: dict | None = None) -> "BrakeModel":
+        """The same brake with some bodies' meshes replaced by moved ones (same
+        topology, e.g. worn faces, :class:`~brakewear.motion.BrakeMotion`).
+
+        ``stiffness`` holds the moved bodies' stiffness where it is known; the
+        others are assembled on first use.  Unchanged bodies share their
+        meshes and matrices with this model, which itself is not changed.
+        """
+        for b, m in meshes.items():
+            old = self.meshes.get(b)
+            if old is None or m.t.shape != old.t.shape or m.p.shape != old.p.shape:
+                raise ValueError(f"{b}: a moved mesh must have the topology of the model's "
+                                 "mesh (same nodes and elements)")
+        new = copy.copy(self)
+        new.meshes = {**self.meshes, **meshes}
+        new._K = {b: K for b, K in self._K.items() if b not in meshes}
+        new._K.update(stiffness or {})
+        new._patterns = dict(self._patterns)   # the block patterns follow the topology
+        return new
 
     def _gdofs(self, body: str, local: np.ndarray) -> np.ndarray:
         return np.asarray(local) + 3 * self.offsets[body]

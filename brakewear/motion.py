@@ -296,12 +296,14 @@ class BrakeMotion:
     """Worn geometry of a :class:`brakewear.model.BrakeModel`.
 
     The meshes of ``model`` when this is built are the reference (unworn)
-    geometry.  :meth:`apply` puts the model into the worn geometry for the
-    given *cumulative* depths: new mesh objects in ``model.meshes`` and, for
-    the bodies already assembled, their cached stiffness updated by
+    geometry.  :meth:`apply` gives the model of the worn geometry for the
+    given *cumulative* depths, :attr:`model` (a new
+    :class:`~brakewear.model.BrakeModel` from :meth:`BrakeModel.with_geometry`;
+    the model passed in is never changed): new meshes of the moved bodies and,
+    for the bodies already assembled, their stiffness updated by
     reintegrating only the elements that moved.  After it,
-    ``model.contact_system(...)`` is the contact problem of the worn brake
-    (its gap ``g0`` holds the wear, since the faces moved apart).
+    ``motion.model.contact_system(...)`` is the contact problem of the worn
+    brake (its gap ``g0`` holds the wear, since the faces moved apart).
 
     Parameters
     ----------
@@ -427,18 +429,18 @@ class BrakeMotion:
         t1 = time.perf_counter()
         newK = {}
         for b, new in new_meshes.items():
-            if b not in model._K or moved_elems[b].size == 0:
+            done = model.assembled(b)
+            if done is None or moved_elems[b].size == 0:
                 continue
+            K, pattern = done
             if reassembly == "full":
-                newK[b], _ = assemble_stiffness(new, model.materials[b],
-                                                pattern=model._patterns[b])
+                newK[b], _ = assemble_stiffness(new, model.materials[b], pattern=pattern)
             else:
-                newK[b] = stiffness_update(model._K[b], model._patterns[b], model.meshes[b], new,
+                newK[b] = stiffness_update(K, pattern, model.meshes[b], new,
                                            model.materials[b], moved_elems[b])
         t2 = time.perf_counter()
-        for b, new in new_meshes.items():
-            model.meshes[b] = new
-        model._K.update(newK)
+        self.model = model.with_geometry(
+            {b: m for b, m in new_meshes.items() if moved_elems[b].size}, newK)
         self.pad_wear = wear["pad"].copy()
         if "rotor" in wear:
             self.rotor_wear = wear["rotor"].copy()

@@ -30,9 +30,11 @@ from typing import Any, Callable
 import meshio
 import numpy as np
 
-from .errors import SceneError
+from .errors import SceneError, WearError
 from .interfaces.fe import FEInterface
 from .scene.spec import _first_difference
+from .wear.numerics import Numerics
+from .wear.state import checkpoint_progress
 from .wear.stepper import WearStep, wear_history
 
 logger = logging.getLogger(__name__)
@@ -145,26 +147,26 @@ def step_figures(s: WearStep, itf, mu: float) -> dict:
 
 def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
              duration: float, pad_law, rotor_law=None, mu: float = 0.0, *,
-             vtu_every: int = 10, resume: bool = False, progress=None, **kwargs) -> dict:
+             numerics: Numerics | None = None, vtu_every: int = 10, resume: bool = False,
+             progress=None, **kwargs) -> dict:
     """Run a wear history and write it to ``out`` (see the module docstring).
 
-    ``kwargs`` go to :func:`~brakewear.wear.wear_history` (``steps``,
-    ``max_dh``, ``dp_tol``, ``every``, ...).  ``progress`` is called with each
-    :class:`WearStep` (e.g. to advance a progress bar).  Returns the summary.
+    ``numerics`` and ``kwargs`` go to :func:`~brakewear.wear.wear_history`
+    (``interface``, ``thermal``, ``initial_gap``, ``every``).  ``progress`` is
+    called with each :class:`WearStep` (e.g. to advance a progress bar).
+    Returns the summary.
     """
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
-    itf = kwargs.pop("interface", None) or FEInterface(model, line_pressure, mu,
-                                                       kwargs.pop("tol", 1e-9))
+    numerics = Numerics() if numerics is None else numerics
     ck = out / "checkpoint.npz"
     start = None
     if resume:
         if not ck.exists():
-            from .errors import WearError
             raise WearError(f"resume=True but {ck} does not exist")
-        with np.load(ck) as d:
-            start = int(d["step"])
+        start, _ = checkpoint_progress(ck)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    itf = kwargs.pop("interface", None) or FEInterface(model, line_pressure, mu, numerics.tol)
     pad = model.meshes["pad"]
     pad_series = SeriesWriter(out, "pad", pad.p, pad.t, start)
     rot_series = (SeriesWriter(out, "rotor", model.meshes["rotor"].p, model.meshes["rotor"].t,
@@ -179,7 +181,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     last = None
     setup_s = time.perf_counter() - t0
     for s in wear_history(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
-                          checkpoint=ck, resume=resume, interface=itf, **kwargs):
+                          numerics=numerics, checkpoint=ck, resume=resume, interface=itf,
+                          **kwargs):
         rows.append(step_figures(s, itf, mu))
         final = s.time >= duration * (1 - 1e-12)
         if s.step % vtu_every == 0 or s.step == 1 or final:
@@ -269,9 +272,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                 raise SceneError(f"--resume: {out} holds a run of a different scene "
                                  f"({diff}); resume with the same scene or choose another "
                                  "--out")
-        import numpy as np
-        with np.load(ck) as d:
-            t_done, step_done = float(d["time"]), int(d["step"])
+        step_done, t_done = checkpoint_progress(ck)
         if t_done > scene.duration * (1 + 1e-12):
             raise SceneError(f"--resume: the run in {out} has already reached t = "
                              f"{t_done:.6g} s, beyond environment.duration = "
@@ -291,11 +292,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     pad_law, rotor_law = scene.wear_laws()
     model = scene.build_model()
     n = scene.numerics
-    kw: dict[str, Any] = dict(steps=n.steps, max_dh=n.max_dh, dh_fraction=n.dh_fraction,
-                              dp_tol=n.dp_tol, wear_tol=n.wear_tol,
-                              stability=n.stability, scheme=n.scheme,
-                              update=n.update, every=scene.output.checkpoint_every,
-                              tol=n.tol, max_halvings=n.max_halvings)
+    kw: dict[str, Any] = dict(numerics=n, every=scene.output.checkpoint_every)
     if scene.interface.model == "winkler":
         from .interfaces.foundation import FoundationInterface
         from .interfaces.winkler import WinklerInterface

@@ -124,7 +124,8 @@ def run_compliant(model, names) -> None:
     from brakewear.interfaces import FEInterface
 
     itf = FEInterface(model, 1e6, 0.4)
-    _, active, _ = itf.solve(np.zeros(itf.area.size), None)  # the rigid contact set
+    sol = itf.solve(np.zeros(itf.area.size), None)  # the rigid contact set
+    active = sol.active
     eps = 5e-15 * 55.0 * itf.r * 18.0  # k v dt of an 18 s step
     cs = itf.cs
     print(f"compliant step, {cs.K.shape[0]} DOFs, mu 0.4\n\n| setting | setup CPU s | active "
@@ -135,7 +136,8 @@ def run_compliant(model, names) -> None:
             t0 = time.process_time()
             itf._base["compliant"] = compliant_preconditioner(cs.K, cs.fixed, cs.coords, itf.tol)
             t1 = time.process_time()
-            _, _, info = itf.solve(np.zeros(itf.area.size), active, compliance=eps)
+            sol = itf.solve(np.zeros(itf.area.size), active, compliance=eps)
+            info = sol.info
             t2 = time.process_time()
             print(f"| {name} | {t1 - t0:.2f} | {info['active_set_iterations']} | "
                   f"{info['linear_iterations']} | {t2 - t1:.2f} | {t2 - t0:.2f} | "

@@ -51,6 +51,7 @@ from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
 from brakewear.wear import wear_history
 from brakewear.laws import WearLaw
+from brakewear import Numerics
 
 logger = logging.getLogger("cleaning_pressure")
 
@@ -144,8 +145,8 @@ def running_in_gap(task: dict) -> np.ndarray:
     itf = FEInterface(model, p_run, task["mu"])
     last = None
     for last in wear_history(model, p_run, task["omega"], task["running_in_seconds"],
-                             WearLaw(K_PAD), WearLaw(K_IRON), task["mu"], scheme="implicit",
-                             interface=itf):
+                             WearLaw(K_PAD), WearLaw(K_IRON), task["mu"],
+                             interface=itf, numerics=Numerics(scheme="implicit")):
         pass
     return last.pad_wear + itf.W @ last.rotor_wear
 
@@ -191,9 +192,8 @@ def _run_pressure(task: dict) -> dict:
             "ring_wear": [np.zeros(radii.size)]}
     first = last = None
     for s in wear_history(model, p_line, task["omega"], duration, WearLaw(K_PAD), rotor_law,
-                          task["mu"], scheme="implicit", max_dh=h_c / 10.0,
-                          dp_tol=task["dp_tol"], interface=itf,
-                          initial_gap=gap0):
+                          task["mu"], interface=itf, initial_gap=gap0,
+                          numerics=Numerics(scheme="implicit", max_dh=h_c / 10.0, dp_tol=task["dp_tol"])):
         first = first or s
         last = s
         # the layer under each ring: corrosion until worn through, then iron
@@ -209,7 +209,8 @@ def _run_pressure(task: dict) -> dict:
         if hist["cleaned"][-1] >= 1.0 - 1e-12:
             break
     # the contact state the run ends in (the records hold the start-of-step pressure)
-    p_end, act_end, _ = itf.solve(gap0 + last.pad_wear + itf.W @ last.rotor_wear, last.active)
+    sol = itf.solve(gap0 + last.pad_wear + itf.W @ last.rotor_wear, last.active)
+    p_end, act_end = sol.pressure, sol.active
     hist["coverage"].append(float(width[touched_rings(itf, p_end, act_end)].sum() / span))
     ring_w = np.array(hist["ring_wear"])          # (records, rings)
     apps = np.array(hist["applications"])

@@ -35,6 +35,7 @@ from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
 from brakewear.wear import wear_history
 from brakewear.laws import WearLaw
+from brakewear import Numerics
 
 logger = logging.getLogger(__name__)
 
@@ -77,8 +78,9 @@ def main(size_mm: float = 4.0, duration: float = 14400.0, out: str | Path = "doc
     targets = sorted(stages)
     prev = (np.zeros(itf.area.size), np.zeros(itf.rotor_area.size), 0.0)
     last = None
-    for last in wear_history(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), WearLaw(K_ROTOR),
-                             MU, scheme="implicit", dp_tol=dp_tol, interface=itf):
+    for last in wear_history(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), WearLaw(K_ROTOR), MU,
+                             interface=itf,
+                             numerics=Numerics(scheme="implicit", dp_tol=dp_tol)):
         row = step_figures(last, itf, MU)
         # the record's pressure is the one at the start of its step
         row["start_time_s"] = prev[2]
@@ -95,7 +97,8 @@ def main(size_mm: float = 4.0, duration: float = 14400.0, out: str | Path = "doc
                     last.time, last.limit, row["pr_spread"], row["contact_fraction"])
     loop_s = time.perf_counter() - t0 - setup_s
     # the end state: the contact of the worn surfaces
-    p, act, _ = itf.solve(last.pad_wear + itf.W @ last.rotor_wear, last.active)
+    sol = itf.solve(last.pad_wear + itf.W @ last.rotor_wear, last.active)
+    p, act = sol.pressure, sol.active
     kept.append(stage_state(itf, p, act, last.pad_wear, last.rotor_wear, last.time,
                             OMEGA * r_mean * last.time))
     total_s = time.perf_counter() - t0

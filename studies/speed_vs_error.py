@@ -60,6 +60,7 @@ from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface, FoundationInterface
 from brakewear.wear import wear_history
 from brakewear.laws import WearLaw
+from brakewear import Numerics
 
 logger = logging.getLogger(__name__)
 
@@ -101,8 +102,8 @@ def run_case(size: float, duration: float, steps: int, scheme: str = "implicit",
         kw["interface"] = FEInterface(model, lp, mu)
     itf = kw["interface"]
     last, solves, solve_s = None, 0, 0.0
-    for s in wear_history(model, lp, om, duration, pad_law, rotor_law, mu, steps=steps,
-                          scheme=scheme, update=update, **kw):
+    for s in wear_history(model, lp, om, duration, pad_law, rotor_law, mu, **kw,
+                          numerics=Numerics(steps=steps, scheme=scheme, update=update)):
         last = s
         solves += s.contact_solves
         solve_s += s.solve_s

@@ -55,7 +55,7 @@ import numpy as np
 
 from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.model import BrakeModel
-from brakewear.wear import wear_history
+from brakewear.wear import Numerics, wear_history
 from brakewear.thermal import ThermalModel
 from brakewear.laws import WearLaw
 from brakewear.rings import rotor_rings
@@ -74,13 +74,15 @@ from brakewear import BrakeModel
 from brakewear import FEInterface, wear_history
 from brakewear import WearLaw
 from brakewear.rings import rotor_rings
+from brakewear import Numerics
 a = json.loads(sys.argv[1])
 m = BrakeModel(size=a["size"])
 times, cpu = [], []
 for _ in range(a["repeats"]):
     t0, c0 = time.perf_counter(), time.process_time()
     h = list(wear_history(m, a["p"], a["omega"], a["duration"], WearLaw(*a["pad"]),
-                      WearLaw(*a["rotor"]), mu=a["mu"], steps=a["steps"], scheme="implicit"))
+                      WearLaw(*a["rotor"]), mu=a["mu"],
+                      numerics=Numerics(steps=a["steps"], scheme="implicit")))
     times.append(time.perf_counter() - t0)
     cpu.append(time.process_time() - c0)
 print(json.dumps({"times_s": times, "cpu_s": cpu, "thermal_imported": "brakewear.thermal" in sys.modules,
@@ -101,8 +103,8 @@ def run(model: BrakeModel, thermal: bool, p_line: float, omega: float, mu: float
     t0, c0 = time.perf_counter(), time.process_time()
     th = ThermalModel(model, contact_conductance=h_c) if thermal else None
     build = time.perf_counter() - t0
-    hist = list(wear_history(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu,
-                             steps=steps, scheme="implicit", thermal=th))
+    hist = list(wear_history(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu, thermal=th,
+                             numerics=Numerics(steps=steps, scheme="implicit")))
     return hist, th, time.perf_counter() - t0, build, time.process_time() - c0
 
 

@@ -36,6 +36,7 @@ from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
 from brakewear.wear import wear_history
 from brakewear.laws import WearLaw
+from brakewear import Numerics
 
 logger = logging.getLogger(__name__)
 
@@ -55,7 +56,8 @@ def history(update: str, size: float, fractions=FRACTIONS, dh_fraction: float = 
     itf = FEInterface(model, P_LINE, MU)     # reference geometry: areas, radii
     A, r, v = itf.area, itf.r, OMEGA * itf.r
     tf = model.geometry.pad.friction_thickness
-    p, _, _ = itf.solve(np.zeros(A.size), None)
+    sol = itf.solve(np.zeros(A.size), None)
+    p = sol.pressure
     t, depth, out, steps, solves, run_s = 0.0, 0.0, [], 0, 0, 0.0
     for frac in fractions:
         target = frac * tf
@@ -67,9 +69,9 @@ def history(update: str, size: float, fractions=FRACTIONS, dh_fraction: float = 
                 else model
             t0 = time.perf_counter()
             last = None
-            for last in wear_history(m, P_LINE, OMEGA, t_end, law, None, MU, scheme="implicit",
-                                     update=update, dh_fraction=dh_fraction, dp_tol=dp_tol,
-                                     checkpoint=ck, every=10 ** 6, resume=steps > 0):
+            for last in wear_history(m, P_LINE, OMEGA, t_end, law, None, MU, checkpoint=ck,
+                                     every=10 ** 6, resume=steps > 0,
+                                     numerics=Numerics(scheme="implicit", update=update, dh_fraction=dh_fraction, dp_tol=dp_tol)):
                 solves += last.contact_solves
             run_s += time.perf_counter() - t0
             steps = last.step

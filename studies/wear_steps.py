@@ -44,9 +44,8 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.model import BrakeModel
-from brakewear.wear.stepper import WEAR_TOL_GROWTH
 from brakewear.interfaces import FEInterface
-from brakewear.wear import wear_history
+from brakewear.wear import WEAR_TOL_GROWTH, Numerics, wear_history
 from brakewear.laws import WearLaw
 
 logger = logging.getLogger(__name__)
@@ -61,12 +60,14 @@ CASES = ("explicit", "implicit", "implicit_long", "implicit_100")
 def run(model, itf, scheme: str, duration: float, steps: int | None = None,
         **kw) -> dict:
     """One history to ``duration``: the final pad wear, the history (step times
-    ``t`` and pad wear ``H`` per step, from t = 0), contact solves and time."""
+    ``t`` and pad wear ``H`` per step, from t = 0), contact solves and time.
+    ``kw`` are further :class:`~brakewear.Numerics` settings (``dp_tol``, ``wear_tol``)."""
     t0 = time.perf_counter()
     last, solves, n = None, 0, 0   # the first solve is counted in the first record
     t, H = [0.0], [np.zeros(itf.area.size)]
     for last in wear_history(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), None, MU,
-                             steps=steps, scheme=scheme, interface=itf, **kw):
+                             interface=itf,
+                             numerics=Numerics(steps=steps, scheme=scheme, **kw)):
         solves += last.contact_solves
         n += 1
         t.append(last.time)

@@ -44,6 +44,7 @@ from brakewear.model import BrakeModel
 from brakewear.interfaces import FoundationInterface
 from brakewear.wear import wear_history
 from brakewear.laws import WearLaw
+from brakewear import Numerics
 
 logger = logging.getLogger(__name__)
 
@@ -119,8 +120,8 @@ def run(model, itf, lp, omega, duration, steps, pad_law, rotor_law, mu):
     recs, wall = [], []
     t0 = time.perf_counter()
     kw = {} if itf is None else {"interface": itf}
-    for s in wear_history(model, lp, omega, duration * (steps + 1) / steps, pad_law, rotor_law,
-                          mu, steps=steps + 1, scheme="implicit", **kw):
+    for s in wear_history(model, lp, omega, duration * (steps + 1) / steps, pad_law, rotor_law, mu,
+                          **kw, numerics=Numerics(steps=steps + 1, scheme="implicit")):
         t1 = time.perf_counter()
         logger.info("%s step %d: t = %.0f s, interface solve %.4g s, step %.4g s",
                     type(itf).__name__, s.step, s.time, s.solve_s, t1 - t0)

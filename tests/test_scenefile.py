@@ -262,4 +262,4 @@ def test_wear_tol_is_a_length_passed_to_the_loop(tmp_path, monkeypatch):
                   numerics=Numerics(wear_tol=2e-6), output=OutputSpec(figures=False))
     with pytest.raises(RuntimeError, match="stop"):
         run_scene(small, tmp_path / "w")
-    assert seen["wear_tol"] == 2e-6
+    assert seen["numerics"].wear_tol == 2e-6

@@ -41,13 +41,15 @@ from brakewear.wear import wear_history
 from brakewear.errors import WearError
 from brakewear.laws import WearLaw
 from brakewear.rings import rotor_wear_rate
+from brakewear.wear import Numerics
 
 
 @pytest.mark.parametrize("bad", [0.0, -1e-6, float("nan"), float("inf"), "1e-6", True])
 def test_wear_tol_is_checked_before_any_solve(bad):
     # model=None: the check must come before anything touches the model
-    with pytest.raises(WearError, match=r"wear_tol = .* not allowed; need a finite local wear"):
-        next(wear_history(None, 1e6, 55.0, 100.0, WearLaw(5e-15), wear_tol=bad))
+    with pytest.raises(WearError, match=r"numerics\.wear_tol: .*(not allowed|expected a number)"):
+        next(wear_history(None, 1e6, 55.0, 100.0, WearLaw(5e-15),
+                          numerics=Numerics(scheme="explicit", wear_tol=bad)))
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +71,8 @@ def test_wear_tol_steps_keep_their_error_estimate(small, scheme):
     counts = []
     for tol in (1e-8, 1e-9):    # m; the run wears about 4 um
         recs = list(wear_history(model, study.P_LINE, study.OMEGA, T, pad, rotor, study.MU,
-                                 scheme=scheme, interface=itf, wear_tol=tol))
+                                 interface=itf,
+                                 numerics=Numerics(scheme=scheme, wear_tol=tol)))
         assert recs[-1].time == pytest.approx(T)
         for r in recs:
             d_rot = (rotor_wear_rate(rotor.rate(r.pressure_end, v) * itf.area, itf.W, itf.ring,
@@ -86,7 +89,7 @@ def test_wear_tol_steps_keep_their_error_estimate(small, scheme):
 
 def test_wear_tol_resume_repeats_the_run(small, tmp_path):
     model, itf, T = small
-    kw = dict(scheme="implicit", interface=itf, wear_tol=1e-9)
+    kw = dict(interface=itf, numerics=Numerics(scheme="implicit", wear_tol=1e-9))
     args = (model, study.P_LINE, study.OMEGA, T, WearLaw(study.K_PAD), None, study.MU)
     full = list(wear_history(*args, **kw))
     ck = tmp_path / "run.npz"
@@ -128,5 +131,5 @@ def test_wear_tol_gives_up_with_its_figures(small):
     with pytest.raises(StepSizeError, match=r"after 3 retries .*wear error estimate .* > "
                                             r"wear_tol 1\.000e-15 m"):
         list(wear_history(model, study.P_LINE, study.OMEGA, T, WearLaw(study.K_PAD), None,
-                          study.MU, scheme="implicit", interface=itf, wear_tol=1e-15,
-                          max_halvings=2))
+                          study.MU, interface=itf,
+                          numerics=Numerics(scheme="implicit", wear_tol=1e-15, max_halvings=2)))

@@ -916,7 +916,7 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     from ..materials import MATERIALS
     from ..model import BrakeModel
     from ..motion import BrakeMotion
-    from ..wear.stepper import wear_history
+    from ..wear import Numerics, wear_history
 
     if update not in ("gap", "geometry"):
         raise ValueError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")
@@ -968,8 +968,9 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
         t2, c2 = time.perf_counter(), time.process_time()
         record_s, solves, n = 0.0, 0, 0
         for s in wear_history(model, 1e6, 55.0, duration, pad_law, rotor_law, 0.4,
-                              steps=int(steps), scheme="implicit", update=update,
-                              interface=itf if update == "gap" else None):
+                              interface=itf if update == "gap" else None,
+                              numerics=Numerics(steps=int(steps), scheme="implicit",
+                                                update=update)):
             record_s += s.solve_s
             solves += s.contact_solves
             n += 1

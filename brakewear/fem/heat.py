@@ -165,30 +165,8 @@ class HeatConduction:
         if not np.isfinite(T_ambient) or T_ambient <= 0:
             raise ThermalError(f"body {name!r}: T_ambient = {T_ambient!r} K is not allowed; "
                                "need a temperature > 0 K")
-        convection = dict(convection or {})
-        fixed = dict(fixed or {})
-        names = set(mesh.boundaries or {})
-        for label, d in (("convection", convection), ("fixed", fixed)):
-            for key in d:
-                if key not in names:
-                    raise ThermalError(f"body {name!r}: {label} facets {key!r} do not exist; "
-                                       f"named facets: {sorted(names)}")
-        if flux_facets is not None and flux_facets not in names:
-            raise ThermalError(f"body {name!r}: flux facets {flux_facets!r} do not exist; "
-                               f"named facets: {sorted(names)}")
-        for key, h in convection.items():
-            if not (np.isfinite(h) and h >= 0):
-                raise ThermalError(f"body {name!r}: convection coefficient h = {h!r} W/m^2 K on "
-                                   f"{key!r} is not allowed; need h >= 0")
-        for key, T in fixed.items():
-            if not (np.isfinite(T) and T > 0):
-                raise ThermalError(f"body {name!r}: fixed temperature {T!r} K on {key!r} is not "
-                                   "allowed; need T > 0 K")
-        if not (np.isfinite(contact_conductance) and contact_conductance >= 0):
-            raise ThermalError(f"body {name!r}: contact_conductance = {contact_conductance!r} "
-                               "W/m^2 K is not allowed; need >= 0")
-        if contact_conductance > 0 and flux_facets is None:
-            raise ThermalError(f"body {name!r}: contact_conductance needs flux_facets")
+        convection, fixed = _check_boundaries(name, mesh, flux_facets, convection, fixed,
+                                              contact_conductance)
         groups = material_groups(mesh, materials, name)
         self.thermal = [(e, check_thermal(m, body_label(name, m))) for e, m in groups]
         self.mesh, self.T_ambient, self.mass_kind = mesh, float(T_ambient), mass
@@ -422,3 +400,32 @@ def material_groups(mesh: fem.Mesh, materials, name: str) -> list[tuple[np.ndarr
 def body_label(name: str, mat) -> str:
     mname = getattr(mat, "name", None)
     return f"body {name!r}" + (f" (material {mname!r})" if mname else "")
+
+
+def _check_boundaries(name, mesh, flux_facets, convection, fixed, contact_conductance):
+    """The checked boundary conditions of a body: ``(convection, fixed)`` as dicts."""
+    convection = dict(convection or {})
+    fixed = dict(fixed or {})
+    names = set(mesh.boundaries or {})
+    for label, d in (("convection", convection), ("fixed", fixed)):
+        for key in d:
+            if key not in names:
+                raise ThermalError(f"body {name!r}: {label} facets {key!r} do not exist; "
+                                   f"named facets: {sorted(names)}")
+    if flux_facets is not None and flux_facets not in names:
+        raise ThermalError(f"body {name!r}: flux facets {flux_facets!r} do not exist; "
+                           f"named facets: {sorted(names)}")
+    for key, h in convection.items():
+        if not (np.isfinite(h) and h >= 0):
+            raise ThermalError(f"body {name!r}: convection coefficient h = {h!r} W/m^2 K on "
+                               f"{key!r} is not allowed; need h >= 0")
+    for key, T in fixed.items():
+        if not (np.isfinite(T) and T > 0):
+            raise ThermalError(f"body {name!r}: fixed temperature {T!r} K on {key!r} is not "
+                               "allowed; need T > 0 K")
+    if not (np.isfinite(contact_conductance) and contact_conductance >= 0):
+        raise ThermalError(f"body {name!r}: contact_conductance = {contact_conductance!r} "
+                           "W/m^2 K is not allowed; need >= 0")
+    if contact_conductance > 0 and flux_facets is None:
+        raise ThermalError(f"body {name!r}: contact_conductance needs flux_facets")
+    return convection, fixed

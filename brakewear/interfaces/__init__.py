@@ -6,13 +6,15 @@ returns the contact pressure, the active set and the displacement
 (:class:`InterfaceSolution`).  Models: finite-element contact
 (:class:`FEInterface`) and an elastic (Winkler) foundation
 (:class:`FoundationInterface` around :class:`WinklerInterface`, calibrated
-against FE contact by :func:`calibrate`).
+against FE contact by :func:`calibrate`), both behind the :class:`Interface`
+protocol of the wear loop (:mod:`~brakewear.interfaces.protocol`).
 """
 
-from . import calibration, fe, foundation, winkler
+from . import calibration, fe, foundation, protocol, winkler
 from .calibration import *  # noqa: F403
 from .fe import *  # noqa: F403
 from .foundation import *  # noqa: F403
+from .protocol import *  # noqa: F403
 from .winkler import *  # noqa: F403
 
-__all__ = [*calibration.__all__, *fe.__all__, *foundation.__all__, *winkler.__all__]
+__all__ = [*calibration.__all__, *fe.__all__, *foundation.__all__, *protocol.__all__, *winkler.__all__]

@@ -1,6 +1,7 @@
 """The finite-element contact interface as the wear loop sees it (:class:`FEInterface`)."""
 from __future__ import annotations
 
+import copy
 import logging
 
 import numpy as np
@@ -9,6 +10,7 @@ from ..contact.compliant import compliant_preconditioner, solve_compliant_contac
 from ..contact.lagrange import contact_preconditioner, solve_contact
 from ..mesh.surface import surface_nodes, tributary_areas
 from ..rings import ring_wear_nodes, rotor_rings
+from .protocol import InterfaceSolution
 
 logger = logging.getLogger(__name__)
 
@@ -28,6 +30,9 @@ class FEInterface:
     nodes, each carrying the annulus between its neighbours' mid-radii.
     """
 
+    #: the thermal-strain load enters its solves
+    accepts_load = True
+
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
         self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
         pad = model.meshes["pad"]
@@ -44,7 +49,6 @@ class FEInterface:
         else:
             self.rotor_nodes = None
             self._W, self.ring, self.rotor_area, self.rotor_x = ring_wear_nodes(self.r)
-        self.extra_load = None
         self.rebuild()
 
     def rebuild(self, opening: float = 0.0) -> None:
@@ -71,18 +75,33 @@ class FEInterface:
         dz = 3 * pair.slave + 2
         self.normal_stiffness = np.asarray(abs(cs.K[dz][:, dz]).sum(axis=1)).ravel()
 
-    def solve(self, offset: np.ndarray, active: np.ndarray | None, compliance=None,
-              x0: np.ndarray | None = None):
-        """Contact solve with ``offset`` (m) added to the gap: (pressure, active, info).
+    def rebuilt(self, model, opening: float = 0.0) -> "FEInterface":
+        """This interface on ``model``, the same brake in a moved (worn) geometry
+        (:class:`~brakewear.motion.BrakeMotion`): the reference areas, radii and
+        rotor rings stay, the contact system is the moved model's.  ``opening``
+        (m): the largest gap the worn surfaces have opened."""
+        new = copy.copy(self)
+        new.model = model
+        new.rebuild(opening)
+        return new
+
+    def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
+              compliance: np.ndarray | None = None, x0: np.ndarray | None = None,
+              load: np.ndarray | None = None, mu: float | None = None) -> InterfaceSolution:
+        """Contact solve with ``offset`` (m) added to the gap (the
+        :class:`~brakewear.interfaces.Interface` protocol).
 
         With ``compliance`` (m/Pa per pad node) the interface is a compliant
         layer: the implicit wear step (:mod:`brakewear.contact.compliant`), whose
-        Krylov solves start from ``x0`` (the previous step's displacement,
-        ``info["u"]``), when given.
+        Krylov solves start from ``x0`` (the previous step's displacement),
+        when given.  ``load`` is an extra nodal load of the model's DOFs (the
+        thermal strain), ``mu`` the friction coefficient of this solve.
         """
         self.pair.g0 = self.g0 + offset
+        if mu is not None:
+            self.mu = self.pair.mu = float(mu)
         cs = self.cs
-        f = cs.f if self.extra_load is None else cs.f + cs.P.T @ self.extra_load
+        f = cs.f if load is None else cs.f + cs.P.T @ load
         if compliance is not None:
             if "compliant" not in self._base:
                 self._base["compliant"] = compliant_preconditioner(cs.K, cs.fixed, cs.coords,
@@ -90,15 +109,11 @@ class FEInterface:
             res = solve_compliant_contact(cs.K, f, cs.fixed, cs.coords, self.pair,
                                           compliance, initial_active=active, tol=self.tol,
                                           solver=self._base["compliant"], x0=x0)
-            return res.pressure, res.active, res.info
+            return InterfaceSolution(res.pressure, res.active, res.u, res.info)
         if "contact" not in self._base:
             self._base["contact"] = contact_preconditioner(cs.K, cs.fixed, cs.coords,
                                                            [self.pair], tol=self.tol)
         init = None if active is None else [np.asarray(active, dtype=bool)]
         res = solve_contact(cs.K, f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
                             initial_active=init, solver=self._base["contact"])
-        return res.pressure[0], res.active[0], {**res.info, "u": res.u}
-
-    def set_mu(self, mu: float) -> None:
-        """Friction coefficient of the next solves (e.g. mu(T) of a friction law)."""
-        self.pair.mu = float(mu)
+        return InterfaceSolution(res.pressure[0], res.active[0], res.u, res.info)

@@ -8,6 +8,7 @@ import numpy as np
 from ..errors import ContactLostError, WearError
 from ..mesh.surface import surface_nodes
 from ..rings import ring_wear_nodes
+from .protocol import InterfaceSolution
 
 logger = logging.getLogger(__name__)
 
@@ -24,6 +25,9 @@ class FoundationInterface:
     foundation: modulus ``1 / (1/k + eps)``.
     """
 
+    #: a nodal load (thermal strain) has no place in a foundation
+    accepts_load = False
+
     def __init__(self, model, winkler, line_pressure: float, mu: float = 0.0):
         self.model, self.winkler, self.line_pressure, self.mu = model, winkler, line_pressure, mu
         pad = model.meshes["pad"]
@@ -37,16 +41,23 @@ class FoundationInterface:
         self.rotor_nodes = None
         self.W, self.ring, self.rotor_area, self.rotor_x = ring_wear_nodes(self.r)
         self.normal_stiffness = np.asarray(winkler.modulus) * self.area
-        self.extra_load = None
 
-    def solve(self, offset: np.ndarray, active, compliance=None, x0=None):
+    def solve(self, offset: np.ndarray, active, *, compliance=None, x0=None, load=None,
+              mu: float | None = None) -> InterfaceSolution:
+        """The foundation's pressure with ``offset`` (m) added to the gap (the
+        :class:`~brakewear.interfaces.Interface` protocol).  ``active`` and ``x0``
+        are not needed (a foundation solve is direct); a nodal ``load`` has no
+        place in a foundation and is refused."""
+        if load is not None:
+            raise WearError("the foundation interface takes no nodal load (thermal strain); "
+                            "use the FE interface for thermal coupling")
+        if mu is not None:
+            self.mu = float(mu)
         w = self.winkler
         if compliance is not None:
             w = w.with_modulus(1.0 / (1.0 / np.asarray(w.modulus) + compliance))
         res = w.solve(self.line_pressure, self.mu, gap=offset)
         if not res.active.any():
             raise ContactLostError("foundation: no node in contact")
-        return res.pressure, res.active, {"iterations": res.iterations, "time_s": res.time_s}
-
-    def set_mu(self, mu: float) -> None:
-        self.mu = float(mu)
+        return InterfaceSolution(res.pressure, res.active, None,
+                                 {"iterations": res.iterations, "time_s": res.time_s})

@@ -294,6 +294,9 @@ class Scene:
             raise fail("numerics.update", "'geometry' cannot be combined with thermal coupling "
                                            "(thermal.enabled = true): the thermal meshes do not "
                                            "follow the worn faces; allowed: 'gap'")
+        if self.thermal.enabled and self.interface.model != "fe":
+            raise fail("thermal.enabled", "true needs interface.model = 'fe': the foundation "
+                                          "takes no thermal-strain load (it would be dropped)")
         if self.thermal.contact_conductance > 0 and self.rotor != "elastic":
             raise fail("thermal.contact_conductance", "> 0 needs an elastic rotor "
                                                        "(components.rotor = 'elastic')")

@@ -85,6 +85,10 @@ class ThermalModel:
                  mass: str = "consistent", T_initial: float | None = None,
                  contact_conductance: float = 0.0):
         self.model = model
+        #: the constructor's settings, as given (a run's checkpoint fingerprints them)
+        self.settings = {"partition": partition, "h_conv": h_conv, "T_ambient": T_ambient,
+                         "T_ref": T_ref, "convection_facets": convection_facets, "mass": mass,
+                         "T_initial": T_initial, "contact_conductance": contact_conductance}
         self.bodies = tuple(b for b in ("rotor", "pad") if b in model.bodies)
         if "pad" not in self.bodies:
             raise ThermalError("the brake model has no pad body")
@@ -98,25 +102,7 @@ class ThermalModel:
         if "rotor" not in self.bodies:
             check_thermal(rotor_mat, body_label("rotor", rotor_mat))
         pad_mat = self._face_material("pad")
-        if isinstance(partition, str):
-            if partition == "effusivity":
-                gamma = partition_effusivity(pad_mat, rotor_mat)
-            elif partition == "effusivity_area":
-                ratio = g.pad.arc_angle / (2 * np.pi)  # pad area / swept ring area
-                gamma = partition_effusivity(pad_mat, rotor_mat, ratio)
-            else:
-                raise ThermalError(f"partition = {partition!r} is not allowed; allowed: "
-                                   "'effusivity', 'effusivity_area' or a number in [0, 1]")
-        else:
-            try:
-                gamma = float(partition)
-            except (TypeError, ValueError):
-                raise ThermalError(
-                    f"partition = {partition!r} is not allowed; allowed: 'effusivity', "
-                    "'effusivity_area' or a number in [0, 1]") from None
-            if not (np.isfinite(gamma) and 0.0 <= gamma <= 1.0):
-                raise ThermalError(f"partition = {partition!r} (share of the heat into the pad) "
-                                   "is not allowed; it must lie in [0, 1]")
+        gamma = _resolve_partition(partition, pad_mat, rotor_mat, g.pad.arc_angle)
         self.partition = gamma
         hs = dict(h_conv) if isinstance(h_conv, Mapping) else {b: h_conv for b in self.bodies}
         for b in self.bodies:
@@ -356,3 +342,29 @@ class ThermalModel:
         """Element stresses ``C (eps - alpha dT I)`` per thermal body (6, n_elements)."""
         return {b: thermal_stress(self.model.meshes[b], u[b], self.model.materials[b],
                                   self.T[b] - self.T_ref, b) for b in self.bodies}
+
+
+def _resolve_partition(partition, pad_mat, rotor_mat, arc_angle: float) -> float:
+    """The share of the frictional heat that enters the pad: by the effusivities
+    (``"effusivity"``), weighted by the pad's share of the swept ring
+    (``"effusivity_area"``), or a number in [0, 1]."""
+    if isinstance(partition, str):
+        if partition == "effusivity":
+            gamma = partition_effusivity(pad_mat, rotor_mat)
+        elif partition == "effusivity_area":
+            ratio = arc_angle / (2 * np.pi)  # pad area / swept ring area
+            gamma = partition_effusivity(pad_mat, rotor_mat, ratio)
+        else:
+            raise ThermalError(f"partition = {partition!r} is not allowed; allowed: "
+                               "'effusivity', 'effusivity_area' or a number in [0, 1]")
+    else:
+        try:
+            gamma = float(partition)
+        except (TypeError, ValueError):
+            raise ThermalError(
+                f"partition = {partition!r} is not allowed; allowed: 'effusivity', "
+                "'effusivity_area' or a number in [0, 1]") from None
+        if not (np.isfinite(gamma) and 0.0 <= gamma <= 1.0):
+            raise ThermalError(f"partition = {partition!r} (share of the heat into the pad) "
+                               "is not allowed; it must lie in [0, 1]")
+    return gamma

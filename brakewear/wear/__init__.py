@@ -1,7 +1,16 @@
-"""The wear loop: Archard wear of pad and rotor integrated in time."""
+"""The wear loop: Archard wear of pad and rotor integrated in time.
 
-from . import numerics, stepper
+* :mod:`~brakewear.wear.numerics` -- :class:`Numerics`, how the loop integrates
+  (one set of defaults for Python calls and scene files);
+* :mod:`~brakewear.wear.control` -- :class:`StepControl`, the step size;
+* :mod:`~brakewear.wear.state` -- :class:`WearState` and its checkpoints;
+* :mod:`~brakewear.wear.stepper` -- :func:`wear_history`, the loop itself.
+"""
+
+from . import control, numerics, state, stepper
+from .control import *  # noqa: F403
 from .numerics import *  # noqa: F403
+from .state import *  # noqa: F403
 from .stepper import *  # noqa: F403
 
-__all__ = [*numerics.__all__, *stepper.__all__]
+__all__ = [*control.__all__, *numerics.__all__, *state.__all__, *stepper.__all__]

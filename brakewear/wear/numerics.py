@@ -5,19 +5,64 @@ import logging
 from dataclasses import dataclass
 
 from ..checks import check_choice, check_int, check_number
+from ..errors import SceneError, WearError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Numerics"]
+__all__ = ["Numerics", "NumericsError"]
+
+
+class NumericsError(SceneError, WearError):
+    """A value of :class:`Numerics` out of range: a scene error when read from a
+    file, a wear error when given from Python."""
 
 
 @dataclass(frozen=True)
 class Numerics:
-    """How the wear loop integrates (:func:`brakewear.wear.wear_history` arguments, SI).
+    """How the wear loop integrates (SI units): the one set of defaults shared by
+    :func:`brakewear.wear.wear_history` and a scene's ``[numerics]`` table.
 
-    ``steps = None``: automatic step control (``dp_tol``, or ``wear_tol`` when
-    given, ``dh_fraction`` or ``max_dh``, ``stability``); a number: that many
-    equal steps.
+    Attributes
+    ----------
+    scheme : {"implicit", "explicit"}
+        ``"implicit"`` (backward Euler for the pad: the pressure at the end of
+        the step, solved as contact through the step's wear compliance,
+        :mod:`brakewear.contact.compliant`; unconditionally stable; needs a pad
+        law with a = 1) or ``"explicit"`` (Euler: the pressure at the start).
+        The rotor's ring-averaged wear is explicit in both.
+    update : {"gap", "geometry"}
+        ``"gap"`` (the worn depths offset the contact gap; meshes stay) or
+        ``"geometry"`` (after every accepted step both worn faces move and the
+        layers beneath follow, :class:`brakewear.motion.BrakeMotion`).
+    steps : int or None
+        A number of equal steps (no step control); None: automatic control.
+    dp_tol : float
+        Largest accepted change of the pressure field per step, relative to
+        its maximum (automatic control without ``wear_tol``).
+    dh_fraction, max_dh
+        Largest wear per step at a pad node (pad + rotor seen by it):
+        ``max_dh`` (m) everywhere, or by default ``dh_fraction`` times the
+        height of the pad element under the node.
+    wear_tol : float or None
+        Local wear error per step (m) of the automatic control, instead of
+        ``dp_tol``: a step is accepted if ``dt/2 max|rate(p_end) -
+        rate(p_start)|`` is below it (docs: theory, "Step control on the wear
+        error").
+    stability : float or None
+        Explicit scheme: fraction of the monotone explicit-Euler bound on the
+        step (1 keeps every mode from overshooting, 2 is the stability limit;
+        None switches it off).
+    tol : float
+        Relative residual of the contact solves.
+    max_halvings : int
+        Retries of a step before :class:`~brakewear.errors.StepSizeError`.
+
+    Raises
+    ------
+    NumericsError
+        A value out of range, naming ``numerics.<key>`` (a
+        :class:`~brakewear.errors.SceneError` and a
+        :class:`~brakewear.errors.WearError`).
     """
 
     scheme: str = "implicit"
@@ -27,11 +72,17 @@ class Numerics:
     dh_fraction: float = 0.1
     max_dh: float | None = None
     wear_tol: float | None = None
-    stability: float = 1.0
+    stability: float | None = 1.0
     tol: float = 1e-9
     max_halvings: int = 12
 
     def __post_init__(self):
+        try:
+            self._check()
+        except SceneError as e:
+            raise NumericsError(str(e)) from None
+
+    def _check(self) -> None:
         check_choice("numerics.scheme", self.scheme, ("explicit", "implicit"))
         check_choice("numerics.update", self.update, ("gap", "geometry"))
         check_int("numerics.steps", self.steps, 1, allow_none=True)
@@ -39,6 +90,6 @@ class Numerics:
         check_number("numerics.dh_fraction", self.dh_fraction, 0.0, 1.0)
         check_number("numerics.max_dh", self.max_dh, 0.0, unit="m", allow_none=True)
         check_number("numerics.wear_tol", self.wear_tol, 0.0, unit="m", allow_none=True)
-        check_number("numerics.stability", self.stability, 0.0, 2.0)
+        check_number("numerics.stability", self.stability, 0.0, 2.0, allow_none=True)
         check_number("numerics.tol", self.tol, 0.0, 1e-3)
         check_int("numerics.max_halvings", self.max_halvings, 0)

@@ -1,0 +1,136 @@
+"""Step control of the wear loop: how long the next step is, and whether a step is accepted.
+
+The step is the smallest of
+
+- ``end``: what remains of the history;
+- ``max_dh``: no pad node wears more than its limit (``max_dh``, or
+  ``dh_fraction`` of the pad element under it) in one step (pad + rotor);
+- ``stability`` (explicit scheme): explicit Euler on the wear ODE
+  ``dg/dt = c p(g)`` is monotone while ``dt c_i dp_i/dg`` stays below one;
+  the pressure's response to a local gap change is bounded by the row sums
+  of the friction face's normal stiffness (Gershgorin, docs: theory), so
+  ``dt <= stability / max_i(c_i s_i / A_i)``;
+- ``first`` (implicit scheme, first step): that explicit bound as a first
+  guess of the time scale on which the pressure moves;
+- ``growth``: at most twice the last step (``dp_tol`` control), or
+  ``wear_tol``: the step the wear-error control aims at.
+
+A step whose pressure changes by more than ``dp_tol`` of its maximum (or,
+with ``wear_tol``, whose embedded local wear error ``dt/2 max|rate(p_end) -
+rate(p_start)|`` exceeds it), or that loses the contact, is retried smaller.
+With ``steps`` the steps are equal and always accepted.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..errors import StepSizeError
+from .numerics import Numerics
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["StepControl", "WEAR_TOL_GROWTH"]
+
+#: Largest growth of the step from one step to the next under ``wear_tol``
+#: control (docs: wear, "Step convergence": 2, 4 and 8 give the same runs within
+#: one step; 4 saves the step after the first guess, adds no retry).
+WEAR_TOL_GROWTH = 4.0
+
+
+@dataclass
+class StepControl:
+    """The step-size policy of one history.
+
+    Parameters
+    ----------
+    numerics : Numerics
+        Scheme, tolerances and limits.
+    duration : float
+        Length of the history (s).
+    dh_limit : ndarray
+        Largest wear per step at each pad node (m).
+    """
+
+    numerics: Numerics
+    duration: float
+    dh_limit: np.ndarray
+
+    @property
+    def fixed(self) -> bool:
+        return self.numerics.steps is not None
+
+    @property
+    def on_wear_error(self) -> bool:
+        return self.numerics.wear_tol is not None and not self.fixed
+
+    def initial_dt(self) -> float | None:
+        """The first step's target: equal steps, or None (the limits decide)."""
+        return self.duration / self.numerics.steps if self.fixed else None
+
+    def propose(self, dt_next: float | None, remaining: float, seen_rate: np.ndarray,
+                worst: Callable[[], float]) -> tuple[float, str]:
+        """The next step and what set it.
+
+        ``seen_rate`` is the wear rate each pad node sees (pad + rotor under
+        it, m/s); ``worst()`` the largest ``c_i s_i / A_i`` over the contact
+        (1/s), evaluated only when a limit needs it.
+        """
+        n = self.numerics
+        if self.fixed:
+            return min(dt_next, remaining), "fixed"
+        cands = {"end": remaining}
+        wearing = seen_rate > 0
+        if np.any(wearing):
+            cands["max_dh"] = float(np.min(self.dh_limit[wearing] / seen_rate[wearing]))
+        explicit = n.scheme == "explicit"
+        if (explicit and n.stability is not None) or dt_next is None:
+            w = worst()
+            if w > 0 and explicit and n.stability is not None:
+                cands["stability"] = n.stability / w
+            elif w > 0 and not explicit:
+                # no bound, but the explicit one is the time scale on which the
+                # pressure starts to move: a first guess that saves halvings
+                cands["first"] = 1.0 / w
+        if dt_next is not None:
+            cands["growth" if n.wear_tol is None else "wear_tol"] = dt_next
+        limit = min(cands, key=cands.get)
+        return cands[limit], limit
+
+    def accepts(self, change: float, est: float) -> bool:
+        """Whether a step with relative pressure change ``change`` and local wear
+        error estimate ``est`` (m) is accepted."""
+        if self.on_wear_error:
+            return est <= self.numerics.wear_tol
+        return self.fixed or change <= self.numerics.dp_tol
+
+    def retry(self, dt: float, est: float, rejected: int, step: int,
+              change: float) -> tuple[float, str | None]:
+        """The smaller step after ``rejected`` retries (and the limit it sets,
+        None: unchanged); raises :class:`StepSizeError` past ``max_halvings``."""
+        n = self.numerics
+        if rejected > n.max_halvings:
+            what = (f"pressure change {change:.2f} > dp_tol {n.dp_tol}" if n.wear_tol is None
+                    else f"wear error estimate {est:.3e} m > wear_tol {n.wear_tol:.3e} m")
+            raise StepSizeError(
+                f"step {step}: no acceptable wear step after {rejected} "
+                f"{'halvings' if n.wear_tol is None else 'retries'} (last dt {dt:.3e} s, "
+                f"{what})")
+        if n.wear_tol is not None and np.isfinite(est):
+            return dt * max(0.2, 0.9 * np.sqrt(n.wear_tol / est)), "wear_tol"
+        return dt * 0.5, None       # contact lost, or the dp_tol control: halve
+
+    def next_dt(self, dt: float, change: float, est: float) -> float:
+        """The next step's target: aim at 0.7 dp_tol (first-order change), never
+        more than doubling; or at 0.9 wear_tol (second-order error: the square
+        root of the ratio)."""
+        n = self.numerics
+        if self.fixed:
+            return self.duration / n.steps
+        if n.wear_tol is None:
+            return dt * float(np.clip(0.7 * n.dp_tol / max(change, 1e-300), 0.25, 2.0))
+        return dt * float(np.clip(0.9 * np.sqrt(n.wear_tol / max(est, 1e-300)),
+                                  0.25, WEAR_TOL_GROWTH))

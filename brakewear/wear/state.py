@@ -1,0 +1,169 @@
+"""The state of a wear history and its checkpoints (one format, read and written here).
+
+A checkpoint (``.npz``) holds the whole :class:`WearState` of the loop, the
+thermal state when coupled, and a *fingerprint*: every resolved input of the
+run (geometry values, material data, wear and friction laws, line pressure,
+speed, numerics, interface, thermal settings, package version).  A run
+resumed from it repeats the uninterrupted run exactly, because every step is
+solved from the stored state alone; a resume whose inputs differ from the
+fingerprint is refused with what changed.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import logging
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import WearError
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["WearState", "fingerprint", "checkpoint_progress"]
+
+_ARRAYS = ("pad_wear", "rotor_wear", "pressure", "active", "u", "u_prev")
+_SCALARS = ("step", "time", "pad_archard", "rotor_archard", "dt_next", "dt_last")
+
+
+@dataclass
+class WearState:
+    """Where a wear history stands after an accepted step (cumulative quantities).
+
+    ``pressure`` and ``active`` are the contact state the next step starts
+    from (None before the first solve); ``dt_next`` the next step's target
+    (None: the limits decide); ``u``, ``u_prev`` and ``dt_last`` the last two
+    displacements of the implicit scheme and the step between them, from
+    which the next solve's start is extrapolated.
+    """
+
+    step: int
+    time: float
+    pad_wear: np.ndarray
+    rotor_wear: np.ndarray
+    pad_archard: float = 0.0
+    rotor_archard: float = 0.0
+    pressure: np.ndarray | None = None
+    active: np.ndarray | None = None
+    dt_next: float | None = None
+    u: np.ndarray | None = None
+    u_prev: np.ndarray | None = None
+    dt_last: float = float("nan")
+
+    @classmethod
+    def fresh(cls, n_pad: int, n_rotor: int, dt_next: float | None = None) -> "WearState":
+        """The unworn start."""
+        return cls(0, 0.0, np.zeros(n_pad), np.zeros(n_rotor), dt_next=dt_next)
+
+    def start_guess(self, dt: float) -> np.ndarray | None:
+        """The displacement extrapolated over ``dt`` from the last two steps."""
+        if self.u is None or self.u_prev is None:
+            return self.u
+        return self.u + (dt / self.dt_last) * (self.u - self.u_prev)
+
+    def save(self, path: str | os.PathLike, prints: dict, extra: dict | None = None) -> None:
+        """Write atomically: a kill during the write leaves the previous checkpoint intact."""
+        path = Path(path)
+        out = {k: np.zeros(0) if getattr(self, k) is None else np.asarray(getattr(self, k))
+               for k in _ARRAYS}
+        out.update({k: np.asarray(np.nan if getattr(self, k) is None else getattr(self, k))
+                    for k in _SCALARS})
+        out["fingerprint"] = np.asarray(json.dumps(prints, sort_keys=True))
+        out.update({k: np.asarray(v) for k, v in (extra or {}).items()})
+        tmp = path.with_name(path.name + ".tmp.npz")
+        np.savez(tmp, **out)
+        os.replace(tmp, path)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike, prints: dict, n_pad: int,
+             n_rotor: int) -> tuple["WearState", dict]:
+        """The state in ``path`` and its other arrays (thermal state), after checking
+        it belongs to this run: same fingerprint, same numbers of wear nodes."""
+        path = Path(path)
+        if not path.exists():
+            raise WearError(f"resume=True but the checkpoint {path} does not exist")
+        with np.load(path) as d:
+            if "fingerprint" not in d:
+                raise WearError(f"checkpoint {path} has no fingerprint of its inputs (written "
+                                "by an older brakewear); run again without resume")
+            _compare(path, json.loads(str(d["fingerprint"])), prints)
+            arrays = {k: d[k].copy() for k in _ARRAYS}
+            scalars = {k: d[k].item() for k in _SCALARS}
+            extra = {k: d[k].copy() for k in d.files
+                     if k not in _ARRAYS and k not in _SCALARS and k != "fingerprint"}
+        for k in _ARRAYS:
+            if arrays[k].size == 0:
+                arrays[k] = None
+        arrays["active"] = None if arrays["active"] is None else arrays["active"].astype(bool)
+        scalars["step"] = int(scalars["step"])
+        if np.isnan(scalars["dt_next"]):
+            scalars["dt_next"] = None
+        state = cls(**arrays, **scalars)
+        if state.pad_wear.shape != (n_pad,) or state.rotor_wear.shape != (n_rotor,):
+            raise WearError(f"checkpoint {path} holds {state.pad_wear.size} pad and "
+                            f"{state.rotor_wear.size} rotor wear nodes; this model has "
+                            f"{n_pad} and {n_rotor}: it belongs to another model")
+        logger.info("resumed at step %d, t = %.6g s", state.step, state.time)
+        return state, extra
+
+
+def checkpoint_progress(path: str | os.PathLike) -> tuple[int, float]:
+    """``(step, time)`` a checkpoint has reached."""
+    with np.load(path) as d:
+        return int(d["step"]), float(d["time"])
+
+
+def _compare(path: Path, old: dict, new: dict) -> None:
+    changed = sorted(k for k in set(old) | set(new) if old.get(k) != new.get(k))
+    if changed:
+        shown = "; ".join(f"{k}: {old.get(k, '(absent)')} -> {new.get(k, '(absent)')}"
+                          for k in changed[:5])
+        more = f" (and {len(changed) - 5} more)" if len(changed) > 5 else ""
+        raise WearError(f"checkpoint {path} was written by a run with other inputs: {shown}"
+                        f"{more}. Resume with the same inputs, or run again without resume")
+
+
+def _plain(value, key: str, out: dict) -> None:
+    """Flatten ``value`` into ``out`` as dotted keys of JSON-comparable values."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        value = {f.name: getattr(value, f.name) for f in dataclasses.fields(value) if f.compare}
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _plain(v, f"{key}.{k}" if key else str(k), out)
+    elif isinstance(value, (list, tuple)) and not any(isinstance(v, (dict, list, tuple))
+                                                      or dataclasses.is_dataclass(v)
+                                                      for v in value):
+        out[key] = [_scalar(v) for v in value]
+    elif isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            _plain(v, f"{key}.{i}", out)
+    else:
+        out[key] = _scalar(value)
+
+
+def _scalar(v):
+    if v is None or isinstance(v, (bool, str)):
+        return v
+    if isinstance(v, (int, np.integer)):
+        return int(v)
+    if isinstance(v, (float, np.floating)):
+        return repr(float(v))        # exact, and NaN compares equal to itself
+    if isinstance(v, np.ndarray):
+        a = np.ascontiguousarray(v)
+        return f"array{a.shape}:{hashlib.sha1(a.tobytes()).hexdigest()[:16]}"
+    if callable(v):
+        return getattr(v, "__qualname__", type(v).__name__)
+    return repr(v)
+
+
+def fingerprint(**inputs) -> dict:
+    """Every resolved input of a run, flattened to dotted keys (see the module docstring)."""
+    from .. import __version__
+
+    out: dict = {}
+    _plain({**inputs, "brakewear_version": __version__}, "", out)
+    return out

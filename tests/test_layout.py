@@ -1,0 +1,91 @@
+"""The package's shape: module and function sizes, an acyclic import graph, packaging."""
+import ast
+import configparser
+import pathlib
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+PKG = ROOT / "brakewear"
+MAX_MODULE_LINES = 500
+MAX_FUNCTION_LINES = 80
+#: a function may be longer when one algorithm reads best in one piece, and says so
+ONE_PIECE = "reads best in one piece"
+
+
+def _modules():
+    for p in sorted(PKG.rglob("*.py")):
+        rel = p.relative_to(ROOT).with_suffix("")
+        parts = rel.parts[:-1] if rel.name == "__init__" else rel.parts
+        yield ".".join(parts), p
+
+
+def _code_lines(lines, a, b):
+    return sum(1 for s in lines[a - 1:b] if s.strip() and not s.strip().startswith("#"))
+
+
+@pytest.mark.parametrize("name,path", list(_modules()), ids=lambda v: str(v))
+def test_module_and_function_sizes(name, path):
+    src = path.read_text()
+    lines = src.splitlines()
+    assert len(lines) <= MAX_MODULE_LINES, f"{name}: {len(lines)} lines"
+    for node in ast.walk(ast.parse(src)):
+        if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            continue
+        doc = ast.get_docstring(node) or ""
+        body = node.body
+        start = body[0].end_lineno + 1 if doc else body[0].lineno
+        n = _code_lines(lines, start, node.end_lineno)
+        assert n <= MAX_FUNCTION_LINES or ONE_PIECE in " ".join(doc.split()), (
+            f"{name}.{node.name}: {n} lines of code (at most {MAX_FUNCTION_LINES}, or say why "
+            f"it {ONE_PIECE} in its docstring)")
+
+
+def _imports(name, path):
+    """Every brakewear module ``name`` imports, function-local imports included."""
+    is_pkg = path.name == "__init__.py"
+    base = name.split(".") if is_pkg else name.split(".")[:-1]
+    known = {m for m, _ in _modules()}
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                head = base[:len(base) - node.level + 1]
+                mod = ".".join(head + ([node.module] if node.module else []))
+            else:
+                mod = node.module or ""
+            # "from pkg import submodule" imports the submodule
+            targets = [mod] + [f"{mod}.{a.name}" for a in node.names]
+        else:
+            continue
+        out |= {t for t in targets if t in known and t != name}
+    return out
+
+
+def test_import_graph_is_acyclic():
+    graph = {name: _imports(name, path) for name, path in _modules()}
+    state = {}
+
+    def visit(node, stack):
+        state[node] = "open"
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == "open":
+                cycle = stack[stack.index(nxt):] + [nxt]
+                pytest.fail("import cycle: " + " -> ".join(cycle))
+            if nxt not in state:
+                visit(nxt, stack + [nxt])
+        state[node] = "done"
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [name])
+
+
+def test_setup_cfg_lists_every_subpackage():
+    cfg = configparser.ConfigParser()
+    cfg.read(ROOT / "setup.cfg")
+    listed = set(cfg["options"]["packages"].split())
+    packages = {".".join(p.parent.relative_to(ROOT).parts) for p in PKG.rglob("__init__.py")}
+    assert packages <= listed, f"missing from setup.cfg: {sorted(packages - listed)}"

@@ -1,0 +1,120 @@
+"""The wear loop's parts: checkpoint state and fingerprint, step control, the interface protocol."""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from brakewear.errors import StepSizeError, WearError
+from brakewear.geometry import load_geometry
+from brakewear.interfaces import FEInterface, FoundationInterface, Interface, WinklerInterface
+from brakewear.laws import WearLaw
+from brakewear.model import BrakeModel
+from brakewear.wear import Numerics, StepControl, WearState, fingerprint, wear_history
+
+PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return BrakeModel("default", size=12e-3)
+
+
+def _killed_run(model, ck, law=PAD):
+    """Three equal steps with a checkpoint every step, stopped after the second."""
+    for s in wear_history(model, 1e6, 55.0, 600.0, law, ROTOR, mu=0.4, checkpoint=ck, every=1,
+                          numerics=Numerics(steps=3)):
+        if s.step == 2:
+            break
+
+
+def test_state_round_trip_is_exact(tmp_path):
+    st = WearState.fresh(5, 3, dt_next=2.5)
+    st.step, st.time, st.pad_wear[:] = 4, 10.0, np.linspace(0, 1e-6, 5)
+    st.active = np.array([True, False, True, True, False])
+    prints = fingerprint(a=1.0, b="x")
+    st.save(tmp_path / "c.npz", prints, {"T_pad": np.ones(2)})
+    back, extra = WearState.load(tmp_path / "c.npz", prints, 5, 3)
+    assert back.step == 4 and back.time == 10.0 and back.dt_next == 2.5
+    np.testing.assert_array_equal(back.pad_wear, st.pad_wear)
+    np.testing.assert_array_equal(back.active, st.active)
+    assert back.u is None and back.pressure is None
+    np.testing.assert_array_equal(extra["T_pad"], np.ones(2))
+    with pytest.raises(WearError, match="belongs to another model"):
+        WearState.load(tmp_path / "c.npz", prints, 6, 3)
+
+
+def test_fingerprint_names_what_changed(tmp_path):
+    a = fingerprint(law=PAD, numerics=Numerics(), mu=0.4)
+    b = fingerprint(law=replace(PAD, k=2e-14), numerics=Numerics(), mu=0.4)
+    assert a != b and a == fingerprint(law=PAD, numerics=Numerics(), mu=0.4)
+    st = WearState.fresh(2, 2)
+    st.save(tmp_path / "c.npz", a)
+    with pytest.raises(WearError, match=r"law\.k: 5e-15 -> 2e-14"):
+        WearState.load(tmp_path / "c.npz", b, 2, 2)
+
+
+def test_resume_with_another_wear_law_is_refused(model, tmp_path):
+    ck = tmp_path / "run.npz"
+    _killed_run(model, ck)
+    with pytest.raises(WearError, match=r"pad_law\.k"):
+        next(wear_history(model, 1e6, 55.0, 600.0, replace(PAD, k=2e-14), ROTOR, mu=0.4,
+                          checkpoint=ck, resume=True, numerics=Numerics(steps=3)))
+
+
+def test_resume_with_a_changed_material_is_refused(model, tmp_path):
+    """The same material name with another modulus is another brake."""
+    ck = tmp_path / "run.npz"
+    _killed_run(model, ck)
+    g = load_geometry("default")
+    mat = g.pad.friction_material
+    el = mat.elastic
+    field = "E" if hasattr(el, "E") else "E_t"
+    other = replace(mat, elastic=replace(el, **{field: 0.97 * getattr(el, field)}))
+    changed = BrakeModel(replace(g, pad=replace(g.pad, friction_material=other)), size=12e-3)
+    with pytest.raises(WearError, match=rf"geometry\.pad\.friction_material\.elastic\.{field}"):
+        next(wear_history(changed, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, checkpoint=ck,
+                          resume=True, numerics=Numerics(steps=3)))
+    # the same inputs resume
+    rest = list(wear_history(model, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, checkpoint=ck,
+                             resume=True, numerics=Numerics(steps=3)))
+    assert [s.step for s in rest] == [3]
+
+
+def test_step_control_takes_the_smallest_limit_and_gives_up_with_figures():
+    n = Numerics(scheme="explicit", dp_tol=0.1, max_halvings=2)
+    c = StepControl(n, 100.0, np.full(3, 1e-6))
+    dt, limit = c.propose(None, 100.0, np.array([1e-8, 0.0, 2e-8]), lambda: 0.5)
+    assert limit == "stability" and dt == pytest.approx(2.0)     # 1 / 0.5 < 1e-6 / 2e-8
+    dt, limit = c.propose(None, 100.0, np.array([1e-6, 0.0, 0.0]), lambda: 0.0)
+    assert limit == "max_dh" and dt == pytest.approx(1.0)
+    assert c.accepts(0.05, np.nan) and not c.accepts(0.2, np.nan)
+    assert c.retry(4.0, np.nan, 1, 7, 0.2) == (2.0, None)
+    with pytest.raises(StepSizeError, match=r"step 7: .* 3 halvings .* pressure change 0.20"):
+        c.retry(4.0, np.nan, 3, 7, 0.2)
+    # the next step aims at 0.7 dp_tol and at most doubles
+    assert c.next_dt(1.0, 0.07, np.nan) == pytest.approx(1.0)
+    assert c.next_dt(1.0, 1e-9, np.nan) == pytest.approx(2.0)
+    fixed = StepControl(Numerics(steps=4), 100.0, np.ones(3))
+    assert fixed.initial_dt() == 25.0 and fixed.propose(25.0, 10.0, np.ones(3), None) == (
+        10.0, "fixed")
+
+
+def test_interfaces_follow_the_protocol_and_foundation_refuses_a_load(model):
+    fe = FEInterface(model, 1e6, 0.4)
+    fd = FoundationInterface(model, WinklerInterface.from_model(model), 1e6, 0.4)
+    assert isinstance(fe, Interface) and isinstance(fd, Interface)
+    assert fe.accepts_load and not fd.accepts_load
+    sol = fd.solve(np.zeros(fd.area.size), None)
+    assert sol.u is None and (sol.pressure * fd.area).sum() == pytest.approx(
+        1e6 * model.geometry.piston.hydraulic_area, rel=1e-8)
+    with pytest.raises(WearError, match="no nodal load"):
+        fd.solve(np.zeros(fd.area.size), None, load=np.zeros(model.dofs))
+
+
+def test_thermal_with_a_foundation_is_refused_before_solving(model):
+    from brakewear.thermal import ThermalModel
+
+    fd = FoundationInterface(model, WinklerInterface.from_model(model), 1e6, 0.4)
+    with pytest.raises(WearError, match="thermal coupling needs an interface"):
+        next(wear_history(model, 1e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=fd,
+                          thermal=ThermalModel(model, contact_conductance=1e5)))
