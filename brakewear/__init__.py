@@ -39,6 +39,7 @@ from .errors import (
     StepSizeError,
     ThermalError,
     WearError,
+    WornThroughError,
 )
 
 __version__ = "0.1.0"
@@ -53,7 +54,7 @@ _LAZY = {
     "BrakeModel": "model", "StaticResult": "model",
     "FEInterface": "interfaces", "FoundationInterface": "interfaces",
     "WinklerInterface": "interfaces", "calibrate": "interfaces",
-    "Numerics": "wear", "WearStep": "wear", "wear_history": "wear",
+    "Numerics": "wear", "WearStep": "wear", "wear_history": "wear", "WearLimits": "wear",
     "ThermalModel": "thermal",
     "BrakeMotion": "motion",
     "Scene": "scene", "load_scene": "scene", "scene_from_dict": "scene",
@@ -68,7 +69,7 @@ __all__ = [
     "GeometryError", "MaterialError", "MeshFileError", "SceneError", "WearError",
     "ThermalError", "FoundationError", "ConvergenceError", "ActiveSetError",
     "ContactLostError", "ContactSearchError", "StepSizeError", "MeshQualityError",
-    "FoundationSolveError",
+    "FoundationSolveError", "WornThroughError",
     *_LAZY,
 ]
 

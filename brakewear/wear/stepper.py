@@ -43,6 +43,7 @@ from ..errors import ContactLostError, StepSizeError, WearError
 from ..interfaces.fe import FEInterface
 from ..laws import WearLaw
 from ..rings import rotor_wear_rate
+from .limits import WearLimits
 
 logger = logging.getLogger(__name__)
 
@@ -97,7 +98,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                  checkpoint: str | os.PathLike | None = None, every: int = 10,
                  resume: bool = False, tol: float = 1e-9, max_halvings: int = 12,
                  interface=None, initial_gap: np.ndarray | None = None,
-                 thermal=None) -> Iterator[WearStep]:
+                 thermal=None, limits=None) -> Iterator[WearStep]:
     """Run a wear history of the brake under constant line pressure and speed.
 
     Parameters
@@ -174,6 +175,13 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         Extra gap (m) at each pad friction node before any wear (a non-conformal
         start: rotor coning, pad taper, thickness variation, or the worn state
         ``pad_wear + W @ rotor_wear`` of an earlier history); it never wears.
+    limits
+        A :class:`brakewear.wear.limits.WearLimits` (default: the model's,
+        :meth:`~brakewear.wear.limits.WearLimits.for_model`).  The step that
+        wears a surface past its limit is yielded, then
+        :class:`~brakewear.errors.WornThroughError` is raised (naming the
+        time, the node and the depth); with ``update = "geometry"`` the
+        meshes are not moved by that step.
     """
     if not (np.isfinite(omega) and omega > 0):
         raise WearError(f"omega = {omega!r} rad/s is not allowed; need a rotor speed > 0")
@@ -238,6 +246,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                         "FEInterface of this model (or none)")
 
     itf = FEInterface(model, line_pressure, mu, tol) if interface is None else interface
+    limits = WearLimits.for_model(model, update=update) if limits is None else limits
     motion = None
     if update == "geometry":
         from ..motion import BrakeMotion
@@ -441,7 +450,8 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             record.rotor_temperature_max = float(T_rot.max() if "rotor" not in thermal.bodies
                                                  else thermal.face_temperature("rotor").max())
             record.heat_balance_error = float(thermal.heat_balance()["relative_error"])
-        if motion is not None:
+        worn = limits.check(record, itf)          # a WornThroughError or None
+        if motion is not None and worn is None:
             # the worn faces move; the contact of the moved geometry gives the
             # pressure the next step starts from
             move(pad_w, rot_w, state["step"])
@@ -460,6 +470,8 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             _write_checkpoint(checkpoint, {**{k: state[k] for k in _STATE_KEYS},
                                            **(thermal.state_arrays() if thermal else {})})
         yield record
+        if worn is not None:
+            raise worn
 
 
 def _rate_slope(law: WearLaw, p: np.ndarray, v: np.ndarray, T=None) -> np.ndarray:
