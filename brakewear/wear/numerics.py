@@ -17,7 +17,8 @@ class Numerics:
 
     ``steps = None``: automatic step control (``dp_tol``, or ``wear_tol`` when
     given, ``dh_fraction`` or ``max_dh``, ``stability``); a number: that many
-    equal steps.
+    equal steps.  ``memory_budget`` (GB) caps the model size a scene may ask
+    for (None: ``BRAKEWEAR_MEMORY_GB`` or the machine's available memory).
     """
 
     scheme: str = "implicit"
@@ -30,6 +31,7 @@ class Numerics:
     stability: float = 1.0
     tol: float = 1e-9
     max_halvings: int = 12
+    memory_budget: float | None = None
 
     def __post_init__(self):
         check_choice("numerics.scheme", self.scheme, ("explicit", "implicit"))
@@ -42,3 +44,5 @@ class Numerics:
         check_number("numerics.stability", self.stability, 0.0, 2.0)
         check_number("numerics.tol", self.tol, 0.0, 1e-3)
         check_int("numerics.max_halvings", self.max_halvings, 0)
+        check_number("numerics.memory_budget", self.memory_budget, 0.0, unit="GB",
+                     allow_none=True)
