@@ -39,6 +39,7 @@ from .errors import (
     StepSizeError,
     ThermalError,
     WearError,
+    WornThroughError,
 )
 
 __version__ = "0.1.0"
@@ -55,7 +56,7 @@ _LAZY = {
     "WinklerInterface": "interfaces", "calibrate": "interfaces",
     "Interface": "interfaces", "InterfaceSolution": "interfaces",
     "Numerics": "wear", "WearStep": "wear", "wear_history": "wear",
-    "WearState": "wear", "StepControl": "wear",
+    "WearState": "wear", "StepControl": "wear", "WearLimits": "wear",
     "ThermalModel": "thermal",
     "BrakeMotion": "motion",
     "Scene": "scene", "load_scene": "scene", "scene_from_dict": "scene",
@@ -70,7 +71,7 @@ __all__ = [
     "GeometryError", "MaterialError", "MeshFileError", "SceneError", "WearError",
     "ThermalError", "FoundationError", "ConvergenceError", "ActiveSetError",
     "ContactLostError", "ContactSearchError", "StepSizeError", "MeshQualityError",
-    "FoundationSolveError",
+    "FoundationSolveError", "WornThroughError",
     *_LAZY,
 ]
 

@@ -12,7 +12,11 @@ solver.
 Exit codes: 0 success; 2 bad input (the message names the file, the key and
 what is allowed; no traceback); 3 a solver that failed (non-convergence, an
 active set that cycles, no acceptable wear step, a degenerate element);
-130 interrupted (Ctrl-C; the message says how to resume).
+4 a surface worn to its limit (the pad through its friction layer, the rotor
+to its wear limit: the run ends there, its files and summary.json are
+written; the message says when and where); 130 interrupted (Ctrl-C; the
+message says how to resume).  ``brakewear --version`` prints the version;
+``python -m brakewear`` is the same command.
 """
 from __future__ import annotations
 
@@ -28,24 +32,41 @@ logger = logging.getLogger(__name__)
 __all__ = ["main", "run_demo", "run_demo_wear", "run_scene_file"]
 
 
-EXIT_OK, EXIT_BAD_INPUT, EXIT_SOLVER, EXIT_INTERRUPTED = 0, 2, 3, 130
+EXIT_OK, EXIT_BAD_INPUT, EXIT_SOLVER, EXIT_WORN_THROUGH, EXIT_INTERRUPTED = 0, 2, 3, 4, 130
 
 
 def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
              line_pressure_mpa: float = 1.0, piston: str = "traction",
-             size_mm: float | None = None, figures: bool = True) -> dict:
-    """Mesh the brake, solve it tied under the line pressure, write results; return the summary."""
+             size_mm: float | None = None, figures: bool = True,
+             memory_budget: float | None = None) -> dict:
+    """Mesh the brake, solve it tied under the line pressure, write results; return the summary.
+
+    ``size_mm`` must lie in the bounds scene files allow (half the radial pad
+    width) and fit ``memory_budget`` (GB; default ``BRAKEWEAR_MEMORY_GB`` or
+    the available memory); nothing is written before the input is checked.
+    """
     import numpy as np
 
+    from .checks import check_number, check_plausible, user_units
     from .figures import plot_field, plot_named_surfaces
+    from .geometry.files import load_geometry
+    from .mesh.estimate import check_model_size
     from .mesh.io import write_mesh
     from .model import BrakeModel
+    from .output import check_out
 
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    # the whole input is checked before anything is meshed or written
+    out = check_out(out, "--out")
+    geom = load_geometry(geometry)
+    with user_units({"--pressure": ("MPa", 1e6, 0.0, line_pressure_mpa)}):
+        check_number("--pressure", line_pressure_mpa * 1e6, 0.0, unit="Pa")
+        check_plausible("--pressure", line_pressure_mpa * 1e6, "environment.line_pressure")
+    size = None if size_mm is None else size_mm * 1e-3
+    check_model_size(geom, size, "elastic", piston, key="--size", unit="mm",
+                     budget_key="--memory-budget", budget_gb=memory_budget)
     t0 = time.perf_counter()
-    model = BrakeModel(geometry, piston=piston,
-                       size=None if size_mm is None else size_mm * 1e-3)
+    model = BrakeModel(geom, piston=piston, size=size, memory_budget=memory_budget)
+    out.mkdir(parents=True, exist_ok=True)
     res = model.solve_tied(line_pressure_mpa * 1e6)
     summary = model.summary(res)
     vm = model.stresses(res)
@@ -119,9 +140,12 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     ``out`` defaults to ``brakewear-<scene name>``.  A progress bar (stderr)
     advances in simulated time unless ``quiet``.
     """
-    from .output import run_scene
+    from .errors import WornThroughError
+    from .output import check_out, run_scene
     from .scene import load_scene
 
+    if out is not None:
+        check_out(out, "--out")
     sc = load_scene(scene)
     out = Path(out) if out is not None else Path(f"brakewear-{sc.name}")
     bar = _Progress(sc, quiet)
@@ -130,6 +154,9 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     except KeyboardInterrupt:
         bar.close()
         raise _Interrupted(sc, out, bar.step) from None
+    except WornThroughError as exc:
+        exc.summary["out"] = str(out)
+        raise
     finally:
         bar.close()
     summary["out"] = str(out)
@@ -164,7 +191,9 @@ class _Interrupted(Exception):
 
 
 def _parser() -> argparse.ArgumentParser:
+    from . import __version__
     ap = argparse.ArgumentParser(prog="brakewear", description="Disc-brake pad and rotor wear by 3D FE.")
+    ap.add_argument("--version", action="version", version=f"brakewear {__version__}")
     ap.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = ap.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run a scene: a wear history (docs/scenes.md)",
@@ -182,7 +211,12 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("--pressure", type=float, default=1.0, help="line pressure in MPa (default 1)")
     d.add_argument("--piston", choices=("traction", "body"), default="traction",
                    help="piston as a traction on the backplate or as a tied body")
-    d.add_argument("--size", type=float, default=None, help="mesh size at the interface, mm")
+    d.add_argument("--size", type=float, default=None,
+                   help="mesh size at the interface, mm (at most half the radial pad width, "
+                        "and the model must fit the memory)")
+    d.add_argument("--memory-budget", type=float, default=None, metavar="GB",
+                   help="memory the model may use, GB (default: BRAKEWEAR_MEMORY_GB or the "
+                        "available memory)")
     d.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     d.add_argument("--wear-duration", type=float, default=None,
                    help="then run the default scene (running-in under drag) for this many "
@@ -202,7 +236,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
-    from .errors import InputError, SolverError
+    from .errors import InputError, SolverError, WornThroughError
 
     try:
         if args.command == "run":
@@ -226,7 +260,7 @@ def main(argv: list[str] | None = None) -> int:
             return EXIT_OK
         if args.command == "demo":
             s = run_demo(args.out, args.geometry, args.pressure, args.piston, args.size,
-                         figures=not args.no_figures)
+                         figures=not args.no_figures, memory_budget=args.memory_budget)
             i = s["interface"]
             print(f"brakewear demo: {s['solver']['dofs']} DOFs, line pressure "
                   f"{s['line_pressure_Pa'] / 1e6:g} MPa, clamp force {s['clamp_force_N']:.1f} N")
@@ -262,6 +296,11 @@ def main(argv: list[str] | None = None) -> int:
     except SolverError as e:
         print(f"brakewear: solver failed ({type(e).__name__}): {e}", file=sys.stderr)
         return EXIT_SOLVER
+    except WornThroughError as e:
+        out = getattr(e, "summary", {}).get("out") or (args.out or "the output folder")
+        print(f"brakewear: {e}; the steps up to it and summary.json (status "
+              f"'worn_through') are in {out}", file=sys.stderr)
+        return EXIT_WORN_THROUGH
     # InputError, and bad input that a library below reports as ValueError or OSError
     except (InputError, ValueError, OSError) as e:
         print(f"brakewear: error: {e}", file=sys.stderr)

@@ -13,6 +13,9 @@ branches that the command line maps to its exit codes:
   that cycles, no acceptable wear step, a degenerate element).  The message
   gives the figures a user needs to act; nothing returns a wrong answer
   quietly.
+* :class:`WornThroughError` (exit code 4): not a failure but the end of the
+  brake's life -- a surface reached its wear limit; the message says which,
+  when and where (:mod:`brakewear.wear.limits`).
 
 The kinds below say which part of the input or which solver; catch a
 branch to handle all of its kinds::
@@ -44,6 +47,7 @@ __all__ = [
     "StepSizeError",
     "MeshQualityError",
     "FoundationSolveError",
+    "WornThroughError",
 ]
 
 
@@ -137,3 +141,29 @@ class MeshQualityError(SolverError):
 
 class FoundationSolveError(SolverError):
     """No equilibrium: the pad lifts off entirely or tips off its contact (with the figures)."""
+
+
+# ------------------------------------------------------------ end of life --
+
+class WornThroughError(BrakewearError):
+    """A surface reached its wear limit (exit code 4): the run ends there.
+
+    Attributes ``body`` (``"pad"`` or ``"rotor"``), ``time`` (s, when the
+    node reached the limit), ``step``, ``r`` (m) and ``theta`` (deg) of the
+    node, its ``depth`` and the ``limit`` (m).
+    """
+
+    exit_code = 4
+
+    def __init__(self, message: str, *, body: str = "", time: float = float("nan"),
+                 step: int = -1, r: float = float("nan"), theta: float = float("nan"),
+                 depth: float = float("nan"), limit: float = float("nan")):
+        super().__init__(message)
+        self.body, self.time, self.step = body, time, step
+        self.r, self.theta, self.depth, self.limit = r, theta, depth, limit
+
+    def record(self) -> dict:
+        """The figures as a JSON-ready dict (for summary.json)."""
+        return {"body": self.body, "time_s": self.time, "step": self.step, "r_m": self.r,
+                "theta_deg": self.theta, "depth_m": self.depth, "limit_m": self.limit,
+                "message": str(self)}

@@ -2,11 +2,13 @@
 
 Nothing here is needed to compute; figures only call down into the meshes.
 pyvista renders off-screen (``pyvista.OFF_SCREEN = True``) so no display is
-needed.
+needed; while a figure is drawn VTK's own warnings (e.g. "bad X server
+connection" on a machine without a display) are kept off the terminal.
 """
 from __future__ import annotations
 
 import logging
+from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
 from typing import Mapping, Sequence
@@ -30,6 +32,25 @@ _VTK_TETRA = 10
 
 
 _VTK_TRIANGLE = 5
+
+
+@contextmanager
+def _quiet_vtk():
+    """VTK's warnings off stderr while drawing (its errors still show); restored after."""
+    try:
+        from vtkmodules.vtkCommonCore import vtkLogger, vtkObject
+    except ImportError:  # pragma: no cover - pyvista without vtkmodules
+        yield
+        return
+    cutoff = vtkLogger.GetCurrentVerbosityCutoff()
+    shown = vtkObject.GetGlobalWarningDisplay()
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
+    vtkObject.GlobalWarningDisplayOff()
+    try:
+        yield
+    finally:
+        vtkLogger.SetStderrVerbosity(vtkLogger.ConvertToVerbosity(cutoff))
+        vtkObject.SetGlobalWarningDisplay(shown)
 
 
 def _pv():
@@ -101,6 +122,7 @@ _PALETTE = [
 _DEFAULT_SHIFT = {"rotor": -0.02, "pad": 0.0, "piston": 0.02}
 
 
+@_quiet_vtk()
 def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
                         title: str | None = None, explode: Mapping[str, float] | None = None,
                         window_size: tuple[int, int] = (2000, 800)) -> Path:
@@ -191,6 +213,7 @@ def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
     return path
 
 
+@_quiet_vtk()
 def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: str,
                label: str | None = None, cmap: str = "viridis",
                clim: tuple[float, float] | None = None, warp: np.ndarray | None = None,

@@ -15,6 +15,7 @@ import copy
 import logging
 import time
 from dataclasses import dataclass, field
+from os import PathLike
 
 import numpy as np
 import scipy.sparse as sp
@@ -35,6 +36,8 @@ from .mesh.brake import (
     piston_mesh,
     rotor_mesh,
 )
+from .mesh.estimate import check_model_size
+from .mesh.io import read_body_mesh
 from .mesh.surface import surface_nodes, tributary_areas
 from .solvers.amg import amg_solver
 
@@ -94,10 +97,20 @@ class BrakeModel:
         back face).
     size, order
         Mesh size (m) and element order; default from the geometry file.
+        The size is checked before meshing: in (0, half the radial pad width]
+        and small enough for ``memory_budget`` (GB; default
+        ``BRAKEWEAR_MEMORY_GB`` or the available memory), see
+        :func:`brakewear.mesh.estimate.check_model_size`.
+    meshes
+        Your own meshes for some bodies: body -> mesh file (gmsh ``.msh`` or
+        any format :func:`~brakewear.mesh.read_mesh` reads) or ``skfem``
+        mesh, with the named surfaces and volumes of :data:`MESH_GROUPS`;
+        the other bodies are meshed from the geometry.
     """
 
     def __init__(self, geometry: BrakeGeometry | str = "default", piston: str = "traction",
-                 size: float | None = None, order: int | None = None, rotor: str = "elastic"):
+                 size: float | None = None, order: int | None = None, rotor: str = "elastic",
+                 meshes: dict | None = None, memory_budget: float | None = None):
         if piston not in ("traction", "body"):
             raise SceneError(f"piston = {piston!r} is not allowed; allowed: 'traction', 'body'")
         if rotor not in ("elastic", "rigid"):
@@ -112,8 +125,18 @@ class BrakeModel:
         # a rigid rotor is the plane z = 0, not a mesh
         self.bodies = (("rotor",) if rotor == "elastic" else ()) + ("pad",) + (
             ("piston",) if piston == "body" else ())
+        unknown = sorted(set(meshes or {}) - set(self.bodies))
+        if unknown:
+            raise SceneError(f"meshes: {unknown[0]!r} is not a meshed body of this model; "
+                             f"bodies: {', '.join(self.bodies)}")
+        given = {b: read_body_mesh(m, b, piston) if isinstance(m, (str, PathLike)) else m
+                 for b, m in (meshes or {}).items()}
+        check_model_size(self.geometry, size, rotor, piston, key="size", unit="m",
+                         budget_gb=memory_budget, budget_key="memory_budget",
+                         nodes={b: m.nvertices for b, m in given.items()})
         t0 = time.perf_counter()
-        self.meshes = {b: _MESHERS[b](self.geometry, size=size, order=order) for b in self.bodies}
+        self.meshes = {b: given[b] if b in given else
+                       _MESHERS[b](self.geometry, size=size, order=order) for b in self.bodies}
         mats = component_materials(self.geometry)
         self.materials = {b: element_materials(self.meshes[b], mats[b]) for b in self.bodies}
         self.timings = {"mesh_s": time.perf_counter() - t0}

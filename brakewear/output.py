@@ -30,7 +30,7 @@ from typing import Any, Callable
 import meshio
 import numpy as np
 
-from .errors import SceneError, WearError
+from .errors import SceneError, WearError, WornThroughError
 from .interfaces.fe import FEInterface
 from .scene.spec import _first_difference
 from .wear.numerics import Numerics
@@ -39,7 +39,8 @@ from .wear.stepper import WearStep, wear_history
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["SeriesWriter", "run_wear", "step_figures", "ring_profile"]
+__all__ = ["SeriesWriter", "run_wear", "run_scene", "check_out", "step_figures",
+           "ring_profile"]
 
 
 def _figures(model, out: Path, scene) -> list[str]:
@@ -152,9 +153,12 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     """Run a wear history and write it to ``out`` (see the module docstring).
 
     ``numerics`` and ``kwargs`` go to :func:`~brakewear.wear.wear_history`
-    (``interface``, ``thermal``, ``initial_gap``, ``every``).  ``progress`` is
-    called with each :class:`WearStep` (e.g. to advance a progress bar).
-    Returns the summary.
+    (``interface``, ``thermal``, ``initial_gap``, ``every``, ``limits``).
+    ``progress`` is called with each :class:`WearStep` (e.g. to advance a
+    progress bar).  Returns the summary.  A surface worn to its limit ends
+    the run: the files and ``summary.json`` (``"status": "worn_through"``)
+    are written, then the :class:`~brakewear.errors.WornThroughError` is
+    raised with the summary as its ``summary`` attribute.
     """
     out = Path(out)
     numerics = Numerics() if numerics is None else numerics
@@ -180,31 +184,44 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     n_pad = pad.nvertices
     last = None
     setup_s = time.perf_counter() - t0
-    for s in wear_history(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
-                          numerics=numerics, checkpoint=ck, resume=resume, interface=itf,
-                          **kwargs):
-        rows.append(step_figures(s, itf, mu))
-        final = s.time >= duration * (1 - 1e-12)
-        if s.step % vtu_every == 0 or s.step == 1 or final:
-            fields = {}
-            for name, val in (("pressure", s.pressure), ("pad_wear", s.pad_wear),
-                              ("active", s.active.astype(float))):
-                a = np.zeros(n_pad)
-                a[itf.pad_nodes] = val
-                fields[name] = a
-            pad_series.write(s.step, s.time, fields)
-            if rot_series is not None:
-                a = np.zeros(model.meshes["rotor"].nvertices)
-                a[itf.rotor_nodes] = s.rotor_wear
-                rot_series.write(s.step, s.time, {"rotor_wear": a})
-        _write_csv(csv_path, rows)
-        if progress is not None:
-            progress(s)
-        last = s
+
+    def write_vtu(s: WearStep) -> None:
+        fields = {}
+        for name, val in (("pressure", s.pressure), ("pad_wear", s.pad_wear),
+                          ("active", s.active.astype(float))):
+            a = np.zeros(n_pad)
+            a[itf.pad_nodes] = val
+            fields[name] = a
+        pad_series.write(s.step, s.time, fields)
+        if rot_series is not None:
+            a = np.zeros(model.meshes["rotor"].nvertices)
+            a[itf.rotor_nodes] = s.rotor_wear
+            rot_series.write(s.step, s.time, {"rotor_wear": a})
+
+    worn = None
+    try:
+        for s in wear_history(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
+                              numerics=numerics, checkpoint=ck, resume=resume,
+                              interface=itf, **kwargs):
+            rows.append(step_figures(s, itf, mu))
+            final = s.time >= duration * (1 - 1e-12)
+            if s.step % vtu_every == 0 or s.step == 1 or final:
+                write_vtu(s)
+            _write_csv(csv_path, rows)
+            if progress is not None:
+                progress(s)
+            last = s
+    except WornThroughError as exc:     # the end of the run: its last step is written
+        worn = exc
+        if last is not None and not (last.step % vtu_every == 0 or last.step == 1
+                                     or last.time >= duration * (1 - 1e-12)):
+            write_vtu(last)
     if last is None:
         raise RuntimeError("the wear history produced no step (was the run already finished?)")
     total_s = time.perf_counter() - t0
     summary = {
+        "status": "finished" if worn is None else "worn_through",
+        "worn_through": None if worn is None else worn.record(),
         "line_pressure_Pa": line_pressure, "omega_rad_s": omega, "duration_s": duration,
         "mu": mu, "rotor": model.rotor, "dofs": int(model.dofs),
         "pad_law": vars(pad_law), "rotor_law": None if rotor_law is None else vars(rotor_law),
@@ -219,6 +236,9 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
                   "history": "history.csv", "checkpoint": "checkpoint.npz"},
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    if worn is not None:
+        worn.summary = summary
+        raise worn
     return summary
 
 
@@ -253,7 +273,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     refuses a folder written by a different scene.  ``progress`` is
     called with each :class:`~brakewear.wear.WearStep`.
     """
-    out = Path(out)
+    out = check_out(out)
     record = scene.to_dict()
     rec_path = out / "scene.json"
     if resume:
@@ -287,12 +307,16 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
             s = json.loads(summ.read_text())
             s["already_finished"] = True
             return s
-    out.mkdir(parents=True, exist_ok=True)
-    rec_path.write_text(json.dumps(record, indent=2))
+    # every input is checked (and the model built) before anything is written to out
     pad_law, rotor_law = scene.wear_laws()
     model = scene.build_model()
     n = scene.numerics
-    kw: dict[str, Any] = dict(numerics=n, every=scene.output.checkpoint_every)
+    from .wear.limits import WearLimits
+    kw: dict[str, Any] = dict(numerics=n, every=scene.output.checkpoint_every,
+                              limits=WearLimits.for_model(
+                                  model, scene.pad_wear.limit,
+                                  None if scene.rotor_wear is None else scene.rotor_wear.limit,
+                                  update=n.update))
     if scene.interface.model == "winkler":
         from .interfaces.foundation import FoundationInterface
         from .interfaces.winkler import WinklerInterface
@@ -307,9 +331,16 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                                      T_ambient=scene.ambient, T_ref=t.T_ref, mass=t.mass,
                                      T_initial=t.T_initial,
                                      contact_conductance=t.contact_conductance)
-    summary = run_wear(model, out, scene.line_pressure, scene.omega, scene.duration, pad_law,
-                       rotor_law, scene.interface.mu, vtu_every=scene.output.vtu_every,
-                       resume=resume, progress=progress, **kw)
+    out.mkdir(parents=True, exist_ok=True)
+    rec_path.write_text(json.dumps(record, indent=2))
+    worn = None
+    try:
+        summary = run_wear(model, out, scene.line_pressure, scene.omega, scene.duration,
+                           pad_law, rotor_law, scene.interface.mu,
+                           vtu_every=scene.output.vtu_every, resume=resume, progress=progress,
+                           **kw)
+    except WornThroughError as exc:
+        worn, summary = exc, exc.summary
     summary["scene"] = {"name": scene.name, "source": scene.source,
                         "interface": scene.interface.model, "scheme": n.scheme,
                         "update": n.update, "mesh_size_m": model.geometry.mesh.size
@@ -317,4 +348,21 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     if scene.output.figures:
         summary["figures"] = _figures(model, out, scene)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    if worn is not None:
+        raise worn
     return summary
+
+
+def check_out(out: str | os.PathLike, key: str = "out") -> Path:
+    """The output folder ``out``, refused if it names an existing file (before any work)."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise SceneError(f"{key} = {str(out)!r} is an existing file, not a folder; give the "
+                         "name of a folder to write into (it is made if missing)")
+    for parent in out.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise SceneError(f"{key} = {str(out)!r}: {str(parent)!r} is a file, not a "
+                                 "folder")
+            break
+    return out

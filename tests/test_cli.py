@@ -24,7 +24,8 @@ def test_demo_bad_geometry_exits_2(tmp_path, capsys):
 
 def test_demo_bad_pressure_exits_2(tmp_path, capsys):
     assert main(["demo", "--pressure", "-1", "--out", str(tmp_path), "--no-figures"]) == 2
-    assert "line_pressure" in capsys.readouterr().err
+    # the option and the value as the user gave them (MPa)
+    assert "--pressure: -1.0 MPa is not allowed" in capsys.readouterr().err
 
 
 # ---------------------------------------------------------------- brakewear run

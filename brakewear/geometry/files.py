@@ -207,7 +207,7 @@ def load_geometry(path_or_name: str | PathLike = "default") -> BrakeGeometry:
                 f"{', '.join(available_geometries())} (or give the path of a .toml file)")
         data = res.read_bytes()
     try:
-        d = tomllib.loads(data.decode("utf-8"))
+        d = tomllib.loads(data.decode("utf-8-sig"))     # a BOM (Windows editors) is fine
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise GeometryError(f"{source}: not a valid TOML file: {exc}") from None
     geom = geometry_from_dict(d, source=source)

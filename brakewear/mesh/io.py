@@ -2,7 +2,10 @@
 
 :func:`write_mesh` writes a mesh (and point or cell data) with its named facet
 sets and subdomains; :func:`read_mesh` reads tetrahedral meshes back, with
-the named sets restored from the file's tags.
+the named sets restored from the file's tags.  ``.msh`` is gmsh 2.2 with
+physical groups (never meshio's default for the suffix, ANSYS Fluent);
+:func:`read_body_mesh` reads a user's mesh of one brake body and checks that
+it has the named groups the model needs (:data:`MESH_GROUPS`).
 """
 from __future__ import annotations
 
@@ -20,7 +23,17 @@ from .topology import _with_boundaries, _with_subdomains, ensure_topology
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["read_mesh", "write_mesh"]
+__all__ = ["read_mesh", "write_mesh", "read_body_mesh", "MESH_GROUPS"]
+
+
+#: The named groups a mesh of each body needs: (surfaces, volumes).  The pad's
+#: ``piston_face`` carries the piston's traction (``piston = "traction"``), its
+#: ``back`` the tie to a meshed piston (``piston = "body"``).
+MESH_GROUPS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
+    "pad": (("friction", "abutment", "piston_face", "back"), ("friction_layer", "backplate")),
+    "rotor": (("friction", "midplane", "rotor_clamp"), ("rotor",)),
+    "piston": (("piston_face", "piston_back", "piston_side"), ("piston",)),
+}
 
 
 def _facet_index(mesh: fem.Mesh, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -36,7 +49,8 @@ def _facet_index(mesh: fem.Mesh, tri: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return np.where(hit, order[pos], -1), hit
 
 
-def read_mesh(path: str | PathLike, required: Sequence[str] | None = None) -> fem.Mesh:
+def read_mesh(path: str | PathLike, required: Sequence[str] | None = None,
+              required_volumes: Sequence[str] | None = None) -> fem.Mesh:
     """Read a user's tetrahedral mesh with tagged surfaces (any meshio format).
 
     Named boundaries come from: triangle cell sets (e.g.
@@ -54,9 +68,9 @@ def read_mesh(path: str | PathLike, required: Sequence[str] | None = None) -> fe
     ----------
     path
         Mesh file (``.msh``, ``.vtu``, ``.xdmf``, ``.med``, ...).
-    required
-        Boundary names that must be present; their absence raises with the
-        list of the tags found.
+    required, required_volumes
+        Boundary (surface) and subdomain (volume) names that must be present;
+        their absence raises with the list of the tags found.
 
     Returns
     -------
@@ -69,6 +83,7 @@ def read_mesh(path: str | PathLike, required: Sequence[str] | None = None) -> fe
     """
     import meshio
 
+    _need_h5py(path)
     try:
         mio = meshio.read(path)
     except Exception as exc:  # meshio raises many types
@@ -118,7 +133,9 @@ def read_mesh(path: str | PathLike, required: Sequence[str] | None = None) -> fe
             if dim and arr.ndim == 1 and np.issubdtype(arr.dtype, np.integer):
                 found[dim].append((i, c, arr))
         for dim, items in found.items():
-            tags = np.unique(np.concatenate([a[a >= 0] for _, _, a in items] or [[]]))
+            # gmsh's physical tag 0 is "in no physical group"
+            low = 1 if key == "gmsh:physical" else 0
+            tags = np.unique(np.concatenate([a[a >= low] for _, _, a in items] or [[]]))
             for tag in tags.astype(np.int64):
                 # a named physical group; a lone tag (meshio's conversion of a
                 # cell set to cell data) takes the key's name; else "key=tag"
@@ -153,15 +170,79 @@ def read_mesh(path: str | PathLike, required: Sequence[str] | None = None) -> fe
         mesh = _with_boundaries(mesh, boundaries)
     if subdomains:
         mesh = _with_subdomains(mesh, subdomains)
-    if required:
-        miss = [nm for nm in required if nm not in boundaries]
+    for kind, need, have in (("surface", required, boundaries),
+                             ("volume", required_volumes, subdomains)):
+        miss = [nm for nm in need or () if nm not in have]
         if miss:
             raise MeshFileError(
-                f"{path}: required surface tag(s) {miss} not found; tags found: "
+                f"{path}: required {kind} group(s) {miss} not found; groups found: "
                 f"surfaces {sorted(boundaries) or 'none'}, volumes {sorted(subdomains) or 'none'}")
     logger.info("read %s: %d nodes, %d tets, surfaces %s", path, p.shape[1], t.shape[1],
                 sorted(boundaries))
     return mesh
+
+
+#: meshio formats stored in HDF5: they need h5py (not a dependency of brakewear)
+_HDF5_SUFFIXES = (".xdmf", ".xmf", ".med", ".h5m")
+
+
+def _need_h5py(path) -> None:
+    if Path(path).suffix.lower() in _HDF5_SUFFIXES:
+        try:
+            import h5py  # noqa: F401
+        except ImportError:
+            raise MeshFileError(
+                f"{path}: the {Path(path).suffix} format is stored in HDF5 and needs h5py, "
+                "which brakewear does not install (pip install h5py); or use .msh (gmsh) "
+                "or .vtu") from None
+
+
+def read_body_mesh(path: str | PathLike, body: str, piston: str = "traction") -> fem.Mesh:
+    """A user's mesh of one brake body, with the groups of :data:`MESH_GROUPS` checked.
+
+    Raises
+    ------
+    MeshFileError
+        The file cannot be read, has no tetrahedra, or lacks a group; the
+        message names the file, the group and the groups found.
+    """
+    if body not in MESH_GROUPS:
+        raise MeshFileError(f"{path}: {body!r} is not a body with a mesh; allowed: "
+                            f"{', '.join(MESH_GROUPS)}")
+    surfaces, volumes = MESH_GROUPS[body]
+    if body == "pad":
+        surfaces = tuple(s for s in surfaces if s != ("back" if piston == "traction"
+                                                      else "piston_face"))
+    if not Path(path).is_file():
+        raise MeshFileError(f"{path}: the {body} mesh file does not exist")
+    return read_mesh(path, required=surfaces, required_volumes=volumes)
+
+
+def _gmsh_blocks(mesh: fem.Mesh):
+    """Cells, cell data and physical names of a gmsh file: one triangle block per
+    named boundary, one tetrahedron block per subdomain (physical groups)."""
+    cells, tags, names = [], [], {}
+    tag = 0
+    for name, facets in (mesh.boundaries or {}).items():
+        tag += 1
+        tri = mesh.facets[:, np.asarray(facets, dtype=np.int64)].T
+        cells.append(("triangle", tri))
+        tags.append(np.full(len(tri), tag))
+        names[name] = np.array([tag, 2])
+    owner = np.zeros(mesh.t.shape[1], dtype=np.int64)       # 0: in no physical volume
+    for name, elems in (mesh.subdomains or {}).items():
+        tag += 1
+        elems = np.asarray(elems, dtype=np.int64)
+        if (owner[elems] > 0).any():
+            logger.warning("write_mesh: subdomain %r overlaps an earlier one; gmsh gives each "
+                           "tetrahedron one physical volume (the first)", name)
+        owner[elems[owner[elems] == 0]] = tag
+        names[name] = np.array([tag, 3])
+    for t in np.unique(owner):
+        sel = np.nonzero(owner == t)[0]
+        cells.append(("tetra", mesh.t[:, sel].T))
+        tags.append(np.full(sel.size, t))
+    return cells, {"gmsh:physical": tags, "gmsh:geometrical": tags}, names
 
 
 def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = None,
@@ -169,7 +250,10 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
     """Write a tetrahedral mesh and fields with meshio (VTU unless the suffix says otherwise).
 
     Named boundaries and subdomains are stored with the skfem tag encoding
-    (one integer per tetrahedron), which :func:`read_mesh` decodes.  A
+    (one integer per tetrahedron), which :func:`read_mesh` decodes; ``.msh``
+    is written as gmsh 2.2 with a physical group per named boundary
+    (triangles) and subdomain (tetrahedra).  HDF5 formats (``.xdmf``,
+    ``.med``) need ``h5py``, which brakewear does not install.  A
     ``MeshTet2`` is written as its P1 vertices and cells; point data given at
     all P2 nodes is cut to the vertex values.
 
@@ -181,7 +265,7 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
     point_data : dict of str to ndarray, optional
         Nodal fields, shape (nvertices,) or (nvertices, k) (P2 node arrays are cut).
     cell_data : dict of str to ndarray, optional
-        One value (or row) per element.
+        One value (or row) per element (not for ``.msh``).
 
     Returns
     -------
@@ -210,8 +294,18 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
                              f"need {mesh.t.shape[1]} (one per element)")
         cdata[k] = [v]
     m1 = fem.MeshTet(p, mesh.t, mesh._boundaries, mesh._subdomains, validate=False)
-    cdata.update(m1._encode_cell_data())
-    meshio.write(path, meshio.Mesh(p.T, [("tetra", mesh.t.T)], point_data=pdata,
-                                   cell_data=cdata))
+    if path.suffix.lower() == ".msh":
+        if cdata:
+            # meshio cannot read back element data of a gmsh file with groups
+            raise ValueError(f"write_mesh: {path}: cell_data cannot go into a gmsh .msh file "
+                             "(physical groups only); write it to a .vtu file")
+        cells, data, names = _gmsh_blocks(m1)
+        meshio.write(path, meshio.Mesh(p.T, cells, point_data=pdata, cell_data=data,
+                                       field_data=names), file_format="gmsh22", binary=True)
+    else:
+        _need_h5py(path)
+        cdata.update(m1._encode_cell_data())
+        meshio.write(path, meshio.Mesh(p.T, [("tetra", mesh.t.T)], point_data=pdata,
+                                       cell_data=cdata))
     logger.info("wrote %s (%d nodes, %d tets)", path, nv, mesh.t.shape[1])
     return path

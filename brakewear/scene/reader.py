@@ -17,8 +17,8 @@ from os import PathLike
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..checks import fail
-from ..errors import SceneError
+from ..checks import fail, user_units
+from ..errors import GeometryError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
 from ..wear.numerics import Numerics
 from .spec import UNITS, InterfaceSpec, OutputSpec, Scene, ThermalSpec, WearSpec
@@ -40,21 +40,23 @@ _SCHEMA: dict[str, dict[str, str]] = {
     "units": {q: "unit" for q in UNITS},
     "scene": {"name": "str", "description": "str", "geometry": "geometry"},
     "components": {"rotor": "str", "pad": "str", "piston": "str"},
-    "mesh": {"size": "length", "order": "int"},
+    "mesh": {"size": "length", "order": "int", "pad_file": "path", "rotor_file": "path",
+             "piston_file": "path"},
     "environment": {"line_pressure": "pressure", "omega": "angular_speed", "duration": "time",
                     "ambient": "temperature"},
     "interface": {"model": "str", "surfaces": "surfaces", "mu": "num", "method": "str",
                   "winkler_modulus": "num", "winkler_rotor": "str"},
     "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
-                 "activation_energy": "num"},
+                 "activation_energy": "num", "limit": "length"},
     "wear.rotor": {"enabled": "bool", "k": "k", "a": "num", "b": "num",
-                   "T_threshold": "temperature", "activation_energy": "num"},
+                   "T_threshold": "temperature", "activation_energy": "num", "limit": "length"},
     "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
                 "T_initial": "temperature", "T_ref": "temperature",
                 "contact_conductance": "num", "mass": "str"},
     "numerics": {"scheme": "str", "update": "str", "steps": "int", "dp_tol": "num",
                  "dh_fraction": "num", "max_dh": "length", "wear_tol": "length",
-                 "stability": "num", "tol": "num", "max_halvings": "int"},
+                 "stability": "num", "tol": "num", "max_halvings": "int",
+                 "memory_budget": "num"},
     "output": {"vtu_every": "int", "checkpoint_every": "int", "figures": "bool"},
 }
 
@@ -129,7 +131,7 @@ def load_scene(path_or_name: str | PathLike = "default") -> Scene:
                              f"{', '.join(available_scenes())} (or give the path of a .toml file)")
         data = res.read_bytes()
     try:
-        d = tomllib.loads(data.decode("utf-8"))
+        d = tomllib.loads(data.decode("utf-8-sig"))     # a BOM (Windows editors) is fine
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise SceneError(f"{source}: not a valid TOML file: {exc}") from None
     scene = scene_from_dict(d, source=source, base=base)
@@ -200,11 +202,19 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
                                       f"{', '.join(repr(c) for c in choices)}")
         units[q] = u
 
+    shown: dict[str, tuple] = {}      # key -> (unit, factor, offset, value as written)
+
     def val(t: str, k: str, default: Any = None) -> Any:
         tab = tables.get(t, {})
         if k not in tab:
             return default
-        return _convert(f"{t}.{k}", tab[k], _SCHEMA[t][k], units)
+        kind = _SCHEMA[t][k]
+        out = _convert(f"{t}.{k}", tab[k], kind, units)
+        if kind in UNITS:
+            u = units[kind]
+            shown[f"{t}.{k}"] = ((u, 1.0, UNITS[kind][u], tab[k]) if kind == "temperature"
+                                 else (u, UNITS[kind][u], 0.0, tab[k]))
+        return out
 
     # geometry: inline table, name or path
     sc = tables["scene"]
@@ -222,7 +232,11 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
         is_path = "/" in g or "\\" in g or g.endswith(".toml")
         if is_path and base is not None and not Path(g).is_absolute():
             g = str(base / g)
-        geometry = load_geometry(g)
+        try:
+            geometry = load_geometry(g)
+        except GeometryError as exc:
+            raise GeometryError(f"{source}: scene.geometry = {sc['geometry']!r}: {exc}"
+                                if "geometry" in sc else f"{source}: {exc}") from None
 
     comps = tables["components"]
     for k in comps:
@@ -247,17 +261,26 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
         tab.pop("enabled", None)
         return WearSpec(**{k: val(t, k) for k in tab})
 
-    thermal = ThermalSpec(**{k: val("thermal", k) for k in tables.get("thermal", {})})
-    numerics = Numerics(**{k: val("numerics", k) for k in tables.get("numerics", {})})
-    output = OutputSpec(**{k: val("output", k) for k in tables.get("output", {})})
-    env = {k: val("environment", k) for k in tables["environment"]}
-    name = val("scene", "name", Path(source).stem if source.endswith(".toml") else source)
-    return Scene(geometry=geometry, rotor=comps["rotor"],
-                 piston=comps.get("piston", "traction"),
-                 mesh_size=val("mesh", "size"), order=val("mesh", "order"),
-                 interface=interface, pad_wear=wear_spec("pad"), rotor_wear=wear_spec("rotor"),
-                 thermal=thermal, numerics=numerics, output=output, name=name,
-                 description=val("scene", "description", ""), source=source, **env)
+    with user_units(shown):
+        thermal = ThermalSpec(**{k: val("thermal", k) for k in tables.get("thermal", {})})
+        numerics = Numerics(**{k: val("numerics", k) for k in tables.get("numerics", {})})
+        output = OutputSpec(**{k: val("output", k) for k in tables.get("output", {})})
+        env = {k: val("environment", k) for k in tables["environment"]}
+        name = val("scene", "name", Path(source).stem if source.endswith(".toml") else source)
+        pad_wear, rotor_wear = wear_spec("pad"), wear_spec("rotor")
+        mesh_size = val("mesh", "size")
+        mesh_files = {}
+        for k in ("pad_file", "rotor_file", "piston_file"):
+            f = val("mesh", k)
+            if f is not None:       # relative to the scene file's folder
+                mesh_files[k[:-5]] = str(base / f) if base is not None and not \
+                    Path(f).is_absolute() else f
+        return Scene(geometry=geometry, rotor=comps["rotor"],
+                     piston=comps.get("piston", "traction"),
+                     mesh_size=mesh_size, order=val("mesh", "order"), mesh_files=mesh_files,
+                     interface=interface, pad_wear=pad_wear, rotor_wear=rotor_wear,
+                     thermal=thermal, numerics=numerics, output=output, name=name,
+                     description=val("scene", "description", ""), source=source, **env)
 
 
 def _table(v: Any, name: str) -> dict:
@@ -275,7 +298,7 @@ def _convert(key: str, v: Any, kind: str, units: Mapping[str, str]) -> Any:
             raise fail(key, f"{v!r} is not allowed; it must be a finite number")
         return float(v)
 
-    if kind in ("str", "geometry"):
+    if kind in ("str", "geometry", "path"):
         if not isinstance(v, str):
             raise fail(key, f"{v!r} is a {type(v).__name__}; expected a string")
         return v

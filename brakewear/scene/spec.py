@@ -19,7 +19,16 @@ from dataclasses import asdict, dataclass, field, fields
 from os import PathLike
 from typing import Any, Mapping
 
-from ..checks import check_bool, check_choice, check_int, check_number, fail
+from ..checks import (
+    check_bool,
+    check_choice,
+    check_int,
+    check_number,
+    check_plausible,
+    fail,
+    shown_value,
+    user_unit,
+)
 from ..geometry.files import load_geometry
 from ..geometry.parts import BrakeGeometry
 from ..wear.numerics import Numerics
@@ -91,6 +100,7 @@ class InterfaceSpec:
                                               "[\"pad.friction\", \"rotor.friction\"]")
         object.__setattr__(self, "surfaces", tuple(self.surfaces))
         check_number("interface.mu", self.mu, 0.0, lo_open=False)
+        check_plausible("interface.mu", self.mu)
         check_choice("interface.method", self.method, ("segment",))
         check_number("interface.winkler_modulus", self.winkler_modulus, 0.0, unit="Pa/m",
                       allow_none=True)
@@ -104,6 +114,9 @@ class WearSpec:
     ``k = None`` takes the material's ``wear_k`` (pad: the friction
     material, rotor: the rotor material).  ``k`` is in SI units
     (1/Pa = m^2/N for a = b = 1; in general m/s per Pa^a (m/s)^b).
+    ``limit`` (m) is the wear depth at which the run ends
+    (:mod:`brakewear.wear.limits`; None: the friction layer's thickness for
+    the pad, :data:`~brakewear.wear.limits.ROTOR_LIMIT` for the rotor).
     """
 
     k: float | None = None
@@ -111,6 +124,7 @@ class WearSpec:
     b: float = 1.0
     T_threshold: float = 503.15
     activation_energy: float = 0.0
+    limit: float | None = None
 
     def check(self, sec: str) -> None:
         check_number(f"{sec}.k", self.k, 0.0, unit="1/Pa", allow_none=True)
@@ -119,16 +133,21 @@ class WearSpec:
         check_number(f"{sec}.T_threshold", self.T_threshold, 0.0, unit="K")
         check_number(f"{sec}.activation_energy", self.activation_energy, 0.0, lo_open=False,
                       unit="J/mol")
+        check_number(f"{sec}.limit", self.limit, 0.0, unit="m", allow_none=True)
+        check_plausible(f"{sec}.T_threshold", self.T_threshold, "T_threshold")
 
-    def law(self, material, sec: str):
+    def law(self, material, sec: str, geometry_source: str = "<python>"):
         """The :class:`~brakewear.laws.WearLaw` (``material`` supplies a missing k)."""
         from ..laws import WearLaw
         k = self.k
         if k is None:
             k = material.wear_k
-            if k is None:
-                raise fail(f"{sec}.k", f"not given and material {material.name!r} has no "
-                                        "wear_k; give k (1/Pa)")
+            if k is None or k <= 0:
+                has = "has no wear_k" if k is None else f"has wear_k = {k!r} (it would not wear)"
+                raise fail(f"{sec}.k", f"\"material\" takes the wear coefficient of material "
+                                        f"{material.name!r} (materials.{material.name} of "
+                                        f"the geometry {geometry_source}), which {has}; give "
+                                        "k > 0 (1/Pa) here or wear_k > 0 in the material")
         return WearLaw(k, self.a, self.b, self.T_threshold, self.activation_energy)
 
 
@@ -164,6 +183,8 @@ class ThermalSpec:
             check_number("thermal.h_conv", self.h_conv, 0.0, lo_open=False, unit="W/m^2 K")
         check_number("thermal.T_initial", self.T_initial, 0.0, unit="K", allow_none=True)
         check_number("thermal.T_ref", self.T_ref, 0.0, unit="K", allow_none=True)
+        check_plausible("thermal.T_initial", self.T_initial)
+        check_plausible("thermal.T_ref", self.T_ref)
         check_number("thermal.contact_conductance", self.contact_conductance, 0.0,
                       lo_open=False, unit="W/m^2 K")
         check_choice("thermal.mass", self.mass, ("consistent", "lumped"))
@@ -197,6 +218,10 @@ class Scene:
         Components: ``"elastic"`` | ``"rigid"`` rotor; ``"traction"`` | ``"body"`` piston.
     mesh_size, order
         Interface element size (m) and element order; ``None``: the geometry's.
+    mesh_files
+        Your own meshes: body (``"pad"``, ``"rotor"``, ``"piston"``) -> mesh
+        file with the named groups of :data:`brakewear.mesh.io.MESH_GROUPS`
+        (scene keys ``mesh.pad_file``, ...); read and checked at once.
     line_pressure, omega, duration, ambient
         Pa, rad/s, s, K: steady drag at constant line pressure and rotor speed.
     interface, pad_wear, rotor_wear, thermal, numerics, output
@@ -214,6 +239,7 @@ class Scene:
     piston: str = "traction"
     mesh_size: float | None = None
     order: int | None = None
+    mesh_files: Mapping[str, str] = field(default_factory=dict)
     interface: InterfaceSpec = field(default_factory=InterfaceSpec)
     pad_wear: WearSpec = field(default_factory=WearSpec)
     rotor_wear: WearSpec | None = field(default_factory=WearSpec)
@@ -237,8 +263,12 @@ class Scene:
         check_number("environment.omega", self.omega, 0.0, unit="rad/s")
         check_number("environment.duration", self.duration, 0.0, unit="s")
         check_number("environment.ambient", self.ambient, 0.0, unit="K")
-        width = self.geometry.pad.outer_radius - self.geometry.pad.inner_radius
-        check_number("mesh.size", self.mesh_size, 0.0, 0.5 * width, unit="m", allow_none=True)
+        for key, value in (("environment.line_pressure", self.line_pressure),
+                           ("environment.omega", self.omega),
+                           ("environment.ambient", self.ambient)):
+            check_plausible(key, value)
+        if self.mesh_size is not None:
+            check_number("mesh.size", self.mesh_size, 0.0, unit="m")
         check_int("mesh.order", self.order, 1, allow_none=True)
         if self.order not in (None, 1):
             raise fail("mesh.order", f"{self.order!r} is not allowed; a brake with a pad-rotor "
@@ -255,8 +285,40 @@ class Scene:
             spec.check(sec)
         self._check_interface()
         self._check_consistency()
+        self.wear_laws()
+        nodes = self._check_mesh_files()
+        # last: the model must fit the memory (no meshing: an estimate from the geometry)
+        from ..mesh.estimate import check_model_size
+        check_model_size(self.geometry, self.mesh_size, self.rotor, self.piston, nodes=nodes,
+                         key="mesh.size" if self.mesh_size is not None else
+                         f"mesh.size of the geometry {self.geometry.source}",
+                         unit=user_unit("mesh.size") or ("m" if self.mesh_size else "mm"),
+                         user_value=shown_value("mesh.size", self.mesh_size, "m")
+                         if user_unit("mesh.size") else None,
+                         budget_gb=self.numerics.memory_budget)
 
     # ------------------------------------------------------------ checks --
+    def _check_mesh_files(self) -> dict[str, int]:
+        """Read the user's mesh files (groups checked); their node counts."""
+        from ..errors import MeshFileError
+        from ..mesh.io import read_body_mesh
+        if not isinstance(self.mesh_files, Mapping):
+            raise fail("mesh", f"mesh_files = {self.mesh_files!r}; expected body -> file")
+        object.__setattr__(self, "mesh_files", {b: str(f) for b, f in self.mesh_files.items()})
+        meshed = {"pad", "rotor"} if self.rotor == "elastic" else {"pad"}
+        if self.piston == "body":
+            meshed.add("piston")
+        nodes = {}
+        for body, path in self.mesh_files.items():
+            if body not in meshed:
+                raise fail(f"mesh.{body}_file", f"{path!r}: the {body} is not a meshed body of "
+                                                 f"this scene; meshed: {', '.join(sorted(meshed))}")
+            try:
+                nodes[body] = read_body_mesh(path, body, self.piston).nvertices
+            except MeshFileError as exc:
+                raise fail(f"mesh.{body}_file", str(exc)) from None
+        return nodes
+
     def _bodies(self) -> dict[str, str]:
         return {"rotor": self.rotor, "pad": "elastic", "piston": self.piston}
 
@@ -306,14 +368,15 @@ class Scene:
         """The :class:`~brakewear.model.BrakeModel` of the scene (this meshes)."""
         from ..model import BrakeModel
         return BrakeModel(self.geometry, piston=self.piston, size=self.mesh_size,
-                          order=self.order, rotor=self.rotor)
+                          order=self.order, rotor=self.rotor, meshes=dict(self.mesh_files),
+                          memory_budget=self.numerics.memory_budget)
 
     def wear_laws(self):
         """(pad law, rotor law or None)."""
         g = self.geometry
-        pad = self.pad_wear.law(g.pad.friction_material, "wear.pad")
+        pad = self.pad_wear.law(g.pad.friction_material, "wear.pad", g.source)
         rot = None if self.rotor_wear is None else self.rotor_wear.law(g.rotor.material,
-                                                                        "wear.rotor")
+                                                                        "wear.rotor", g.source)
         return pad, rot
 
     def to_dict(self) -> dict:
@@ -322,6 +385,8 @@ class Scene:
         for k in ("interface", "pad_wear", "rotor_wear", "thermal", "numerics", "output"):
             d[k] = None if d[k] is None else asdict(d[k])
         d["interface"]["surfaces"] = list(d["interface"]["surfaces"])
+        if not d["mesh_files"]:
+            del d["mesh_files"]
         g = self.geometry
         d["geometry"] = {"source": str(g.source), "rotor": _geom_record(g.rotor),
                          "pad": _geom_record(g.pad), "piston": _geom_record(g.piston),
@@ -356,5 +421,6 @@ def _first_difference(a: Any, b: Any, path: str = "") -> str | None:
 _RECORD_KEYS = {"duration": "environment.duration", "line_pressure": "environment.line_pressure",
                 "omega": "environment.omega", "ambient": "environment.ambient",
                 "rotor": "components.rotor", "piston": "components.piston",
-                "mesh_size": "mesh.size", "order": "mesh.order", "pad_wear": "wear.pad",
+                "mesh_size": "mesh.size", "order": "mesh.order", "mesh_files": "mesh",
+                "pad_wear": "wear.pad",
                 "rotor_wear": "wear.rotor", "geometry": "geometry"}

@@ -56,6 +56,9 @@ class Numerics:
         Relative residual of the contact solves.
     max_halvings : int
         Retries of a step before :class:`~brakewear.errors.StepSizeError`.
+    memory_budget : float or None
+        Largest model a scene may ask for (GB; None: ``BRAKEWEAR_MEMORY_GB`` or
+        the machine's available memory).
 
     Raises
     ------
@@ -75,6 +78,7 @@ class Numerics:
     stability: float | None = 1.0
     tol: float = 1e-9
     max_halvings: int = 12
+    memory_budget: float | None = None
 
     def __post_init__(self):
         try:
@@ -93,3 +97,5 @@ class Numerics:
         check_number("numerics.stability", self.stability, 0.0, 2.0, allow_none=True)
         check_number("numerics.tol", self.tol, 0.0, 1e-3)
         check_int("numerics.max_halvings", self.max_halvings, 0)
+        check_number("numerics.memory_budget", self.memory_budget, 0.0, unit="GB",
+                     allow_none=True)

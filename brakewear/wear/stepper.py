@@ -31,6 +31,7 @@ from ..interfaces.fe import FEInterface
 from ..laws import WearLaw
 from ..rings import rotor_wear_rate
 from .control import StepControl
+from .limits import WearLimits
 from .numerics import Numerics
 from .state import WearState, fingerprint
 
@@ -73,7 +74,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                  numerics: Numerics | None = None, interface=None, thermal=None,
                  initial_gap: np.ndarray | None = None,
                  checkpoint: str | os.PathLike | None = None, every: int = 10,
-                 resume: bool = False) -> Iterator[WearStep]:
+                 resume: bool = False, limits=None) -> Iterator[WearStep]:
     """Run a wear history of the brake under constant line pressure and speed.
 
     Parameters
@@ -112,6 +113,13 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         ``resume=True`` continues from it (with a freshly built model), after
         checking that every input is the one it was written with
         (:mod:`brakewear.wear.state`).
+    limits
+        A :class:`brakewear.wear.WearLimits` (default: the model's,
+        :meth:`~brakewear.wear.WearLimits.for_model`).  The step that wears a
+        surface past its limit is yielded, then
+        :class:`~brakewear.errors.WornThroughError` is raised (naming the time,
+        the node and the depth); with ``update = "geometry"`` the meshes are
+        not moved by that step.
 
     Yields
     ------
@@ -121,8 +129,9 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     numerics = Numerics() if numerics is None else numerics
     mu_law, mu = _check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics,
                                interface, thermal, initial_gap, checkpoint, every, resume)
+    limits = WearLimits.for_model(model, update=numerics.update) if limits is None else limits
     loop = _WearLoop(model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
-                     interface, thermal, initial_gap)
+                     interface, thermal, initial_gap, limits)
     control = StepControl(numerics, duration, loop.dh_limit())
     prints = loop.fingerprint(duration)
     n_pad, n_rot = loop.A_pad.size, loop.A_rot.size
@@ -142,6 +151,8 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                                        or state.time >= duration * (1 - 1e-12)):
             state.save(checkpoint, prints, loop.thermal.state_arrays() if loop.thermal else None)
         yield record
+        if loop.worn is not None:
+            raise loop.worn
 
 
 def _check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics, interface,
@@ -208,8 +219,9 @@ class _WearLoop:
     after a geometry update, the thermal load and mu(T) of the temperatures)."""
 
     def __init__(self, model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
-                 interface, thermal, initial_gap):
+                 interface, thermal, initial_gap, limits):
         self.model, self.line_pressure, self.omega = model, line_pressure, omega
+        self.limits, self.worn = limits, None
         self.pad_law, self.rotor_law, self.mu, self.mu_law = pad_law, rotor_law, mu, mu_law
         self.numerics, self.thermal = numerics, thermal
         self.itf = FEInterface(model, line_pressure, mu, numerics.tol) if interface is None \
@@ -256,7 +268,7 @@ class _WearLoop:
             mu=self.mu_law if self.mu_law is not None else self.mu,
             numerics=asdict(self.numerics), interface=itf,
             thermal=None if self.thermal is None else self.thermal.settings,
-            initial_gap=self.initial_gap)
+            initial_gap=self.initial_gap, limits=self.limits)
 
     def start(self, state: WearState, extra: dict) -> float | None:
         """Bring the loop to ``state`` (a fresh or a resumed one); returns the time
@@ -369,6 +381,7 @@ class _WearLoop:
         state.step += 1
         state.dt_next = control.next_dt(dt, change, est)
         record = self.record(state, dt, p, act, rejected, solve_s, limit, mu_step, T_rot)
+        self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
         self.finish(state, record, sol, dt)
         return record
 
@@ -413,7 +426,7 @@ class _WearLoop:
     def finish(self, state: WearState, record: WearStep, sol, dt: float) -> None:
         """The contact state the next step starts from (after moving the worn faces,
         in geometry-update mode) and the displacements its start is taken from."""
-        if self.motion is not None:
+        if self.motion is not None and self.worn is None:
             self.move(state.pad_wear, state.rotor_wear, state.step)
             sol, s = self.solve(state, state.pad_wear, state.rotor_wear, sol.active)
             record.contact_solves += 1

@@ -1,0 +1,115 @@
+"""Wear limits: a run ends when a surface has worn through.
+
+The pad may wear its friction layer down to the backplate, the rotor down to
+its minimum (discard) thickness.  :class:`WearLimits` holds the largest wear
+depth of each surface and :meth:`WearLimits.check` tests every accepted wear
+step: the first node past its limit gives a
+:class:`~brakewear.errors.WornThroughError` that says which surface, when
+(the time the node reached the limit, interpolated within the step), where
+(radius and angle of the node) and how deep.  The command line exits with
+code 4, and ``summary.json`` says ``"status": "worn_through"``.
+
+Defaults: the pad's limit is the friction layer's thickness; the rotor's is
+:data:`ROTOR_LIMIT` per friction face (a rotor is discarded about 2 mm below
+its nominal thickness, worn from both faces), at most a quarter of the rotor
+thickness.  Scene keys ``wear.pad.limit`` and ``wear.rotor.limit`` set them.
+With the geometry update the pad stops :data:`GEOMETRY_MARGIN` of its layer
+short of the backplate (the moved elements of the layer would degenerate).
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import WearError, WornThroughError
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["WearLimits", "ROTOR_LIMIT"]
+
+#: Default largest wear depth of one rotor friction face (m).
+ROTOR_LIMIT = 1.0e-3
+#: Geometry update: the part of the friction layer the moved mesh cannot wear away
+#: (its elements flatten to nothing; at 1 % left their quality is below 0.02).
+GEOMETRY_MARGIN = 0.05
+
+
+@dataclass
+class WearLimits:
+    """Largest wear depths (m) of the pad's and the rotor's friction faces.
+
+    ``None`` for a surface means no limit.  Build the defaults of a model
+    with :meth:`for_model`.
+    """
+
+    pad: float | None
+    rotor: float | None
+
+    def __post_init__(self):
+        for name in ("pad", "rotor"):
+            v = getattr(self, name)
+            if v is not None and not (isinstance(v, (int, float)) and not isinstance(v, bool)
+                                      and v > 0 and not math.isnan(v)):
+                raise WearError(f"{name} wear limit = {v!r} m is not allowed; need a depth "
+                                "> 0 (m) or None")
+        self._previous = None
+
+    @classmethod
+    def for_model(cls, model, pad: float | None = None, rotor: float | None = None,
+                  update: str = "gap") -> "WearLimits":
+        """The limits of ``model`` (a BrakeModel): the given ones, else the defaults.
+
+        With ``update = "geometry"`` the pad's limit is at most
+        ``1 - GEOMETRY_MARGIN`` of the friction layer: the moved mesh flattens
+        the layer's elements, which degenerate as the layer vanishes.
+        """
+        g = model.geometry
+        pad = g.pad.friction_thickness if pad is None else pad
+        if update == "geometry":
+            pad = min(pad, (1.0 - GEOMETRY_MARGIN) * g.pad.friction_thickness)
+        return cls(pad=pad,
+                   rotor=min(ROTOR_LIMIT, 0.25 * g.rotor.thickness) if rotor is None else rotor)
+
+    def check(self, step, itf) -> WornThroughError | None:
+        """The error to raise if ``step`` (a WearStep) wore a surface past its limit.
+
+        ``itf`` is the wear loop's interface (``x``: pad friction node
+        positions; ``rotor_x``: rotor wear node positions).  Call once per
+        accepted step, in order: the previous step's depths give the time at
+        which the limit was reached.
+        """
+        prev = self._previous
+        if prev is not None and not math.isclose(prev[0], step.time - step.dt, rel_tol=1e-9):
+            prev = None                  # not the step before this one (a resumed run)
+        self._previous = (step.time, step.pad_wear, step.rotor_wear)
+        for body, depth, limit, x in (("pad", step.pad_wear, self.pad, itf.x),
+                                      ("rotor", step.rotor_wear, self.rotor,
+                                       getattr(itf, "rotor_x", None))):
+            if limit is None or depth is None or depth.size == 0 or depth.max() < limit:
+                continue
+            before = np.zeros_like(depth) if prev is None else prev[1 if body == "pad" else 2]
+            if before.shape != depth.shape:
+                before = np.zeros_like(depth)
+            over = np.nonzero(depth >= limit)[0]
+            # fraction of the step at which each node reached the limit (wear is linear
+            # in time within a step)
+            frac = np.clip((limit - before[over]) / np.maximum(depth[over] - before[over],
+                                                               1e-300), 0.0, 1.0)
+            i = over[np.argmin(frac)]
+            t = step.time - step.dt + float(frac.min()) * step.dt
+            r = theta = float("nan")
+            if x is not None:
+                r = float(np.hypot(x[0, i], x[1, i]))
+                theta = float(np.degrees(np.arctan2(x[1, i], x[0, i])))
+            what = ("pad worn through its friction layer" if body == "pad"
+                    else "rotor worn to its limit")
+            return WornThroughError(
+                f"{what} at t = {t:.6g} s (step {step.step}): node at r = {r * 1e3:.2f} mm, "
+                f"theta = {theta:.1f} deg has worn {depth[i] * 1e3:.4g} mm, limit "
+                f"{limit * 1e3:.4g} mm (wear.{body}.limit); the run ends here",
+                body=body, time=t, step=step.step, r=r, theta=theta,
+                depth=float(depth[i]), limit=float(limit))
+        return None
