@@ -225,7 +225,7 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("--quiet", action="store_true", help="no progress bar")
     b = sub.add_parser("bench", help="benchmarks (timings and errors)")
     try:
-        from .bench.core import add_bench_parser
+        from .bench import add_bench_parser
         add_bench_parser(b.add_subparsers(dest="bench", required=True))
     except ImportError:  # pragma: no cover
         pass
@@ -280,7 +280,7 @@ def main(argv: list[str] | None = None) -> int:
                       f"{f['pr_spread']:.3f}; wrote {w['out']}/")
             return 0
         if args.command == "bench":
-            from .bench.core import run_bench
+            from .bench import run_bench
             return run_bench(args)
     except _Interrupted as e:
         ck = Path(e.out) / "checkpoint.npz"

@@ -1,6 +1,19 @@
-"""Benchmarks behind ``brakewear bench``: timings and errors, on the public API."""
+"""Benchmarks behind ``brakewear bench``: timings and errors.
 
-from . import core
-from .core import *  # noqa: F403
+* :mod:`~brakewear.bench.elasticity` -- mesh, assembly, AMG setup and solve of a ring;
+* :mod:`~brakewear.bench.contact` -- contact solves (Hertz, the default brake) against
+  one elasticity solve, with the direct references of :mod:`~brakewear.bench.kkt`;
+* :mod:`~brakewear.bench.wear` -- the cost per step of a wear history;
+* :mod:`~brakewear.bench.cli` -- the command line and the fresh child processes.
+"""
 
-__all__ = [*core.__all__]
+from . import cli, common, contact, elasticity, kkt, wear
+from .cli import *  # noqa: F403
+from .common import *  # noqa: F403
+from .contact import *  # noqa: F403
+from .elasticity import *  # noqa: F403
+from .kkt import *  # noqa: F403
+from .wear import *  # noqa: F403
+
+__all__ = [*cli.__all__, *common.__all__, *contact.__all__, *elasticity.__all__, *kkt.__all__,
+           *wear.__all__]

@@ -1,6 +1,6 @@
 """``python -m brakewear.bench``: the benchmarks' command line (and their child processes)."""
 import sys
 
-from .core import main
+from .cli import main
 
 sys.exit(main())

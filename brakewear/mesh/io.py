@@ -122,34 +122,7 @@ def read_mesh(path: str | PathLike, required: Sequence[str] | None = None,
             elif c.type in ("tetra", "tetra10"):
                 j = [b for b, _ in blocks].index(i)
                 sub.setdefault(name, []).append(tet_offset[j] + idx)
-    for key, data in (mio.cell_data or {}).items():
-        if key.startswith("skfem:") or (key.startswith("gmsh:") and key != "gmsh:physical"):
-            continue
-        # integer tags of triangles (dim 2) and tetrahedra (dim 3); negative = untagged
-        found: dict[int, list] = {2: [], 3: []}
-        for i, c in enumerate(mio.cells):
-            arr = np.asarray(data[i])
-            dim = 2 if c.type == "triangle" else 3 if c.type in ("tetra", "tetra10") else 0
-            if dim and arr.ndim == 1 and np.issubdtype(arr.dtype, np.integer):
-                found[dim].append((i, c, arr))
-        for dim, items in found.items():
-            # gmsh's physical tag 0 is "in no physical group"
-            low = 1 if key == "gmsh:physical" else 0
-            tags = np.unique(np.concatenate([a[a >= low] for _, _, a in items] or [[]]))
-            for tag in tags.astype(np.int64):
-                # a named physical group; a lone tag (meshio's conversion of a
-                # cell set to cell data) takes the key's name; else "key=tag"
-                nm = names.get((dim, int(tag)),
-                               key if len(tags) == 1 and key != "gmsh:physical" else f"{key}={tag}")
-                for i, c, arr in items:
-                    sel = np.nonzero(arr == tag)[0]
-                    if sel.size == 0:
-                        continue
-                    if dim == 2:
-                        bnd.setdefault(nm, []).append(renum[c.data[sel].T])
-                    else:
-                        j = [b for b, _ in blocks].index(i)
-                        sub.setdefault(nm, []).append(tet_offset[j] + sel)
+    _tags_from_cell_data(mio, blocks, tet_offset, renum, names, bnd, sub)
     boundaries = {}
     for nm, parts in bnd.items():
         tri = np.hstack(parts)
@@ -309,3 +282,36 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
                                        cell_data=cdata))
     logger.info("wrote %s (%d nodes, %d tets)", path, nv, mesh.t.shape[1])
     return path
+
+
+def _tags_from_cell_data(mio, blocks, tet_offset, renum, names, bnd, sub) -> None:
+    """Surfaces (``bnd``) and volumes (``sub``) named by integer cell data: gmsh
+    physical groups (named through ``names``) or other integer tags (added in place)."""
+    for key, data in (mio.cell_data or {}).items():
+        if key.startswith("skfem:") or (key.startswith("gmsh:") and key != "gmsh:physical"):
+            continue
+        # integer tags of triangles (dim 2) and tetrahedra (dim 3); negative = untagged
+        found: dict[int, list] = {2: [], 3: []}
+        for i, c in enumerate(mio.cells):
+            arr = np.asarray(data[i])
+            dim = 2 if c.type == "triangle" else 3 if c.type in ("tetra", "tetra10") else 0
+            if dim and arr.ndim == 1 and np.issubdtype(arr.dtype, np.integer):
+                found[dim].append((i, c, arr))
+        for dim, items in found.items():
+            # gmsh's physical tag 0 is "in no physical group"
+            low = 1 if key == "gmsh:physical" else 0
+            tags = np.unique(np.concatenate([a[a >= low] for _, _, a in items] or [[]]))
+            for tag in tags.astype(np.int64):
+                # a named physical group; a lone tag (meshio's conversion of a
+                # cell set to cell data) takes the key's name; else "key=tag"
+                nm = names.get((dim, int(tag)),
+                               key if len(tags) == 1 and key != "gmsh:physical" else f"{key}={tag}")
+                for i, c, arr in items:
+                    sel = np.nonzero(arr == tag)[0]
+                    if sel.size == 0:
+                        continue
+                    if dim == 2:
+                        bnd.setdefault(nm, []).append(renum[c.data[sel].T])
+                    else:
+                        j = [b for b, _ in blocks].index(i)
+                        sub.setdefault(nm, []).append(tet_offset[j] + sel)

@@ -159,7 +159,8 @@ def scene_from_dict(d: Mapping[str, Any], source: str = "<dict>",
         raise SceneError(f"{source}: {exc}") from None
 
 
-def _parse(d: Any, source: str, base: Path | None) -> Scene:
+def _tables(d: Any) -> dict[str, dict]:
+    """The checked tables of a scene: no unknown table or key, none missing."""
     if not isinstance(d, Mapping):
         raise fail("<top level>", f"expected tables, got {type(d).__name__}")
     unknown = sorted(set(d) - set(_TOP))
@@ -193,7 +194,11 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
             what = "body" if t == "components" else "key"
             raise fail(f"{t}.{k}", f"missing required {what} {k!r} in [{t}]" + (
                 "; a brake scene needs a pad and a rotor" if t == "components" else ""))
+    return tables
 
+
+def _units(tables: dict) -> dict[str, str]:
+    """The [units] table, checked."""
     units = {}
     for q, choices in UNITS.items():
         u = tables["units"][q]
@@ -201,22 +206,11 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
             raise fail(f"units.{q}", f"{u!r} is not allowed; allowed units: "
                                       f"{', '.join(repr(c) for c in choices)}")
         units[q] = u
+    return units
 
-    shown: dict[str, tuple] = {}      # key -> (unit, factor, offset, value as written)
 
-    def val(t: str, k: str, default: Any = None) -> Any:
-        tab = tables.get(t, {})
-        if k not in tab:
-            return default
-        kind = _SCHEMA[t][k]
-        out = _convert(f"{t}.{k}", tab[k], kind, units)
-        if kind in UNITS:
-            u = units[kind]
-            shown[f"{t}.{k}"] = ((u, 1.0, UNITS[kind][u], tab[k]) if kind == "temperature"
-                                 else (u, UNITS[kind][u], 0.0, tab[k]))
-        return out
-
-    # geometry: inline table, name or path
+def _scene_geometry(d: Any, tables: dict, source: str, base: Path | None):
+    """The brake geometry: an inline [geometry] table, a name or a path."""
     sc = tables["scene"]
     if "geometry" in d:
         if "geometry" in sc:
@@ -237,6 +231,28 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
         except GeometryError as exc:
             raise GeometryError(f"{source}: scene.geometry = {sc['geometry']!r}: {exc}"
                                 if "geometry" in sc else f"{source}: {exc}") from None
+    return geometry
+
+
+def _parse(d: Any, source: str, base: Path | None) -> Scene:
+    tables = _tables(d)
+    units = _units(tables)
+
+    shown: dict[str, tuple] = {}      # key -> (unit, factor, offset, value as written)
+
+    def val(t: str, k: str, default: Any = None) -> Any:
+        tab = tables.get(t, {})
+        if k not in tab:
+            return default
+        kind = _SCHEMA[t][k]
+        out = _convert(f"{t}.{k}", tab[k], kind, units)
+        if kind in UNITS:
+            u = units[kind]
+            shown[f"{t}.{k}"] = ((u, 1.0, UNITS[kind][u], tab[k]) if kind == "temperature"
+                                 else (u, UNITS[kind][u], 0.0, tab[k]))
+        return out
+
+    geometry = _scene_geometry(d, tables, source, base)
 
     comps = tables["components"]
     for k in comps:

@@ -1,0 +1,153 @@
+"""The wear benchmark (``brakewear bench wear``): the cost per step of a wear history."""
+from __future__ import annotations
+
+import logging
+import os
+import time
+from typing import Sequence
+
+import numpy as np
+
+from .common import peak_rss_mb
+from .contact import brake_resolution
+
+logger = logging.getLogger(__name__)
+
+
+__all__ = ['WEAR_SIZES', 'run_wear_case', 'bench_wear', 'format_wear_table']
+
+WEAR_SIZES = (3e4, 1e5)
+
+
+def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
+                  duration: float = 3600.0, size: float | None = None) -> dict:
+    """Time a two-surface running-in of the default brake (elastic rotor).
+
+    1 MPa line pressure, 55 rad/s, ``mu = 0.4``, the pad's and the rotor's
+    Archard coefficients from their materials, the implicit scheme with
+    ``steps`` fixed steps over ``duration`` s (so the step count is exact).
+
+    Returns a dict: ``dofs``, ``steps``, ``contact_solves``, ``total_s`` (the
+    interface's assembly plus every step), ``per_step_s = total_s / steps``,
+    the shares of ``total_s`` spent in contact solves (``contact_share``: every
+    solve of the loop, including its first one before step 1, which the first
+    :class:`~brakewear.wear.WearStep` counts; ``step_solves_s`` is the
+    records' own sum), in
+    assembling the contact system (``assembly_share``: the first build and,
+    in geometry mode, every rebuild) and in moving the worn meshes with their
+    partial stiffness update (``motion_share``, 0 in gap mode);
+    ``contact_solve_s``: one plain (rigid, Lagrange) contact solve of the same
+    model from the initial gaps, timed in the same process before the run,
+    and ``step_over_contact = per_step_s / contact_solve_s`` (the faster of
+    two solves: the first pays for first-call set-up).  The ``*_cpu_s`` keys
+    are the same in process CPU time (steadier on a shared machine).
+    """
+    from ..interfaces.fe import FEInterface
+    from ..laws import WearLaw
+    from ..materials import MATERIALS
+    from ..model import BrakeModel
+    from ..motion import BrakeMotion
+    from ..wear import Numerics, wear_history
+
+    if update not in ("gap", "geometry"):
+        raise ValueError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")
+    if int(steps) != steps or steps < 1:
+        raise ValueError(f"steps = {steps!r} is not allowed; need a whole number >= 1")
+    t0 = time.perf_counter()
+    if size is None:
+        size, model = brake_resolution(target_dofs)
+    else:
+        model = BrakeModel(size=size, rotor="elastic")
+    model_s = time.perf_counter() - t0
+    g = model.geometry
+    pad_law = WearLaw(g.pad.friction_material.wear_k or MATERIALS["pad_resin"].wear_k)
+    rotor_law = WearLaw(g.rotor.material.wear_k or MATERIALS["grey_cast_iron"].wear_k)
+    spent = {"assembly": 0.0, "motion": 0.0, "contact": 0.0}
+    originals = {}
+
+    def timed(cls, name, key):
+        fn = getattr(cls, name)
+        originals[(cls, name)] = fn
+
+        def wrapper(*a, **kw):
+            t = time.perf_counter()
+            try:
+                return fn(*a, **kw)
+            finally:
+                spent[key] += time.perf_counter() - t
+        setattr(cls, name, wrapper)
+
+    try:
+        timed(FEInterface, "rebuild", "assembly")
+        timed(FEInterface, "solve", "contact")   # also the loop's first solve (no record)
+        timed(BrakeMotion, "__init__", "motion")
+        timed(BrakeMotion, "apply", "motion")
+        t0 = time.perf_counter()
+        itf = FEInterface(model, 1e6, 0.4)
+        build_s = time.perf_counter() - t0
+        # the plain solve twice: the first also pays for first-call set-up
+        walls, cpus = [], []
+        for _ in range(2):
+            t1, c1 = time.perf_counter(), time.process_time()
+            itf.solve(np.zeros(itf.area.size), None)
+            walls.append(time.perf_counter() - t1)
+            cpus.append(time.process_time() - c1)
+        contact_solve_s, contact_solve_cpu = min(walls), min(cpus)
+        spent["contact"] = 0.0
+        if update == "geometry":     # the loop builds its own interface (timed as assembly)
+            spent["assembly"] = 0.0
+        t2, c2 = time.perf_counter(), time.process_time()
+        record_s, solves, n = 0.0, 0, 0
+        for s in wear_history(model, 1e6, 55.0, duration, pad_law, rotor_law, 0.4,
+                              interface=itf if update == "gap" else None,
+                              numerics=Numerics(steps=int(steps), scheme="implicit",
+                                                update=update)):
+            record_s += s.solve_s
+            solves += s.contact_solves
+            n += 1
+        loop_s = time.perf_counter() - t2
+        loop_cpu = time.process_time() - c2
+    finally:
+        for (cls, name), fn in originals.items():
+            setattr(cls, name, fn)
+    contact_s = spent["contact"]
+    total_s = loop_s + (build_s if update == "gap" else 0.0)
+    per_step = total_s / n
+    return {"bench": "wear", "target_dofs": float(target_dofs), "size_m": float(size),
+            "dofs": int(model.dofs), "update": update, "scheme": "implicit",
+            "steps": int(n), "contact_solves": int(solves), "duration_s": float(duration),
+            "model_s": model_s, "total_s": total_s, "per_step_s": per_step,
+            "contact_s": contact_s, "step_solves_s": record_s, "assembly_s": spent["assembly"],
+            "motion_s": spent["motion"], "contact_share": contact_s / total_s,
+            "assembly_share": spent["assembly"] / total_s,
+            "motion_share": spent["motion"] / total_s,
+            "contact_solve_s": contact_solve_s, "step_over_contact": per_step / contact_solve_s,
+            "per_step_cpu_s": loop_cpu / n, "contact_solve_cpu_s": contact_solve_cpu,
+            "step_over_contact_cpu": loop_cpu / n / contact_solve_cpu,
+            "peak_rss_mb": peak_rss_mb(), "cpus": os.cpu_count()}
+
+
+def bench_wear(sizes: Sequence[float] = WEAR_SIZES, steps: int = 200, update: str = "gap",
+               duration: float = 3600.0, progress=None) -> list[dict]:
+    """:func:`run_wear_case` at each target DOF count (in this process); one dict per size."""
+    rows = []
+    for target in sizes:
+        rows.append(run_wear_case(target, steps, update, duration))
+        if progress is not None:
+            progress(rows[-1])
+    return rows
+
+
+def format_wear_table(rows: Sequence[dict]) -> str:
+    out = [f"{'dofs':>8} {'update':>8} {'steps':>5} {'total s':>8} {'s/step':>7} "
+           f"{'contact':>7} {'assembly':>8} {'motion':>6} {'solve s':>7} {'step/solve':>10}"]
+    for r in rows:
+        out.append(f"{r['dofs']:>8} {r['update']:>8} {r['steps']:>5} {r['total_s']:>8.1f} "
+                   f"{r['per_step_s']:>7.2f} {r['contact_share']:>7.2f} "
+                   f"{r['assembly_share']:>8.2f} {r['motion_share']:>6.2f} "
+                   f"{r['contact_solve_s']:>7.2f} {r['step_over_contact']:>10.2f}")
+    out.append("shares of total_s; solve s = one plain contact solve of the same model; "
+               "step/solve = per-step time / that solve")
+    return "\n".join(out)
+
+
