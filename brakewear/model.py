@@ -20,6 +20,7 @@ from os import PathLike
 import numpy as np
 import scipy.sparse as sp
 
+from .checks import check_plausible
 from .contact.lagrange import solve_contact
 from .contact.pairs import ContactPair, pair_to_rigid, pair_to_surface
 from .contact.surface import project_nodes, tie_prolongation
@@ -268,6 +269,7 @@ class BrakeModel:
     def _check_pressure(line_pressure: float) -> None:
         if not np.isfinite(line_pressure) or line_pressure <= 0:
             raise SceneError(f"line_pressure = {line_pressure!r} Pa is not allowed; need > 0")
+        check_plausible("line_pressure", float(line_pressure), "environment.line_pressure")
 
     def solve_tied(self, line_pressure: float = 1e6, tol: float = 1e-10) -> StaticResult:
         """Static solve with the pad tied to the rotor under ``line_pressure`` (Pa).
@@ -343,6 +345,7 @@ class BrakeModel:
         self._check_pressure(line_pressure)
         if not (np.isfinite(mu) and mu >= 0):
             raise SceneError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0")
+        check_plausible("mu", float(mu), "interface.mu")
         K, P, retained, col = self._reduced(tie_interface=False)
         f = self.loads(line_pressure)
         pair = self.contact_pair(mu, method, search_radius)

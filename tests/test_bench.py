@@ -27,7 +27,8 @@ def test_rows_keys_and_types(rows):
     for row in rows:
         for key, typ in KEYS.items():
             assert isinstance(row[key], typ), (key, row[key])
-        assert abs(row["total_s"] - (row["assemble_s"] + row["amg_setup_s"] + row["solve_s"])) < 1e-9
+        parts = row["assemble_s"] + row["amg_setup_s"] + row["solve_s"]
+        assert row["total_s"] == pytest.approx(parts, rel=1e-9)
         assert row["rel_residual"] <= 1e-7
         assert row["iterations"] >= 1
         assert row["peak_rss_mb"] > 10

@@ -396,3 +396,13 @@ def test_brake_model_takes_a_users_pad_mesh(tmp_path):
     assert np.abs(pa - pb).max() <= 1e-6 * np.abs(pb).max()
     with pytest.raises(SceneError, match="'piston' is not a meshed body"):
         BrakeModel(geom, size=12e-3, meshes={"piston": path})
+
+
+def test_brake_model_refuses_implausible_loads_before_solving():
+    from brakewear.model import BrakeModel
+    m = BrakeModel("default", size=12e-3)
+    with pytest.raises(SceneError, match=r"line_pressure: 1000000000000.0 Pa is implausible.*at most "
+                                         r"1e\+08 Pa"):
+        m.solve_tied(1e12)
+    with pytest.raises(SceneError, match=r"mu: 50.0 is implausible.*at most 2"):
+        m.contact_system(1e6, mu=50.0)

@@ -32,7 +32,7 @@ def test_centre_of_pressure_under_the_piston(solved):
     m, r = solved
     s = m.summary(r)
     i = s["interface"]
-    assert i["centre_of_pressure_r_m"] == pytest.approx(0.1165, abs=2e-3), i
+    assert i["centre_of_pressure_r_m"] == pytest.approx(0.1165, rel=0.017), i   # 2 mm
     assert abs(i["centre_of_pressure_theta_deg"]) < 1.0, i
     assert i["pressure_max_Pa"] > i["pressure_mean_Pa"] > 0
     assert s["solver"]["relative_residual"] < 1e-9
@@ -45,7 +45,7 @@ def test_piston_body_and_traction_agree_on_resultants():
     rb = b.solve_tied(1e6)
     assert ra.normal_force == pytest.approx(rb.normal_force, rel=1e-8)
     ca, cb = a.summary(ra)["interface"], b.summary(rb)["interface"]
-    assert ca["centre_of_pressure_r_m"] == pytest.approx(cb["centre_of_pressure_r_m"], abs=1e-3)
+    assert ca["centre_of_pressure_r_m"] == pytest.approx(cb["centre_of_pressure_r_m"], rel=0.0086)
 
 
 def test_bad_scene_input_is_refused_early():

@@ -117,4 +117,5 @@ def test_thermal_with_a_foundation_is_refused_before_solving(model):
     fd = FoundationInterface(model, WinklerInterface.from_model(model), 1e6, 0.4)
     with pytest.raises(WearError, match="thermal coupling needs an interface"):
         next(wear_history(model, 1e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=fd,
-                          thermal=ThermalModel(model, contact_conductance=1e5)))
+                          thermal=ThermalModel(model, contact_conductance=1e5),
+                          numerics=Numerics(scheme="explicit")))

@@ -76,8 +76,8 @@ def test_centre_of_pressure_fe_moves_inward_winkler_stays(res):
     during running-in (toward p r = const), the rigid-backing Winkler's stays on its load line."""
     fe = [r["cop_r_mm"] for r in res["per_time"]["fe"]]
     wk = [r["cop_r_mm"] for r in res["per_time"]["stiffness"]]
-    assert fe[-1] < fe[0] - 1.0
-    assert max(wk) - min(wk) < 0.1
+    assert fe[-1] < fe[0] * (1 - 0.0085)           # about 1 mm at r = 117 mm
+    assert max(wk) - min(wk) < 0.00085 * wk[0]      # about 0.1 mm
     assert res["settings"]["cop_at_p_r_const"]["cop_r_mm"] < fe[-1]
     for k in ("johnson", "stiffness", "pressure"):
         sp = res["speed"][k]
