@@ -1,4 +1,4 @@
-"""The fidelity ladder: the same running-in at four levels of modelling (issue 6).
+"""The fidelity ladder: the same running-in at four levels of modelling.
 
 The running-in of ``studies/speed_vs_error.py`` (default brake, 1 MPa line
 pressure, 55 rad/s, mu = 0.4, Archard pad k = 5e-15 1/Pa, rotor 5e-16 1/Pa,

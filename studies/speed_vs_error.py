@@ -1,4 +1,4 @@
-"""Run time against error for the modelling choices a user has (issue 6).
+"""Run time against error for the modelling choices a user has.
 
 The same running-in of the default brake (1 MPa line pressure, 55 rad/s,
 mu = 0.4, Archard pad k = 5e-15 1/Pa, rotor 5e-16 1/Pa, ``duration`` s) is run

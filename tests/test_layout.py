@@ -89,3 +89,20 @@ def test_setup_cfg_lists_every_subpackage():
     listed = set(cfg["options"]["packages"].split())
     packages = {".".join(p.parent.relative_to(ROOT).parts) for p in PKG.rglob("__init__.py")}
     assert packages <= listed, f"missing from setup.cfg: {sorted(packages - listed)}"
+
+
+def test_a_source_checkout_finds_the_packaged_files(monkeypatch):
+    """Without the installed ``brakewear.geometries`` (tests run from a checkout on a
+    non-editable install), geometries and scenes come from the top-level geometry/."""
+    import importlib.resources
+
+    from brakewear.geometry import files
+    from brakewear.scene import reader
+
+    def missing(name):
+        raise ModuleNotFoundError(name)
+
+    monkeypatch.setattr(importlib.resources, "files", missing)
+    assert (files.geometry_dir() / "default.toml").is_file()
+    assert pathlib.Path(files.geometry_dir()) == ROOT / "geometry"
+    assert pathlib.Path(reader.scene_dir()) == ROOT / "geometry" / "scenes"

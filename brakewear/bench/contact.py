@@ -82,7 +82,7 @@ def _faster_of_two(run):
     Contact and elasticity solves are both timed this way (the wear
     benchmark does the same): single timings on the shared machine scatter
     by 10-30 %.  The suspected first-solve penalty of a fresh process did
-    not show in the session-4 pairs (the first run was the faster in 4 of 6
+    not show in measured pairs (the first run was the faster in 4 of 6
     contact pairs), so the minimum is only a noise filter.
     """
     times, out = [], None
@@ -219,7 +219,7 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
                 "normal_force_n": float(res.info["normal_force"][0])})
     # the direct KKT solve's like-for-like: one eliminated AMG solve at the converged
     # set from nothing (its own hierarchy built at that set, FGMRES from zero, the
-    # set confirmed once) -- the issue's "98k block with a fixed contact set"
+    # set confirmed once) -- a block with a fixed contact set
     t0 = time.perf_counter()
     fixed_set = solve_contact(Kr, fr, fixed_r, coords, [pair], tol=BRAKE_TOL, linear="amg",
                               initial_active=res.active)

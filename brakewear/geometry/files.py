@@ -156,7 +156,7 @@ def geometry_dir():
     try:
         return importlib.resources.files("brakewear.geometries")
     except ModuleNotFoundError:
-        return Path(__file__).resolve().parent.parent / "geometry"
+        return Path(__file__).resolve().parents[2] / "geometry"
 
 
 def geometry_file(name: str = "default"):

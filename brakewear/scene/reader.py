@@ -83,7 +83,7 @@ def scene_dir():
     installed copy); installed: ``brakewear.geometries/scenes`` (setup.cfg
     ships them as package data).
     """
-    here = Path(__file__).resolve().parent.parent / "geometry" / "scenes"
+    here = Path(__file__).resolve().parents[2] / "geometry" / "scenes"
     if here.is_dir():
         return here
     return geometry_dir() / "scenes"
