@@ -38,6 +38,7 @@ __all__ = [
     "MeshFileError",
     "SceneError",
     "WearError",
+    "DutyError",
     "ThermalError",
     "FoundationError",
     "ConvergenceError",
@@ -93,6 +94,10 @@ class WearError(InputError):
 
 class ThermalError(InputError):
     """Invalid thermal input; the message names the body, the field and the value."""
+
+
+class DutyError(InputError):
+    """A vehicle, application or schedule that is not allowed (names the key or the CSV row)."""
 
 
 class FoundationError(InputError):

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import logging
 
 import numpy as np
@@ -83,6 +84,17 @@ class FEInterface:
         new = copy.copy(self)
         new.model = model
         new.rebuild(opening)
+        return new
+
+    def at_line_pressure(self, line_pressure: float) -> "FEInterface":
+        """This interface under another line pressure (Pa): the load scaled, the
+        assembled system, its hierarchies and the geometry shared (no assembly)."""
+        self.model._check_pressure(line_pressure)
+        scale = line_pressure / self.line_pressure
+        new = copy.copy(self)
+        new.line_pressure = line_pressure
+        new.cs = dataclasses.replace(self.cs, f=self.cs.f * scale,
+                                     clamp_force=self.cs.clamp_force * scale)
         return new
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,

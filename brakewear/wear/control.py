@@ -53,11 +53,15 @@ class StepControl:
         Length of the history (s).
     dh_limit : ndarray
         Largest wear per step at each pad node (m).
+    speed : ConstantSpeed or LinearSpeed, optional
+        The rotor's speed profile: fixed steps are equal in rotor angle
+        (:mod:`brakewear.wear.speed`).
     """
 
     numerics: Numerics
     duration: float
     dh_limit: np.ndarray
+    speed: object = None
 
     @property
     def fixed(self) -> bool:
@@ -69,7 +73,18 @@ class StepControl:
 
     def initial_dt(self) -> float | None:
         """The first step's target: equal steps, or None (the limits decide)."""
-        return self.duration / self.numerics.steps if self.fixed else None
+        return self.fixed_dt(0.0) if self.fixed else None
+
+    def fixed_dt(self, now: float) -> float:
+        """The fixed step from time ``now``: ``duration / steps``, or with a speed
+        profile the time to the next of ``steps`` equal angles."""
+        n = self.numerics.steps
+        sp = self.speed
+        if sp is None or not hasattr(sp, "omega0"):
+            return self.duration / n
+        total = sp.angle(self.duration)
+        k = round(sp.angle(now) / total * n)
+        return sp.time_at_angle(total * min(k + 1, n) / n) - now
 
     def propose(self, dt_next: float | None, remaining: float, seen_rate: np.ndarray,
                 worst: Callable[[], float]) -> tuple[float, str]:
@@ -123,13 +138,13 @@ class StepControl:
             return dt * max(0.2, 0.9 * np.sqrt(n.wear_tol / est)), "wear_tol"
         return dt * 0.5, None       # contact lost, or the dp_tol control: halve
 
-    def next_dt(self, dt: float, change: float, est: float) -> float:
+    def next_dt(self, dt: float, change: float, est: float, now: float = 0.0) -> float:
         """The next step's target: aim at 0.7 dp_tol (first-order change), never
         more than doubling; or at 0.9 wear_tol (second-order error: the square
         root of the ratio)."""
         n = self.numerics
         if self.fixed:
-            return self.duration / n.steps
+            return self.fixed_dt(now)
         if n.wear_tol is None:
             return dt * float(np.clip(0.7 * n.dp_tol / max(change, 1e-300), 0.25, 2.0))
         return dt * float(np.clip(0.9 * np.sqrt(n.wear_tol / max(est, 1e-300)),

@@ -33,6 +33,7 @@ from ..rings import rotor_wear_rate
 from .control import StepControl
 from .limits import WearLimits
 from .numerics import Numerics
+from .speed import ConstantSpeed, LinearSpeed, as_speed
 from .state import WearState, fingerprint
 
 logger = logging.getLogger(__name__)
@@ -75,14 +76,17 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                  initial_gap: np.ndarray | None = None,
                  checkpoint: str | os.PathLike | None = None, every: int = 10,
                  resume: bool = False, limits=None) -> Iterator[WearStep]:
-    """Run a wear history of the brake under constant line pressure and speed.
+    """Run a wear history of the brake under constant line pressure.
 
     Parameters
     ----------
     model
         A :class:`brakewear.model.BrakeModel` (elastic or rigid rotor).
     line_pressure, omega, duration
-        Pa, rad/s (rotor speed, > 0), s.
+        Pa; rotor speed: rad/s (> 0) or a profile
+        (:class:`~brakewear.wear.LinearSpeed` for a stop; each step runs at
+        its mean speed, so wear and heat are integrated exactly over
+        ``omega(t)``, :mod:`brakewear.wear.speed`); s.
     pad_law, rotor_law
         Wear laws of pad and rotor (``rotor_law=None``: the rotor does not wear).
     mu
@@ -127,12 +131,13 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         One record per accepted step.
     """
     numerics = Numerics() if numerics is None else numerics
+    omega = as_speed(omega)
     mu_law, mu = _check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics,
                                interface, thermal, initial_gap, checkpoint, every, resume)
     limits = WearLimits.for_model(model, update=numerics.update) if limits is None else limits
     loop = _WearLoop(model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
                      interface, thermal, initial_gap, limits)
-    control = StepControl(numerics, duration, loop.dh_limit())
+    control = StepControl(numerics, duration, loop.dh_limit(), omega)
     prints = loop.fingerprint(duration)
     n_pad, n_rot = loop.A_pad.size, loop.A_rot.size
     extra: dict = {}
@@ -160,10 +165,11 @@ def _check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics, inte
     """Every input check, before anything touches the model; returns ``(mu_law, mu)``."""
     if not isinstance(numerics, Numerics):
         raise WearError(f"numerics = {numerics!r} is not a brakewear.wear.Numerics")
-    if not (np.isfinite(omega) and omega > 0):
-        raise WearError(f"omega = {omega!r} rad/s is not allowed; need a rotor speed > 0")
     if not (np.isfinite(duration) and duration > 0):
         raise WearError(f"duration = {duration!r} s is not allowed; need > 0")
+    if isinstance(omega, LinearSpeed) and duration > omega.duration * (1 + 1e-12):
+        raise WearError(f"duration = {duration!r} s is longer than the speed profile's "
+                        f"{omega.duration!r} s")
     if resume and checkpoint is None:
         raise WearError("resume=True needs a checkpoint file")
     if resume and not os.path.exists(checkpoint):
@@ -220,7 +226,8 @@ class _WearLoop:
 
     def __init__(self, model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
                  interface, thermal, initial_gap, limits):
-        self.model, self.line_pressure, self.omega = model, line_pressure, omega
+        self.model, self.line_pressure, self.speed = model, line_pressure, omega
+        self.omega = omega.at(0.0)          # the speed of the step being taken
         self.limits, self.worn = limits, None
         self.pad_law, self.rotor_law, self.mu, self.mu_law = pad_law, rotor_law, mu, mu_law
         self.numerics, self.thermal = numerics, thermal
@@ -236,7 +243,7 @@ class _WearLoop:
             raise WearError(f"initial_gap has {np.size(initial_gap)} values; the pad has "
                             f"{self.A_pad.size} friction nodes")
         self.initial_gap = None if initial_gap is None else np.asarray(initial_gap, dtype=float)
-        self.v = omega * self.itf.r                         # sliding speed at each pad node
+        self.v = self.omega * self.itf.r                    # sliding speed at each pad node
         g = model.geometry
         self.r_mean = 0.5 * (g.pad.inner_radius + g.pad.outer_radius)
         self.applied = (np.zeros(self.A_pad.size), np.zeros(self.A_rot.size))  # in the meshes
@@ -261,7 +268,8 @@ class _WearLoop:
             itf["modulus"] = np.asarray(winkler.modulus, dtype=float)
         return fingerprint(
             geometry=geometry, rotor=self.model.rotor, piston=self.model.piston,
-            dofs=int(self.model.dofs), line_pressure=self.line_pressure, omega=self.omega,
+            dofs=int(self.model.dofs), line_pressure=self.line_pressure,
+            omega=self.speed.omega if isinstance(self.speed, ConstantSpeed) else asdict(self.speed),
             # a longer duration extends a run under automatic step control
             duration=duration if self.numerics.steps is not None else None,
             pad_law=self.pad_law, rotor_law=self.rotor_law,
@@ -295,6 +303,15 @@ class _WearLoop:
         self.load = self.thermal.thermal_load()
         if self.mu_law is not None:
             self.mu = float(np.mean(self.mu_law.mu(self.thermal.face_temperature("pad"))))
+
+    def set_speed(self, t: float, dt: float | None) -> bool:
+        """Take the next step at the mean speed over ``[t, t + dt]`` (at ``t``'s
+        speed while ``dt`` is not chosen); True if the speed changed."""
+        w = self.speed.at(t) if dt is None else self.speed.mean(t, dt)
+        if w == self.omega:
+            return False
+        self.omega, self.v = w, w * self.itf.r
+        return True
 
     def temperatures(self):
         if self.thermal is None:
@@ -342,6 +359,7 @@ class _WearLoop:
         """One accepted step from ``state`` (updated in place); its record."""
         T_pad, T_rot = self.temperatures()
         mu_step, p, act = self.mu, state.pressure, state.active
+        self.set_speed(state.time, None)
         rate_pad, q_rot, rate_rot = self.rates(p, T_pad, T_rot)
         dt, limit = control.propose(state.dt_next, control.duration - state.time,
                                     rate_pad + self.W @ rate_rot,
@@ -349,6 +367,8 @@ class _WearLoop:
         rejected, solve_s = 0, 0.0
         saved = self.thermal.state_arrays() if self.thermal is not None else None
         while True:
+            if self.set_speed(state.time, dt):
+                rate_pad, q_rot, rate_rot = self.rates(p, T_pad, T_rot)
             if self.thermal is not None:
                 self.thermal.load_state(saved)
                 self.thermal.step(self.thermal.flux(p, mu_step, self.omega), dt)
@@ -379,7 +399,7 @@ class _WearLoop:
         state.rotor_archard += float(q_rot.sum() * dt)
         state.time += dt
         state.step += 1
-        state.dt_next = control.next_dt(dt, change, est)
+        state.dt_next = control.next_dt(dt, change, est, now=state.time)
         record = self.record(state, dt, p, act, rejected, solve_s, limit, mu_step, T_rot)
         self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
         self.finish(state, record, sol, dt)
@@ -409,7 +429,7 @@ class _WearLoop:
         return 0.5 * dt * float(np.abs(d_rate).max())
 
     def record(self, state, dt, p, act, rejected, solve_s, limit, mu_step, T_rot) -> WearStep:
-        rec = WearStep(state.step, state.time, dt, self.omega * self.r_mean * state.time,
+        rec = WearStep(state.step, state.time, dt, self.speed.angle(state.time) * self.r_mean,
                        p, act, state.pad_wear.copy(), state.rotor_wear.copy(),
                        float((state.pad_wear * self.A_pad).sum()),
                        float((state.rotor_wear * self.A_rot).sum()),

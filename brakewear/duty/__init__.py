@@ -1,0 +1,16 @@
+"""Duty of a brake: the vehicle, the applications (stops, drags, dwells) and schedules.
+
+* :mod:`~brakewear.duty.vehicle` -- :class:`Vehicle`: a deceleration as the
+  brake's torque and back; the brake's torque against its line pressure;
+* :mod:`~brakewear.duty.schedule` -- :class:`Stop`, :class:`Drag`,
+  :class:`Dwell`; schedules from a table or a drive-cycle CSV;
+* :mod:`~brakewear.duty.runner` -- :func:`run_schedule`: wear, heat and
+  energy per application.
+"""
+
+from . import runner, schedule, vehicle
+from .runner import *  # noqa: F403
+from .schedule import *  # noqa: F403
+from .vehicle import *  # noqa: F403
+
+__all__ = [*vehicle.__all__, *schedule.__all__, *runner.__all__]

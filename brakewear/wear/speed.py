@@ -1,0 +1,105 @@
+"""Rotor speed over a wear history: constant (a drag) or falling linearly (a stop).
+
+The wear loop needs, for a step from ``t`` to ``t + dt``, the rotor angle
+swept, ``theta(t + dt) - theta(t)``: with a wear rate linear in the sliding
+speed (Archard, ``b = 1``) and a contact pressure that does not depend on
+the speed, the wear of a step is ``k p r`` times that angle, whatever the
+speed did within the step, and the frictional heat is ``mu p r`` times it.
+So the loop takes each step at its *mean* speed, ``Delta theta / dt``, and
+wear and heat are integrated exactly over ``omega(t)``.
+
+With fixed steps (``Numerics(steps=N)``) a profile's steps are equal in
+*angle*, not in time: a stop and a drag over the same angle then take the
+same ``N`` steps of the same sliding distance, and with isothermal Archard
+wear they wear identically (to round-off).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..errors import WearError
+
+__all__ = ["ConstantSpeed", "LinearSpeed", "as_speed"]
+
+
+@dataclass(frozen=True)
+class ConstantSpeed:
+    """A rotor turning at ``omega`` rad/s."""
+
+    omega: float
+
+    def __post_init__(self):
+        if not (math.isfinite(self.omega) and self.omega > 0):
+            raise WearError(f"omega = {self.omega!r} rad/s is not allowed; need a rotor "
+                            "speed > 0")
+
+    def at(self, t: float) -> float:
+        """Speed at time ``t`` (rad/s)."""
+        return self.omega
+
+    def angle(self, t: float) -> float:
+        """Angle turned from 0 to ``t`` (rad)."""
+        return self.omega * t
+
+    def mean(self, t: float, dt: float) -> float:
+        """Mean speed over ``[t, t + dt]`` (rad/s)."""
+        return self.omega
+
+    def time_at_angle(self, theta: float) -> float:
+        """When the rotor has turned ``theta`` (s)."""
+        return theta / self.omega
+
+
+@dataclass(frozen=True)
+class LinearSpeed:
+    """A speed falling (or rising) linearly from ``omega0`` to ``omega1`` over ``duration``.
+
+    A stop at constant deceleration: ``omega(t) = omega0 + (omega1 - omega0) t / duration``.
+    Both speeds >= 0 and not both zero.
+    """
+
+    omega0: float
+    omega1: float
+    duration: float
+
+    def __post_init__(self):
+        for name in ("omega0", "omega1"):
+            w = getattr(self, name)
+            if not (math.isfinite(w) and w >= 0):
+                raise WearError(f"{name} = {w!r} rad/s is not allowed; need a rotor speed >= 0")
+        if self.omega0 + self.omega1 <= 0:
+            raise WearError("omega0 = omega1 = 0: the rotor does not turn; need a speed > 0")
+        if not (math.isfinite(self.duration) and self.duration > 0):
+            raise WearError(f"duration = {self.duration!r} s is not allowed; need > 0")
+
+    @property
+    def _slope(self) -> float:
+        return (self.omega1 - self.omega0) / self.duration
+
+    def at(self, t: float) -> float:
+        return self.omega0 + self._slope * t
+
+    def angle(self, t: float) -> float:
+        return t * (self.omega0 + 0.5 * self._slope * t)
+
+    def mean(self, t: float, dt: float) -> float:
+        # exact for a linear speed: the speed at the middle of the step
+        return self.omega0 + self._slope * (t + 0.5 * dt)
+
+    def time_at_angle(self, theta: float) -> float:
+        a, b = 0.5 * self._slope, self.omega0
+        disc = max(b * b + 4.0 * a * theta, 0.0)
+        return 2.0 * theta / (b + math.sqrt(disc)) if b + math.sqrt(disc) > 0 else 0.0
+
+
+def as_speed(omega) -> ConstantSpeed | LinearSpeed:
+    """A speed profile from a number (rad/s) or a profile."""
+    if isinstance(omega, (ConstantSpeed, LinearSpeed)):
+        return omega
+    try:
+        w = float(omega)
+    except (TypeError, ValueError):
+        raise WearError(f"omega = {omega!r} is neither a rotor speed (rad/s) nor a speed "
+                        "profile (ConstantSpeed, LinearSpeed)") from None
+    return ConstantSpeed(w)
