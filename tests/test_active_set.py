@@ -134,6 +134,24 @@ def test_lost_contact_and_budget_raise_with_figures():
     assert driver.counts == [20]
 
 
+@pytest.mark.parametrize("options", [LAGRANGE, COMPLIANT])
+def test_a_loose_solve_cannot_declare_the_contact_lost(options):
+    """A loose solve whose margins release every node (its start guess was already
+    within the loose tolerance) is repeated tightly on the same set; only a tight
+    solve that releases everything ends in ContactLostError."""
+    def margins(active, band):
+        tight = prob.calls[-1][1] <= 1e-9
+        sign = 1.0 if tight else -1.0
+        return Margins(sign * np.ones(active.size), 0.0, -np.ones(active.size), 0.0)
+
+    prob = Scripted(margins)
+    start = np.array([True, True, False])
+    out = ActiveSetDriver(options, tol=1e-9).run(prob, start)
+    assert out.tolist() == start.tolist()
+    assert prob.calls[0][1] > 1e-9 and prob.calls[1][1] <= 1e-9      # loose, then tight
+    assert all(c[0].tolist() == start.tolist() for c in prob.calls)
+
+
 @pytest.mark.parametrize("kw", [dict(on_cycle="sometimes"), dict(loose_tol=2.0),
                                 dict(max_iter=0), dict(release_tol=-1.0)])
 def test_bad_options_are_named(kw):

@@ -262,6 +262,12 @@ class ActiveSetDriver:
                 else:
                     self._go_tight("set repeated", it, medium=True)
                 continue
+            if not new.any() and not self.tight:
+                # a loose solve (from a start guess that is already near its
+                # tolerance) cannot decide that the bodies separate: solve the
+                # same set again, tightly
+                self._go_tight("set would empty", it, medium=False)
+                continue
             new = self._rescue_empty(active, new, m, it)
             if not self.tight:
                 self._count_flips(active, new, flips, it)
