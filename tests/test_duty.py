@@ -168,3 +168,27 @@ def test_bad_drive_cycle_names_the_row(tmp_path, text, match):
     f.write_text(text)
     with pytest.raises(DutyError, match=match):
         read_schedule_csv(f)
+
+
+def test_an_implicit_step_whose_contact_set_cycles_is_retried_shorter(model):
+    """An implicit step whose active set does not settle is retried with half the
+    step (the wear changes the set less); with fixed steps the error is raised."""
+    from brakewear import ActiveSetError, FEInterface
+
+    itf = FEInterface(model, 2e6, 0.4)
+    solve, failures = itf.solve, []
+
+    def flaky(offset, active, **kw):
+        if kw.get("compliance") is not None and not failures:
+            failures.append(kw["compliance"].max())
+            raise ActiveSetError("pad-rotor: active set did not settle (scripted)")
+        return solve(offset, active, **kw)
+
+    itf.solve = flaky
+    first, *_ = wear_history(model, 2e6, 40.0, 1.0, WearLaw(K_PAD), None, 0.4, interface=itf,
+                             numerics=Numerics(scheme="implicit"))
+    assert first.rejected == 1 and len(failures) == 1
+    failures.clear()
+    with pytest.raises(ActiveSetError, match="scripted"):
+        next(wear_history(model, 2e6, 40.0, 1.0, WearLaw(K_PAD), None, 0.4, interface=itf,
+                          numerics=Numerics(scheme="implicit", steps=4)))

@@ -188,9 +188,10 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
     initial_gap
         Extra gap per pad friction node before any wear (m): coning, taper.
     on_step
-        Called as ``on_step(record, step)`` with each accepted
-        :class:`~brakewear.wear.WearStep` of a braked application (e.g. to
-        update a layered rotor's wear coefficients).
+        Called as ``on_step(record, step, pad_wear, rotor_wear)`` with each
+        accepted :class:`~brakewear.wear.WearStep` of a braked application
+        and the wear since the schedule's start (e.g. to update a
+        :class:`~brakewear.cleaning.CorrodedRotor`).
 
     Yields
     ------
@@ -266,7 +267,7 @@ def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numeri
         p_used = s.pressure_end if implicit else s.pressure
         rec.friction_face_J += brake.mu * float((p_used * A * r).sum()) * d_theta
         if on_step is not None:
-            on_step(rec, s)
+            on_step(rec, s, brake.pad_wear + s.pad_wear, brake.rotor_wear + s.rotor_wear)
         last = s
     brake.pad_wear = brake.pad_wear + last.pad_wear
     brake.rotor_wear = brake.rotor_wear + last.rotor_wear
