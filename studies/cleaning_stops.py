@@ -1,0 +1,240 @@
+"""Rotor cleaning for a stated vehicle: the lowest deceleration (and its line
+pressure) whose stops wear a corrosion layer off the whole friction band.
+
+The vehicle (default: a 1.8 t electric car, 70 % of the friction braking on
+the front axle, 0.32 m tyres, regeneration off for the cleaning stops) makes
+``stops`` stops from ``speed`` km/h to rest at one deceleration, ``interval``
+s apart.  Every stop dissipates the same energy in the front brake (the
+vehicle's kinetic energy times the brake's share), whatever the
+deceleration; the deceleration sets the line pressure (through the brake's
+torque, ``T = 2 mu p A_piston r_eff``), and the line pressure sets how much
+of the band the pad touches -- the pad and rotor start non-conformal (a
+coning of ``coning`` um across the band).
+
+Per deceleration: the cleaned fraction of the band's *area* after each stop
+(:class:`brakewear.cleaning.CorrodedRotor`; a ring counts as touched only
+where the pad presses with at least ``threshold`` MPa), the line pressure,
+the energy per face (the vehicle's demand and the model's friction work).
+The answer: the lowest deceleration of the sweep that cleans within
+``stops``, and its line pressure; the map of cleaned fraction against
+deceleration and number of stops.
+
+Model: the default brake with a rigid rotor (one face, the plane z = 0, its
+wear revolution-averaged on rings), the pad and backplate elastic, mesh
+``size`` mm; isothermal Archard wear (pad ``k`` of a resin pad, rotor
+``k_corrosion`` on the layer and ``k`` of grey cast iron beneath), implicit
+pad wear, gap-offset update (:func:`brakewear.duty.run_schedule`).
+
+Run ``python studies/cleaning_stops.py [--decels 0.5 1 2 3] [--stops 20] [--out docs]``.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import logging
+import time
+from concurrent.futures import Executor, ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from brakewear import MATERIALS, BrakeModel, FEInterface, Numerics, SolverError, Vehicle, WearLaw
+from brakewear.cleaning import CorrodedRotor, coning_gap
+from brakewear.duty import KMH, repeated_stops, run_schedule
+
+logger = logging.getLogger("cleaning_stops")
+
+DEFAULTS = dict(decels=(0.5, 1.0, 1.5, 2.0, 3.0, 4.0), stops=20, speed=50.0, interval=120.0,
+                mass=1800.0, front_share=0.7, tyre_radius=0.32, regen_share=0.0,
+                corrosion=25.0, k_corrosion=1e-12, coning=30.0, mu=0.4, threshold=0.02,
+                size=4.0, dp_tol=0.05)
+
+
+def run_decel(task: dict) -> dict:
+    """One deceleration: ``task`` holds the settings of :func:`main` and ``decel``.
+
+    A solver failure returns ``{"decel", "error"}``: the sweep reports it and
+    leaves the deceleration out of the answer.
+    """
+    try:
+        return _run_decel(task)
+    except SolverError as e:
+        logger.warning("%g m/s^2 failed: %s", task["decel"], e)
+        return {"decel": task["decel"], "error": f"{type(e).__name__}: {e}"}
+
+
+def _run_decel(task: dict) -> dict:
+    t0 = time.perf_counter()
+    model = BrakeModel("default", size=task["size"] * 1e-3, rotor="rigid")
+    g = model.geometry
+    r_in, r_out = g.pad.inner_radius, g.pad.outer_radius
+    itf = FEInterface(model, 1e6, task["mu"])
+    rotor = CorrodedRotor(itf, r_in, r_out, task["corrosion"] * 1e-6, task["k_corrosion"],
+                          MATERIALS["grey_cast_iron"].wear_k, task["threshold"] * 1e6)
+    car = Vehicle(mass=task["mass"], front_share=task["front_share"],
+                  tyre_radius=task["tyre_radius"], regen_share=task["regen_share"])
+    sched = repeated_stops(task["stops"], task["speed"] * KMH, decel=task["decel"],
+                           interval=task["interval"])
+    touched: list = []
+
+    def on_step(rec, step, pad_wear, rotor_wear):
+        rotor.update(rotor_wear)
+
+    rows = []
+    num = Numerics(scheme="implicit", max_dh=task["corrosion"] * 1e-7, dp_tol=task["dp_tol"])
+    for rec in run_schedule(model, sched, WearLaw(MATERIALS["pad_resin"].wear_k), rotor.law,
+                            task["mu"], vehicle=car, numerics=num, interface=itf,
+                            initial_gap=coning_gap(itf.r, r_in, r_out, task["coning"] * 1e-6),
+                            on_step=on_step):
+        if rec.kind != "stop":
+            continue
+        touched.append(rotor.touched_fraction(rec.pressure))
+        rows.append({"stop": len(rows) + 1, "line_pressure_MPa": rec.line_pressure / 1e6,
+                     "r_eff_mm": rec.r_eff * 1e3, "duration_s": rec.duration,
+                     "target_face_kJ": rec.target_face_J / 1e3,
+                     "friction_face_kJ": rec.friction_face_J / 1e3,
+                     "touched_fraction": touched[-1],
+                     "cleaned_fraction": rotor.cleaned_fraction(rec.rotor_wear),
+                     "pad_volume_mm3": rec.pad_volume_m3 * 1e9,
+                     "rotor_volume_mm3": rec.rotor_volume_m3 * 1e9, "steps": rec.steps})
+        if rows[-1]["cleaned_fraction"] >= 1.0:
+            break
+    clean = next((r["stop"] for r in rows if r["cleaned_fraction"] >= 1.0), None)
+    return {"decel": task["decel"], "line_pressure_MPa": rows[0]["line_pressure_MPa"],
+            "stops_to_clean": clean, "rows": rows,
+            "ring_radius_mm": (rotor.radii * 1e3).tolist(),
+            "ring_wear_um": (rotor.ring_means(rec.rotor_wear) * 1e6).tolist(),
+            "run_s": time.perf_counter() - t0}
+
+
+def _check(name, value, ok, allowed):
+    if not ok:
+        raise ValueError(f"{name} = {value!r} is not allowed; {allowed}")
+
+
+def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
+         executor: Executor | None = None, figures: bool = True, **settings) -> dict:
+    """Sweep decelerations (m/s^2); the answer and the map.  ``settings`` override
+    :data:`DEFAULTS` (speed km/h, interval s, mass kg, corrosion um,
+    k_corrosion 1/Pa, coning um, threshold MPa, size mm, ...)."""
+    unknown = set(settings) - set(DEFAULTS)
+    _check("settings", sorted(unknown), not unknown, f"allowed: {', '.join(DEFAULTS)}")
+    st = {**DEFAULTS, **settings, "decels": sorted(float(a) for a in decels), "stops": stops}
+    _check("stops", stops, isinstance(stops, int) and stops >= 1, "need a whole number >= 1")
+    Vehicle(mass=st["mass"], front_share=st["front_share"], tyre_radius=st["tyre_radius"],
+            regen_share=st["regen_share"]).check_deceleration(max(st["decels"]))
+    t0 = time.perf_counter()
+    tasks = [dict(st, decel=a) for a in st["decels"]]
+    own = executor is None
+    executor = ProcessPoolExecutor(max_workers=2) if own else executor
+    try:
+        runs = list(executor.map(run_decel, tasks))
+    finally:
+        if own:
+            executor.shutdown()
+    failed = [r for r in runs if "error" in r]
+    runs = [r for r in runs if "error" not in r]
+    lowest = next((r for r in runs if r["stops_to_clean"] is not None), None)
+    result = {"settings": st, "runs": runs, "failed_runs": failed,
+              # a failed deceleration below the answer could have cleaned: an upper bound
+              "failed_below_answer": bool(lowest is not None and any(
+                  f["decel"] < lowest["decel"] for f in failed)),
+              "lowest_cleaning_decel": None if lowest is None else lowest["decel"],
+              "its_line_pressure_MPa": None if lowest is None else lowest["line_pressure_MPa"],
+              "its_stops": None if lowest is None else lowest["stops_to_clean"],
+              "monotone": _monotone(runs), "wall_s": time.perf_counter() - t0}
+    if out is not None:
+        write_outputs(result, Path(out), figures)
+    return result
+
+
+def _monotone(runs) -> bool:
+    """Whether every deceleration above a cleaning one cleans too."""
+    ok = [r["stops_to_clean"] is not None for r in runs]
+    return all(ok[ok.index(True):]) if True in ok else True
+
+
+def cleaned_map(result: dict) -> np.ndarray:
+    """Cleaned fraction after each stop (rows) at each deceleration (columns);
+    a run that cleaned early stays at 1."""
+    n = result["settings"]["stops"]
+    M = np.ones((n, len(result["runs"])))
+    for j, r in enumerate(result["runs"]):
+        f = [row["cleaned_fraction"] for row in r["rows"]]
+        M[:len(f), j] = f
+        if r["stops_to_clean"] is None:
+            M[len(f):, j] = f[-1]
+    return M
+
+
+def write_outputs(result: dict, out: Path, figures: bool = True) -> None:
+    (out / "data").mkdir(parents=True, exist_ok=True)
+    (out / "data" / "cleaning_stops.json").write_text(json.dumps(result, indent=1))
+    with open(out / "data" / "cleaning_stops_map.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["stop"] + [f"decel_{r['decel']:g}" for r in result["runs"]])
+        for i, row in enumerate(cleaned_map(result)):
+            w.writerow([i + 1] + [f"{x:.6f}" for x in row])
+    if figures:
+        (out / "figures").mkdir(parents=True, exist_ok=True)
+        plot_map(result, out / "figures" / "cleaning_stops_map.png")
+
+
+def plot_map(result: dict, path: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    st, runs = result["settings"], result["runs"]
+    M = cleaned_map(result)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
+    x = np.arange(len(runs))
+    im = ax.imshow(M * 100, origin="lower", aspect="auto", cmap="viridis", vmin=0, vmax=100,
+                   extent=(-0.5, len(runs) - 0.5, 0.5, st["stops"] + 0.5))
+    ax.set_xticks(x, [f"{r['decel']:g}\n{r['line_pressure_MPa']:.2f} MPa" for r in runs],
+                  fontsize=8)
+    ax.set_xlabel("deceleration (m/s^2) and its line pressure")
+    ax.set_ylabel("stops")
+    ax.set_title("cleaned share of the friction band's area (%)", fontsize=10)
+    fig.colorbar(im, ax=ax)
+    for r in runs:
+        f = [row["touched_fraction"] for row in r["rows"]]
+        bx.plot(np.arange(1, len(f) + 1), np.array(f) * 100, marker=".",
+                label=f"{r['decel']:g} m/s^2")
+    bx.set_xlabel("stop")
+    bx.set_ylabel(f"band area touched at >= {st['threshold']:g} MPa (%)")
+    bx.set_ylim(0, 105)
+    bx.legend(fontsize=7)
+    fig.suptitle(f"{st['mass']:g} kg, {st['front_share']:.0%} front, {st['tyre_radius']:g} m "
+                 f"tyres; stops from {st['speed']:g} km/h; corrosion {st['corrosion']:g} um, "
+                 f"coning {st['coning']:g} um, mu {st['mu']:g}", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _cli(argv=None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--decels", type=float, nargs="+", default=list(DEFAULTS["decels"]))
+    ap.add_argument("--stops", type=int, default=DEFAULTS["stops"])
+    ap.add_argument("--out", default="docs")
+    for k in ("speed", "mass", "corrosion", "k_corrosion", "coning", "mu", "threshold", "size"):
+        ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=float, default=DEFAULTS[k])
+    a = vars(ap.parse_args(argv))
+    res = main(a.pop("decels"), a.pop("stops"), a.pop("out"), **a)
+    for r in res["runs"]:
+        last = r["rows"][-1]
+        print(f"{r['decel']:4.2f} m/s^2  {r['line_pressure_MPa']:5.2f} MPa  stops to clean "
+              f"{r['stops_to_clean']}  cleaned {last['cleaned_fraction']:.1%} after "
+              f"{last['stop']}  ({r['run_s']:.0f} s)")
+    for f in res["failed_runs"]:
+        print(f"{f['decel']:4.2f} m/s^2  failed: {f['error']}")
+    print(f"lowest cleaning deceleration: {res['lowest_cleaning_decel']} m/s^2 "
+          f"({res['its_line_pressure_MPa']} MPa, {res['its_stops']} stops); {res['wall_s']:.0f} s")
+    return res
+
+
+if __name__ == "__main__":
+    logging.basicConfig(level=logging.WARNING)
+    _cli()
