@@ -1,19 +1,15 @@
 """The cleaning criterion by area, the touch threshold, the layered rotor law,
 and the vehicle-based cleaning study on a coarse mesh."""
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
+from studyload import load_study
 
 from brakewear import FEInterface, WearError
 from brakewear.cleaning import CorrodedRotor, coning_gap
 from brakewear.model import BrakeModel
 
-spec = importlib.util.spec_from_file_location(
-    "cleaning_stops", Path(__file__).parents[1] / "studies" / "cleaning_stops.py")
-study = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(study)
+study = load_study("cleaning_stops")
 
 
 @pytest.fixture(scope="module")

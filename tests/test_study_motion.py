@@ -1,16 +1,12 @@
 """The geometry-update study on a coarse mesh: partial and full reassembly
 move the same elements, the pad's quality falls gradually with wear and no
 element inverts before the friction layer is worn through."""
-import importlib.util
 import json
-from pathlib import Path
 
 import pytest
+from studyload import load_study
 
-spec = importlib.util.spec_from_file_location(
-    "motion_quality", Path(__file__).parents[1] / "studies" / "motion_quality.py")
-study = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(study)
+study = load_study("motion_quality")
 
 
 def test_motion_study_runs_and_its_numbers_hold(tmp_path):
