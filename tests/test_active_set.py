@@ -158,3 +158,32 @@ def test_bad_options_are_named(kw):
     name = next(iter(kw))
     with pytest.raises(ValueError, match=name):
         ActiveSetOptions(**kw)
+
+
+class _Wandering:
+    """A set problem on which the primal-dual rule wanders: an active node keeps
+    its status only at random (fresh signs each solve) unless every node is
+    active, and every open node penetrates.  The conservative update (add the
+    penetrating nodes first) settles on the full set at once."""
+
+    def __init__(self, n=40, seed=3):
+        self.rng = np.random.default_rng(seed)
+        self.n = n
+
+    def solve(self, active, tol, rtol0):
+        self.full = bool(active.all())
+
+    def margins(self, active, band):
+        stay = np.ones(self.n) if self.full else self.rng.choice([-1.0, 1.0], self.n)
+        return Margins(stay, band, np.ones(self.n), band)
+
+
+def test_compliant_policy_turns_conservative_when_the_set_wanders():
+    start = np.zeros(40, dtype=bool)
+    start[:5] = True
+    driver = ActiveSetDriver(COMPLIANT, 1e-9, name="wandering")
+    assert driver.run(_Wandering(), start).all()
+    assert driver.conservative and driver.solves < COMPLIANT.max_iter
+    # without the wander rule the same problem never settles
+    with pytest.raises(ActiveSetError, match="did not settle"):
+        ActiveSetDriver(replace(COMPLIANT, wander=None), 1e-9).run(_Wandering(), start)

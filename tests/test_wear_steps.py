@@ -133,3 +133,29 @@ def test_wear_tol_gives_up_with_its_figures(small):
         list(wear_history(model, study.P_LINE, study.OMEGA, T, WearLaw(study.K_PAD), None,
                           study.MU, interface=itf,
                           numerics=Numerics(scheme="implicit", wear_tol=1e-15, max_halvings=2)))
+
+
+# --- implicit steps whose wear compliance is negligible are taken explicitly -----------
+
+def test_implicit_floor_takes_stiff_steps_explicitly(small):
+    """With implicit_floor = 1 every step of this history (8 steps, lambda dt about 0.8) is
+    below the floor and taken explicitly: the same answer as the explicit scheme,
+    to round-off; with implicit_floor = 0 the backward-Euler steps differ from it."""
+    model, itf, T = small
+    args = (model, study.P_LINE, study.OMEGA, T, WearLaw(study.K_PAD), None, study.MU)
+    explicit = list(wear_history(*args, interface=itf,
+                                 numerics=Numerics(scheme="explicit", steps=8)))
+    floored = list(wear_history(*args, interface=itf,
+                                numerics=Numerics(scheme="implicit", steps=8, implicit_floor=1.0)))
+    implicit = list(wear_history(*args, interface=itf,
+                                 numerics=Numerics(scheme="implicit", steps=8, implicit_floor=0.0)))
+    h = explicit[-1].pad_wear
+    assert all(r.explicit for r in floored) and not any(r.explicit for r in implicit)
+    assert np.abs(floored[-1].pad_wear - h).max() <= 1e-9 * h.max()
+    assert np.abs(implicit[-1].pad_wear - h).max() > 1e-3 * h.max()
+
+
+@pytest.mark.parametrize("bad", [-1e-3, 1.5, float("nan"), "0.001"])
+def test_implicit_floor_is_checked(bad):
+    with pytest.raises(WearError, match=r"numerics\.implicit_floor"):
+        Numerics(implicit_floor=bad)

@@ -81,8 +81,8 @@ class ActiveSetOptions:
         the set has nearly settled turns every later solve tight (its state
         is being decided by the solver's noise).  None: no flip rule.
     wander : float or None
-        A set that has not settled after this share of ``max_iter`` is
-        treated as cycling.  None: only exact repeats count.
+        A set that has not settled after this share of ``max_iter`` switches
+        to conservative updates (whatever ``on_cycle``).  None: never.
     on_cycle : {"conservative", "widen"}
         What a repeated set does once the solves are tight: switch to
         :func:`conservative_update` for the rest of the solve, or widen the
@@ -128,9 +128,10 @@ class ActiveSetOptions:
 LAGRANGE = ActiveSetOptions()
 
 #: compliant contact (implicit wear step): solves to 1e-4 while the set moves, the
-#: band widened to 1e-3 on a cycle under tight solves
+#: band widened to 1e-3 on a cycle under tight solves, conservative updates once the
+#: set has wandered for a third of the budget
 COMPLIANT = ActiveSetOptions(loose_tol=1e-4, inexact=None, medium_tol=None, flip_limit=None,
-                             wander=None, on_cycle="widen", keep_on_empty=None)
+                             on_cycle="widen", keep_on_empty=None)
 
 #: exact (direct) solves: no tolerance schedule, conservative updates on a cycle
 EXACT = ActiveSetOptions(loose_tol=None, inexact=None, medium_tol=None, flip_limit=None)
@@ -315,10 +316,12 @@ class ActiveSetDriver:
         """Cycle handling: returns ``(next set, seen sets, accept the current set)``."""
         o = self.options
         key = np.packbits(new).tobytes()
-        if o.on_cycle == "conservative":
-            # a set that repeats cycles; one that wanders for a share of the budget
-            # without repeating exactly (edge nodes flipping in turn) is treated alike
-            wandering = o.wander is not None and it >= int(o.max_iter * o.wander)
+        # a set that wanders for a share of the budget without repeating exactly
+        # (edge nodes flipping in turn, or the primal-dual rule overshooting on an
+        # unsymmetric operator) turns conservative under either policy
+        wandering = o.wander is not None and it >= int(o.max_iter * o.wander)
+        if o.on_cycle == "conservative" or (wandering and not self.conservative):
+            # under the conservative policy a set that repeats cycles as well
             if (key in seen or wandering) and not self.conservative:
                 logger.info("%s: active set %s after %d iterations; switching to "
                             "conservative updates", self.name,

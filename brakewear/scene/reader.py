@@ -55,7 +55,8 @@ _SCHEMA: dict[str, dict[str, str]] = {
                 "contact_conductance": "num", "mass": "str"},
     "numerics": {"scheme": "str", "update": "str", "steps": "int", "dp_tol": "num",
                  "dh_fraction": "num", "max_dh": "length", "wear_tol": "length",
-                 "stability": "num", "tol": "num", "max_halvings": "int",
+                 "stability": "num", "implicit_floor": "num", "tol": "num",
+                 "max_halvings": "int",
                  "memory_budget": "num"},
     "output": {"vtu_every": "int", "checkpoint_every": "int", "figures": "bool"},
 }

@@ -29,7 +29,9 @@ class Numerics:
         the step, solved as contact through the step's wear compliance,
         :mod:`brakewear.contact.compliant`; unconditionally stable; needs a pad
         law with a = 1) or ``"explicit"`` (Euler: the pressure at the start).
-        The rotor's ring-averaged wear is explicit in both.
+        The rotor's ring-averaged wear is explicit in both.  An implicit
+        step whose wear compliance is below ``implicit_floor`` is taken
+        explicitly.
     update : {"gap", "geometry"}
         ``"gap"`` (the worn depths offset the contact gap; meshes stay) or
         ``"geometry"`` (after every accepted step both worn faces move and the
@@ -52,6 +54,15 @@ class Numerics:
         Explicit scheme: fraction of the monotone explicit-Euler bound on the
         step (1 keeps every mode from overshooting, 2 is the stability limit;
         None switches it off).
+    implicit_floor : float
+        The implicit scheme takes a step explicitly when the pad's wear
+        compliance over it (``dt k v``) is below this fraction of the
+        contact's elastic compliance at every node (``lambda dt`` below it:
+        the explicit step is then far inside its stability bound, and the
+        two schemes differ by less than this fraction of the step's pressure
+        change).  The compliant solve of such a step is a penalty method with
+        a penalty ``1 / implicit_floor`` or more times the elastic stiffness:
+        ill-conditioned, and its active set can wander.  0: never.
     tol : float
         Relative residual of the contact solves.
     max_halvings : int
@@ -76,6 +87,7 @@ class Numerics:
     max_dh: float | None = None
     wear_tol: float | None = None
     stability: float | None = 1.0
+    implicit_floor: float = 1e-3
     tol: float = 1e-9
     max_halvings: int = 12
     memory_budget: float | None = None
@@ -95,6 +107,7 @@ class Numerics:
         check_number("numerics.max_dh", self.max_dh, 0.0, unit="m", allow_none=True)
         check_number("numerics.wear_tol", self.wear_tol, 0.0, unit="m", allow_none=True)
         check_number("numerics.stability", self.stability, 0.0, 2.0, allow_none=True)
+        check_number("numerics.implicit_floor", self.implicit_floor, 0.0, 1.0, lo_open=False)
         check_number("numerics.tol", self.tol, 0.0, 1e-3)
         check_int("numerics.max_halvings", self.max_halvings, 0)
         check_number("numerics.memory_budget", self.memory_budget, 0.0, unit="GB",

@@ -68,6 +68,7 @@ class WearStep:
     heat_balance_error: float = float("nan")     # |heat in - friction power| / power, this step
     pressure_end: np.ndarray | None = None       # Pa, at the end of the step (= next start)
     active_end: np.ndarray | None = None
+    explicit: bool = False      # the implicit scheme took this step explicitly (implicit_floor)
 
 
 def wear_history(model, line_pressure: float, omega: float, duration: float,
@@ -249,6 +250,7 @@ class _WearLoop:
         self.applied = (np.zeros(self.A_pad.size), np.zeros(self.A_rot.size))  # in the meshes
         self.load = None     # thermal-strain load of the current temperatures
         self.last_u = None   # displacement of the latest solve (if any)
+        self.took_explicit = False   # the last trial step was explicit
 
     def dh_limit(self) -> np.ndarray:
         """Largest wear per step at each pad node (m)."""
@@ -409,6 +411,7 @@ class _WearLoop:
         state.step += 1
         state.dt_next = control.next_dt(dt, change, est, now=state.time)
         record = self.record(state, dt, p, act, rejected, solve_s, limit, mu_step, T_rot)
+        record.explicit = self.took_explicit
         self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
         self.finish(state, record, sol, dt)
         return record
@@ -417,12 +420,20 @@ class _WearLoop:
         """The contact solve of a trial step: ``(solution, pad wear, rotor wear,
         pressure the pad wore with, seconds)``."""
         rot_w = state.rotor_wear + rate_rot * dt
-        if self.numerics.scheme == "explicit":
+        eps = None
+        if self.numerics.scheme == "implicit":
+            eps = dt * self.pad_law.rate(1.0, self.v, T_pad)
+            if float((eps * self.itf.normal_stiffness / self.A_pad).max()) \
+                    < self.numerics.implicit_floor:
+                # the wear compliance is negligible beside the elastic one: the
+                # explicit step is as accurate and its contact solve well-posed
+                eps = None
+        self.took_explicit = eps is None
+        if eps is None:
             pad_w = state.pad_wear + rate_pad * dt
             sol, s = self.solve(state, pad_w, rot_w, act)
             return sol, pad_w, rot_w, state.pressure, s
         # backward Euler: the pad wears with the end-of-step pressure
-        eps = dt * self.pad_law.rate(1.0, self.v, T_pad)
         sol, s = self.solve(state, state.pad_wear, rot_w, act, eps, dt)
         return sol, state.pad_wear + eps * sol.pressure, rot_w, sol.pressure, s
 
