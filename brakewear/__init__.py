@@ -38,6 +38,7 @@ from .errors import (
     SceneError,
     SolverError,
     StepSizeError,
+    TemperatureLimitError,
     ThermalError,
     WearError,
     WornThroughError,
@@ -75,7 +76,7 @@ __all__ = [
     "GeometryError", "MaterialError", "MeshFileError", "SceneError", "WearError", "DutyError",
     "ThermalError", "FoundationError", "ConvergenceError", "ActiveSetError",
     "ContactLostError", "ContactSearchError", "StepSizeError", "MeshQualityError",
-    "FoundationSolveError", "WornThroughError",
+    "TemperatureLimitError", "FoundationSolveError", "WornThroughError",
     *_LAZY,
 ]
 

@@ -10,7 +10,8 @@ branches that the command line maps to its exit codes:
   written.
 * :class:`SolverError` (a ``RuntimeError``, exit code 3): a computation
   that did not succeed (a linear solve that did not converge, an active set
-  that cycles, no acceptable wear step, a degenerate element).  The message
+  that cycles, no acceptable wear step, a degenerate element, a face hotter
+  than the thermal plausibility bound).  The message
   gives the figures a user needs to act; nothing returns a wrong answer
   quietly.
 * :class:`WornThroughError` (exit code 4): not a failure but the end of the
@@ -46,6 +47,7 @@ __all__ = [
     "ContactLostError",
     "ContactSearchError",
     "StepSizeError",
+    "TemperatureLimitError",
     "MeshQualityError",
     "FoundationSolveError",
     "WornThroughError",
@@ -142,6 +144,19 @@ class MeshQualityError(SolverError):
         super().__init__(message)
         self.step, self.body, self.element = step, body, element
         self.quality, self.min_quality = quality, min_quality
+
+
+class TemperatureLimitError(SolverError):
+    """A face temperature passed the plausibility bound ``T_max`` of a thermal run:
+    the answer would be physically absurd (the message names the face, the
+    temperature, the step and the likely causes).  Attributes ``body``,
+    ``temperature`` and ``T_max`` (K), ``step`` and ``time`` (s)."""
+
+    def __init__(self, message: str, *, body: str = "", temperature: float = float("nan"),
+                 T_max: float = float("nan"), step: int = -1, time: float = float("nan")):
+        super().__init__(message)
+        self.body, self.temperature, self.T_max = body, temperature, T_max
+        self.step, self.time = step, time
 
 
 class FoundationSolveError(SolverError):

@@ -324,13 +324,18 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                                               rotor=scene.interface.winkler_rotor)
         kw["interface"] = FoundationInterface(model, winkler, scene.line_pressure,
                                               scene.interface.mu)
+    if scene.interface.coning or scene.interface.pad_taper:
+        if "interface" not in kw:
+            kw["interface"] = FEInterface(model, scene.line_pressure, scene.interface.mu, n.tol)
+        kw["initial_gap"] = scene.initial_gap(kw["interface"].r)
     if scene.thermal.enabled:
         from .thermal.model import ThermalModel
         t = scene.thermal
         kw["thermal"] = ThermalModel(model, partition=t.partition, h_conv=t.h_conv,
                                      T_ambient=scene.ambient, T_ref=t.T_ref, mass=t.mass,
                                      T_initial=t.T_initial,
-                                     contact_conductance=t.contact_conductance)
+                                     contact_conductance=t.contact_conductance,
+                                     T_max=t.T_max)
     out.mkdir(parents=True, exist_ok=True)
     rec_path.write_text(json.dumps(record, indent=2))
     worn = None

@@ -4,6 +4,7 @@ import copy
 import math
 import sys
 
+import numpy as np
 import pytest
 
 import brakewear.model as scene_mod
@@ -167,6 +168,10 @@ BAD = {
                                                 d["numerics"].update(update="geometry")),
                                      "numerics.update", "interface.model = 'fe'"),
     "two geometries": (lambda d: d.update(geometry={}), "scene.geometry", "given twice"),
+    "coning too large": (lambda d: d["interface"].update(coning=-2.5), "interface.coning",
+                         "-2.5 mm is not allowed; it must be >= -1 mm"),
+    "coning as text": (lambda d: d["interface"].update(pad_taper="30 um"),
+                       "interface.pad_taper", "expected a number"),
 }
 
 
@@ -264,3 +269,63 @@ def test_wear_tol_is_a_length_passed_to_the_loop(tmp_path, monkeypatch):
     with pytest.raises(RuntimeError, match="stop"):
         run_scene(small, tmp_path / "w")
     assert seen["numerics"].wear_tol == 2e-6
+
+
+def test_coning_and_taper_give_the_loops_initial_gap(tmp_path, monkeypatch):
+    """interface.coning and interface.pad_taper are signed lengths in the file's unit;
+    they add into one gap, linear in radius across the pad, that reaches the wear
+    loop as its initial_gap (zero at the touching edge)."""
+    from brakewear.cleaning import coning_gap
+    d = _default_dict()
+    d["interface"].update(coning=0.030, pad_taper=-0.010)          # mm
+    s = scene_from_dict(d)
+    assert (s.interface.coning, s.interface.pad_taper) == pytest.approx((30e-6, -10e-6))
+    assert load_scene("default").initial_gap(np.array([0.1])) is None
+    pad = s.geometry.pad
+    r = np.linspace(pad.inner_radius, pad.outer_radius, 5)
+    assert s.initial_gap(r) == pytest.approx(np.linspace(0.0, 20e-6, 5), abs=1e-18)
+    import brakewear.output as history
+    seen = {}
+
+    def fake_run_wear(*args, **kw):
+        seen.update(kw)
+        raise RuntimeError("stop")
+    monkeypatch.setattr(history, "run_wear", fake_run_wear)
+    small = Scene(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0, interface=s.interface,
+                  output=OutputSpec(figures=False))
+    with pytest.raises(RuntimeError, match="stop"):
+        run_scene(small, tmp_path / "w")
+    itf = seen["interface"]
+    assert seen["initial_gap"] == pytest.approx(
+        coning_gap(itf.r, pad.inner_radius, pad.outer_radius, 20e-6), abs=1e-18)
+    assert seen["initial_gap"].max() == pytest.approx(20e-6 * (itf.r.max() - pad.inner_radius)
+                                                      / (pad.outer_radius - pad.inner_radius))
+
+
+def test_a_face_beyond_T_max_ends_the_run_with_its_figures(tmp_path):
+    """thermal.T_max (in the file's temperature unit) bounds the face temperatures:
+    a run whose pad face passes it fails with TemperatureLimitError naming the face,
+    the step and the bound.  With the default bound (900 C) the scene's default heat
+    partition (no contact conductance: the pad face keeps its share of the heat)
+    is refused too, and a contact conductance of 1e5 W/m^2 K runs."""
+    from brakewear.errors import TemperatureLimitError
+    d = _default_dict()
+    d["thermal"].update(enabled=True, T_max=25.0)              # C in the default scene
+    assert scene_from_dict(d).thermal.T_max == pytest.approx(298.15)
+    s = load_scene("default")
+    small = dict(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0,
+                 numerics=Numerics(steps=2), output=OutputSpec(figures=False),
+                 interface=InterfaceSpec(mu=0.4))
+    with pytest.raises(TemperatureLimitError, match=r"step 1 \(t = 10 s\): the pad face "
+                                                    r"reached \d+ C, beyond the plausibility "
+                                                    r"bound T_max = 25 C") as e:
+        run_scene(Scene(**small, thermal=ThermalSpec(enabled=True, T_max=298.15)),
+                  tmp_path / "hot")
+    assert e.value.temperature > e.value.T_max == pytest.approx(298.15)
+    assert e.value.exit_code == 3
+    with pytest.raises(TemperatureLimitError, match=r"the pad face reached \d+ C, beyond .* "
+                                                    r"T_max = 900 C .*contact_conductance 0"):
+        run_scene(Scene(**small, thermal=ThermalSpec(enabled=True)), tmp_path / "default")
+    ok = run_scene(Scene(**small, thermal=ThermalSpec(enabled=True, contact_conductance=1e5)),
+                   tmp_path / "ok")
+    assert ok["steps"] == 2

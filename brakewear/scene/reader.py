@@ -45,14 +45,15 @@ _SCHEMA: dict[str, dict[str, str]] = {
     "environment": {"line_pressure": "pressure", "omega": "angular_speed", "duration": "time",
                     "ambient": "temperature"},
     "interface": {"model": "str", "surfaces": "surfaces", "mu": "num", "method": "str",
-                  "winkler_modulus": "num", "winkler_rotor": "str"},
+                  "winkler_modulus": "num", "winkler_rotor": "str",
+                  "coning": "signed_length", "pad_taper": "signed_length"},
     "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
                  "activation_energy": "num", "limit": "length"},
     "wear.rotor": {"enabled": "bool", "k": "k", "a": "num", "b": "num",
                    "T_threshold": "temperature", "activation_energy": "num", "limit": "length"},
     "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
                 "T_initial": "temperature", "T_ref": "temperature",
-                "contact_conductance": "num", "mass": "str"},
+                "contact_conductance": "num", "mass": "str", "T_max": "temperature"},
     "numerics": {"scheme": "str", "update": "str", "steps": "int", "dp_tol": "num",
                  "dh_fraction": "num", "max_dh": "length", "wear_tol": "length",
                  "stability": "num", "implicit_floor": "num", "tol": "num",
@@ -247,6 +248,8 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
             return default
         kind = _SCHEMA[t][k]
         out = _convert(f"{t}.{k}", tab[k], kind, units)
+        if kind == "signed_length":
+            kind = "length"
         if kind in UNITS:
             u = units[kind]
             shown[f"{t}.{k}"] = ((u, 1.0, UNITS[kind][u], tab[k]) if kind == "temperature"
@@ -266,7 +269,6 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
     ikw = {k: val("interface", k) for k in iface}
     if "surfaces" in ikw:
         ikw["surfaces"] = tuple(ikw["surfaces"])
-    interface = InterfaceSpec(**ikw)
 
     def wear_spec(b: str) -> WearSpec | None:
         t = f"wear.{b}"
@@ -279,6 +281,7 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
         return WearSpec(**{k: val(t, k) for k in tab})
 
     with user_units(shown):
+        interface = InterfaceSpec(**ikw)
         thermal = ThermalSpec(**{k: val("thermal", k) for k in tables.get("thermal", {})})
         numerics = Numerics(**{k: val("numerics", k) for k in tables.get("numerics", {})})
         output = OutputSpec(**{k: val("output", k) for k in tables.get("output", {})})
@@ -346,6 +349,8 @@ def _convert(key: str, v: Any, kind: str, units: Mapping[str, str]) -> Any:
             raise fail(key, f"{v!r} is not allowed; expected a list of two strings "
                              "\"body.surface\"")
         return v
+    if kind == "signed_length":        # a length of either sign (a gap's direction)
+        return number() * UNITS["length"][units["length"]]
     if kind in UNITS:
         x = number()
         u = units[kind]

@@ -58,6 +58,9 @@ SURFACES: dict[str, tuple[str, ...]] = {
 }
 
 
+#: Largest rotor coning or pad taper a scene accepts (m, either sign).
+MAX_NONCONFORMITY = 1e-3
+
 # the one sliding interface the wear loop integrates
 _WEAR_INTERFACE = ("pad.friction", "rotor.friction")
 
@@ -82,6 +85,11 @@ class InterfaceSpec:
         friction layer (Winkler only).
     winkler_rotor
         ``"rigid"`` or ``"foundation"`` (rotor half thickness in series; Winkler only).
+    coning, pad_taper
+        The initial non-conformity (m): a rotor coning and a radial pad taper,
+        each the gap it opens across the pad's radial extent, linear in radius;
+        positive opens it at the outer radius, negative at the inner.  They add
+        into one initial gap (:meth:`Scene.initial_gap`).
     """
 
     model: str = "fe"
@@ -90,6 +98,8 @@ class InterfaceSpec:
     method: str = "segment"
     winkler_modulus: float | None = None
     winkler_rotor: str = "rigid"
+    coning: float = 0.0
+    pad_taper: float = 0.0
 
     def __post_init__(self):
         check_choice("interface.model", self.model, ("fe", "winkler"))
@@ -105,6 +115,10 @@ class InterfaceSpec:
         check_number("interface.winkler_modulus", self.winkler_modulus, 0.0, unit="Pa/m",
                       allow_none=True)
         check_choice("interface.winkler_rotor", self.winkler_rotor, ("rigid", "foundation"))
+        for key in ("coning", "pad_taper"):
+            # tens of um in service; a millimetre is a pad that bears on one edge
+            check_number(f"interface.{key}", getattr(self, key), -MAX_NONCONFORMITY,
+                         MAX_NONCONFORMITY, lo_open=False, unit="m")
 
 
 @dataclass(frozen=True)
@@ -155,7 +169,8 @@ class WearSpec:
 class ThermalSpec:
     """Thermal coupling (:class:`brakewear.thermal.ThermalModel` arguments, SI).
 
-    ``T_ambient`` is the scene's ``environment.ambient``.
+    ``T_ambient`` is the scene's ``environment.ambient``; ``T_max`` (K) the
+    plausibility bound of face temperatures (None: 900 C).
     """
 
     enabled: bool = False
@@ -165,6 +180,7 @@ class ThermalSpec:
     T_ref: float | None = None
     contact_conductance: float = 0.0
     mass: str = "consistent"
+    T_max: float | None = None
 
     def __post_init__(self):
         check_bool("thermal.enabled", self.enabled)
@@ -188,6 +204,7 @@ class ThermalSpec:
         check_number("thermal.contact_conductance", self.contact_conductance, 0.0,
                       lo_open=False, unit="W/m^2 K")
         check_choice("thermal.mass", self.mass, ("consistent", "lumped"))
+        check_number("thermal.T_max", self.T_max, 0.0, unit="K", allow_none=True)
 
 
 @dataclass(frozen=True)
@@ -370,6 +387,16 @@ class Scene:
         return BrakeModel(self.geometry, piston=self.piston, size=self.mesh_size,
                           order=self.order, rotor=self.rotor, meshes=dict(self.mesh_files),
                           memory_budget=self.numerics.memory_budget)
+
+    def initial_gap(self, r):
+        """The initial gap (m) at pad friction nodes of radii ``r`` (m) from the
+        interface's coning and pad taper; None if both are zero."""
+        total = self.interface.coning + self.interface.pad_taper
+        if total == 0.0:
+            return None
+        from ..cleaning import coning_gap
+        pad = self.geometry.pad
+        return coning_gap(r, pad.inner_radius, pad.outer_radius, total)
 
     def wear_laws(self):
         """(pad law, rotor law or None)."""

@@ -29,7 +29,10 @@ from .strain import thermal_load_matrix, thermal_stress
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["ThermalModel"]
+__all__ = ["ThermalModel", "T_MAX_DEFAULT"]
+
+#: Default plausibility bound of face temperatures (K): 900 C.
+T_MAX_DEFAULT = 1173.15
 
 
 class ThermalModel:
@@ -73,6 +76,14 @@ class ThermalModel:
         so a large ``h_c`` drives the pad face toward the rotor's ring
         temperature and the effective partition follows.  Needs an elastic
         (meshed) rotor.
+    T_max
+        Plausibility bound of the face temperatures (K, default
+        :data:`T_MAX_DEFAULT`, 900 C): a wear step that leaves a pad or
+        rotor face hotter ends the run with
+        :class:`~brakewear.errors.TemperatureLimitError` (a resin-bound pad
+        decomposes from about 350 C and fades far below this; a hotter face
+        means a heat partition or a duty the model does not describe).
+        None: the default.
     """
 
     PAD_FACETS = ("back", "leading", "trailing", "inner", "outer")
@@ -83,7 +94,7 @@ class ThermalModel:
                  T_ambient: float = T_AMBIENT_DEFAULT, T_ref: float | None = None,
                  convection_facets: Mapping[str, Sequence[str]] | None = None,
                  mass: str = "consistent", T_initial: float | None = None,
-                 contact_conductance: float = 0.0):
+                 contact_conductance: float = 0.0, T_max: float | None = None):
         self.model = model
         #: the constructor's settings, as given (a run's checkpoint fingerprints them)
         self.settings = {"partition": partition, "h_conv": h_conv, "T_ambient": T_ambient,
@@ -117,6 +128,13 @@ class ThermalModel:
             raise ThermalError("contact_conductance > 0 needs an elastic (meshed) rotor; this "
                                f"model's rotor is {model.rotor!r}")
         self.contact_conductance = float(h_c)
+        T_max = T_MAX_DEFAULT if T_max is None else T_max
+        if not (isinstance(T_max, (int, float, np.floating)) and not isinstance(T_max, bool)
+                and np.isfinite(T_max) and T_max > 0):
+            raise ThermalError(f"T_max = {T_max!r} K is not allowed; need a temperature > 0 K")
+        #: plausibility bound of face temperatures (K); not fingerprinted: it changes no
+        #: result, only where a run stops
+        self.T_max = float(T_max)
         facets = {"pad": self.PAD_FACETS, "rotor": self.ROTOR_FACETS}
         facets.update(dict(convection_facets or {}))
         self.T_ambient = float(T_ambient)

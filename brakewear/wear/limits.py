@@ -1,4 +1,5 @@
-"""Wear limits: a run ends when a surface has worn through.
+"""Wear limits: a run ends when a surface has worn through (or, in a thermal
+run, when a face passes its plausibility bound: :func:`check_temperature`).
 
 The pad may wear its friction layer down to the backplate, the rotor down to
 its minimum (discard) thickness.  :class:`WearLimits` holds the largest wear
@@ -24,11 +25,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import WearError, WornThroughError
+from ..errors import TemperatureLimitError, WearError, WornThroughError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearLimits", "ROTOR_LIMIT"]
+__all__ = ["WearLimits", "ROTOR_LIMIT", "check_temperature"]
 
 #: Default largest wear depth of one rotor friction face (m).
 ROTOR_LIMIT = 1.0e-3
@@ -113,3 +114,24 @@ class WearLimits:
                 body=body, time=t, step=step.step, r=r, theta=theta,
                 depth=float(depth[i]), limit=float(limit))
         return None
+
+
+def check_temperature(step, thermal) -> None:
+    """Raise :class:`~brakewear.errors.TemperatureLimitError` if ``step`` (a WearStep
+    of a thermal run) left a face hotter than ``thermal.T_max``."""
+    for body, T in (("pad", step.pad_temperature_max), ("rotor", step.rotor_temperature_max)):
+        if not (np.isfinite(T) and T > thermal.T_max):
+            continue
+        backflow = (", contact_conductance 0 with a meshed rotor: no heat flows back to the "
+                    "rotor" if thermal.contact_conductance == 0 and "rotor" in thermal.bodies
+                    else "")
+        raise TemperatureLimitError(
+            f"step {step.step} (t = {step.time:.6g} s): the {body} face reached "
+            f"{T - 273.15:.0f} C, beyond the plausibility bound T_max = "
+            f"{thermal.T_max - 273.15:.0f} C (thermal.T_max). Likely causes: the heat "
+            f"partition (pad share {float(np.mean(thermal.partition)):.3g}{backflow}), a duty "
+            "beyond the brake's thermal capacity (line pressure x speed x duration), or a "
+            "contact concentrated on a few nodes; raise thermal.T_max only if such "
+            "temperatures are meant",
+            body=body, temperature=float(T), T_max=thermal.T_max, step=step.step,
+            time=step.time)

@@ -31,7 +31,7 @@ from ..interfaces.fe import FEInterface
 from ..laws import WearLaw
 from ..rings import rotor_wear_rate
 from .control import StepControl
-from .limits import WearLimits
+from .limits import WearLimits, check_temperature
 from .numerics import Numerics
 from .speed import ConstantSpeed, LinearSpeed, as_speed
 from .state import WearState, fingerprint
@@ -413,6 +413,8 @@ class _WearLoop:
         record = self.record(state, dt, p, act, rejected, solve_s, limit, mu_step, T_rot)
         record.explicit = self.took_explicit
         self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
+        if self.thermal is not None:
+            check_temperature(record, self.thermal)     # a TemperatureLimitError
         self.finish(state, record, sol, dt)
         return record
 
