@@ -24,6 +24,7 @@ __all__ = [
     "plot_named_surfaces",
     "plot_field",
     "label_log_axis",
+    "offscreen_pyvista",
 ]
 
 
@@ -53,7 +54,8 @@ def _quiet_vtk():
         vtkObject.SetGlobalWarningDisplay(shown)
 
 
-def _pv():
+def offscreen_pyvista():
+    """pyvista, set to render off-screen (imported on first use: an optional cost)."""
     import pyvista as pv
 
     pv.OFF_SCREEN = True
@@ -74,7 +76,7 @@ def skfem_to_pyvista(mesh: fem.Mesh, point_data: Mapping[str, np.ndarray] | None
     -------
     pyvista.UnstructuredGrid
     """
-    pv = _pv()
+    pv = offscreen_pyvista()
     nv = int(mesh.t.max()) + 1
     t = mesh.t
     cells = np.vstack([np.full(t.shape[1], t.shape[0]), t]).T.ravel()
@@ -87,7 +89,7 @@ def skfem_to_pyvista(mesh: fem.Mesh, point_data: Mapping[str, np.ndarray] | None
 
 def facets_to_pyvista(mesh: fem.Mesh, facets: np.ndarray, shift: Sequence[float] = (0, 0, 0)):
     """A pyvista ``PolyData`` of the triangular facets ``facets`` of ``mesh``."""
-    pv = _pv()
+    pv = offscreen_pyvista()
     f = mesh.facets[:, np.asarray(facets, dtype=np.int64)]
     used, inv = np.unique(f, return_inverse=True)
     pts = mesh.p[:, used].T + np.asarray(shift, dtype=float)
@@ -151,7 +153,7 @@ def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
     pathlib.Path
         The PNG written.
     """
-    pv = _pv()
+    pv = offscreen_pyvista()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     explode = dict(_DEFAULT_SHIFT if explode is None else explode)
@@ -254,7 +256,7 @@ def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: 
     pathlib.Path
         The PNG written.
     """
-    pv = _pv()
+    pv = offscreen_pyvista()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     nv = int(mesh.t.max()) + 1

@@ -163,9 +163,9 @@ def plot_half_space(rows: list[dict], path: Path) -> None:
 def plot_drag(model: BrakeModel, th: ThermalModel, path: Path) -> None:
     """Rotor and pad surface temperatures after the drag, each on its own scale,
     both seen from the pad's side (+z), the pad's friction face from below."""
-    from brakewear.figures import _pv, facets_to_pyvista
+    from brakewear.figures import facets_to_pyvista, offscreen_pyvista
 
-    pv = _pv()
+    pv = offscreen_pyvista()
     pl = pv.Plotter(off_screen=True, window_size=[1400, 760], shape=(1, 2))
     for i, (body, title) in enumerate((("rotor", "rotor friction face (inboard half)"),
                                        ("pad", "pad friction face, seen from the rotor"))):

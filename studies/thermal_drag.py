@@ -208,9 +208,9 @@ def plot_temperatures(model, th, duration, fig_dir: Path) -> list[Path]:
 
 def plot_pressure(model, panels, path: Path) -> Path:
     """Pad friction-face pressure maps side by side, one colour scale, seen from the rotor."""
-    from brakewear.figures import _pv, facets_to_pyvista
+    from brakewear.figures import facets_to_pyvista, offscreen_pyvista
 
-    pv = _pv()
+    pv = offscreen_pyvista()
     pad = model.meshes["pad"]
     nodes = surface_nodes(pad, "friction")
     facets = pad.boundaries["friction"]

@@ -30,7 +30,7 @@ def kkt_system(K, f, fixed, fixed_values, pair, active):
     """
     import scipy.sparse as sp
 
-    from ..contact.elimination import _friction_operators
+    from ..contact.elimination import friction_operators
 
     N = K.shape[0]
     idx = np.flatnonzero(active)
@@ -51,7 +51,7 @@ def kkt_system(K, f, fixed, fixed_values, pair, active):
                       shape=(idx.size, N))
     B = C.T.tocsr()
     if pair.mu > 0:
-        G, _ = _friction_operators(N, [pair], [np.asarray(active, dtype=bool)])
+        G, _ = friction_operators(N, [pair], [np.asarray(active, dtype=bool)])
         B = (B + G).tocsr()
     isfixed = np.zeros(N, dtype=bool)
     isfixed[fixed] = True

@@ -17,7 +17,7 @@ from ..solvers.patched import PatchedMatrix
 
 logger = logging.getLogger(__name__)
 
-__all__ = []
+__all__ = ["friction_operators"]
 
 
 def _local_frames(n: np.ndarray):
@@ -83,7 +83,7 @@ def _prolongation(N: int, pairs, active):
     return P, c, elim
 
 
-def _friction_operators(N: int, pairs, active):
+def friction_operators(N: int, pairs, active):
     """``G`` (N x n_act): nodal friction load per unit normal force of each active
     slave node (drag on the slave, opposite on its master nodes); ``S`` (n_act x N):
     the normal component at each active slave node."""
@@ -228,7 +228,7 @@ def _contact_system(K, Kd, f, pairs, active, P, c, elim, is_fixed, u_fixed, fric
         # f_fr = G S (K u - f), S = normal rows of active slaves, G = drag loads
         # kept as the product of its two thin factors (n x n_act, n_act x n): the
         # product itself would have as many nonzeros as K
-        G, S = _friction_operators(N, pairs, active)
+        G, S = friction_operators(N, pairs, active)
         PG = (P.T @ G).tocsr()
         SKP = ((S @ K) @ P).tocsr()
         b = b + PG @ (S @ (K @ c - f))
