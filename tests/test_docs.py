@@ -53,3 +53,62 @@ def test_relative_links_point_to_files(path):
         if not (path.parent / target).exists():
             bad.append(target)
     assert not bad, f"{path.relative_to(ROOT)}: broken links {bad}"
+
+
+# --- the Python snippets of README and docs use the API as it is -------------------------
+
+import ast  # noqa: E402
+import importlib  # noqa: E402
+
+DOCS_MD = sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md")])
+SNIPPETS = [(p, i, block) for p in DOCS_MD
+            for i, block in enumerate(re.findall(r"```python\n(.*?)```", p.read_text(), re.S))]
+
+
+def _missing_names(code: str) -> list[str]:
+    """The brakewear names a snippet imports (``from brakewear.x import y``) or
+    reaches through an imported module (``bw.y``, ``brakewear.x.y``) that do not exist."""
+    tree = ast.parse(code)
+    modules = {}            # local name -> module
+    missing = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and \
+                node.module.split(".")[0] == "brakewear":
+            mod = importlib.import_module(node.module)
+            for a in node.names:
+                if not hasattr(mod, a.name):
+                    try:
+                        importlib.import_module(f"{node.module}.{a.name}")
+                    except ImportError:
+                        missing.append(f"{node.module}.{a.name}")
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] == "brakewear":
+                    modules[a.asname or a.name.split(".")[0]] = importlib.import_module(
+                        a.name if a.asname else "brakewear")
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) \
+                and node.value.id in modules and not hasattr(modules[node.value.id], node.attr):
+            missing.append(f"{modules[node.value.id].__name__}.{node.attr}")
+    return missing
+
+
+@pytest.mark.parametrize("path,index,code", SNIPPETS,
+                         ids=[f"{p.relative_to(ROOT)}#{i}" for p, i, _ in SNIPPETS])
+def test_snippets_parse_and_name_what_exists(path, index, code):
+    missing = _missing_names(code)
+    assert not missing, f"{path.name}, python block {index}: no such name: {missing}"
+
+
+def test_the_snippet_check_sees_a_stale_name():
+    assert _missing_names("import brakewear as bw\nbw.BrakeModel\nbw.NoSuchThing\n"
+                          "from brakewear.scene import Scene, Interface\n") == \
+        ["brakewear.scene.Interface", "brakewear.NoSuchThing"]
+
+
+def test_the_duty_snippet_runs(capsys):
+    """The vehicle-stop snippet of docs/duty.md, run as written (a 12 mm model)."""
+    code = re.search(r"```python\n(.*?)```", (ROOT / "docs" / "duty.md").read_text(), re.S)[1]
+    exec(compile(code, "docs/duty.md", "exec"), {})
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert len(lines) == 3 and all("kJ dissipated" in s for s in lines)
