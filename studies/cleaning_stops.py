@@ -25,7 +25,9 @@ wear revolution-averaged on rings), the pad and backplate elastic, mesh
 ``k_corrosion`` on the layer and ``k`` of grey cast iron beneath), implicit
 pad wear, gap-offset update (:func:`brakewear.duty.run_schedule`).
 
-Run ``python studies/cleaning_stops.py [--decels 0.5 1 2 3] [--stops 20] [--out docs]``.
+Run ``python studies/cleaning_stops.py [--decels 0.5 1 2 3] [--stops 20] [--out docs]``;
+the sensitivity sweeps with ``--name cleaning_stops_<case>`` (:data:`SENSITIVITY`) and
+their tornado chart with ``--tornado``.
 """
 from __future__ import annotations
 
@@ -114,10 +116,13 @@ def _check(name, value, ok, allowed):
 
 
 def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
-         executor: Executor | None = None, figures: bool = True, **settings) -> dict:
+         executor: Executor | None = None, figures: bool = True, name: str = "cleaning_stops",
+         **settings) -> dict:
     """Sweep decelerations (m/s^2); the answer and the map.  ``settings`` override
     :data:`DEFAULTS` (speed km/h, interval s, mass kg, corrosion um,
-    k_corrosion 1/Pa, coning um, threshold MPa, size mm, ...)."""
+    k_corrosion 1/Pa, coning um, threshold MPa, size mm, ...).  ``name``
+    names the files written to ``out`` (``data/<name>.json``,
+    ``data/<name>_map.csv``, ``figures/<name>_map.png``)."""
     unknown = set(settings) - set(DEFAULTS)
     _check("settings", sorted(unknown), not unknown, f"allowed: {', '.join(DEFAULTS)}")
     st = {**DEFAULTS, **settings, "decels": sorted(float(a) for a in decels), "stops": stops}
@@ -145,7 +150,7 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
               "its_stops": None if lowest is None else lowest["stops_to_clean"],
               "monotone": _monotone(runs), "wall_s": time.perf_counter() - t0}
     if out is not None:
-        write_outputs(result, Path(out), figures)
+        write_outputs(result, Path(out), figures, name)
     return result
 
 
@@ -168,17 +173,18 @@ def cleaned_map(result: dict) -> np.ndarray:
     return M
 
 
-def write_outputs(result: dict, out: Path, figures: bool = True) -> None:
+def write_outputs(result: dict, out: Path, figures: bool = True,
+                  name: str = "cleaning_stops") -> None:
     (out / "data").mkdir(parents=True, exist_ok=True)
-    (out / "data" / "cleaning_stops.json").write_text(json.dumps(result, indent=1))
-    with open(out / "data" / "cleaning_stops_map.csv", "w", newline="") as fh:
+    (out / "data" / f"{name}.json").write_text(json.dumps(result, indent=1))
+    with open(out / "data" / f"{name}_map.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["stop"] + [f"decel_{r['decel']:g}" for r in result["runs"]])
         for i, row in enumerate(cleaned_map(result)):
             w.writerow([i + 1] + [f"{x:.6f}" for x in row])
     if figures:
         (out / "figures").mkdir(parents=True, exist_ok=True)
-        plot_map(result, out / "figures" / "cleaning_stops_map.png")
+        plot_map(result, out / "figures" / f"{name}_map.png")
 
 
 def plot_map(result: dict, path: Path) -> None:
@@ -196,6 +202,7 @@ def plot_map(result: dict, path: Path) -> None:
                   fontsize=8)
     ax.set_xlabel("deceleration (m/s^2) and its line pressure")
     ax.set_ylabel("stops")
+    ax.yaxis.get_major_locator().set_params(integer=True)
     ax.set_title("cleaned share of the friction band's area (%)", fontsize=10)
     fig.colorbar(im, ax=ax)
     for r in runs:
@@ -203,6 +210,7 @@ def plot_map(result: dict, path: Path) -> None:
         bx.plot(np.arange(1, len(f) + 1), np.array(f) * 100, marker=".",
                 label=f"{r['decel']:g} m/s^2")
     bx.set_xlabel("stop")
+    bx.xaxis.get_major_locator().set_params(integer=True)
     bx.set_ylabel(f"band area touched at >= {st['threshold']:g} MPa (%)")
     bx.set_ylim(0, 105)
     bx.legend(fontsize=7)
@@ -214,14 +222,105 @@ def plot_map(result: dict, path: Path) -> None:
     plt.close(fig)
 
 
+#: the sensitivity sweeps: parameter -> (its default, the low and the high variant,
+#: each (value, file name of the sweep in data/))
+SENSITIVITY = {
+    "corrosion (um)": (25.0, (10.0, "cleaning_stops_corr10"), (50.0, "cleaning_stops_corr50")),
+    "k_corrosion (1/Pa)": (1e-12, (5e-13, "cleaning_stops_kc05"), (2e-12, "cleaning_stops_kc2")),
+    "coning (um)": (30.0, (15.0, "cleaning_stops_coning15"), (50.0, "cleaning_stops_coning50")),
+    "mu": (0.4, (0.3, "cleaning_stops_mu03"), (0.5, "cleaning_stops_mu05")),
+    "stop speed (km/h)": (50.0, (None, None), (80.0, "cleaning_stops_v80")),
+}
+
+
+def stops_at(result: dict, decel: float) -> float:
+    """Stops to clean at ``decel`` (inf: not within the sweep's stops; nan: not run)."""
+    r = next((r for r in result["runs"] if r["decel"] == decel), None)
+    if r is None:
+        return float("nan")
+    return float("inf") if r["stops_to_clean"] is None else float(r["stops_to_clean"])
+
+
+def sensitivity(data: Path, decel: float = 1.5, base: str = "cleaning_stops") -> list[dict]:
+    """One row per parameter of :data:`SENSITIVITY` whose sweeps are in ``data``: the
+    stops to clean at ``decel`` and the lowest cleaning deceleration, low and high."""
+    ref = json.loads((data / f"{base}.json").read_text())
+    rows = []
+    for name, (default, *variants) in SENSITIVITY.items():
+        row = {"parameter": name, "default": default,
+               "base_stops": stops_at(ref, decel), "base_lowest": ref["lowest_cleaning_decel"]}
+        for side, (value, fname) in zip(("low", "high"), variants):
+            f = data / f"{fname}.json" if fname else None
+            res = json.loads(f.read_text()) if f is not None and f.exists() else None
+            row[side] = value if res is not None else None
+            row[f"{side}_stops"] = stops_at(res, decel) if res is not None else float("nan")
+            row[f"{side}_lowest"] = res["lowest_cleaning_decel"] if res is not None else None
+        rows.append(row)
+    return rows
+
+
+def plot_tornado(rows: list[dict], decel: float, stops: int, path: Path) -> None:
+    """Stops to clean at ``decel`` for each parameter's low and high value (bars from
+    the default's count); a run that does not clean within ``stops`` is drawn at
+    ``stops + 1`` and marked."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 0.6 * len(rows) + 1.5))
+    base = rows[0]["base_stops"]
+    for i, r in enumerate(rows):
+        for side, color in (("low", "tab:blue"), ("high", "tab:red")):
+            v = r[f"{side}_stops"]
+            if not np.isnan(v):
+                w = min(v, stops + 1) - base
+                ax.barh(i, w, left=base, color=color, alpha=0.8,
+                        label=f"{side} value" if i == 0 else None)
+                ax.annotate(f"{r[side]:g}" + ("" if np.isfinite(v) else f" (> {stops})"),
+                            (base + w, i), xytext=(4 if w >= 0 else -4, 0),
+                            textcoords="offset points", va="center", fontsize=8,
+                            ha="left" if w >= 0 else "right")
+    ax.axvline(base, color="k", lw=1)
+    ax.set_yticks(range(len(rows)), [f"{r['parameter']}\n(default {r['default']:g})"
+                                     for r in rows], fontsize=8)
+    ax.set_xlabel(f"stops to clean at {decel:g} m/s^2 (default: {base:g})")
+    ax.set_xlim(0, stops + 2)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.invert_yaxis()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def write_sensitivity(out: Path, decel: float = 1.5, stops: int = DEFAULTS["stops"]) -> list:
+    """The tornado of the sweeps in ``out/data``: CSV and PNG."""
+    rows = sensitivity(out / "data", decel)
+    with open(out / "data" / "cleaning_stops_sensitivity.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    (out / "figures").mkdir(parents=True, exist_ok=True)
+    plot_tornado(rows, decel, stops, out / "figures" / "cleaning_stops_tornado.png")
+    return rows
+
+
 def _cli(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--decels", type=float, nargs="+", default=list(DEFAULTS["decels"]))
     ap.add_argument("--stops", type=int, default=DEFAULTS["stops"])
     ap.add_argument("--out", default="docs")
-    for k in ("speed", "mass", "corrosion", "k_corrosion", "coning", "mu", "threshold", "size"):
+    ap.add_argument("--name", default="cleaning_stops", help="names the files written")
+    ap.add_argument("--no-figures", dest="figures", action="store_false")
+    for k in ("speed", "interval", "mass", "front_share", "regen_share", "corrosion",
+              "k_corrosion", "coning", "mu", "threshold", "size"):
         ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=float, default=DEFAULTS[k])
+    ap.add_argument("--tornado", action="store_true",
+                    help="only draw the sensitivity (tornado) chart of the sweeps in OUT/data")
     a = vars(ap.parse_args(argv))
+    if a.pop("tornado"):
+        for r in write_sensitivity(Path(a["out"])):
+            print(r)
+        return {}
     res = main(a.pop("decels"), a.pop("stops"), a.pop("out"), **a)
     for r in res["runs"]:
         last = r["rows"][-1]

@@ -87,3 +87,33 @@ def test_vehicle_cleaning_study_on_a_coarse_mesh(tmp_path):
 class _Serial:
     def map(self, fn, items):
         return [fn(x) for x in items]
+
+
+def test_sensitivity_rows_and_tornado_from_the_sweeps_on_disk(tmp_path):
+    """The tornado reads each variant's sweep from data/: stops to clean at the chosen
+    deceleration (inf when it does not clean within the stops), the lowest cleaning
+    deceleration, and a variant not run is left out (nan), not invented."""
+    import json
+
+    def sweep(stops_by_decel):
+        runs = [{"decel": a, "stops_to_clean": n} for a, n in stops_by_decel.items()]
+        lowest = next((r["decel"] for r in runs if r["stops_to_clean"] is not None), None)
+        return {"runs": runs, "lowest_cleaning_decel": lowest}
+
+    data = tmp_path / "data"
+    data.mkdir()
+    files = {"cleaning_stops": {1.0: None, 1.5: 16, 2.0: 15},
+             "cleaning_stops_corr10": {1.0: 10, 1.5: 8, 2.0: 7},
+             "cleaning_stops_corr50": {1.0: None, 1.5: None, 2.0: None},
+             "cleaning_stops_mu03": {1.0: 12, 1.5: 11, 2.0: 11}}
+    for name, d in files.items():
+        (data / f"{name}.json").write_text(json.dumps(sweep(d)))
+    rows = {r["parameter"]: r for r in study.write_sensitivity(tmp_path, decel=1.5, stops=20)}
+    c = rows["corrosion (um)"]
+    assert (c["base_stops"], c["low_stops"], c["high_stops"]) == (16, 8, float("inf"))
+    assert (c["low_lowest"], c["high_lowest"], c["base_lowest"]) == (1.0, None, 1.5)
+    m = rows["mu"]
+    assert m["low_stops"] == 11 and m["high"] is None and np.isnan(m["high_stops"])
+    assert np.isnan(rows["coning (um)"]["low_stops"])
+    assert (tmp_path / "figures" / "cleaning_stops_tornado.png").stat().st_size > 10_000
+    assert (data / "cleaning_stops_sensitivity.csv").read_text().startswith("parameter,")
