@@ -1,53 +1,28 @@
-"""BLAS threads: run the AMG setup and the Krylov solves with one BLAS thread."""
+"""BLAS threads: run the AMG setup and the Krylov solves with one BLAS thread
+(through threadpoolctl, the scientific Python stack's own thread control)."""
 from __future__ import annotations
 
-import ctypes
 import logging
-import os
 from contextlib import contextmanager
+
+from threadpoolctl import ThreadpoolController
 
 logger = logging.getLogger(__name__)
 
 __all__ = []
 
 
-_BLAS_CONTROLS: list | None = None
+_CONTROLLER: ThreadpoolController | None = None
 
 
-def _openblas_controls() -> list:
-    """(get, set) thread-count functions of every OpenBLAS loaded in this process.
-
-    NumPy and SciPy each bundle their own OpenBLAS; both are found through
-    ``/proc/self/maps`` (Linux).  Elsewhere, or if the symbols are missing,
-    the list is empty and nothing is changed.
-    """
-    global _BLAS_CONTROLS
-    if _BLAS_CONTROLS is None:
-        _BLAS_CONTROLS = []
-        try:
-            with open("/proc/self/maps") as fh:
-                paths = sorted({ln.split()[-1] for ln in fh
-                                if "openblas" in os.path.basename(ln.split()[-1]).lower()
-                                and ".so" in ln})
-        except OSError:
-            paths = []
-        for path in paths:
-            try:
-                lib = ctypes.CDLL(path)
-            except OSError:
-                continue
-            for prefix in ("scipy_openblas", "openblas"):
-                for suffix in ("64_", ""):
-                    get = getattr(lib, f"{prefix}_get_num_threads{suffix}", None)
-                    put = getattr(lib, f"{prefix}_set_num_threads{suffix}", None)
-                    if get is not None and put is not None:
-                        get.restype, put.argtypes = ctypes.c_int, [ctypes.c_int]
-                        _BLAS_CONTROLS.append((get, put))
-                        break
-                else:
-                    continue
-                break
-    return _BLAS_CONTROLS
+def _blas_controller() -> ThreadpoolController:
+    """threadpoolctl's view of the BLAS libraries loaded in this process (NumPy and
+    SciPy each bundle their own OpenBLAS), taken once, on first use: the solvers
+    import SciPy before they get here."""
+    global _CONTROLLER
+    if _CONTROLLER is None:
+        _CONTROLLER = ThreadpoolController()
+    return _CONTROLLER
 
 
 @contextmanager
@@ -62,11 +37,5 @@ def _single_threaded_blas():
     105k brake with 2 threads, twice the CPU time of the solve with 1
     (docs/performance.md, "AMG settings").
     """
-    saved = [(get(), put) for get, put in _openblas_controls()]
-    for _, put in saved:
-        put(1)
-    try:
+    with _blas_controller().limit(limits=1, user_api="blas"):
         yield
-    finally:
-        for n, put in saved:
-            put(n)
