@@ -408,3 +408,27 @@ def test_refreshed_cycles_never_smooth_with_a_stale_reversed_copy(ring):
         assert new.M.backward.copies[i] is base.M.backward.copies[i]
     assert new.M.backward.copies[0] is not base.M.backward.copies[0]
 
+
+
+def test_a_patch_whose_target_changed_is_skipped_with_a_warning(monkeypatch, caplog):
+    """A pyamg release whose function lost a parameter the patch relies on gets no
+    patch (and a warning): the setup runs as pyamg ships it."""
+    import pyamg.aggregation.smooth as smooth
+
+    from brakewear.solvers import patches
+
+    def changed(A, tol=0.01):            # no maxiter / restart any more
+        return 1.0
+    monkeypatch.setattr(smooth, "approximate_spectral_radius", changed)
+    monkeypatch.setattr(patches, "_WARNED", set())
+    with caplog.at_level("WARNING", logger="brakewear.solvers.patches"):
+        with patches._single_pass_spectral_radius():
+            assert smooth.approximate_spectral_radius is changed
+    assert "running without that patch" in caplog.text and "maxiter" in caplog.text
+    assert smooth.approximate_spectral_radius is changed
+    # the shipped function is patched and restored
+    monkeypatch.undo()
+    shipped = smooth.approximate_spectral_radius
+    with patches._single_pass_spectral_radius():
+        assert smooth.approximate_spectral_radius is not shipped
+    assert smooth.approximate_spectral_radius is shipped

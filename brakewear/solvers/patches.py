@@ -1,10 +1,15 @@
 """Changes to pyamg's and scipy's internals for the time of an AMG setup.
 
 Every patch is a context manager that swaps one module-level function (or
-method) for the duration of a setup and restores it afterwards.
+method) for the duration of a setup and restores it afterwards.  Each first
+checks that what it swaps still has the parameters it relies on
+(:func:`_fits`): a pyamg or scipy release that changed them gets no patch
+and a warning, and the solves run as those libraries ship them (slower, the
+same answers), rather than failing or patching the wrong thing.
 """
 from __future__ import annotations
 
+import inspect
 import logging
 from contextlib import contextmanager
 from functools import partial
@@ -18,6 +23,25 @@ logger = logging.getLogger(__name__)
 
 __all__ = []
 
+_WARNED: set = set()
+
+
+def _fits(owner, name: str, params: tuple[str, ...]) -> bool:
+    """Whether ``owner.name`` exists and takes ``params``; warns once if not."""
+    target = getattr(owner, name, None)
+    try:
+        ok = target is not None and all(p in inspect.signature(target).parameters
+                                        for p in params)
+    except (TypeError, ValueError):
+        ok = False
+    if not ok and (owner, name) not in _WARNED:
+        _WARNED.add((owner, name))
+        logger.warning("%s.%s is not the function brakewear's setup patches (it needs the "
+                       "parameters %s): running without that patch (slower AMG setups, the "
+                       "same answers)", getattr(owner, "__name__", owner), name,
+                       ", ".join(params))
+    return ok
+
 
 @contextmanager
 def _single_pass_spectral_radius():
@@ -30,6 +54,9 @@ def _single_pass_spectral_radius():
     the 1M-DOF rotor ring, docs/performance.md).  pyamg offers no option for
     this, so its module-level function is swapped for the time of the call.
     """
+    if not _fits(_pyamg_smooth, "approximate_spectral_radius", ("A", "maxiter", "restart")):
+        yield
+        return
     saved = _pyamg_smooth.approximate_spectral_radius
     _pyamg_smooth.approximate_spectral_radius = partial(saved, maxiter=15, restart=0)
     try:
@@ -75,6 +102,9 @@ def _block_pinv(a: np.ndarray, tol: float | None = None, _loop=_pyamg_linalg.pin
 @contextmanager
 def _batched_block_pinv():
     """Let pyamg's setup invert its small blocks with :func:`_block_pinv`."""
+    if not _fits(_pyamg_linalg, "pinv_array", ("a", "tol")):
+        yield
+        return
     saved = _pyamg_linalg.pinv_array
     _pyamg_linalg.pinv_array = _block_pinv
     try:
@@ -118,6 +148,9 @@ def _bsr_sum_duplicates(self) -> None:
 @contextmanager
 def _vectorised_bsr_dedupe():
     """Let BSR matrices merge duplicates with :func:`_bsr_sum_duplicates` during a setup."""
+    if not _fits(_BSR_BASE, "sum_duplicates", ("self",)):
+        yield
+        return
     saved = _BSR_BASE.sum_duplicates
     _BSR_BASE.sum_duplicates = _bsr_sum_duplicates
     try:
@@ -145,6 +178,10 @@ def _split_strength(bodies: np.ndarray):
     """
     import pyamg.aggregation.aggregation as agg
 
+    if not (_fits(agg, "symmetric_strength_of_connection", ("A", "theta"))
+            and _fits(agg, "standard_aggregation", ("C",))):
+        yield
+        return
     strength, aggregate = agg.symmetric_strength_of_connection, agg.standard_aggregation
     labels = [np.asarray(bodies)]
 
