@@ -143,6 +143,10 @@ def step_figures(s: WearStep, itf, mu: float) -> dict:
         "torque_Nm": float(mu * (p * A * r).sum()),
         "pad_volume_m3": s.pad_volume, "rotor_volume_m3": s.rotor_volume,
         "rejected": s.rejected, "contact_solves": s.contact_solves, "solve_s": s.solve_s,
+        **({} if np.isnan(s.pad_temperature_max) else {
+            "pad_T_max_C": s.pad_temperature_max - 273.15,
+            "rotor_T_max_C": s.rotor_temperature_max - 273.15,
+            "heat_balance_error": s.heat_balance_error}),
     }
 
 
@@ -184,6 +188,13 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     n_pad = pad.nvertices
     last = None
     setup_s = time.perf_counter() - t0
+    thermal = kwargs.get("thermal")
+
+    def temperature(body: str, n: int) -> dict:
+        """The body's temperature field (C) for its VTU, where the thermal model has one."""
+        if thermal is None or body not in thermal.bodies or thermal.T[body].size != n:
+            return {}
+        return {"temperature_C": thermal.T[body] - 273.15}
 
     def write_vtu(s: WearStep) -> None:
         fields = {}
@@ -192,11 +203,12 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
             a = np.zeros(n_pad)
             a[itf.pad_nodes] = val
             fields[name] = a
-        pad_series.write(s.step, s.time, fields)
+        pad_series.write(s.step, s.time, {**fields, **temperature("pad", n_pad)})
         if rot_series is not None:
-            a = np.zeros(model.meshes["rotor"].nvertices)
+            n_rot = model.meshes["rotor"].nvertices
+            a = np.zeros(n_rot)
             a[itf.rotor_nodes] = s.rotor_wear
-            rot_series.write(s.step, s.time, {"rotor_wear": a})
+            rot_series.write(s.step, s.time, {"rotor_wear": a, **temperature("rotor", n_rot)})
 
     worn = None
     try:
@@ -234,6 +246,14 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         "run_s": total_s, "setup_s": setup_s, "resumed_from_step": start,
         "files": {"pad": "pad.pvd", "rotor": "rotor.pvd" if rot_series else None,
                   "history": "history.csv", "checkpoint": "checkpoint.npz"},
+        "thermal": None if thermal is None else {
+            "settings": {k: v for k, v in thermal.settings.items()
+                         if k != "convection_facets"},
+            "pad_share": float(np.mean(thermal.partition)), "T_max_K": thermal.T_max,
+            "final": {"pad_T_max_C": last.pad_temperature_max - 273.15,
+                      "rotor_T_max_C": last.rotor_temperature_max - 273.15,
+                      "heat_balance": {k: v for k, v in thermal.heat_balance().items()
+                                       if k != "bodies"}}},
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
     if worn is not None:
