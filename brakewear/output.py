@@ -40,7 +40,7 @@ from .wear.stepper import WearStep, wear_history
 logger = logging.getLogger(__name__)
 
 __all__ = ["SeriesWriter", "run_wear", "run_scene", "check_out", "step_figures",
-           "ring_profile"]
+           "ring_profile", "temperature_field", "thermal_record"]
 
 
 def _figures(model, out: Path, scene) -> list[str]:
@@ -185,16 +185,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     if resume and csv_path.exists():
         with open(csv_path, newline="") as fh:
             rows = [r for r in csv.DictReader(fh) if int(r["step"]) <= start]
-    n_pad = pad.nvertices
-    last = None
+    n_pad, last, thermal = pad.nvertices, None, kwargs.get("thermal")
     setup_s = time.perf_counter() - t0
-    thermal = kwargs.get("thermal")
-
-    def temperature(body: str, n: int) -> dict:
-        """The body's temperature field (C) for its VTU, where the thermal model has one."""
-        if thermal is None or body not in thermal.bodies or thermal.T[body].size != n:
-            return {}
-        return {"temperature_C": thermal.T[body] - 273.15}
 
     def write_vtu(s: WearStep) -> None:
         fields = {}
@@ -203,12 +195,12 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
             a = np.zeros(n_pad)
             a[itf.pad_nodes] = val
             fields[name] = a
-        pad_series.write(s.step, s.time, {**fields, **temperature("pad", n_pad)})
+        pad_series.write(s.step, s.time, {**fields, **temperature_field(thermal, "pad", n_pad)})
         if rot_series is not None:
-            n_rot = model.meshes["rotor"].nvertices
-            a = np.zeros(n_rot)
+            a = np.zeros(model.meshes["rotor"].nvertices)
             a[itf.rotor_nodes] = s.rotor_wear
-            rot_series.write(s.step, s.time, {"rotor_wear": a, **temperature("rotor", n_rot)})
+            rot_series.write(s.step, s.time,
+                             {"rotor_wear": a, **temperature_field(thermal, "rotor", a.size)})
 
     worn = None
     try:
@@ -246,20 +238,33 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         "run_s": total_s, "setup_s": setup_s, "resumed_from_step": start,
         "files": {"pad": "pad.pvd", "rotor": "rotor.pvd" if rot_series else None,
                   "history": "history.csv", "checkpoint": "checkpoint.npz"},
-        "thermal": None if thermal is None else {
-            "settings": {k: v for k, v in thermal.settings.items()
-                         if k != "convection_facets"},
-            "pad_share": float(np.mean(thermal.partition)), "T_max_K": thermal.T_max,
-            "final": {"pad_T_max_C": last.pad_temperature_max - 273.15,
-                      "rotor_T_max_C": last.rotor_temperature_max - 273.15,
-                      "heat_balance": {k: v for k, v in thermal.heat_balance().items()
-                                       if k != "bodies"}}},
+        "thermal": None if thermal is None else thermal_record(thermal, last),
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
     if worn is not None:
         worn.summary = summary
         raise worn
     return summary
+
+
+def temperature_field(thermal, body: str, n: int) -> dict:
+    """``{"temperature_C": ...}`` of ``body`` for its VTU (``n`` mesh nodes), or {}
+    without a thermal model or a field of that body on those nodes."""
+    if thermal is None or body not in thermal.bodies or thermal.T[body].size != n:
+        return {}
+    return {"temperature_C": thermal.T[body] - 273.15}
+
+
+def thermal_record(thermal, last: WearStep) -> dict:
+    """The summary's ``thermal`` entry: settings, the pad's heat share, the bound
+    and the final face temperatures and heat balance."""
+    return {"settings": {k: v for k, v in thermal.settings.items()
+                         if k != "convection_facets"},
+            "pad_share": float(np.mean(thermal.partition)), "T_max_K": thermal.T_max,
+            "final": {"pad_T_max_C": last.pad_temperature_max - 273.15,
+                      "rotor_T_max_C": last.rotor_temperature_max - 273.15,
+                      "heat_balance": {k: v for k, v in thermal.heat_balance().items()
+                                       if k != "bodies"}}}
 
 
 def ring_profile(itf, values: np.ndarray | None = None):

@@ -10,7 +10,12 @@ The step is the smallest of
   the pressure's response to a local gap change is bounded by the row sums
   of the friction face's normal stiffness (Gershgorin, docs: theory), so
   ``dt <= stability / max_i(c_i s_i / A_i)``;
-- ``first`` (implicit scheme, first step): that explicit bound as a first
+- ``rotor_stability`` (implicit scheme): the rotor's ring-averaged wear stays
+  explicit, so its own bound applies, ``dt <= stability / max_j(sum_i c_i
+  s_i / A_ring_j)`` over the pad nodes ``i`` above ring ``j`` (a ring's gap
+  change moves the pressure of the pad nodes over it, whose wear is spread
+  over the whole ring: a fast-wearing rotor layer makes it the binding limit);
+- ``first`` (implicit scheme, first step): the explicit bound as a first
   guess of the time scale on which the pressure moves;
 - ``growth``: at most twice the last step (``dp_tol`` control), or
   ``wear_tol``: the step the wear-error control aims at.
@@ -87,12 +92,14 @@ class StepControl:
         return sp.time_at_angle(total * min(k + 1, n) / n) - now
 
     def propose(self, dt_next: float | None, remaining: float, seen_rate: np.ndarray,
-                worst: Callable[[], float]) -> tuple[float, str]:
+                worst: Callable[[], float],
+                worst_rotor: Callable[[], float] | None = None) -> tuple[float, str]:
         """The next step and what set it.
 
         ``seen_rate`` is the wear rate each pad node sees (pad + rotor under
         it, m/s); ``worst()`` the largest ``c_i s_i / A_i`` over the contact
-        (1/s), evaluated only when a limit needs it.
+        (1/s), evaluated only when a limit needs it; ``worst_rotor()`` the
+        same for the rotor's ring wear alone (the implicit scheme's bound).
         """
         n = self.numerics
         if self.fixed:
@@ -110,6 +117,10 @@ class StepControl:
                 # no bound, but the explicit one is the time scale on which the
                 # pressure starts to move: a first guess that saves halvings
                 cands["first"] = 1.0 / w
+        if not explicit and n.stability is not None and worst_rotor is not None:
+            w = worst_rotor()
+            if w > 0:
+                cands["rotor_stability"] = n.stability / w
         if dt_next is not None:
             cands["growth" if n.wear_tol is None else "wear_tol"] = dt_next
         limit = min(cands, key=cands.get)

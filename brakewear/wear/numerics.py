@@ -51,9 +51,10 @@ class Numerics:
         rate(p_start)|`` is below it (docs: theory, "Step control on the wear
         error").
     stability : float or None
-        Explicit scheme: fraction of the monotone explicit-Euler bound on the
-        step (1 keeps every mode from overshooting, 2 is the stability limit;
-        None switches it off).
+        Fraction of the monotone explicit-Euler bound on the step (1 keeps
+        every mode from overshooting, 2 is the stability limit; None switches
+        it off): of pad and rotor wear in the explicit scheme, of the rotor's
+        ring wear (explicit in both schemes) in the implicit one.
     implicit_floor : float
         The implicit scheme takes a step explicitly when the pad's wear
         compliance over it (``dt k v``) is below this fraction of the

@@ -60,8 +60,8 @@ class WearStep:
     rejected: int               # retries before this step was accepted
     contact_solves: int         # contact solves of this step (1 + rejected)
     solve_s: float              # s spent in contact solves in this step
-    limit: str                  # what set the step: max_dh, stability, growth, wear_tol,
-                                # first, end, fixed
+    limit: str                  # what set the step: max_dh, stability, rotor_stability,
+                                # growth, wear_tol, first, end, fixed
     mu: float = 0.0             # friction coefficient in this step (mu(T) with a friction law)
     pad_temperature_max: float = float("nan")    # K, pad face, end of step (thermal only)
     rotor_temperature_max: float = float("nan")  # K, rotor face, end of step (thermal only)
@@ -357,6 +357,15 @@ class _WearLoop:
         return float((slope * self.itf.normal_stiffness / self.A_pad)[act].max()) \
             if act.any() else 0.0
 
+    def worst_rotor(self, p, act, T_rot) -> float:
+        """The largest ring rate per unit gap of the rotor's ring wear (1/s): per
+        ring, ``sum_i c_i s_i / A_ring`` over the pad nodes in contact above it."""
+        if self.rotor_law is None or not act.any():
+            return 0.0
+        q = np.where(act, _rate_slope(self.rotor_law, p, self.v, T_rot)
+                     * self.itf.normal_stiffness, 0.0)
+        return float(rotor_wear_rate(q, self.W, self.ring, self.A_rot).max())
+
     def step(self, state: WearState, control: StepControl) -> WearStep:
         """One accepted step from ``state`` (updated in place); its record."""
         T_pad, T_rot = self.temperatures()
@@ -365,7 +374,8 @@ class _WearLoop:
         rate_pad, q_rot, rate_rot = self.rates(p, T_pad, T_rot)
         dt, limit = control.propose(state.dt_next, control.duration - state.time,
                                     rate_pad + self.W @ rate_rot,
-                                    lambda: self.worst(p, act, T_pad, T_rot))
+                                    lambda: self.worst(p, act, T_pad, T_rot),
+                                    lambda: self.worst_rotor(p, act, T_rot))
         rejected, solve_s = 0, 0.0
         saved = self.thermal.state_arrays() if self.thermal is not None else None
         while True:
