@@ -133,6 +133,19 @@ class _Progress:
             self.bar = None
 
 
+def _print_schedule(scene: str, s: dict) -> None:
+    """What `brakewear run` prints for a scene with a [schedule]."""
+    e = s["energy"]
+    print(f"brakewear run {scene}: {s['applications']} applications "
+          f"({s['braked_applications']} braked) over {s['schedule_s']:.6g} s, {s['run_s']:.1f} s")
+    print(f"  per face: {e['demanded_per_face_J'] / 1e3:.4g} kJ demanded, "
+          f"{e['dissipated_per_face_J'] / 1e3:.4g} kJ dissipated (largest difference "
+          f"{e['largest_relative_difference']:.1%}); pad wear max "
+          f"{s['pad_wear_max_m'] * 1e6:.3f} um, rotor wear max "
+          f"{s['rotor_wear_max_m'] * 1e6:.3f} um")
+    print(f"  wrote {s['out']}/: summary.json, applications.csv, pad.pvd, scene.json")
+
+
 def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,
               quiet: bool = False) -> dict:
     """Load a scene (name or file), check it, run it into ``out``; return the summary.
@@ -148,7 +161,7 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
         check_out(out, "--out")
     sc = load_scene(scene)
     out = Path(out) if out is not None else Path(f"brakewear-{sc.name}")
-    bar = _Progress(sc, quiet)
+    bar = _Progress(sc, quiet or bool(sc.schedule))   # a schedule logs per application
     try:
         summary = run_scene(sc, out, resume=resume, progress=bar)
     except KeyboardInterrupt:
@@ -176,7 +189,7 @@ def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = 
         sc = dataclasses.replace(sc, duration=float(duration))
     if not figures:
         sc = dataclasses.replace(sc, output=dataclasses.replace(sc.output, figures=False))
-    bar = _Progress(sc, quiet)
+    bar = _Progress(sc, quiet or bool(sc.schedule))   # a schedule logs per application
     try:
         summary = run_scene(sc, out, progress=bar)
     finally:
@@ -241,6 +254,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.command == "run":
             s = run_scene_file(args.scene, args.out, args.resume, args.quiet)
+            if "braked_applications" in s:
+                _print_schedule(args.scene, s)
+                return EXIT_OK
             f = s["final"]
             if s.get("already_finished"):
                 print(f"brakewear run: {s['out']} already holds the finished run "

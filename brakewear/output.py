@@ -22,16 +22,17 @@ import csv
 import json
 import logging
 import os
-import re
+
 import time
 from pathlib import Path
 from typing import Any, Callable
 
-import meshio
 import numpy as np
 
 from .errors import SceneError, WearError, WornThroughError
 from .interfaces.fe import FEInterface
+from .mesh.series import SeriesWriter
+from .rings import ring_profile
 from .scene.spec import _first_difference
 from .wear.numerics import Numerics
 from .wear.state import checkpoint_progress
@@ -39,8 +40,8 @@ from .wear.stepper import WearStep, wear_history
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["SeriesWriter", "run_wear", "run_scene", "check_out", "step_figures",
-           "ring_profile", "temperature_field", "thermal_record"]
+__all__ = ["run_wear", "run_scene", "check_out", "step_figures", "temperature_field",
+           "thermal_record"]
 
 
 def _figures(model, out: Path, scene) -> list[str]:
@@ -90,40 +91,6 @@ def _figures(model, out: Path, scene) -> list[str]:
         plt.close(fig)
         files.append(str(path))
     return files
-
-
-class SeriesWriter:
-    """A ParaView time series (``NAME.pvd`` + one VTU per written step) of one mesh."""
-
-    def __init__(self, directory: str | os.PathLike, name: str, points: np.ndarray,
-                 tets: np.ndarray, resume_step: int | None = None):
-        self.dir, self.name = Path(directory), name
-        self.points, self.tets = np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T)
-        self.entries: list[tuple[float, int]] = []
-        pvd = self.dir / f"{name}.pvd"
-        if resume_step is not None and pvd.exists():
-            pat = re.compile(rf'timestep="([^"]+)"[^>]*file="{re.escape(name)}_(\d+)\.vtu"')
-            for t, s in pat.findall(pvd.read_text()):
-                if int(s) <= resume_step:
-                    self.entries.append((float(t), int(s)))
-            for f in self.dir.glob(f"{name}_*.vtu"):   # written after the checkpoint
-                if int(f.stem.rsplit("_", 1)[1]) > resume_step:
-                    f.unlink()
-
-    def write(self, step: int, time_s: float, fields: dict) -> Path:
-        path = self.dir / f"{self.name}_{step:05d}.vtu"
-        meshio.Mesh(self.points, [("tetra", self.tets)],
-                    point_data={k: np.asarray(v, dtype=float) for k, v in fields.items()}
-                    ).write(path)
-        self.entries = [e for e in self.entries if e[1] != step] + [(time_s, step)]
-        rows = "\n".join(f'    <DataSet timestep="{t!r}" group="" part="0" '
-                         f'file="{self.name}_{s:05d}.vtu"/>' for t, s in self.entries)
-        text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
-                f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n")
-        tmp = self.dir / f".{self.name}.pvd.tmp"
-        tmp.write_text(text)
-        os.replace(tmp, self.dir / f"{self.name}.pvd")
-        return path
 
 
 def step_figures(s: WearStep, itf, mu: float) -> dict:
@@ -267,18 +234,6 @@ def thermal_record(thermal, last: WearStep) -> dict:
                                        if k != "bodies"}}}
 
 
-def ring_profile(itf, values: np.ndarray | None = None):
-    """Rotor wear nodes grouped by ring: (ring radii, ring means of ``values``).
-
-    ``itf`` is the wear loop's interface (``rotor_x``, ``ring``); ``values`` one
-    number per rotor wear node (e.g. ``WearStep.rotor_wear``); None gives the
-    radii only (second item None).
-    """
-    n = np.bincount(itf.ring)
-    r = np.bincount(itf.ring, weights=np.hypot(itf.rotor_x[0], itf.rotor_x[1])) / n
-    return r, None if values is None else np.bincount(itf.ring, weights=values) / n
-
-
 def _write_csv(path: Path, rows: list) -> None:
     tmp = path.with_name("." + path.name + ".tmp")
     with open(tmp, "w", newline="") as fh:
@@ -301,37 +256,13 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     out = check_out(out)
     record = scene.to_dict()
     rec_path = out / "scene.json"
+    if resume and scene.schedule:
+        raise SceneError("--resume: a scene with a [schedule] runs from its start (its "
+                         "applications are not checkpointed); run it again without --resume")
     if resume:
-        ck = out / "checkpoint.npz"
-        if not ck.exists():
-            raise SceneError(f"--resume: {ck} does not exist (no checkpoint was written: "
-                             "run without --resume to start)")
-        # outputs may change on resume, and so may the duration under automatic
-        # step control (a longer one extends the run)
-        ignore = {"output"} | ({"duration"} if scene.numerics.steps is None else set())
-        if rec_path.exists():
-            old = json.loads(rec_path.read_text())
-            diff = _first_difference({k: v for k, v in old.items() if k not in ignore},
-                                     {k: v for k, v in record.items() if k not in ignore})
-            if diff is not None:
-                raise SceneError(f"--resume: {out} holds a run of a different scene "
-                                 f"({diff}); resume with the same scene or choose another "
-                                 "--out")
-        step_done, t_done = checkpoint_progress(ck)
-        if t_done > scene.duration * (1 + 1e-12):
-            raise SceneError(f"--resume: the run in {out} has already reached t = "
-                             f"{t_done:.6g} s, beyond environment.duration = "
-                             f"{scene.duration:.6g} s; allowed: a duration >= {t_done:.6g} s")
-        if t_done >= scene.duration * (1 - 1e-12):
-            logger.info("run in %s already finished (step %d)", out, step_done)
-            summ = out / "summary.json"
-            if not summ.exists():
-                raise SceneError(f"--resume: the run in {out} has finished (step "
-                                 f"{step_done}, t = {t_done:.6g} s) but its summary.json "
-                                 "is missing; run again without --resume to redo it")
-            s = json.loads(summ.read_text())
-            s["already_finished"] = True
-            return s
+        done = _resumable(scene, out, record, rec_path)
+        if done is not None:
+            return done
     # every input is checked (and the model built) before anything is written to out
     pad_law, rotor_law = scene.wear_laws()
     model = scene.build_model()
@@ -363,6 +294,8 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                                      T_max=t.T_max)
     out.mkdir(parents=True, exist_ok=True)
     rec_path.write_text(json.dumps(record, indent=2))
+    if scene.schedule:
+        return _run_schedule_scene(scene, model, out, pad_law, rotor_law, kw)
     worn = None
     try:
         summary = run_wear(model, out, scene.line_pressure, scene.omega, scene.duration,
@@ -381,6 +314,56 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     if worn is not None:
         raise worn
     return summary
+
+
+def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict) -> dict:
+    """A scene's [schedule]: applications.csv, the pad per application, summary.json."""
+    from .duty.report import run_schedule_files
+    itf = kw.get("interface") or FEInterface(model, 1e6, scene.interface.mu,
+                                             scene.numerics.tol)
+    summary = run_schedule_files(scene, model, out, pad_law, rotor_law, interface=itf,
+                                 thermal=kw.get("thermal"), initial_gap=kw.get("initial_gap"))
+    summary["scene"] = {"name": scene.name, "source": scene.source, "scheme":
+                        scene.numerics.scheme, "mesh_size_m": model.geometry.mesh.size
+                        if scene.mesh_size is None else scene.mesh_size}
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    return summary
+
+
+def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
+    """Check that ``out`` holds a run of ``scene`` to resume (raises SceneError
+    naming the difference); its summary if that run has finished, else None."""
+    ck = out / "checkpoint.npz"
+    if not ck.exists():
+        raise SceneError(f"--resume: {ck} does not exist (no checkpoint was written: "
+                         "run without --resume to start)")
+    # outputs may change on resume, and so may the duration under automatic
+    # step control (a longer one extends the run)
+    ignore = {"output"} | ({"duration"} if scene.numerics.steps is None else set())
+    if rec_path.exists():
+        old = json.loads(rec_path.read_text())
+        diff = _first_difference({k: v for k, v in old.items() if k not in ignore},
+                                 {k: v for k, v in record.items() if k not in ignore})
+        if diff is not None:
+            raise SceneError(f"--resume: {out} holds a run of a different scene "
+                             f"({diff}); resume with the same scene or choose another "
+                             "--out")
+    step_done, t_done = checkpoint_progress(ck)
+    if t_done > scene.duration * (1 + 1e-12):
+        raise SceneError(f"--resume: the run in {out} has already reached t = "
+                         f"{t_done:.6g} s, beyond environment.duration = "
+                         f"{scene.duration:.6g} s; allowed: a duration >= {t_done:.6g} s")
+    if t_done >= scene.duration * (1 - 1e-12):
+        logger.info("run in %s already finished (step %d)", out, step_done)
+        summ = out / "summary.json"
+        if not summ.exists():
+            raise SceneError(f"--resume: the run in {out} has finished (step "
+                             f"{step_done}, t = {t_done:.6g} s) but its summary.json "
+                             "is missing; run again without --resume to redo it")
+        s = json.loads(summ.read_text())
+        s["already_finished"] = True
+        return s
+    return None
 
 
 def check_out(out: str | os.PathLike, key: str = "out") -> Path:

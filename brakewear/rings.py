@@ -17,7 +17,7 @@ from .errors import WearError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["rotor_rings", "rotor_wear_rate", "ring_wear_nodes"]
+__all__ = ["rotor_rings", "rotor_wear_rate", "ring_wear_nodes", "ring_profile"]
 
 
 
@@ -79,3 +79,15 @@ def ring_wear_nodes(r: np.ndarray):
                       shape=(ring.size, radii.size))
     x = np.vstack([radii, np.zeros_like(radii), np.zeros_like(radii)])
     return W, np.arange(radii.size), np.pi * (edges[1:] ** 2 - edges[:-1] ** 2), x
+
+
+def ring_profile(itf, values: np.ndarray | None = None):
+    """Rotor wear nodes grouped by ring: (ring radii, ring means of ``values``).
+
+    ``itf`` is the wear loop's interface (``rotor_x``, ``ring``); ``values`` one
+    number per rotor wear node (e.g. ``WearStep.rotor_wear``); None gives the
+    radii only (second item None).
+    """
+    n = np.bincount(itf.ring)
+    r = np.bincount(itf.ring, weights=np.hypot(itf.rotor_x[0], itf.rotor_x[1])) / n
+    return r, None if values is None else np.bincount(itf.ring, weights=values) / n

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.interfaces import WinklerInterface, calibrate, compare
-from brakewear.output import ring_profile
+from brakewear.rings import ring_profile
 from brakewear.model import BrakeModel
 from brakewear.interfaces import FoundationInterface
 from brakewear.wear import wear_history

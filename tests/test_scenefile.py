@@ -1,6 +1,7 @@
 """Scene files: the default scene, the same scene built in Python, and every class of
 bad input caught -- with the key named -- before anything is meshed."""
 import copy
+import json
 import math
 import sys
 
@@ -346,3 +347,71 @@ def test_a_face_beyond_T_max_ends_the_run_with_its_figures(tmp_path):
         # the consistent capacity matrix undershoots the ambient slightly ahead of a
         # heat front on a coarse mesh (0.7 % of the rise here; "lumped" does not)
         assert T.max() > 20.0 and T.min() >= 20.0 - 0.02 * (T.max() - 20.0)
+
+
+# --- a scene whose run is a schedule of a vehicle's stops ------------------------------
+
+def _stops_scene(tmp_path, **edits):
+    d = _default_dict()
+    for k in ("line_pressure", "omega", "duration"):
+        d["environment"].pop(k)
+    d["components"]["rotor"] = "rigid"
+    d["mesh"]["size"] = 12.0                                            # mm
+    d["vehicle"] = {"mass": 1800.0, "front_share": 0.7, "tyre_radius": 320.0}   # mm
+    d["schedule"] = {"stops": 2, "speed_from": 50.0, "deceleration": 1.5, "interval": 60.0}
+    for table, values in edits.items():
+        if values is None:
+            d.pop(table)
+        else:
+            d.setdefault(table, {}).update(values)
+    path = tmp_path / "stops.toml"
+    path.write_text(_dump(d))
+    return path
+
+
+def test_a_schedule_scene_runs_the_vehicles_stops(tmp_path):
+    """[vehicle] and [schedule] in a scene: `brakewear run` runs the stops (stop, dwell,
+    stop), writes one row per application and the pad after each stop; every stop
+    asks 0.5 m v^2 x 0.7 / 2 brakes / 2 faces of each face, and the model's friction
+    work matches it to the torque drift of a held line pressure (< 3 %)."""
+    import csv
+
+    from brakewear.cli import main
+    path = _stops_scene(tmp_path)
+    s = load_scene(path)
+    assert s.vehicle.tyre_radius == pytest.approx(0.32) and len(s.schedule) == 3
+    out = tmp_path / "run"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    rows = list(csv.DictReader(open(out / "applications.csv")))
+    assert [r["kind"] for r in rows] == ["stop", "dwell", "stop"]
+    demand = 0.5 * 1800.0 * (50 / 3.6) ** 2 * 0.7 / 2 / 2
+    for r in (rows[0], rows[2]):
+        assert float(r["target_face_J"]) == pytest.approx(demand, rel=1e-12)
+        assert float(r["friction_face_J"]) == pytest.approx(demand, rel=0.03)
+    assert float(rows[2]["t_start"]) == pytest.approx(60.0)
+    summ = json.loads((out / "summary.json").read_text())
+    assert summ["braked_applications"] == 2
+    assert summ["energy"]["demanded_per_face_J"] == pytest.approx(2 * demand, rel=1e-12)
+    assert len(list(out.glob("pad_*.vtu"))) == 2
+    assert json.loads((out / "scene.json").read_text())["schedule"][0]["kind"] == "stop"
+    with pytest.raises(SceneError, match=r"--resume: a scene with a \[schedule\]"):
+        run_scene(s, out, resume=True)
+
+
+@pytest.mark.parametrize("edits,key,words", [
+    ({"vehicle": None}, "vehicle", "the [schedule]'s stops need a [vehicle]"),
+    ({"environment": {"duration": 10.0}}, "environment.duration", "set by the [schedule]"),
+    ({"schedule": {"deceleration": 15.0}}, "schedule.deceleration (application 0)",
+     "what the tyres can give"),
+    ({"vehicle": {"mass": -5.0}}, "vehicle.mass", "need 50..1e5 kg"),
+    ({"schedule": {"speed_form": 50.0}}, "schedule.speed_form", "unknown key"),
+    ({"numerics": {"update": "geometry"}}, "numerics.update", "gap-offset"),
+])
+def test_bad_schedule_scenes_name_the_key_before_meshing(tmp_path, no_meshing, edits, key,
+                                                         words):
+    from brakewear.errors import InputError
+    path = _stops_scene(tmp_path, **edits)
+    with pytest.raises(InputError) as e:
+        load_scene(path)
+    msg = str(e.value)
+    assert str(path) in msg and key in msg and words in msg, msg

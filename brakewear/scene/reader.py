@@ -60,6 +60,12 @@ _SCHEMA: dict[str, dict[str, str]] = {
                  "max_halvings": "int",
                  "memory_budget": "num"},
     "output": {"vtu_every": "int", "checkpoint_every": "int", "figures": "bool"},
+    "vehicle": {"mass": "num", "front_share": "num", "tyre_radius": "length",
+                "brakes_per_axle": "int", "regen_share": "num", "regen_torque_limit": "num",
+                "axle": "str", "tyre_mu": "num"},
+    # checked by brakewear.duty.schedule_from_table (its own units: km/h, m/s^2, MPa, s)
+    "schedule": {"stops": "raw", "speed_from": "raw", "speed_to": "raw", "deceleration": "raw",
+                 "line_pressure": "raw", "interval": "raw", "file": "raw"},
 }
 
 
@@ -74,7 +80,10 @@ _REQUIRED_KEYS = {
 
 
 _TOP = ("units", "scene", "geometry", "components", "mesh", "environment", "interface", "wear",
-        "thermal", "numerics", "output")
+        "thermal", "numerics", "output", "vehicle", "schedule")
+
+# what a [schedule] replaces: its applications set the loads and the durations
+_SCHEDULED = {"line_pressure", "omega", "duration"}
 
 
 def scene_dir():
@@ -192,7 +201,15 @@ def _tables(d: Any) -> dict[str, dict]:
         if unknown:
             raise fail(f"{t}.{unknown[0]}", f"unknown key {unknown[0]!r} in [{t}]; allowed "
                                              f"keys: {', '.join(allowed)}")
-        for k in sorted(_REQUIRED_KEYS.get(t, set()) - set(tab)):
+        required = _REQUIRED_KEYS.get(t, set())
+        if t == "environment" and "schedule" in d:
+            given = sorted(_SCHEDULED & set(tab))
+            if given:
+                raise fail(f"environment.{given[0]}", "is set by the [schedule]'s applications; "
+                                                       "remove it (allowed with a schedule: "
+                                                       "ambient)")
+            required = required - _SCHEDULED
+        for k in sorted(required - set(tab)):
             what = "body" if t == "components" else "key"
             raise fail(f"{t}.{k}", f"missing required {what} {k!r} in [{t}]" + (
                 "; a brake scene needs a pad and a rotor" if t == "components" else ""))
@@ -295,12 +312,27 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
             if f is not None:       # relative to the scene file's folder
                 mesh_files[k[:-5]] = str(base / f) if base is not None and not \
                     Path(f).is_absolute() else f
+        duty = _duty(tables, val, source, base)
         return Scene(geometry=geometry, rotor=comps["rotor"],
                      piston=comps.get("piston", "traction"),
                      mesh_size=mesh_size, order=val("mesh", "order"), mesh_files=mesh_files,
                      interface=interface, pad_wear=pad_wear, rotor_wear=rotor_wear,
                      thermal=thermal, numerics=numerics, output=output, name=name,
-                     description=val("scene", "description", ""), source=source, **env)
+                     description=val("scene", "description", ""), source=source,
+                     **duty, **env)
+
+
+def _duty(tables: dict, val, source: str, base: Path | None) -> dict:
+    """``vehicle`` and ``schedule`` of the scene's [vehicle] and [schedule] tables."""
+    from ..duty import Vehicle
+    from ..duty.schedule import schedule_from_table
+    out = {}
+    if "vehicle" in tables:
+        out["vehicle"] = Vehicle(**{k: val("vehicle", k) for k in tables["vehicle"]},
+                                 source=source)
+    if "schedule" in tables:
+        out["schedule"] = tuple(schedule_from_table(tables["schedule"], source, base))
+    return out
 
 
 def _table(v: Any, name: str) -> dict:
@@ -318,6 +350,8 @@ def _convert(key: str, v: Any, kind: str, units: Mapping[str, str]) -> Any:
             raise fail(key, f"{v!r} is not allowed; it must be a finite number")
         return float(v)
 
+    if kind == "raw":
+        return v
     if kind in ("str", "geometry", "path"):
         if not isinstance(v, str):
             raise fail(key, f"{v!r} is a {type(v).__name__}; expected a string")

@@ -243,6 +243,12 @@ class Scene:
         Pa, rad/s, s, K: steady drag at constant line pressure and rotor speed.
     interface, pad_wear, rotor_wear, thermal, numerics, output
         The tables of the scene file; ``rotor_wear = None``: the rotor does not wear.
+    vehicle, schedule
+        A :class:`~brakewear.duty.Vehicle` and a schedule of applications
+        (:class:`~brakewear.duty.Stop`, ``Drag``, ``Dwell``; scene tables
+        ``[vehicle]`` and ``[schedule]``): the run is the schedule
+        (:func:`brakewear.duty.run_schedule`) instead of one drag at
+        ``line_pressure`` and ``omega`` for ``duration``.
     name, description, source
         For messages and the summary (not compared).
     """
@@ -263,6 +269,8 @@ class Scene:
     thermal: ThermalSpec = field(default_factory=ThermalSpec)
     numerics: Numerics = field(default_factory=Numerics)
     output: OutputSpec = field(default_factory=OutputSpec)
+    vehicle: Any = None
+    schedule: tuple = ()
     name: str = field(default="scene", compare=False)
     description: str = field(default="", compare=False)
     source: str = field(default="<python>", compare=False)
@@ -376,9 +384,41 @@ class Scene:
         if self.thermal.enabled and self.interface.model != "fe":
             raise fail("thermal.enabled", "true needs interface.model = 'fe': the foundation "
                                           "takes no thermal-strain load (it would be dropped)")
+        self._check_duty()
         if self.thermal.contact_conductance > 0 and self.rotor != "elastic":
             raise fail("thermal.contact_conductance", "> 0 needs an elastic rotor "
                                                        "(components.rotor = 'elastic')")
+
+    def _check_duty(self) -> None:
+        from ..duty import Drag, Stop, Vehicle
+        if not self.schedule:
+            if self.vehicle is not None:
+                raise fail("vehicle", "a [vehicle] is used by a [schedule] of stops; add one or "
+                                      "remove the vehicle")
+            return
+        object.__setattr__(self, "schedule", tuple(self.schedule))
+        if self.vehicle is not None and not isinstance(self.vehicle, Vehicle):
+            raise fail("vehicle", f"{self.vehicle!r} is not a brakewear.duty.Vehicle")
+        if self.numerics.update != "gap":
+            raise fail("numerics.update", "a [schedule] runs in gap-offset mode, which "
+                                           "carries the wear from one application to the "
+                                           "next; allowed: 'gap'")
+        if self.interface.model != "fe":
+            raise fail("interface.model", "a [schedule] needs the FE interface (its torque "
+                                           "equation uses the contact's pressure field); "
+                                           "allowed: 'fe'")
+        needs = [a for a in self.schedule if isinstance(a, Stop)
+                 or (isinstance(a, Drag) and a.speed is not None)]
+        if needs and self.vehicle is None:
+            raise fail("vehicle", "missing: the [schedule]'s stops need a [vehicle] table "
+                                  "(mass, front_share, tyre_radius, ...)")
+        for i, a in enumerate(self.schedule):
+            if isinstance(a, Stop) and a.decel is not None:
+                self.vehicle.check_deceleration(a.decel, key=f"schedule.deceleration "
+                                                              f"(application {i})")
+        if self.interface.mu <= 0:
+            raise fail("interface.mu", f"{self.interface.mu!r}: a [schedule] turns brake "
+                                        "torque into line pressure through mu; need mu > 0")
 
     # -------------------------------------------------------------- build --
     def build_model(self):
@@ -408,7 +448,13 @@ class Scene:
 
     def to_dict(self) -> dict:
         """A JSON-ready record of the scene in SI units (written to ``scene.json``)."""
-        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "geometry"}
+        d = {f.name: getattr(self, f.name) for f in fields(self)
+             if f.name not in ("geometry", "vehicle", "schedule")}
+        if self.schedule:
+            d["vehicle"] = None if self.vehicle is None else {
+                k: v for k, v in asdict(self.vehicle).items() if k != "source"}
+            d["schedule"] = [{"kind": type(a).__name__.lower(), **asdict(a)}
+                             for a in self.schedule]
         for k in ("interface", "pad_wear", "rotor_wear", "thermal", "numerics", "output"):
             d[k] = None if d[k] is None else asdict(d[k])
         d["interface"]["surfaces"] = list(d["interface"]["surfaces"])

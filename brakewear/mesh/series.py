@@ -1,0 +1,45 @@
+"""ParaView time series of a mesh: ``NAME.pvd`` and one VTU per written step."""
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+__all__ = ["SeriesWriter"]
+
+
+class SeriesWriter:
+    """A ParaView time series (``NAME.pvd`` + one VTU per written step) of one mesh."""
+
+    def __init__(self, directory: str | os.PathLike, name: str, points: np.ndarray,
+                 tets: np.ndarray, resume_step: int | None = None):
+        self.dir, self.name = Path(directory), name
+        self.points, self.tets = np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T)
+        self.entries: list[tuple[float, int]] = []
+        pvd = self.dir / f"{name}.pvd"
+        if resume_step is not None and pvd.exists():
+            pat = re.compile(rf'timestep="([^"]+)"[^>]*file="{re.escape(name)}_(\d+)\.vtu"')
+            for t, s in pat.findall(pvd.read_text()):
+                if int(s) <= resume_step:
+                    self.entries.append((float(t), int(s)))
+            for f in self.dir.glob(f"{name}_*.vtu"):   # written after the checkpoint
+                if int(f.stem.rsplit("_", 1)[1]) > resume_step:
+                    f.unlink()
+
+    def write(self, step: int, time_s: float, fields: dict) -> Path:
+        path = self.dir / f"{self.name}_{step:05d}.vtu"
+        meshio.Mesh(self.points, [("tetra", self.tets)],
+                    point_data={k: np.asarray(v, dtype=float) for k, v in fields.items()}
+                    ).write(path)
+        self.entries = [e for e in self.entries if e[1] != step] + [(time_s, step)]
+        rows = "\n".join(f'    <DataSet timestep="{t!r}" group="" part="0" '
+                         f'file="{self.name}_{s:05d}.vtu"/>' for t, s in self.entries)
+        text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+                f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n")
+        tmp = self.dir / f".{self.name}.pvd.tmp"
+        tmp.write_text(text)
+        os.replace(tmp, self.dir / f"{self.name}.pvd")
+        return path
