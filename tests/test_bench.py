@@ -224,8 +224,32 @@ def test_direct_active_set_finds_the_contact_solution():
     assert out["iterations"] >= 2  # the start set (g0 <= gap_tol) is not the answer
     np.testing.assert_array_equal(out["active"], res.active[0])
     np.testing.assert_allclose(out["force"], res.force[0], atol=1e-8 * res.force[0].max())
-    with pytest.raises(RuntimeError, match="no settled set in 1 iterations"):
+    with pytest.raises(RuntimeError, match="did not settle in 1 iterations"):
         bench.direct_active_set(*args, symmetric=True, max_iter=1)
+
+
+def test_direct_active_set_runs_on_the_shared_driver_with_any_factorisation():
+    """The benchmark's direct active-set loop is the shared driver's: with SciPy's
+    sparse LU in place of PARDISO it ends at solve_contact's set and forces (the
+    same rule from the same start), and an exhausted budget is an ActiveSetError."""
+    from scipy.sparse.linalg import spsolve
+
+    from brakewear.contact import solve_contact
+    from brakewear.errors import ActiveSetError
+    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+
+    prob = hertz_problem(0.5)
+    vals = prob.fixed_values(hertz_force())
+    args = (prob.K, np.zeros(prob.dofs), prob.fixed, vals, prob.pair, GAP_TOL * DELTA)
+    res = solve_contact(prob.K, np.zeros(prob.dofs), prob.fixed, prob.mesh.p, [prob.pair],
+                        fixed_values=vals, linear="direct", gap_tol=GAP_TOL * DELTA)
+    lu = lambda M, rhs: spsolve(M.tocsc(), rhs)  # noqa: E731
+    out = bench.direct_active_set(*args, symmetric=True, factorize=lu)
+    assert out["iterations"] >= 2
+    np.testing.assert_array_equal(out["active"], res.active[0])
+    np.testing.assert_allclose(out["force"], res.force[0], atol=1e-8 * res.force[0].max())
+    with pytest.raises(ActiveSetError, match="did not settle in 1 iterations"):
+        bench.direct_active_set(*args, symmetric=True, max_iter=1, factorize=lu)
 
 
 def test_contact_cli_json_and_parser():

@@ -133,56 +133,93 @@ def kkt_solves(M, rhs, n_u: int, lam_ref: np.ndarray, row: dict, superlu: bool =
         row["direct_kkt_solver"], row["direct_kkt_s"], row["kkt_multiplier_diff"] = best
 
 
-def direct_active_set(K, f, fixed, fixed_values, pair, gap_tol: float, symmetric: bool,
-                      release_tol: float = 1e-6, max_iter: int = 30) -> dict:
-    """A direct active-set solve: the primal-dual rule of ``solve_contact``
-    with every set's KKT system (:func:`kkt_system`) factorised by MKL
-    PARDISO (symmetric indefinite where ``symmetric``, else real
-    unsymmetric), from the same start (the nodes with ``g0 <= gap_tol``).
+class _KKTSets:
+    """The KKT system of one active set after another, solved by ``factorize``
+    (a :class:`~brakewear.contact.active_set.SetProblem` for the shared driver)."""
 
-    What a direct solver does with a cold contact problem, the like-for-like
-    of a cold ``solve_contact``.  Returns ``time_s`` (PARDISO's analysis,
-    factorisation and solve of every set plus the gaps and the update; the
-    KKT assemblies apart in ``assembly_s``, since :func:`kkt_system` slices
-    ``K`` anew for every set where a direct code would do it once: leaving
-    them out favours the direct solve), ``iterations``,
-    the final ``active`` set and its ``force`` (multipliers per slave node),
-    or ``None`` without pypardiso.  Raises ``RuntimeError`` if the set does
-    not settle in ``max_iter``.
-    """
+    def __init__(self, K, f, fixed, fixed_values, pair, gap_tol, symmetric, factorize):
+        self.args = (K, f, fixed, fixed_values, pair)
+        self.pair, self.gap_tol, self.symmetric, self.factorize = pair, gap_tol, symmetric, \
+            factorize
+        self.uc = np.zeros(K.shape[0])
+        self.uc[fixed] = fixed_values
+        self.t_solve = self.t_assembly = 0.0
+
+    def solve(self, active, tol, rtol0) -> None:
+        t0 = time.perf_counter()
+        M, rhs, free, idx = kkt_system(*self.args, active)
+        M = symmetric_upper(M) if self.symmetric else M
+        t1 = time.perf_counter()
+        x = self.factorize(M, rhs)
+        self.u = self.uc.copy()
+        self.u[free] = x[:free.size]
+        self.lam = np.zeros(self.pair.slave.size)
+        self.lam[idx] = x[free.size:]
+        self.t_solve += time.perf_counter() - t1
+        self.t_assembly += t1 - t0
+
+    def margins(self, active, band):
+        from ..contact.active_set import Margins
+        t0 = time.perf_counter()
+        gaps = np.where(active, 0.0, self.pair.gaps(self.u))
+        m = Margins(self.lam, band * max(np.abs(self.lam).max(), 1e-300), -gaps, self.gap_tol)
+        self.t_solve += time.perf_counter() - t0
+        return m
+
+
+def _pardiso(symmetric: bool):
+    """PARDISO's analysis, factorisation and solve of each system, or None."""
     try:
         import pypardiso
     except ImportError:
         return None
-
-    N = K.shape[0]
-    uc = np.zeros(N)
-    uc[fixed] = fixed_values
-    active = pair.g0 <= gap_tol
-    t_solve = t_assembly = 0.0
     # one wrapper for all sets: its construction finds the MKL library (0.1 s), no PARDISO work
     solver = pypardiso.PyPardisoSolver(mtype=-2 if symmetric else 11)
-    for it in range(1, max_iter + 1):
-        t0 = time.perf_counter()
-        M, rhs, free, idx = kkt_system(K, f, fixed, fixed_values, pair, active)
-        M = symmetric_upper(M) if symmetric else M
-        t1 = time.perf_counter()
-        x = solver.solve(M, rhs)  # analysis + factorisation + solve of this set
+
+    def factorize(M, rhs):
+        x = solver.solve(M, rhs)
         solver.free_memory(everything=True)
-        u = uc.copy()
-        u[free] = x[:free.size]
-        lam = np.zeros(pair.slave.size)
-        lam[idx] = x[free.size:]
-        gaps = np.where(active, 0.0, pair.gaps(u))
-        ltol = release_tol * max(np.abs(lam).max(), 1e-300)
-        new = (active & (lam > -ltol)) | (~active & (gaps < -gap_tol))
-        t_solve += time.perf_counter() - t1
-        t_assembly += t1 - t0
-        if np.array_equal(new, active):
-            return {"time_s": t_solve, "assembly_s": t_assembly, "iterations": it,
-                    "active": active, "force": lam}
-        active = new
-    raise RuntimeError(f"direct active-set solve: no settled set in {max_iter} iterations")
+        return x
+    return factorize
+
+
+def direct_active_set(K, f, fixed, fixed_values, pair, gap_tol: float, symmetric: bool,
+                      release_tol: float = 1e-6, max_iter: int = 30,
+                      factorize=None) -> dict | None:
+    """A direct active-set solve: the shared driver's primal-dual rule
+    (:class:`~brakewear.contact.active_set.ActiveSetDriver` with the
+    :data:`~brakewear.contact.active_set.EXACT` policy, as ``solve_contact``
+    with ``linear="direct"``) with every set's KKT system (:func:`kkt_system`)
+    solved by ``factorize(M, rhs)``: by default MKL PARDISO (symmetric
+    indefinite where ``symmetric``, else real unsymmetric), from the same
+    start (the nodes with ``g0 <= gap_tol``).
+
+    What a direct solver does with a cold contact problem, the like-for-like
+    of a cold ``solve_contact``.  Returns ``time_s`` (the analysis,
+    factorisation and solve of every set plus the gaps and the update; the
+    KKT assemblies apart in ``assembly_s``, since :func:`kkt_system` slices
+    ``K`` anew for every set where a direct code would do it once: leaving
+    them out favours the direct solve), ``iterations``, the final ``active``
+    set and its ``force`` (multipliers per slave node), or ``None`` without
+    pypardiso (and no ``factorize``).  Raises
+    :class:`~brakewear.errors.ActiveSetError` if the set does not settle in
+    ``max_iter``.  A given ``factorize`` gets the full matrix.
+    """
+    from dataclasses import replace
+
+    from ..contact.active_set import EXACT, ActiveSetDriver
+    if factorize is None:
+        factorize = _pardiso(symmetric)
+        if factorize is None:
+            return None
+    else:
+        symmetric = False
+    problem = _KKTSets(K, f, fixed, fixed_values, pair, gap_tol, symmetric, factorize)
+    driver = ActiveSetDriver(replace(EXACT, max_iter=max_iter, release_tol=release_tol), 0.0,
+                             exact=True, name="direct active-set solve")
+    active = driver.run(problem, pair.g0 <= gap_tol)
+    return {"time_s": problem.t_solve, "assembly_s": problem.t_assembly,
+            "iterations": driver.solves, "active": active, "force": problem.lam}
 
 
 def direct_active_set_row(row: dict, K, f, fixed, fixed_values, pair, gap_tol: float,
