@@ -27,7 +27,8 @@ pad wear, gap-offset update (:func:`brakewear.duty.run_schedule`).
 
 Run ``python studies/cleaning_stops.py [--decels 0.5 1 2 3] [--stops 20] [--out docs]``;
 the sensitivity sweeps with ``--name cleaning_stops_<case>`` (:data:`SENSITIVITY`) and
-their tornado chart with ``--tornado``.
+their tornado chart with ``--tornado``; the probability of clean under uncertain
+inputs (:data:`UNCERTAIN`) with ``--monte-carlo N``.
 """
 from __future__ import annotations
 
@@ -304,6 +305,82 @@ def write_sensitivity(out: Path, decel: float = 1.5, stops: int = DEFAULTS["stop
     return rows
 
 
+#: the Monte Carlo's input distributions, in the study's units: name -> (kind, a, b);
+#: "lognormal": median a, standard deviation b of the logarithm; "uniform": a..b;
+#: "normal": mean a, standard deviation b
+UNCERTAIN = {
+    "corrosion": ("lognormal", 25.0, 0.3),        # um: days to weeks of standing
+    "k_corrosion": ("lognormal", 1e-12, 0.5),     # 1/Pa: the least known input
+    "coning": ("uniform", 15.0, 45.0),            # um
+    "mu": ("normal", 0.4, 0.03),
+}
+
+
+def sample_inputs(n: int, seed: int = 20091, dists: dict = UNCERTAIN) -> list[dict]:
+    """``n`` draws of the uncertain inputs (a NumPy generator seeded with ``seed``)."""
+    rng = np.random.default_rng(seed)
+    cols = {}
+    for name, (kind, a, b) in dists.items():
+        if kind == "lognormal":
+            cols[name] = a * np.exp(b * rng.standard_normal(n))
+        elif kind == "uniform":
+            cols[name] = rng.uniform(a, b, n)
+        elif kind == "normal":
+            cols[name] = rng.normal(a, b, n)
+        else:
+            raise ValueError(f"{name}: unknown distribution {kind!r}; allowed: lognormal, "
+                             "uniform, normal")
+    return [{k: float(v[i]) for k, v in cols.items()} for i in range(n)]
+
+
+def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """The Wilson score interval (95 % by default) of a probability seen k times in n."""
+    if n == 0:
+        return 0.0, 1.0
+    p = k / n
+    c = (p + z * z / (2 * n)) / (1 + z * z / n)
+    h = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return max(0.0, c - h), min(1.0, c + h)
+
+
+def probability_of_clean(decel: float, n: int = 24, seed: int = 20091,
+                         stops: int = DEFAULTS["stops"], executor: Executor | None = None,
+                         out=None, dists: dict = UNCERTAIN, **settings) -> dict:
+    """Monte Carlo: the probability that ``stops`` stops at ``decel`` clean the band
+    when the inputs of ``dists`` are uncertain (the rest from :data:`DEFAULTS` and
+    ``settings``); each sample is one :func:`run_decel` on ``executor`` (a
+    ``ProcessPoolExecutor(2)`` by default; a dask client's ``get_executor()`` for
+    large samples).  A sample whose solve failed counts as not cleaned and is
+    reported.  Writes ``data/cleaning_stops_mc.json`` to ``out``."""
+    st = {**DEFAULTS, **settings, "stops": stops}
+    samples = sample_inputs(n, seed, dists)
+    tasks = [dict(st, **x, decel=decel) for x in samples]
+    t0 = time.perf_counter()
+    own = executor is None
+    executor = ProcessPoolExecutor(max_workers=2) if own else executor
+    try:
+        runs = list(executor.map(run_decel, tasks))
+    finally:
+        if own:
+            executor.shutdown()
+    rows = [{**x, "stops_to_clean": r.get("stops_to_clean"), "error": r.get("error"),
+             "cleaned_fraction": r["rows"][-1]["cleaned_fraction"] if "rows" in r else None,
+             "run_s": r.get("run_s")} for x, r in zip(samples, runs)]
+    k = sum(r["stops_to_clean"] is not None for r in rows)
+    times = [r["run_s"] for r in rows if r["run_s"] is not None]
+    result = {"decel": decel, "stops": stops, "samples": n, "seed": seed,
+              "distributions": {k_: list(v) for k_, v in dists.items()},
+              "settings": {k_: v for k_, v in st.items() if k_ not in dists},
+              "cleaned": k, "probability": k / n, "interval_95": list(wilson(k, n)),
+              "failed": sum(r["error"] is not None for r in rows),
+              "cost_per_sample_s": float(np.mean(times)) if times else None,
+              "wall_s": time.perf_counter() - t0, "rows": rows}
+    if out is not None:
+        (Path(out) / "data").mkdir(parents=True, exist_ok=True)
+        (Path(out) / "data" / "cleaning_stops_mc.json").write_text(json.dumps(result, indent=1))
+    return result
+
+
 def _cli(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--decels", type=float, nargs="+", default=list(DEFAULTS["decels"]))
@@ -316,7 +393,21 @@ def _cli(argv=None) -> dict:
         ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=float, default=DEFAULTS[k])
     ap.add_argument("--tornado", action="store_true",
                     help="only draw the sensitivity (tornado) chart of the sweeps in OUT/data")
+    ap.add_argument("--monte-carlo", type=int, default=0, metavar="N",
+                    help="only the probability of clean at the first of --decels, N samples "
+                         "of the inputs in UNCERTAIN")
     a = vars(ap.parse_args(argv))
+    mc = a.pop("monte_carlo")
+    if mc:
+        r = probability_of_clean(a["decels"][0], mc, stops=a["stops"], out=a["out"],
+                                 **{k: a[k] for k in DEFAULTS if k in a and k not in UNCERTAIN
+                                    and k not in ("decels", "stops")})
+        lo, hi = r["interval_95"]
+        print(f"{r['decel']:g} m/s^2, {r['stops']} stops: cleaned in {r['cleaned']} of "
+              f"{r['samples']} samples, P = {r['probability']:.2f} (95 % interval {lo:.2f}.."
+              f"{hi:.2f}); {r['failed']} failed; {r['cost_per_sample_s']:.0f} s per sample, "
+              f"{r['wall_s']:.0f} s")
+        return r
     if a.pop("tornado"):
         for r in write_sensitivity(Path(a["out"])):
             print(r)

@@ -117,3 +117,31 @@ def test_sensitivity_rows_and_tornado_from_the_sweeps_on_disk(tmp_path):
     assert np.isnan(rows["coning (um)"]["low_stops"])
     assert (tmp_path / "figures" / "cleaning_stops_tornado.png").stat().st_size > 10_000
     assert (data / "cleaning_stops_sensitivity.csv").read_text().startswith("parameter,")
+
+
+def test_probability_of_clean_counts_the_samples(monkeypatch):
+    """The Monte Carlo draws its inputs reproducibly, hands each sample to
+    run_decel through the executor, counts a failed solve as not cleaned and
+    reports the Wilson interval."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    a, b = study.sample_inputs(50, seed=1), study.sample_inputs(50, seed=1)
+    assert a == b and len({x["corrosion"] for x in a}) == 50
+    assert all(15.0 <= x["coning"] <= 45.0 for x in a)
+    assert np.median([x["k_corrosion"] for x in a]) == pytest.approx(1e-12, rel=0.3)
+
+    def fake(task):      # thin layers clean, a few solves fail
+        if task["coning"] > 42.0:
+            return {"decel": task["decel"], "error": "ActiveSetError: ..."}
+        clean = task["corrosion"] < 25.0
+        return {"decel": task["decel"], "stops_to_clean": 12 if clean else None,
+                "rows": [{"cleaned_fraction": 1.0 if clean else 0.8}], "run_s": 2.0}
+    monkeypatch.setattr(study, "run_decel", fake)
+    with ThreadPoolExecutor(2) as ex:
+        r = study.probability_of_clean(1.0, 50, seed=1, executor=ex)
+    expect = sum(x["corrosion"] < 25.0 and x["coning"] <= 42.0 for x in a)
+    assert r["cleaned"] == expect and r["probability"] == expect / 50
+    assert r["failed"] == sum(x["coning"] > 42.0 for x in a) > 0
+    lo, hi = r["interval_95"]
+    assert lo < r["probability"] < hi and (lo, hi) == pytest.approx(study.wilson(expect, 50))
+    assert study.wilson(0, 10)[0] == 0.0 and study.wilson(10, 10)[1] == 1.0
