@@ -93,6 +93,8 @@ def _run_decel(task: dict) -> dict:
         if rec.kind != "stop":
             continue
         touched.append(rotor.touched_fraction(rec.pressure))
+        if len(touched) == 1:
+            first = rec.pressure.copy()
         rows.append({"stop": len(rows) + 1, "line_pressure_MPa": rec.line_pressure / 1e6,
                      "r_eff_mm": rec.r_eff * 1e3, "duration_s": rec.duration,
                      "target_face_kJ": rec.target_face_J / 1e3,
@@ -105,6 +107,10 @@ def _run_decel(task: dict) -> dict:
             break
     clean = next((r["stop"] for r in rows if r["cleaned_fraction"] >= 1.0), None)
     return {"decel": task["decel"], "line_pressure_MPa": rows[0]["line_pressure_MPa"],
+            # the pad's contact at the end of the first and the last stop (maps)
+            "pad_x_mm": (itf.x[0] * 1e3).tolist(), "pad_y_mm": (itf.x[1] * 1e3).tolist(),
+            "pressure_first_MPa": (first / 1e6).tolist(),
+            "pressure_last_MPa": (rec.pressure / 1e6).tolist(),
             "stops_to_clean": clean, "rows": rows,
             "ring_radius_mm": (rotor.radii * 1e3).tolist(),
             "ring_wear_um": (rotor.ring_means(rec.rotor_wear) * 1e6).tolist(),
@@ -186,6 +192,8 @@ def write_outputs(result: dict, out: Path, figures: bool = True,
     if figures:
         (out / "figures").mkdir(parents=True, exist_ok=True)
         plot_map(result, out / "figures" / f"{name}_map.png")
+        if all("pressure_first_MPa" in r for r in result["runs"]):
+            plot_contact_maps(result, out / "figures" / f"{name}_contact.png")
 
 
 def plot_map(result: dict, path: Path) -> None:
@@ -379,6 +387,47 @@ def probability_of_clean(decel: float, n: int = 24, seed: int = 20091,
         (Path(out) / "data").mkdir(parents=True, exist_ok=True)
         (Path(out) / "data" / "cleaning_stops_mc.json").write_text(json.dumps(result, indent=1))
     return result
+
+
+def plot_contact_maps(result: dict, path: Path, decels=None) -> None:
+    """The pad face seen from the rotor at the end of the first and the last stop,
+    for up to four decelerations: one dot per friction node coloured by pressure,
+    open where it is below the touch threshold; the band's edges dashed."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    runs = result["runs"]
+    if decels is None:
+        idx = np.unique(np.linspace(0, len(runs) - 1, min(4, len(runs))).round().astype(int))
+        runs = [runs[i] for i in idx]
+    else:
+        runs = [r for r in runs if r["decel"] in decels]
+    thr = result["settings"]["threshold"]
+    vmax = max(max(r["pressure_first_MPa"] + r["pressure_last_MPa"]) for r in runs)
+    fig, axes = plt.subplots(2, len(runs), figsize=(2.6 * len(runs) + 1.2, 6.0),
+                             squeeze=False, layout="constrained")
+    for j, r in enumerate(runs):
+        x, y = np.array(r["pad_x_mm"]), np.array(r["pad_y_mm"])
+        for i, (key, when) in enumerate((("pressure_first_MPa", "stop 1"),
+                                         ("pressure_last_MPa", f"stop {r['rows'][-1]['stop']}"))):
+            ax, p = axes[i, j], np.array(r[key])
+            on = p >= thr
+            sc = ax.scatter(x[on], y[on], c=p[on], s=9, cmap="inferno", vmin=0, vmax=vmax)
+            ax.scatter(x[~on], y[~on], s=9, facecolors="none", edgecolors="0.6", lw=0.5)
+            for rad in (min(np.hypot(x, y)), max(np.hypot(x, y))):
+                t = np.linspace(np.arctan2(y, x).min(), np.arctan2(y, x).max(), 50)
+                ax.plot(rad * np.cos(t), rad * np.sin(t), "k--", lw=0.5)
+            ax.set_aspect("equal")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            ax.set_title(f"{r['decel']:g} m/s^2, {r['line_pressure_MPa']:.2f} MPa\n{when}",
+                         fontsize=8)
+    fig.colorbar(sc, ax=axes, shrink=0.6, label="contact pressure (MPa)")
+    fig.suptitle(f"pad face seen from the rotor (radius to the right); open: below {thr:g} MPa",
+                 fontsize=9)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
 
 
 def _cli(argv=None) -> dict:

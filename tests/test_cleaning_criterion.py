@@ -82,6 +82,11 @@ def test_vehicle_cleaning_study_on_a_coarse_mesh(tmp_path):
     assert M.shape == (4, 2) and np.all(np.diff(M, axis=0) >= 0)
     assert (tmp_path / "figures" / "cleaning_stops_map.png").stat().st_size > 10_000
     assert (tmp_path / "data" / "cleaning_stops_map.csv").read_text().count("\n") == 5
+    # the contact maps: the pressure at the end of the first and the last stop
+    assert (tmp_path / "figures" / "cleaning_stops_contact.png").stat().st_size > 10_000
+    n = len(low["pad_x_mm"])
+    assert len(low["pressure_first_MPa"]) == len(high["pressure_last_MPa"]) == n
+    assert max(high["pressure_first_MPa"]) > max(low["pressure_first_MPa"])
 
 
 class _Serial:
