@@ -282,10 +282,10 @@ class ThermalModel:
         ``heat_into_bodies_W`` counts the friction heat only;
         ``exchange_pad_to_rotor_W`` is the net contact-conductance flow
         (the bodies' ``heat_in_W`` include it, their ``to_contact_W`` is
-        the pad's gross outflow ``sum h_c A_i T_i``).  ``partition_error``: |heat into
-        the bodies (+ a rigid rotor's share)
-        - friction power| / friction power (the flux mapping, incl. the
-        rotor's revolution average).  ``bodies[b]['relative_error']``: heat
+        the pad's gross outflow ``sum h_c A_i T_i``).  ``partition_error``: the
+        absolute difference of the heat into the bodies (plus a rigid rotor's
+        share) and the friction power, over the friction power (the flux
+        mapping, incl. the rotor's revolution average).  ``bodies[b]['relative_error']``: heat
         in vs stored + convected (the solve).  ``relative_error``: the
         largest of them.
         """
