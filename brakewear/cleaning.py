@@ -28,7 +28,8 @@ import numpy as np
 from .errors import WearError
 from .laws import WearLaw
 
-__all__ = ["LayeredWearLaw", "CorrodedRotor", "coning_gap"]
+__all__ = ["read_gap_map", "map_gap", "GAP_COLUMNS", "LayeredWearLaw", "CorrodedRotor",
+           "coning_gap"]
 
 
 @dataclass(frozen=True)
@@ -51,6 +52,68 @@ def coning_gap(r: np.ndarray, r_in: float, r_out: float, coning: float) -> np.nd
     A coned rotor does the one on one face and the other on the opposite face.
     """
     g = coning * (np.asarray(r, dtype=float) - r_in) / (r_out - r_in)
+    return g - g.min()
+
+
+#: the columns of an initial-gap map (:func:`read_gap_map`)
+GAP_COLUMNS = ("r_mm", "theta_deg", "gap_um")
+
+
+def read_gap_map(path) -> np.ndarray:
+    """An initial-gap map from a CSV file: columns ``r_mm``, ``theta_deg`` (the angle
+    from the pad's centre line, the x axis of the brake) and ``gap_um``, one row per
+    point; returns an ``(n, 3)`` array in m, rad, m.  Errors name the file and the row."""
+    import csv
+    from pathlib import Path
+
+    from .errors import InputError
+    path = Path(path)
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            rows = list(csv.DictReader(fh))
+    except OSError as e:
+        raise InputError(f"{path}: cannot read the gap map ({e.strerror})") from None
+    header = list(rows[0]) if rows else []
+    missing = [c for c in GAP_COLUMNS if c not in header]
+    if missing:
+        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; need "
+                         f"{', '.join(GAP_COLUMNS)} (the header is "
+                         f"{', '.join(header) or '(empty file)'})")
+    out = []
+    for i, row in enumerate(rows, start=2):                 # row 1 is the header
+        try:
+            r, th, g = (float(row[c]) for c in GAP_COLUMNS)
+        except (TypeError, ValueError):
+            raise InputError(f"{path}, row {i}: not a number in {dict(row)!r}") from None
+        if not (np.isfinite([r, th, g]).all() and r > 0 and abs(g) <= 1000.0):
+            raise InputError(f"{path}, row {i}: r_mm = {row['r_mm']}, gap_um = "
+                             f"{row['gap_um']} is not allowed; need r_mm > 0 and "
+                             "|gap_um| <= 1000")
+        out.append((r * 1e-3, np.radians(th), g * 1e-6))
+    if len(out) < 3:
+        raise InputError(f"{path}: a gap map needs at least three points")
+    return np.array(out)
+
+
+def map_gap(points: np.ndarray, x: np.ndarray, source: str = "gap map") -> np.ndarray:
+    """The gap of a map ``(n, 3)`` (r, theta, gap) at pad nodes ``x`` (3, m):
+    linear between the points (triangulated in radius and arc length at the
+    map's mean radius), shifted so that its smallest value is zero.  Raises
+    :class:`~brakewear.errors.InputError` if a node lies outside the map."""
+    from scipy.interpolate import LinearNDInterpolator
+
+    from .errors import InputError
+    r_m = float(points[:, 0].mean())
+    f = LinearNDInterpolator(np.c_[points[:, 0], r_m * points[:, 1]], points[:, 2])
+    r, th = np.hypot(x[0], x[1]), np.arctan2(x[1], x[0])
+    g = f(np.c_[r, r_m * th])
+    out = ~np.isfinite(g)
+    if out.any():
+        i = int(np.flatnonzero(out)[0])
+        raise InputError(f"{source}: {int(out.sum())} pad node(s) lie outside the map, e.g. "
+                         f"r = {r[i] * 1e3:.2f} mm, theta = {np.degrees(th[i]):.2f} deg; the "
+                         f"pad face spans r {r.min() * 1e3:.1f}..{r.max() * 1e3:.1f} mm, theta "
+                         f"{np.degrees(th.min()):.1f}..{np.degrees(th.max()):.1f} deg")
     return g - g.min()
 
 

@@ -280,10 +280,10 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                                               rotor=scene.interface.winkler_rotor)
         kw["interface"] = FoundationInterface(model, winkler, scene.line_pressure,
                                               scene.interface.mu)
-    if scene.interface.coning or scene.interface.pad_taper:
+    if scene.interface.coning or scene.interface.pad_taper or scene.interface.gap_file:
         if "interface" not in kw:
             kw["interface"] = FEInterface(model, scene.line_pressure, scene.interface.mu, n.tol)
-        kw["initial_gap"] = scene.initial_gap(kw["interface"].r)
+        kw["initial_gap"] = scene.initial_gap(kw["interface"].x)
     if scene.thermal.enabled:
         from .thermal.model import ThermalModel
         t = scene.thermal

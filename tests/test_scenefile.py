@@ -281,10 +281,11 @@ def test_coning_and_taper_give_the_loops_initial_gap(tmp_path, monkeypatch):
     d["interface"].update(coning=0.030, pad_taper=-0.010)          # mm
     s = scene_from_dict(d)
     assert (s.interface.coning, s.interface.pad_taper) == pytest.approx((30e-6, -10e-6))
-    assert load_scene("default").initial_gap(np.array([0.1])) is None
+    assert load_scene("default").initial_gap(np.zeros((3, 1))) is None
     pad = s.geometry.pad
     r = np.linspace(pad.inner_radius, pad.outer_radius, 5)
-    assert s.initial_gap(r) == pytest.approx(np.linspace(0.0, 20e-6, 5), abs=1e-18)
+    x = np.vstack([r, np.zeros(5), np.zeros(5)])
+    assert s.initial_gap(x) == pytest.approx(np.linspace(0.0, 20e-6, 5), abs=1e-18)
     import brakewear.output as history
     seen = {}
 
@@ -415,3 +416,39 @@ def test_bad_schedule_scenes_name_the_key_before_meshing(tmp_path, no_meshing, e
         load_scene(path)
     msg = str(e.value)
     assert str(path) in msg and key in msg and words in msg, msg
+
+
+def test_a_gap_map_from_a_csv_is_interpolated_onto_the_pad(tmp_path):
+    """interface.gap_file (relative to the scene file): a map linear in radius gives
+    the coning's gap; a map that does not cover the pad, or a bad row, is refused
+    naming the key, the file and the row."""
+    from brakewear.cleaning import coning_gap, map_gap, read_gap_map
+    from brakewear.errors import InputError
+    pad = load_scene("default").geometry.pad
+    r_in, r_out = pad.inner_radius * 1e3, pad.outer_radius * 1e3
+    lines = ["r_mm,theta_deg,gap_um"]
+    for r in np.linspace(r_in - 1, r_out + 1, 7):
+        for th in (-40.0, 0.0, 40.0):
+            lines.append(f"{r},{th},{30.0 * (r - r_in) / (r_out - r_in)}")
+    (tmp_path / "gap.csv").write_text("\n".join(lines) + "\n")
+    d = _default_dict()
+    d["interface"]["gap_file"] = "gap.csv"
+    path = tmp_path / "s.toml"
+    path.write_text(_dump(d))
+    s = load_scene(path)
+    assert s.interface.gap_file == str(tmp_path / "gap.csv")
+    rng = np.random.default_rng(0)
+    rr = rng.uniform(pad.inner_radius, pad.outer_radius, 40)
+    th = rng.uniform(-0.4, 0.4, 40)
+    x = np.vstack([rr * np.cos(th), rr * np.sin(th), np.zeros(40)])
+    ref = coning_gap(rr, pad.inner_radius, pad.outer_radius, 30e-6)
+    assert s.initial_gap(x) == pytest.approx(ref - ref.min(), abs=1e-12)
+    # the pad sticks out of a map that stops at 0 deg
+    pts = read_gap_map(tmp_path / "gap.csv")
+    with pytest.raises(InputError, match="outside the map, e.g. r = .* mm, theta = "):
+        map_gap(pts[pts[:, 1] <= 0.0], x)
+    (tmp_path / "bad.csv").write_text("r_mm,theta_deg,gap_um\n100,0,1\n110,x,2\n")
+    d["interface"]["gap_file"] = "bad.csv"
+    path.write_text(_dump(d))
+    with pytest.raises(SceneError, match=r"interface.gap_file: .*bad.csv, row 3: not a number"):
+        load_scene(path)

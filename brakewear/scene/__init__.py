@@ -1,7 +1,8 @@
 """Scenes: one brake model plus what to compute, from a TOML file or from Python."""
 
-from . import reader, spec
+from . import reader, spec, tables
 from .reader import *  # noqa: F403
 from .spec import *  # noqa: F403
+from .tables import *  # noqa: F403
 
-__all__ = [*reader.__all__, *spec.__all__]
+__all__ = [*reader.__all__, *spec.__all__, *tables.__all__]

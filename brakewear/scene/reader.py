@@ -21,7 +21,8 @@ from ..checks import fail, user_units
 from ..errors import GeometryError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
 from ..wear.numerics import Numerics
-from .spec import UNITS, InterfaceSpec, OutputSpec, Scene, ThermalSpec, WearSpec
+from .spec import Scene
+from .tables import UNITS, InterfaceSpec, OutputSpec, ThermalSpec, WearSpec
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -46,7 +47,7 @@ _SCHEMA: dict[str, dict[str, str]] = {
                     "ambient": "temperature"},
     "interface": {"model": "str", "surfaces": "surfaces", "mu": "num", "method": "str",
                   "winkler_modulus": "num", "winkler_rotor": "str",
-                  "coning": "signed_length", "pad_taper": "signed_length"},
+                  "coning": "signed_length", "pad_taper": "signed_length", "gap_file": "path"},
     "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
                  "activation_energy": "num", "limit": "length"},
     "wear.rotor": {"enabled": "bool", "k": "k", "a": "num", "b": "num",
@@ -284,6 +285,8 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
 
     iface = tables.get("interface", {})
     ikw = {k: val("interface", k) for k in iface}
+    if "gap_file" in ikw and base is not None and not Path(ikw["gap_file"]).is_absolute():
+        ikw["gap_file"] = str(base / ikw["gap_file"])       # relative to the scene file
     if "surfaces" in ikw:
         ikw["surfaces"] = tuple(ikw["surfaces"])
 

@@ -19,8 +19,9 @@ from dataclasses import asdict, dataclass, field, fields
 from os import PathLike
 from typing import Any, Mapping
 
+import numpy as np
+
 from ..checks import (
-    check_bool,
     check_choice,
     check_int,
     check_number,
@@ -32,194 +33,18 @@ from ..checks import (
 from ..geometry.files import load_geometry
 from ..geometry.parts import BrakeGeometry
 from ..wear.numerics import Numerics
+from .tables import (
+    _WEAR_INTERFACE,
+    SURFACES,
+    InterfaceSpec,
+    OutputSpec,
+    ThermalSpec,
+    WearSpec,
+)
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Scene", "InterfaceSpec", "WearSpec", "ThermalSpec", "OutputSpec", "SURFACES", "UNITS"]
-
-
-#: Units a scene file may state, per quantity: name -> factor to SI (temperatures: offset).
-UNITS: dict[str, dict[str, float]] = {
-    "length": {"mm": 1e-3, "m": 1.0},
-    "pressure": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "bar": 1e5},
-    "time": {"s": 1.0, "min": 60.0, "h": 3600.0},
-    "angular_speed": {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0},
-    "temperature": {"K": 0.0, "C": 273.15},   # offsets: T_K = T + offset
-}
-
-
-#: The named surfaces (facet sets) of each body of a :class:`~brakewear.model.BrakeModel`
-#: (brakewear.mesh.pad_mesh, rotor_mesh, piston_mesh); tests compare them with the meshes.
-SURFACES: dict[str, tuple[str, ...]] = {
-    "pad": ("friction", "back", "piston_face", "leading", "trailing", "abutment", "inner",
-            "outer"),
-    "rotor": ("friction", "midplane", "rotor_clamp", "outer"),
-    "piston": ("piston_face", "piston_back", "piston_side"),
-}
-
-
-#: Largest rotor coning or pad taper a scene accepts (m, either sign).
-MAX_NONCONFORMITY = 1e-3
-
-# the one sliding interface the wear loop integrates
-_WEAR_INTERFACE = ("pad.friction", "rotor.friction")
-
-
-@dataclass(frozen=True)
-class InterfaceSpec:
-    """The pad-rotor interface.
-
-    Parameters
-    ----------
-    model
-        ``"fe"``: node-to-surface FE contact; ``"winkler"``: an elastic
-        foundation (:class:`brakewear.interfaces.WinklerInterface`).
-    surfaces
-        The two surfaces it joins, ``"body.surface"`` (see :data:`SURFACES`).
-    mu
-        Sliding friction coefficient (>= 0).
-    method
-        FE contact discretisation (``"segment"``; FE only).
-    winkler_modulus
-        Foundation modulus (Pa/m); ``None``: Johnson's layer modulus of the
-        friction layer (Winkler only).
-    winkler_rotor
-        ``"rigid"`` or ``"foundation"`` (rotor half thickness in series; Winkler only).
-    coning, pad_taper
-        The initial non-conformity (m): a rotor coning and a radial pad taper,
-        each the gap it opens across the pad's radial extent, linear in radius;
-        positive opens it at the outer radius, negative at the inner.  They add
-        into one initial gap (:meth:`Scene.initial_gap`).
-    """
-
-    model: str = "fe"
-    surfaces: tuple[str, str] = _WEAR_INTERFACE
-    mu: float = 0.0
-    method: str = "segment"
-    winkler_modulus: float | None = None
-    winkler_rotor: str = "rigid"
-    coning: float = 0.0
-    pad_taper: float = 0.0
-
-    def __post_init__(self):
-        check_choice("interface.model", self.model, ("fe", "winkler"))
-        if (not isinstance(self.surfaces, (tuple, list)) or len(self.surfaces) != 2
-                or not all(isinstance(s, str) for s in self.surfaces)):
-            raise fail("interface.surfaces", f"{self.surfaces!r} is not allowed; expected two "
-                                              "names \"body.surface\", e.g. "
-                                              "[\"pad.friction\", \"rotor.friction\"]")
-        object.__setattr__(self, "surfaces", tuple(self.surfaces))
-        check_number("interface.mu", self.mu, 0.0, lo_open=False)
-        check_plausible("interface.mu", self.mu)
-        check_choice("interface.method", self.method, ("segment",))
-        check_number("interface.winkler_modulus", self.winkler_modulus, 0.0, unit="Pa/m",
-                      allow_none=True)
-        check_choice("interface.winkler_rotor", self.winkler_rotor, ("rigid", "foundation"))
-        for key in ("coning", "pad_taper"):
-            # tens of um in service; a millimetre is a pad that bears on one edge
-            check_number(f"interface.{key}", getattr(self, key), -MAX_NONCONFORMITY,
-                         MAX_NONCONFORMITY, lo_open=False, unit="m")
-
-
-@dataclass(frozen=True)
-class WearSpec:
-    """A wear law ``dh/dt = k(T) p^a v^b`` (see :class:`brakewear.laws.WearLaw`).
-
-    ``k = None`` takes the material's ``wear_k`` (pad: the friction
-    material, rotor: the rotor material).  ``k`` is in SI units
-    (1/Pa = m^2/N for a = b = 1; in general m/s per Pa^a (m/s)^b).
-    ``limit`` (m) is the wear depth at which the run ends
-    (:mod:`brakewear.wear.limits`; None: the friction layer's thickness for
-    the pad, :data:`~brakewear.wear.limits.ROTOR_LIMIT` for the rotor).
-    """
-
-    k: float | None = None
-    a: float = 1.0
-    b: float = 1.0
-    T_threshold: float = 503.15
-    activation_energy: float = 0.0
-    limit: float | None = None
-
-    def check(self, sec: str) -> None:
-        check_number(f"{sec}.k", self.k, 0.0, unit="1/Pa", allow_none=True)
-        check_number(f"{sec}.a", self.a, 0.0)
-        check_number(f"{sec}.b", self.b, 0.0)
-        check_number(f"{sec}.T_threshold", self.T_threshold, 0.0, unit="K")
-        check_number(f"{sec}.activation_energy", self.activation_energy, 0.0, lo_open=False,
-                      unit="J/mol")
-        check_number(f"{sec}.limit", self.limit, 0.0, unit="m", allow_none=True)
-        check_plausible(f"{sec}.T_threshold", self.T_threshold, "T_threshold")
-
-    def law(self, material, sec: str, geometry_source: str = "<python>"):
-        """The :class:`~brakewear.laws.WearLaw` (``material`` supplies a missing k)."""
-        from ..laws import WearLaw
-        k = self.k
-        if k is None:
-            k = material.wear_k
-            if k is None or k <= 0:
-                has = "has no wear_k" if k is None else f"has wear_k = {k!r} (it would not wear)"
-                raise fail(f"{sec}.k", f"\"material\" takes the wear coefficient of material "
-                                        f"{material.name!r} (materials.{material.name} of "
-                                        f"the geometry {geometry_source}), which {has}; give "
-                                        "k > 0 (1/Pa) here or wear_k > 0 in the material")
-        return WearLaw(k, self.a, self.b, self.T_threshold, self.activation_energy)
-
-
-@dataclass(frozen=True)
-class ThermalSpec:
-    """Thermal coupling (:class:`brakewear.thermal.ThermalModel` arguments, SI).
-
-    ``T_ambient`` is the scene's ``environment.ambient``; ``T_max`` (K) the
-    plausibility bound of face temperatures (None: 900 C).
-    """
-
-    enabled: bool = False
-    partition: str | float = "effusivity"
-    h_conv: float | Mapping[str, float] = 40.0
-    T_initial: float | None = None
-    T_ref: float | None = None
-    contact_conductance: float = 0.0
-    mass: str = "consistent"
-    T_max: float | None = None
-
-    def __post_init__(self):
-        check_bool("thermal.enabled", self.enabled)
-        if isinstance(self.partition, str):
-            check_choice("thermal.partition", self.partition, ("effusivity", "effusivity_area"))
-        else:
-            check_number("thermal.partition", self.partition, 0.0, 1.0, lo_open=False)
-        if isinstance(self.h_conv, Mapping):
-            unknown = sorted(set(self.h_conv) - {"pad", "rotor"})
-            if unknown:
-                raise fail(f"thermal.h_conv.{unknown[0]}", "unknown body; allowed: pad, rotor")
-            for b, h in self.h_conv.items():
-                check_number(f"thermal.h_conv.{b}", h, 0.0, lo_open=False, unit="W/m^2 K")
-            object.__setattr__(self, "h_conv", dict(self.h_conv))
-        else:
-            check_number("thermal.h_conv", self.h_conv, 0.0, lo_open=False, unit="W/m^2 K")
-        check_number("thermal.T_initial", self.T_initial, 0.0, unit="K", allow_none=True)
-        check_number("thermal.T_ref", self.T_ref, 0.0, unit="K", allow_none=True)
-        check_plausible("thermal.T_initial", self.T_initial)
-        check_plausible("thermal.T_ref", self.T_ref)
-        check_number("thermal.contact_conductance", self.contact_conductance, 0.0,
-                      lo_open=False, unit="W/m^2 K")
-        check_choice("thermal.mass", self.mass, ("consistent", "lumped"))
-        check_number("thermal.T_max", self.T_max, 0.0, unit="K", allow_none=True)
-
-
-@dataclass(frozen=True)
-class OutputSpec:
-    """What the run writes: VTU every ``vtu_every`` steps, a checkpoint every
-    ``checkpoint_every`` steps, PNG figures at the end."""
-
-    vtu_every: int = 10
-    checkpoint_every: int = 10
-    figures: bool = True
-
-    def __post_init__(self):
-        check_int("output.vtu_every", self.vtu_every, 1)
-        check_int("output.checkpoint_every", self.checkpoint_every, 1)
-        check_bool("output.figures", self.figures)
+__all__ = ["Scene"]
 
 
 @dataclass(frozen=True)
@@ -309,6 +134,7 @@ class Scene:
                 raise fail(sec, f"{spec!r} is not a WearSpec")
             spec.check(sec)
         self._check_interface()
+        self._check_gap_file()
         self._check_consistency()
         self.wear_laws()
         nodes = self._check_mesh_files()
@@ -389,6 +215,19 @@ class Scene:
             raise fail("thermal.contact_conductance", "> 0 needs an elastic rotor "
                                                        "(components.rotor = 'elastic')")
 
+    def _check_gap_file(self) -> None:
+        from ..cleaning import read_gap_map
+        from ..errors import InputError
+        f = self.interface.gap_file
+        if f is None:
+            return
+        if not isinstance(f, (str, PathLike)):
+            raise fail("interface.gap_file", f"{f!r} is not a file name")
+        try:
+            object.__setattr__(self, "_gap_points", read_gap_map(f))
+        except InputError as exc:
+            raise fail("interface.gap_file", str(exc)) from None
+
     def _check_duty(self) -> None:
         from ..duty import Drag, Stop, Vehicle
         if not self.schedule:
@@ -428,15 +267,19 @@ class Scene:
                           order=self.order, rotor=self.rotor, meshes=dict(self.mesh_files),
                           memory_budget=self.numerics.memory_budget)
 
-    def initial_gap(self, r):
-        """The initial gap (m) at pad friction nodes of radii ``r`` (m) from the
-        interface's coning and pad taper; None if both are zero."""
-        total = self.interface.coning + self.interface.pad_taper
-        if total == 0.0:
+    def initial_gap(self, x):
+        """The initial gap (m) at pad friction nodes at ``x`` (3, n; m) from the
+        interface's coning, pad taper and gap map; None if there is none."""
+        from ..cleaning import coning_gap, map_gap
+        itf = self.interface
+        total = itf.coning + itf.pad_taper
+        if total == 0.0 and itf.gap_file is None:
             return None
-        from ..cleaning import coning_gap
         pad = self.geometry.pad
-        return coning_gap(r, pad.inner_radius, pad.outer_radius, total)
+        g = coning_gap(np.hypot(x[0], x[1]), pad.inner_radius, pad.outer_radius, total)
+        if itf.gap_file is not None:
+            g = g + map_gap(self._gap_points, x, f"interface.gap_file = {itf.gap_file!r}")
+        return g
 
     def wear_laws(self):
         """(pad law, rotor law or None)."""
