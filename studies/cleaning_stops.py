@@ -51,7 +51,7 @@ logger = logging.getLogger("cleaning_stops")
 DEFAULTS = dict(decels=(0.5, 1.0, 1.5, 2.0, 3.0, 4.0), stops=20, speed=50.0, interval=120.0,
                 mass=1800.0, front_share=0.7, tyre_radius=0.32, regen_share=0.0,
                 corrosion=25.0, k_corrosion=1e-12, coning=30.0, mu=0.4, threshold=0.02,
-                size=4.0, dp_tol=0.05)
+                size=4.0, dp_tol=0.05, pad_modulus=1.0)
 
 
 def run_decel(task: dict) -> dict:
@@ -67,9 +67,25 @@ def run_decel(task: dict) -> dict:
         return {"decel": task["decel"], "error": f"{type(e).__name__}: {e}"}
 
 
+def _geometry(pad_modulus: float):
+    """The default brake, its friction layer's moduli scaled by ``pad_modulus``."""
+    from dataclasses import replace
+
+    from brakewear import load_geometry
+    g = load_geometry("default")
+    if pad_modulus == 1.0:
+        return g
+    m = g.pad.friction_material
+    e = m.elastic
+    stiffer = replace(m, elastic=replace(e, E_p=e.E_p * pad_modulus, E_t=e.E_t * pad_modulus,
+                                         G_t=e.G_t * pad_modulus))
+    return replace(g, pad=replace(g.pad, friction_material=stiffer))
+
+
 def _run_decel(task: dict) -> dict:
     t0 = time.perf_counter()
-    model = BrakeModel("default", size=task["size"] * 1e-3, rotor="rigid")
+    model = BrakeModel(_geometry(task.get("pad_modulus", 1.0)), size=task["size"] * 1e-3,
+                       rotor="rigid")
     g = model.geometry
     r_in, r_out = g.pad.inner_radius, g.pad.outer_radius
     itf = FEInterface(model, 1e6, task["mu"])
@@ -238,6 +254,7 @@ SENSITIVITY = {
     "k_corrosion (1/Pa)": (1e-12, (5e-13, "cleaning_stops_kc05"), (2e-12, "cleaning_stops_kc2")),
     "coning (um)": (30.0, (15.0, "cleaning_stops_coning15"), (50.0, "cleaning_stops_coning50")),
     "mu": (0.4, (0.3, "cleaning_stops_mu03"), (0.5, "cleaning_stops_mu05")),
+    "pad modulus (x resin's)": (1.0, (0.5, "cleaning_stops_E05"), (2.0, "cleaning_stops_E2")),
     "stop speed (km/h)": (50.0, (None, None), (80.0, "cleaning_stops_v80")),
 }
 
@@ -438,7 +455,7 @@ def _cli(argv=None) -> dict:
     ap.add_argument("--name", default="cleaning_stops", help="names the files written")
     ap.add_argument("--no-figures", dest="figures", action="store_false")
     for k in ("speed", "interval", "mass", "front_share", "regen_share", "corrosion",
-              "k_corrosion", "coning", "mu", "threshold", "size"):
+              "k_corrosion", "coning", "mu", "threshold", "size", "pad_modulus"):
         ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=float, default=DEFAULTS[k])
     ap.add_argument("--tornado", action="store_true",
                     help="only draw the sensitivity (tornado) chart of the sweeps in OUT/data")
