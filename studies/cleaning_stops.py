@@ -302,15 +302,17 @@ def plot_tornado(rows: list[dict], decel: float, stops: int, path: Path) -> None
                 w = min(v, stops + 1) - base
                 ax.barh(i, w, left=base, color=color, alpha=0.8,
                         label=f"{side} value" if i == 0 else None)
+                # a value that does not move the count: its label above (low) or below
                 ax.annotate(f"{r[side]:g}" + ("" if np.isfinite(v) else f" (> {stops})"),
-                            (base + w, i), xytext=(4 if w >= 0 else -4, 0),
+                            (base + w, i), xytext=(4 if w >= 0 else -4,
+                                                   0 if w else (7 if side == "low" else -7)),
                             textcoords="offset points", va="center", fontsize=8,
                             ha="left" if w >= 0 else "right")
     ax.axvline(base, color="k", lw=1)
     ax.set_yticks(range(len(rows)), [f"{r['parameter']}\n(default {r['default']:g})"
                                      for r in rows], fontsize=8)
     ax.set_xlabel(f"stops to clean at {decel:g} m/s^2 (default: {base:g})")
-    ax.set_xlim(0, stops + 2)
+    ax.set_xlim(0, stops + 5)
     ax.legend(fontsize=8, loc="lower right")
     ax.invert_yaxis()
     fig.tight_layout()
