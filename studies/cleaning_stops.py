@@ -154,13 +154,7 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
             regen_share=st["regen_share"]).check_deceleration(max(st["decels"]))
     t0 = time.perf_counter()
     tasks = [dict(st, decel=a) for a in st["decels"]]
-    own = executor is None
-    executor = ProcessPoolExecutor(max_workers=2) if own else executor
-    try:
-        runs = list(executor.map(run_decel, tasks))
-    finally:
-        if own:
-            executor.shutdown()
+    runs = _map_runs(tasks, executor)
     failed = [r for r in runs if "error" in r]
     runs = [r for r in runs if "error" not in r]
     lowest = next((r for r in runs if r["stops_to_clean"] is not None), None)
@@ -175,6 +169,17 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
     if out is not None:
         write_outputs(result, Path(out), figures, name)
     return result
+
+
+def _map_runs(tasks: list, executor: Executor | None) -> list:
+    """:func:`run_decel` of every task on ``executor`` (default: two processes)."""
+    own = executor is None
+    executor = ProcessPoolExecutor(max_workers=2) if own else executor
+    try:
+        return list(executor.map(run_decel, tasks))
+    finally:
+        if own:
+            executor.shutdown()
 
 
 def _monotone(runs) -> bool:
@@ -379,17 +384,14 @@ def probability_of_clean(decel: float, n: int = 24, seed: int = 20091,
     ``ProcessPoolExecutor(2)`` by default; a dask client's ``get_executor()`` for
     large samples).  A sample whose solve failed counts as not cleaned and is
     reported.  Writes ``data/cleaning_stops_mc.json`` to ``out``."""
+    unknown = set(settings) - set(DEFAULTS)
+    _check("settings", sorted(unknown), not unknown, f"allowed: {', '.join(DEFAULTS)}")
+    _check("n", n, isinstance(n, int) and n >= 1, "need a whole number of samples >= 1")
     st = {**DEFAULTS, **settings, "stops": stops}
     samples = sample_inputs(n, seed, dists)
     tasks = [dict(st, **x, decel=decel) for x in samples]
     t0 = time.perf_counter()
-    own = executor is None
-    executor = ProcessPoolExecutor(max_workers=2) if own else executor
-    try:
-        runs = list(executor.map(run_decel, tasks))
-    finally:
-        if own:
-            executor.shutdown()
+    runs = _map_runs(tasks, executor)
     rows = [{**x, "stops_to_clean": r.get("stops_to_clean"), "error": r.get("error"),
              "cleaned_fraction": r["rows"][-1]["cleaned_fraction"] if "rows" in r else None,
              "run_s": r.get("run_s")} for x, r in zip(samples, runs)]

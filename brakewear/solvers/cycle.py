@@ -59,8 +59,8 @@ class _BackwardSweeps:
     rounding).  pyamg's backward kernel walks memory downwards and runs
     2.2x slower than its forward one on these matrices (docs/performance.md).
     A copy costs about three forward sweeps, and much more where fresh
-    memory is slow (on the development VM the same 8M-entry copy took 13 to
-    300 ms), so:
+    memory is slow (the same 8M-entry copy has been measured at 13 to 300 ms
+    on one shared machine), so:
 
     * a level matrix is swept by pyamg's backward kernel for its first
       :data:`_COPY_AFTER` sweeps and copied at the next: short solves (a
