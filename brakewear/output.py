@@ -31,7 +31,7 @@ import numpy as np
 
 from .errors import SceneError, WearError, WornThroughError
 from .interfaces.fe import FEInterface
-from .mesh.series import SeriesWriter
+from .mesh.series import SeriesWriter, face_fields
 from .rings import ring_profile
 from .scene.spec import _first_difference
 from .wear.numerics import Numerics
@@ -156,12 +156,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     setup_s = time.perf_counter() - t0
 
     def write_vtu(s: WearStep) -> None:
-        fields = {}
-        for name, val in (("pressure", s.pressure), ("pad_wear", s.pad_wear),
-                          ("active", s.active.astype(float))):
-            a = np.zeros(n_pad)
-            a[itf.pad_nodes] = val
-            fields[name] = a
+        fields = face_fields(n_pad, itf.pad_nodes, pressure=s.pressure, pad_wear=s.pad_wear,
+                             active=s.active)
         pad_series.write(s.step, s.time, {**fields, **temperature_field(thermal, "pad", n_pad)})
         if rot_series is not None:
             a = np.zeros(model.meshes["rotor"].nvertices)

@@ -150,3 +150,10 @@ def test_probability_of_clean_counts_the_samples(monkeypatch):
     lo, hi = r["interval_95"]
     assert lo < r["probability"] < hi and (lo, hi) == pytest.approx(study.wilson(expect, 50))
     assert study.wilson(0, 10)[0] == 0.0 and study.wilson(10, 10)[1] == 1.0
+
+
+@pytest.mark.parametrize("kw,words", [({"n": 0}, "n = 0"), ({"corrosoin": 25.0}, "settings")])
+def test_probability_of_clean_refuses_bad_settings_before_running(kw, words, monkeypatch):
+    monkeypatch.setattr(study, "run_decel", lambda task: pytest.fail("ran a sample"))
+    with pytest.raises(ValueError, match=words):
+        study.probability_of_clean(1.0, **{"n": 4, **kw}, executor=_Serial())

@@ -169,6 +169,8 @@ BAD = {
                                                 d["numerics"].update(update="geometry")),
                                      "numerics.update", "interface.model = 'fe'"),
     "two geometries": (lambda d: d.update(geometry={}), "scene.geometry", "given twice"),
+    "T_max below 0 K": (lambda d: d["thermal"].update(T_max=-300.0), "thermal.T_max",
+                        "-300.0 C is not allowed; it must be > -273.15 C"),
     "coning too large": (lambda d: d["interface"].update(coning=-2.5), "interface.coning",
                          "-2.5 mm is not allowed; it must be >= -1 mm"),
     "coning as text": (lambda d: d["interface"].update(pad_taper="30 um"),

@@ -20,9 +20,8 @@ import logging
 import time
 from pathlib import Path
 
-import numpy as np
 
-from ..mesh.series import SeriesWriter
+from ..mesh.series import SeriesWriter, face_fields
 from ..rings import ring_profile
 from .runner import run_schedule
 
@@ -51,12 +50,8 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
         _write_csv(out / "applications.csv", rows)
         if rec.kind != "dwell":
             n_braked += 1
-            fields = {}
-            for name, val in (("pressure", rec.pressure), ("pad_wear", rec.pad_wear),
-                              ("active", rec.active.astype(float))):
-                a = np.zeros(pad.nvertices)
-                a[interface.pad_nodes] = val
-                fields[name] = a
+            fields = face_fields(pad.nvertices, interface.pad_nodes, pressure=rec.pressure,
+                                 pad_wear=rec.pad_wear, active=rec.active)
             series.write(n_braked, rec.t_start + rec.duration, fields)
             last = rec
         if progress is not None:

@@ -8,7 +8,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-__all__ = ["SeriesWriter"]
+__all__ = ["SeriesWriter", "face_fields"]
 
 
 class SeriesWriter:
@@ -43,3 +43,14 @@ class SeriesWriter:
         tmp.write_text(text)
         os.replace(tmp, self.dir / f"{self.name}.pvd")
         return path
+
+
+def face_fields(n_nodes: int, face_nodes: np.ndarray, **values) -> dict:
+    """Point data of a mesh of ``n_nodes`` nodes from values on its ``face_nodes``
+    (zero elsewhere): ``name -> (n_nodes,)`` for each keyword."""
+    out = {}
+    for name, val in values.items():
+        a = np.zeros(n_nodes)
+        a[face_nodes] = np.asarray(val, dtype=float)
+        out[name] = a
+    return out
