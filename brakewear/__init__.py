@@ -24,6 +24,7 @@ import logging
 from .errors import (
     ActiveSetError,
     BrakewearError,
+    CondensedRangeError,
     ContactLostError,
     ContactSearchError,
     ConvergenceError,
@@ -54,7 +55,8 @@ _LAZY = {
     "TransverselyIsotropic": "materials", "Thermal": "materials", "get_material": "materials",
     "WearLaw": "laws", "FrictionLaw": "laws",
     "BrakeModel": "model", "StaticResult": "model",
-    "FEInterface": "interfaces", "FoundationInterface": "interfaces",
+    "FEInterface": "interfaces", "CondensedInterface": "interfaces",
+    "FoundationInterface": "interfaces",
     "WinklerInterface": "interfaces", "calibrate": "interfaces",
     "Interface": "interfaces", "InterfaceSolution": "interfaces",
     "Numerics": "wear", "WearStep": "wear", "wear_history": "wear",
@@ -76,7 +78,7 @@ __all__ = [
     "GeometryError", "MaterialError", "MeshFileError", "SceneError", "WearError", "DutyError",
     "ThermalError", "FoundationError", "ConvergenceError", "ActiveSetError",
     "ContactLostError", "ContactSearchError", "StepSizeError", "MeshQualityError",
-    "TemperatureLimitError", "FoundationSolveError", "WornThroughError",
+    "TemperatureLimitError", "FoundationSolveError", "WornThroughError", "CondensedRangeError",
     *_LAZY,
 ]
 

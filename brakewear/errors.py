@@ -43,6 +43,7 @@ __all__ = [
     "ThermalError",
     "FoundationError",
     "ConvergenceError",
+    "CondensedRangeError",
     "ActiveSetError",
     "ContactLostError",
     "ContactSearchError",
@@ -157,6 +158,12 @@ class TemperatureLimitError(SolverError):
         super().__init__(message)
         self.body, self.temperature, self.T_max = body, temperature, T_max
         self.step, self.time = step, time
+
+
+class CondensedRangeError(SolverError):
+    """The gap offset of a condensed interface passed its range of validity (the
+    geometry would have to follow the wear): the message names the depth, the
+    limit and the alternative (the FE interface with the geometry update)."""
 
 
 class FoundationSolveError(SolverError):

@@ -276,6 +276,10 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                                               rotor=scene.interface.winkler_rotor)
         kw["interface"] = FoundationInterface(model, winkler, scene.line_pressure,
                                               scene.interface.mu)
+    if scene.interface.model == "condensed":
+        from .interfaces.condensed import CondensedInterface
+        kw["interface"] = CondensedInterface(model, scene.line_pressure or 1e6,
+                                             scene.interface.mu, n.tol)
     if scene.interface.coning or scene.interface.pad_taper or scene.interface.gap_file:
         if "interface" not in kw:
             kw["interface"] = FEInterface(model, scene.line_pressure, scene.interface.mu, n.tol)

@@ -23,7 +23,10 @@ Model: the default brake with a rigid rotor (one face, the plane z = 0, its
 wear revolution-averaged on rings), the pad and backplate elastic, mesh
 ``size`` mm; isothermal Archard wear (pad ``k`` of a resin pad, rotor
 ``k_corrosion`` on the layer and ``k`` of grey cast iron beneath), implicit
-pad wear, gap-offset update (:func:`brakewear.duty.run_schedule`).
+pad wear, gap-offset update (:func:`brakewear.duty.run_schedule`).  The contact
+solves run on the FE model condensed onto the pad's contact nodes
+(:class:`brakewear.CondensedInterface`, the FE answer; ``--interface fe`` for
+FE solves), condensed once per model and read from the cache by every run.
 
 Run ``python studies/cleaning_stops.py [--decels 0.5 1 2 3] [--stops 20] [--out docs]``;
 the sensitivity sweeps with ``--name cleaning_stops_<case>`` (:data:`SENSITIVITY`) and
@@ -42,7 +45,8 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear import MATERIALS, BrakeModel, FEInterface, Numerics, SolverError, Vehicle, WearLaw
+from brakewear import (MATERIALS, BrakeModel, CondensedInterface, FEInterface, Numerics,
+                       SolverError, Vehicle, WearLaw)
 from brakewear.cleaning import CorrodedRotor, coning_gap
 from brakewear.duty import KMH, repeated_stops, run_schedule
 
@@ -51,7 +55,7 @@ logger = logging.getLogger("cleaning_stops")
 DEFAULTS = dict(decels=(0.5, 1.0, 1.5, 2.0, 3.0, 4.0), stops=20, speed=50.0, interval=120.0,
                 mass=1800.0, front_share=0.7, tyre_radius=0.32, regen_share=0.0,
                 corrosion=25.0, k_corrosion=1e-12, coning=30.0, mu=0.4, threshold=0.02,
-                size=4.0, dp_tol=0.05, pad_modulus=1.0)
+                size=4.0, dp_tol=0.05, pad_modulus=1.0, interface="condensed")
 
 
 def run_decel(task: dict) -> dict:
@@ -82,13 +86,23 @@ def _geometry(pad_modulus: float):
     return replace(g, pad=replace(g.pad, friction_material=stiffer))
 
 
-def _run_decel(task: dict) -> dict:
-    t0 = time.perf_counter()
+def _interface(task: dict):
+    """The study's model and its interface: the FE contact, or its condensation
+    (the same answer; read from the cache when a run of this model made it)."""
     model = BrakeModel(_geometry(task.get("pad_modulus", 1.0)), size=task["size"] * 1e-3,
                        rotor="rigid")
+    kind = task.get("interface", "fe")
+    _check("interface", kind, kind in ("fe", "condensed"), "allowed: 'fe', 'condensed'")
+    if kind == "condensed":
+        return model, CondensedInterface(model, 1e6, task["mu"])
+    return model, FEInterface(model, 1e6, task["mu"])
+
+
+def _run_decel(task: dict) -> dict:
+    t0 = time.perf_counter()
+    model, itf = _interface(task)
     g = model.geometry
     r_in, r_out = g.pad.inner_radius, g.pad.outer_radius
-    itf = FEInterface(model, 1e6, task["mu"])
     rotor = CorrodedRotor(itf, r_in, r_out, task["corrosion"] * 1e-6, task["k_corrosion"],
                           MATERIALS["grey_cast_iron"].wear_k, task["threshold"] * 1e6)
     car = Vehicle(mass=task["mass"], front_share=task["front_share"],
@@ -173,6 +187,8 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
 
 def _map_runs(tasks: list, executor: Executor | None) -> list:
     """:func:`run_decel` of every task on ``executor`` (default: two processes)."""
+    if tasks and tasks[0].get("interface") == "condensed":
+        _interface(tasks[0])    # condensed once here: the workers read it from the cache
     own = executor is None
     executor = ProcessPoolExecutor(max_workers=2) if own else executor
     try:
@@ -461,6 +477,9 @@ def _cli(argv=None) -> dict:
     for k in ("speed", "interval", "mass", "front_share", "regen_share", "corrosion",
               "k_corrosion", "coning", "mu", "threshold", "size", "pad_modulus"):
         ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=float, default=DEFAULTS[k])
+    ap.add_argument("--interface", choices=("fe", "condensed"), default=DEFAULTS["interface"],
+                    help="FE contact solves, or the FE model condensed onto the pad's contact "
+                         "nodes once (the same answer, much faster; the default)")
     ap.add_argument("--tornado", action="store_true",
                     help="only draw the sensitivity (tornado) chart of the sweeps in OUT/data")
     ap.add_argument("--monte-carlo", type=int, default=0, metavar="N",

@@ -286,6 +286,21 @@ def test_wear_bench_keys_and_shares():
     assert row["step_over_contact"] == pytest.approx(row["per_step_s"] / row["contact_solve_s"])
 
 
+def test_wear_bench_times_the_condensed_and_the_foundation_interface():
+    rows = bench.bench_wear([3000], steps=3, duration=600.0,
+                            interfaces=("fe", "condensed", "winkler"))
+    assert [r["interface"] for r in rows] == ["fe", "condensed", "winkler"]
+    fe, cd, wk = rows
+    assert fe["interface_s"] == 0.0 and cd["interface_s"] > 0.0
+    assert cd["interface_over_contact"] == pytest.approx(cd["interface_s"]
+                                                         / cd["contact_solve_s"])
+    assert cd["steps"] == wk["steps"] == 3 and cd["contact_nodes"] == fe["contact_nodes"]
+    table = bench.format_wear_table(rows)
+    assert "condensed: built in" in table and "winkler" in table
+    with pytest.raises(ValueError, match="update 'gap'"):
+        bench.run_wear_case(3000, steps=2, update="geometry", interface="condensed")
+
+
 @pytest.mark.slow
 def test_wear_bench_geometry_mode_times_the_motion():
     row = bench.run_wear_case(3000, steps=2, duration=600.0, update="geometry", size=10e-3)

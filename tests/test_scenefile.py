@@ -168,6 +168,11 @@ BAD = {
     "winkler with geometry update": (lambda d: (d["interface"].update(model="winkler"),
                                                 d["numerics"].update(update="geometry")),
                                      "numerics.update", "interface.model = 'fe'"),
+    "condensed with geometry update": (lambda d: (d["interface"].update(model="condensed"),
+                                                  d["numerics"].update(update="geometry")),
+                                       "numerics.update", "interface.model = 'fe'"),
+    "unknown interface model": (lambda d: d["interface"].update(model="mortar"),
+                                "interface.model", "'fe', 'winkler', 'condensed'"),
     "two geometries": (lambda d: d.update(geometry={}), "scene.geometry", "given twice"),
     "T_max below 0 K": (lambda d: d["thermal"].update(T_max=-300.0), "thermal.T_max",
                         "-300.0 C is not allowed; it must be > -273.15 C"),
@@ -250,6 +255,14 @@ def test_thermal_and_winkler_scenes_run(tmp_path):
     assert a["steps"] == 2 and a["final"]["pressure_max_Pa"] > 0
     b = run_scene(Scene(**small, interface=InterfaceSpec(model="winkler")), tmp_path / "w")
     assert b["steps"] == 2
+    # the condensed interface: the FE run's answer, thermal load included
+    fe = run_scene(Scene(**small, thermal=ThermalSpec(enabled=True, contact_conductance=1e5),
+                         interface=InterfaceSpec(mu=0.4)), tmp_path / "fe")
+    c = run_scene(Scene(**small, thermal=ThermalSpec(enabled=True, contact_conductance=1e5),
+                        interface=InterfaceSpec(model="condensed", mu=0.4)), tmp_path / "c")
+    assert c["scene"]["interface"] == "condensed"
+    assert c["final"]["pressure_max_Pa"] == pytest.approx(fe["final"]["pressure_max_Pa"],
+                                                          rel=1e-6)
 
 
 def test_wear_tol_is_a_length_passed_to_the_loop(tmp_path, monkeypatch):

@@ -14,13 +14,42 @@ from .contact import brake_resolution
 logger = logging.getLogger(__name__)
 
 
-__all__ = ['WEAR_SIZES', 'run_wear_case', 'bench_wear', 'format_wear_table']
+__all__ = ['INTERFACES', 'WEAR_SIZES', 'run_wear_case', 'bench_wear', 'format_wear_table']
 
 WEAR_SIZES = (3e4, 1e5)
 
 
+INTERFACES = ("fe", "condensed", "winkler")
+
+
+def _loop_interface(kind: str, model, itf):
+    """The interface the loop runs on, and the seconds it took to build beside ``itf``."""
+    t0 = time.perf_counter()
+    if kind == "condensed":
+        from ..interfaces.condensed import CondensedInterface
+        out = CondensedInterface(model, 1e6, 0.4, fe=itf, cache=False)
+    elif kind == "winkler":
+        from ..interfaces.foundation import FoundationInterface
+        from ..interfaces.winkler import WinklerInterface
+        out = FoundationInterface(model, WinklerInterface.from_model(model), 1e6, 0.4)
+    else:
+        return itf, 0.0
+    return out, time.perf_counter() - t0
+
+
+def _check_case(steps, update: str, interface: str) -> None:
+    if interface not in INTERFACES or (interface != "fe" and update != "gap"):
+        raise ValueError(f"interface = {interface!r} with update = {update!r} is not allowed; "
+                         f"allowed: {', '.join(INTERFACES)}, the last two with update 'gap'")
+    if update not in ("gap", "geometry"):
+        raise ValueError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")
+    if int(steps) != steps or steps < 1:
+        raise ValueError(f"steps = {steps!r} is not allowed; need a whole number >= 1")
+
+
 def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
-                  duration: float = 3600.0, size: float | None = None) -> dict:
+                  duration: float = 3600.0, size: float | None = None,
+                  interface: str = "fe") -> dict:
     """Time a two-surface running-in of the default brake (elastic rotor).
 
     1 MPa line pressure, 55 rad/s, ``mu = 0.4``, the pad's and the rotor's
@@ -41,6 +70,10 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     and ``step_over_contact = per_step_s / contact_solve_s`` (the faster of
     two solves: the first pays for first-call set-up).  The ``*_cpu_s`` keys
     are the same in process CPU time (steadier on a shared machine).
+
+    ``interface``: ``"fe"``, ``"condensed"`` (its condensation timed apart as
+    ``interface_s`` and as ``interface_over_contact`` contact solves; gap mode
+    only) or ``"winkler"`` (the elastic foundation).
     """
     from ..interfaces.fe import FEInterface
     from ..laws import WearLaw
@@ -49,10 +82,7 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     from ..motion import BrakeMotion
     from ..wear import Numerics, wear_history
 
-    if update not in ("gap", "geometry"):
-        raise ValueError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")
-    if int(steps) != steps or steps < 1:
-        raise ValueError(f"steps = {steps!r} is not allowed; need a whole number >= 1")
+    _check_case(steps, update, interface)
     t0 = time.perf_counter()
     if size is None:
         size, model = brake_resolution(target_dofs)
@@ -94,12 +124,15 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
             cpus.append(time.process_time() - c1)
         contact_solve_s, contact_solve_cpu = min(walls), min(cpus)
         spent["contact"] = 0.0
+        loop_itf, interface_s = _loop_interface(interface, model, itf)
+        if interface != "fe":
+            timed(type(loop_itf), "solve", "contact")
         if update == "geometry":     # the loop builds its own interface (timed as assembly)
             spent["assembly"] = 0.0
         t2, c2 = time.perf_counter(), time.process_time()
         record_s, solves, n = 0.0, 0, 0
         for s in wear_history(model, 1e6, 55.0, duration, pad_law, rotor_law, 0.4,
-                              interface=itf if update == "gap" else None,
+                              interface=loop_itf if update == "gap" else None,
                               numerics=Numerics(steps=int(steps), scheme="implicit",
                                                 update=update)):
             record_s += s.solve_s
@@ -115,6 +148,8 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     per_step = total_s / n
     return {"bench": "wear", "target_dofs": float(target_dofs), "size_m": float(size),
             "dofs": int(model.dofs), "update": update, "scheme": "implicit",
+            "interface": interface, "contact_nodes": int(itf.area.size),
+            "interface_s": interface_s, "interface_over_contact": interface_s / contact_solve_s,
             "steps": int(n), "contact_solves": int(solves), "duration_s": float(duration),
             "model_s": model_s, "total_s": total_s, "per_step_s": per_step,
             "contact_s": contact_s, "step_solves_s": record_s, "assembly_s": spent["assembly"],
@@ -128,26 +163,36 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
 
 
 def bench_wear(sizes: Sequence[float] = WEAR_SIZES, steps: int = 200, update: str = "gap",
-               duration: float = 3600.0, progress=None) -> list[dict]:
-    """:func:`run_wear_case` at each target DOF count (in this process); one dict per size."""
+               duration: float = 3600.0, progress=None,
+               interfaces: Sequence[str] = ("fe",)) -> list[dict]:
+    """:func:`run_wear_case` at each target DOF count and interface (in this
+    process); one dict per case."""
     rows = []
     for target in sizes:
-        rows.append(run_wear_case(target, steps, update, duration))
-        if progress is not None:
-            progress(rows[-1])
+        for kind in interfaces:
+            rows.append(run_wear_case(target, steps, update, duration, interface=kind))
+            if progress is not None:
+                progress(rows[-1])
     return rows
 
 
 def format_wear_table(rows: Sequence[dict]) -> str:
-    out = [f"{'dofs':>8} {'update':>8} {'steps':>5} {'total s':>8} {'s/step':>7} "
+    out = [f"{'dofs':>8} {'interface':>9} {'update':>8} {'steps':>5} {'total s':>8} "
+           f"{'s/step':>7} "
            f"{'contact':>7} {'assembly':>8} {'motion':>6} {'solve s':>7} {'step/solve':>10}"]
     for r in rows:
-        out.append(f"{r['dofs']:>8} {r['update']:>8} {r['steps']:>5} {r['total_s']:>8.1f} "
-                   f"{r['per_step_s']:>7.2f} {r['contact_share']:>7.2f} "
+        out.append(f"{r['dofs']:>8} {r.get('interface', 'fe'):>9} {r['update']:>8} "
+                   f"{r['steps']:>5} {r['total_s']:>8.1f} "
+                   f"{r['per_step_s']:>7.4f} {r['contact_share']:>7.2f} "
                    f"{r['assembly_share']:>8.2f} {r['motion_share']:>6.2f} "
                    f"{r['contact_solve_s']:>7.2f} {r['step_over_contact']:>10.2f}")
     out.append("shares of total_s; solve s = one plain contact solve of the same model; "
                "step/solve = per-step time / that solve")
+    for r in rows:
+        if r.get("interface", "fe") != "fe":
+            out.append(f"{r['dofs']} DOFs, {r['interface']}: built in {r['interface_s']:.2f} s "
+                       f"= {r['interface_over_contact']:.1f} contact solves "
+                       f"({r['contact_nodes']} contact nodes)")
     return "\n".join(out)
 
 

@@ -207,9 +207,10 @@ class Scene:
             raise fail("numerics.update", "'geometry' cannot be combined with thermal coupling "
                                            "(thermal.enabled = true): the thermal meshes do not "
                                            "follow the worn faces; allowed: 'gap'")
-        if self.thermal.enabled and self.interface.model != "fe":
-            raise fail("thermal.enabled", "true needs interface.model = 'fe': the foundation "
-                                          "takes no thermal-strain load (it would be dropped)")
+        if self.thermal.enabled and self.interface.model == "winkler":
+            raise fail("thermal.enabled", "true needs interface.model = 'fe' or 'condensed': "
+                                          "the foundation takes no thermal-strain load (it "
+                                          "would be dropped)")
         self._check_duty()
         if self.thermal.contact_conductance > 0 and self.rotor != "elastic":
             raise fail("thermal.contact_conductance", "> 0 needs an elastic rotor "
@@ -242,10 +243,11 @@ class Scene:
             raise fail("numerics.update", "a [schedule] runs in gap-offset mode, which "
                                            "carries the wear from one application to the "
                                            "next; allowed: 'gap'")
-        if self.interface.model != "fe":
-            raise fail("interface.model", "a [schedule] needs the FE interface (its torque "
-                                           "equation uses the contact's pressure field); "
-                                           "allowed: 'fe'")
+        if self.interface.model == "winkler":
+            raise fail("interface.model", "a [schedule] needs the FE interface or its "
+                                           "condensation (its torque equation uses the "
+                                           "contact's pressure field); allowed: 'fe', "
+                                           "'condensed'")
         needs = [a for a in self.schedule if isinstance(a, Stop)
                  or (isinstance(a, Drag) and a.speed is not None)]
         if needs and self.vehicle is None:

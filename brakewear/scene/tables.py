@@ -51,7 +51,10 @@ class InterfaceSpec:
     ----------
     model
         ``"fe"``: node-to-surface FE contact; ``"winkler"``: an elastic
-        foundation (:class:`brakewear.interfaces.WinklerInterface`).
+        foundation (:class:`brakewear.interfaces.WinklerInterface`);
+        ``"condensed"``: the FE contact condensed onto the contact nodes
+        (:class:`brakewear.interfaces.CondensedInterface`: the FE answer,
+        gap-offset wear only).
     surfaces
         The two surfaces it joins, ``"body.surface"`` (see :data:`SURFACES`).
     mu
@@ -85,7 +88,7 @@ class InterfaceSpec:
     gap_file: str | None = None
 
     def __post_init__(self):
-        check_choice("interface.model", self.model, ("fe", "winkler"))
+        check_choice("interface.model", self.model, ("fe", "winkler", "condensed"))
         if (not isinstance(self.surfaces, (tuple, list)) or len(self.surfaces) != 2
                 or not all(isinstance(s, str) for s in self.surfaces)):
             raise fail("interface.surfaces", f"{self.surfaces!r} is not allowed; expected two "

@@ -1,0 +1,141 @@
+"""What the condensed interface costs and saves, against FE contact, by mesh size.
+
+For the default brake (elastic rotor) at each target DOF count: the two-surface
+running-in of ``brakewear bench wear`` (1 MPa, 55 rad/s, mu 0.4, ``steps``
+fixed implicit steps over an hour) on the FE interface and on the condensed
+one, one plain FE contact solve, the condensation (its factorisation and
+column solves, its memory), and a sweep of ``pressures`` line pressures run
+on the condensed interface end to end (the one condensation included) against
+the same number of FE running-ins (the FE sweep is timed as that many times
+the FE running-in measured here: each is one such run at another load).  The
+agreement of the two interfaces' final pad wear and pressure is reported
+beside the times.
+
+Run ``python studies/condensed_cost.py [--sizes 1e4 3e4 1e5] [--steps 200] [--out docs]``;
+writes ``data/condensed_cost.json`` and ``figures/condensed_cost.png``.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import time
+from pathlib import Path
+
+import numpy as np
+
+from brakewear import CondensedInterface, FEInterface, Numerics, WearLaw, wear_history
+from brakewear.bench.contact import brake_resolution
+from brakewear.materials import MATERIALS
+
+logger = logging.getLogger("condensed_cost")
+
+
+def _running_in(model, itf, steps: int, line_pressure: float = 1e6):
+    g = model.geometry
+    pad = WearLaw(g.pad.friction_material.wear_k or MATERIALS["pad_resin"].wear_k)
+    rotor = WearLaw(g.rotor.material.wear_k or MATERIALS["grey_cast_iron"].wear_k)
+    t0 = time.perf_counter()
+    last = None
+    for last in wear_history(model, line_pressure, 55.0, 3600.0, pad, rotor, 0.4,
+                             interface=itf, numerics=Numerics(steps=steps, scheme="implicit")):
+        pass
+    return last, time.perf_counter() - t0
+
+
+def run_size(target: float, steps: int = 200, pressures: int = 10) -> dict:
+    """One mesh size: the figures of the module docstring."""
+    size, model = brake_resolution(target)
+    fe = FEInterface(model, 1e6, 0.4)
+    solve_s = []
+    for _ in range(2):        # the first pays for first-call set-up
+        t0 = time.perf_counter()
+        fe.solve(np.zeros(fe.area.size), None)
+        solve_s.append(time.perf_counter() - t0)
+    t0 = time.perf_counter()
+    cd = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
+    condense_s = time.perf_counter() - t0
+    a, fe_s = _running_in(model, fe, steps)
+    b, cd_s = _running_in(model, cd, steps)
+    t0 = time.perf_counter()
+    sweep = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
+    for p in np.linspace(0.5e6, 5e6, pressures):
+        _running_in(model, sweep.at_line_pressure(p), steps, p)
+    sweep_s = time.perf_counter() - t0
+    info = cd.cond.info
+    return {"target_dofs": target, "size_mm": size * 1e3, "dofs": int(model.dofs),
+            "contact_nodes": int(fe.area.size), "steps": steps,
+            "fe_contact_solve_s": min(solve_s), "condense_s": condense_s,
+            "condense_over_contact": condense_s / min(solve_s),
+            "factor_s": sum(b_["factor_s"] for b_ in info["bodies"]),
+            "column_solves_s": sum(b_["solve_s"] for b_ in info["bodies"]),
+            "factor_entries": sum(b_["factor_nnz"] for b_ in info["bodies"]),
+            "compliance_MB": info["bytes"] / 1e6,
+            "fe_step_s": fe_s / steps, "condensed_step_s": cd_s / steps,
+            "step_ratio": fe_s / cd_s, "fe_running_in_s": fe_s, "condensed_running_in_s": cd_s,
+            "sweep_pressures": pressures, "condensed_sweep_s": sweep_s,
+            "fe_sweep_s": pressures * fe_s, "sweep_ratio": pressures * fe_s / sweep_s,
+            "pad_wear_rel_diff": float(np.abs(a.pad_wear - b.pad_wear).max()
+                                       / np.abs(a.pad_wear).max()),
+            "pressure_rel_diff": float(np.abs(a.pressure_end - b.pressure_end).max()
+                                       / np.abs(a.pressure_end).max())}
+
+
+def main(sizes=(1e4, 3e4, 1e5), steps: int = 200, pressures: int = 10, out=None) -> list:
+    rows = []
+    for target in sizes:
+        rows.append(run_size(target, steps, pressures))
+        logger.info("%s", rows[-1])
+    if out is not None:
+        out = Path(out)
+        (out / "data").mkdir(parents=True, exist_ok=True)
+        (out / "data" / "condensed_cost.json").write_text(json.dumps(rows, indent=1))
+        plot(rows, out / "figures" / "condensed_cost.png")
+    return rows
+
+
+def plot(rows: list, path: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    n = np.array([r["contact_nodes"] for r in rows])
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4))
+    ax.loglog(n, [r["condense_s"] for r in rows], "o-", label="condensation")
+    ax.loglog(n, [r["fe_contact_solve_s"] for r in rows], "s-", label="one FE contact solve")
+    ax.loglog(n, [r["fe_step_s"] for r in rows], "^-", label="FE wear step")
+    ax.loglog(n, [r["condensed_step_s"] for r in rows], "v-", label="condensed wear step")
+    ax.set_xlabel("contact nodes")
+    ax.set_ylabel("s")
+    ax.legend(fontsize=8)
+    ax.set_title("cost against contact nodes", fontsize=10)
+    bx.semilogx(n, [r["condense_over_contact"] for r in rows], "o-",
+                label="condensation / FE contact solve")
+    bx.semilogx(n, [r["condense_s"] / max(r["fe_step_s"] - r["condensed_step_s"], 1e-9)
+                    for r in rows], "^-", label="FE wear steps that pay for it")
+    bx.set_xlabel("contact nodes")
+    bx.legend(fontsize=8)
+    bx.set_title("when condensing pays", fontsize=10)
+    for a_, r in zip(ax.get_lines()[0].get_xdata(), rows):
+        ax.annotate(f"{r['dofs'] / 1e3:.0f}k DOFs", (a_, r["condense_s"]), fontsize=7,
+                    textcoords="offset points", xytext=(4, 4))
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    logging.basicConfig(level=logging.WARNING)
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sizes", type=float, nargs="+", default=[1e4, 3e4, 1e5])
+    ap.add_argument("--steps", type=int, default=200)
+    ap.add_argument("--pressures", type=int, default=10)
+    ap.add_argument("--out", default="docs")
+    a = ap.parse_args()
+    for r in main(a.sizes, a.steps, a.pressures, a.out):
+        print(f"{r['dofs']:>7} DOFs {r['contact_nodes']:>5} nodes: condense {r['condense_s']:.1f} s "
+              f"({r['condense_over_contact']:.1f} contact solves, {r['compliance_MB']:.0f} MB); "
+              f"step FE {r['fe_step_s'] * 1e3:.0f} ms, condensed "
+              f"{r['condensed_step_s'] * 1e3:.2f} ms ({r['step_ratio']:.0f}x); sweep "
+              f"{r['sweep_ratio']:.1f}x; pad wear diff {r['pad_wear_rel_diff']:.1e}")

@@ -1,0 +1,155 @@
+"""The condensed interface: the FE contact model's answer from its compliance on
+the contact nodes (pressures and wear to 1e-8 of the FE solves, run at a tight
+tolerance), its cache, its memory check and its range of validity."""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from brakewear import (BrakeModel, CondensedInterface, CondensedRangeError, FEInterface,
+                       Numerics, SolverError, ThermalModel, WearError, WearLaw, wear_history)
+from brakewear.interfaces.condense import condense, free_modes
+
+TOL = 1e-8      # relative agreement with the FE solves (which run to 1e-12)
+
+
+@pytest.fixture(scope="module", params=["rigid", "elastic"])
+def pair(request):
+    model = BrakeModel(size=6e-3, rotor=request.param)
+    return (model, FEInterface(model, 1e6, 0.4, tol=1e-12),
+            CondensedInterface(model, 1e6, 0.4, cache=False))
+
+
+def _rel(a, b):
+    return float(np.abs(a - b).max() / np.abs(a).max())
+
+
+def _offset(itf):
+    # a radial non-conformity with some scatter: not every node in contact
+    r = itf.r
+    rng = np.random.default_rng(3)
+    return 20e-6 * (r - r.min()) / np.ptp(r) + 0.5e-6 * rng.random(r.size)
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.4])
+@pytest.mark.parametrize("implicit", [False, True])
+def test_a_contact_solve_is_the_fe_solve(pair, mu, implicit):
+    model, fe, cd = pair
+    eps = 2e-12 * np.ones(fe.area.size) if implicit else None
+    a = fe.solve(_offset(fe), None, compliance=eps, mu=mu)
+    b = cd.solve(_offset(cd), None, compliance=eps, mu=mu)
+    assert 0 < a.active.sum() < a.active.size       # a partial contact, a real test
+    assert np.array_equal(a.active, b.active)
+    assert _rel(a.pressure, b.pressure) < TOL
+    # equilibrium: the contact carries the clamp force
+    assert float((b.pressure * cd.area).sum()) == pytest.approx(fe.cs.clamp_force, rel=1e-9)
+
+
+def test_the_free_mode_of_the_supported_pad_is_its_normal_translation(pair):
+    model, fe, cd = pair
+    Z = free_modes(fe.cs.K, fe.cs.coords, fe.cs.fixed)
+    assert Z.shape[1] == 1
+    z = Z[:, 0].reshape(-1, 3)
+    moving = np.abs(z).max(axis=1) > 0
+    # only z components, one value, on the pad (and not on the clamped rotor)
+    assert np.allclose(z[:, :2], 0.0, atol=1e-14 * np.abs(z).max())
+    assert np.ptp(z[moving, 2]) < 1e-12 * np.abs(z).max()
+    pad = fe.cs.col[model.offsets["pad"]:model.offsets["pad"] + model.meshes["pad"].nvertices]
+    assert moving[pad].all() and moving.sum() == pad.size
+
+
+def _history(model, itf, scheme, thermal=False, steps=None, duration=20.0):
+    th = ThermalModel(model, contact_conductance=1e4) if thermal else None
+    return list(wear_history(model, 1e6, 50.0, duration, WearLaw(5e-14), WearLaw(1e-15), 0.4,
+                             interface=itf, thermal=th,
+                             numerics=Numerics(steps=steps, scheme=scheme, tol=1e-12)))
+
+
+@pytest.mark.parametrize("scheme,steps,thermal", [("explicit", None, False),
+                                                  ("implicit", 10, False),
+                                                  ("implicit", 5, True)])
+def test_wear_histories_are_the_fe_histories(pair, scheme, steps, thermal):
+    model, fe, cd = pair
+    if thermal and model.rotor == "rigid":
+        pytest.skip("contact conductance needs an elastic rotor")
+    a = _history(model, FEInterface(model, 1e6, 0.4, tol=1e-12), scheme, thermal, steps)
+    b = _history(model, CondensedInterface(model, 1e6, 0.4, cache=False), scheme, thermal, steps)
+    assert len(a) == len(b) >= 5
+    for x, y in zip(a, b):
+        assert x.dt == pytest.approx(y.dt, rel=TOL)
+        assert _rel(x.pressure_end, y.pressure_end) < TOL
+        assert _rel(x.pad_wear, y.pad_wear) < TOL
+        assert _rel(x.rotor_wear, y.rotor_wear) < TOL
+    if thermal:
+        assert b[-1].pad_temperature_max == pytest.approx(a[-1].pad_temperature_max, rel=1e-10)
+
+
+def test_the_cache_returns_the_same_compliance_for_any_line_pressure(tmp_path):
+    model = BrakeModel(size=8e-3, rotor="rigid")
+    cs1 = FEInterface(model, 1e6, 0.4).cs
+    first = condense(cs1, 1e6, cache=tmp_path)
+    assert len(list(tmp_path.glob("*.npz"))) == 1 and first.info["seconds"] > 0
+    cs2 = FEInterface(model, 3e6, 0.4).cs
+    again = condense(cs2, 3e6, cache=tmp_path)
+    assert again.key == first.key and "cached" in again.info and again.info["seconds"] == 0
+    for k in ("Hn", "Ht", "hf", "E", "Dt", "zf"):
+        assert np.array_equal(getattr(first, k), getattr(again, k))
+    # another brake (a stiffer friction layer) is another key
+    g = model.geometry
+    m = g.pad.friction_material
+    stiffer = replace(m, elastic=replace(m.elastic, E_t=2 * m.elastic.E_t))
+    other = BrakeModel(replace(g, pad=replace(g.pad, friction_material=stiffer)), size=8e-3,
+                       rotor="rigid")
+    assert condense(FEInterface(other, 1e6, 0.4).cs, 1e6, cache=False).key != first.key
+    # Hn is the normal compliance: symmetric positive definite
+    H = first.Hn
+    assert np.abs(H - H.T).max() < 1e-10 * np.abs(H).max()
+    assert np.linalg.eigvalsh(0.5 * (H + H.T)).min() > 0
+
+
+def test_memory_is_checked_before_condensing(tmp_path):
+    model = BrakeModel(size=8e-3, rotor="rigid")
+    with pytest.raises(SolverError, match=r"needs about .* GB .* the memory budget you set"):
+        CondensedInterface(model, 1e6, 0.4, cache=tmp_path, memory_budget=1e-6)
+    assert not list(tmp_path.glob("*.npz"))
+
+
+def test_offsets_beyond_the_range_are_refused_with_the_alternative(pair):
+    model, fe, cd = pair
+    off = np.zeros(cd.area.size)
+    off[7] = 1.01 * cd.max_offset[7]
+    with pytest.raises(CondensedRangeError, match=r"interface.model = 'fe' with "
+                                                  r"numerics.update = 'geometry'"):
+        cd.solve(off, None)
+    with pytest.raises(WearError, match="FEInterface"):
+        next(wear_history(model, 1e6, 50.0, 10.0, WearLaw(5e-14), None, 0.4, interface=cd,
+                          numerics=Numerics(update="geometry")))
+
+
+def test_the_cleaning_study_answers_the_same_on_either_interface():
+    from studyload import load_study
+
+    study = load_study("cleaning_stops")
+    task = dict(study.DEFAULTS, decel=1.0, stops=2, size=12.0, k_corrosion=8e-12)
+    fe = study.run_decel(dict(task, interface="fe"))
+    cd = study.run_decel(dict(task, interface="condensed"))
+    assert fe["line_pressure_MPa"] == pytest.approx(cd["line_pressure_MPa"], rel=1e-6)
+    for a, b in zip(fe["rows"], cd["rows"]):
+        assert a["steps"] == b["steps"]
+        for key in ("cleaned_fraction", "touched_fraction", "pad_volume_mm3",
+                    "rotor_volume_mm3", "friction_face_kJ"):
+            # the study's FE solves run to its default tolerance (1e-9), and the layered
+            # rotor law switches its rate where a ring wears through: a few 1e-6
+            assert a[key] == pytest.approx(b[key], rel=1e-5, abs=1e-9 * abs(a[key])), key
+
+
+def test_the_cost_study_measures_both_interfaces(tmp_path):
+    from studyload import load_study
+
+    study = load_study("condensed_cost")
+    (row,) = study.main(sizes=(3000,), steps=4, pressures=2, out=tmp_path)
+    assert row["pad_wear_rel_diff"] < TOL and row["pressure_rel_diff"] < TOL
+    assert row["condense_s"] > 0 and row["fe_step_s"] > 0 and row["condensed_step_s"] > 0
+    assert row["fe_sweep_s"] == pytest.approx(2 * row["fe_running_in_s"])
+    assert (tmp_path / "figures" / "condensed_cost.png").stat().st_size > 10_000
+    assert (tmp_path / "data" / "condensed_cost.json").exists()
