@@ -57,7 +57,7 @@ from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
 from brakewear.mesh.surface import surface_nodes
 from brakewear.interfaces import WinklerInterface, calibrate
 from brakewear.model import BrakeModel
-from brakewear.interfaces import FEInterface, FoundationInterface
+from brakewear.interfaces import CondensedInterface, FEInterface, FoundationInterface
 from brakewear.wear import wear_history
 from brakewear.laws import WearLaw
 from brakewear import Numerics
@@ -75,7 +75,8 @@ def run_case(size: float, duration: float, steps: int, scheme: str = "implicit",
              rotor_law: WearLaw = ROTOR, **run) -> dict:
     """One running-in; returns the final fields and the cost (s).
 
-    ``interface``: ``"fe"``, ``"winkler"`` (layer modulus) or
+    ``interface``: ``"fe"``, ``"condensed"`` (its condensation in the cost),
+    ``"winkler"`` (layer modulus) or
     ``"winkler_cal"`` (stiffness-calibrated against one FE solve, counted in
     the cost).  ``run_s`` is model build + (calibration) + the wear history.
     """
@@ -87,13 +88,15 @@ def run_case(size: float, duration: float, steps: int, scheme: str = "implicit",
     if interface == "fe":
         if update == "gap":
             kw["interface"] = FEInterface(model, lp, mu)
+    elif interface == "condensed":     # its condensation counted in the cost (no cache)
+        kw["interface"] = CondensedInterface(model, lp, mu, cache=False)
     else:
         wi = WinklerInterface.from_model(model)
         if interface == "winkler_cal":
             wi = calibrate(wi, model.solve_contact(lp, mu), "stiffness", model=model).interface
         elif interface != "winkler":
-            raise ValueError(f"interface = {interface!r}; allowed: 'fe', 'winkler', "
-                             "'winkler_cal'")
+            raise ValueError(f"interface = {interface!r}; allowed: 'fe', 'condensed', "
+                             "'winkler', 'winkler_cal'")
         kw["interface"] = FoundationInterface(model, wi, lp, mu)
     if thermal:
         from brakewear.thermal import ThermalModel
@@ -211,6 +214,8 @@ def cases(sizes, base_size, ref_steps, implicit_steps, explicit_steps) -> list[d
          "kw": {**b, "steps": ref_steps, "update": "geometry"}},
         {"name": "rigid rotor", "group": "rotor", "kw": {**b, "steps": ref_steps,
                                                           "rotor": "rigid"}},
+        {"name": "condensed FE", "group": "interface",
+         "kw": {**b, "steps": ref_steps, "interface": "condensed"}},
         {"name": "Winkler (layer modulus)", "group": "interface",
          "kw": {**b, "steps": ref_steps, "interface": "winkler"}},
         {"name": "Winkler (stiffness-calibrated)", "group": "interface",

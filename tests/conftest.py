@@ -2,7 +2,7 @@
 temporary directory, not in the user's home."""
 import pytest
 
-from brakewear.interfaces.condense import CACHE_ENV
+from brakewear.interfaces.condensation import CACHE_ENV
 
 
 @pytest.fixture(autouse=True, scope="session")

@@ -8,7 +8,7 @@ import pytest
 
 from brakewear import (BrakeModel, CondensedInterface, CondensedRangeError, FEInterface,
                        Numerics, SolverError, ThermalModel, WearError, WearLaw, wear_history)
-from brakewear.interfaces.condense import condense, free_modes
+from brakewear.interfaces.condensation import condense, free_modes
 
 TOL = 1e-8      # relative agreement with the FE solves (which run to 1e-12)
 
@@ -153,3 +153,23 @@ def test_the_cost_study_measures_both_interfaces(tmp_path):
     assert row["fe_sweep_s"] == pytest.approx(2 * row["fe_running_in_s"])
     assert (tmp_path / "figures" / "condensed_cost.png").stat().st_size > 10_000
     assert (tmp_path / "data" / "condensed_cost.json").exists()
+
+
+def test_the_monte_carlo_runs_on_a_dask_cluster_as_in_one_process():
+    from dask.distributed import Client, LocalCluster
+    from studyload import load_study
+
+    study = load_study("cleaning_stops")
+    kw = dict(n=2, stops=1, size=12.0, interface="condensed")
+
+    class Serial:
+        def map(self, fn, items):
+            return [fn(x) for x in items]
+
+    here = study.probability_of_clean(1.0, executor=Serial(), **kw)
+    with LocalCluster(processes=True, n_workers=2, threads_per_worker=1,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        there = study.probability_of_clean(1.0, executor=client.get_executor(), **kw)
+    assert there["failed"] == here["failed"] == 0
+    for a, b in zip(here["rows"], there["rows"]):
+        assert a["cleaned_fraction"] == pytest.approx(b["cleaned_fraction"], rel=1e-12)

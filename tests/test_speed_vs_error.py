@@ -28,7 +28,7 @@ def test_every_choice_runs_and_has_finite_errors(result):
     res, _ = result
     names = [r["name"] for r in res["runs"]]
     assert names == ["mesh 15 mm", "mesh 12 mm (reference)", "implicit 1 steps",
-                     "explicit 2 steps", "geometry update", "rigid rotor",
+                     "explicit 2 steps", "geometry update", "rigid rotor", "condensed FE",
                      "Winkler (layer modulus)", "Winkler (stiffness-calibrated)"]
     for r in res["runs"]:
         assert "failed" not in r, r
@@ -37,6 +37,14 @@ def test_every_choice_runs_and_has_finite_errors(result):
         assert r["run_s"] > 0 and r["cpu_s"] > 0
         if r["group"] != "mesh size":
             assert set(r["error_vs_base"]) == METRICS
+
+
+def test_the_condensed_row_has_the_base_models_answer(result):
+    res, _ = result
+    row = {r["name"]: r for r in res["runs"]}["condensed FE"]
+    # the FE answer of the base mesh: its own error is that of the solver tolerance
+    assert max(row["error_vs_base"].values()) < 1e-6
+    assert row["error"]["pad_wear_l2"] > 1e-4
 
 
 def test_reference_error_is_zero_and_others_are_not(result):

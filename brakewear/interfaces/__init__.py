@@ -4,21 +4,22 @@ A wear step gives an interface a gap offset (the worn depths), the last
 active set and, for the implicit step, the wear compliance; the interface
 returns the contact pressure, the active set and the displacement
 (:class:`InterfaceSolution`).  Models: finite-element contact
-(:class:`FEInterface`) and an elastic (Winkler) foundation
+(:class:`FEInterface`), an elastic (Winkler) foundation
 (:class:`FoundationInterface` around :class:`WinklerInterface`, calibrated
 against FE contact by :func:`calibrate`), and the FE model condensed onto its
-contact nodes (:class:`CondensedInterface`, :mod:`~brakewear.interfaces.condense`),
-all behind the :class:`Interface`
-protocol of the wear loop (:mod:`~brakewear.interfaces.protocol`).
+contact nodes (:class:`CondensedInterface`, computed by :func:`condense`), all
+behind the :class:`Interface` protocol of the wear loop
+(:mod:`~brakewear.interfaces.protocol`).
 """
 
-from . import calibration, condense, condensed, fe, foundation, protocol, winkler
+from . import calibration, condensation, condensed, fe, foundation, protocol, winkler
 from .calibration import *  # noqa: F403
-from .condense import *  # noqa: F403
+from .condensation import *  # noqa: F403
 from .condensed import *  # noqa: F403
 from .fe import *  # noqa: F403
 from .foundation import *  # noqa: F403
 from .protocol import *  # noqa: F403
 from .winkler import *  # noqa: F403
 
-__all__ = [*calibration.__all__, *condense.__all__, *condensed.__all__, *fe.__all__, *foundation.__all__, *protocol.__all__, *winkler.__all__]
+__all__ = [*calibration.__all__, *condensation.__all__, *condensed.__all__, *fe.__all__,
+           *foundation.__all__, *protocol.__all__, *winkler.__all__]
