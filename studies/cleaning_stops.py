@@ -64,8 +64,13 @@ def run_decel(task: dict) -> dict:
     A solver failure returns ``{"decel", "error"}``: the sweep reports it and
     leaves the deceleration out of the answer.
     """
+    from threadpoolctl import threadpool_limits
+
     try:
-        return _run_decel(task)
+        # one BLAS thread: the runs are many small problems, run side by side (two
+        # workers with two OpenBLAS threads each on 2 cores ran 2-3x slower)
+        with threadpool_limits(limits=1, user_api="blas"):
+            return _run_decel(task)
     except SolverError as e:
         logger.warning("%g m/s^2 failed: %s", task["decel"], e)
         return {"decel": task["decel"], "error": f"{type(e).__name__}: {e}"}

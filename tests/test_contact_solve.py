@@ -387,14 +387,14 @@ def test_bodies_are_the_components_of_the_stiffness():
     """The hierarchy's aggregates stay inside the bodies of K: two blocks, two labels;
     one block alone, no split."""
     K, f, fixed, coords, pr = two_blocks_system(3, 4)
-    labels = el._bodies(K)
+    labels = el.body_labels(K)
     assert labels is not None and labels.shape == (K.shape[0] // 3,)
     assert np.unique(labels).size == 2
     lower = labels[coords[2] < -0.5]
     upper = labels[pr.slave]  # the upper block's bottom face
     assert np.unique(lower).size == 1 and np.unique(upper).size == 1 and lower[0] != upper[0]
     nL = int(pr.slave.min())  # the upper block's nodes come after the lower block's
-    assert el._bodies(K[:3 * nL, :3 * nL]) is None
+    assert el.body_labels(K[:3 * nL, :3 * nL]) is None
     # the contact hierarchy is built with them
     base = contact_preconditioner(K, fixed, coords, [pr])
     assert np.array_equal(base.bodies, labels)

@@ -412,6 +412,15 @@ def test_a_schedule_scene_runs_the_vehicles_stops(tmp_path):
     assert json.loads((out / "scene.json").read_text())["schedule"][0]["kind"] == "stop"
     with pytest.raises(SceneError, match=r"--resume: a scene with a \[schedule\]"):
         run_scene(s, out, resume=True)
+    # the same stops on the condensed interface: the same applications
+    (tmp_path / "c").mkdir()
+    cpath = _stops_scene(tmp_path / "c", interface={"model": "condensed"})
+    assert main(["run", str(cpath), "--out", str(tmp_path / "c" / "run"), "--quiet"]) == 0
+    crows = list(csv.DictReader(open(tmp_path / "c" / "run" / "applications.csv")))
+    assert [r["kind"] for r in crows] == ["stop", "dwell", "stop"]
+    for a, b in zip((rows[0], rows[2]), (crows[0], crows[2])):
+        for key in ("line_pressure", "friction_face_J", "pad_volume_m3"):
+            assert float(b[key]) == pytest.approx(float(a[key]), rel=1e-6), key
 
 
 @pytest.mark.parametrize("edits,key,words", [

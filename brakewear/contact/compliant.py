@@ -36,6 +36,7 @@ logger = logging.getLogger(__name__)
 
 __all__ = [
     "constraint_rows",
+    "drag_loads",
     "solve_compliant_contact",
     "compliant_preconditioner",
     "CompliantResult",
@@ -72,10 +73,14 @@ def constraint_rows(pair: ContactPair, n_dofs: int) -> sp.csr_matrix:
                          shape=(ns, n_dofs))
 
 
-def _drag_loads(pair: ContactPair, n_dofs: int) -> sp.csr_matrix:
-    """``G`` (n_dofs x n_slave): nodal friction load per newton of normal force."""
+def drag_loads(pair: ContactPair, n_dofs: int, mu: float | None = None) -> sp.csr_matrix:
+    """``G`` (n_dofs x n_slave): nodal friction load per newton of normal force, at
+    the friction coefficient ``mu`` (default the pair's); zero for a pair without
+    a sliding direction (built frictionless)."""
     ns, s = pair.slave.size, pair.slave
-    t = pair.mu * pair.drag
+    if pair.drag is None:
+        return sp.csr_matrix((n_dofs, ns))
+    t = (pair.mu if mu is None else mu) * pair.drag
     rows = [(3 * s[:, None] + np.arange(3)).ravel()]
     cols = [np.repeat(np.arange(ns), 3)]
     vals = [t.T.ravel()]
@@ -166,7 +171,7 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     # supported stiffness the base hierarchy was built on
     free = sp.diags((~is_fixed).astype(float))
     C = (constraint_rows(pair, N) @ free).tocsr()
-    G = (free @ _drag_loads(pair, N)).tocsc() if pair.mu > 0 else None
+    G = (free @ drag_loads(pair, N)).tocsc() if pair.mu > 0 else None
     base = solver
     if base is not None:
         if base.A.shape != (N, N):

@@ -17,7 +17,7 @@ from ..solvers.patched import PatchedMatrix
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["friction_operators"]
+__all__ = ["friction_operators", "body_labels"]
 
 
 def _local_frames(n: np.ndarray):
@@ -267,7 +267,7 @@ def _reduced_start(u: np.ndarray, pairs, active) -> np.ndarray:
     return x
 
 
-def _bodies(K: sp.csr_matrix) -> np.ndarray | None:
+def body_labels(K: sp.csr_matrix) -> np.ndarray | None:
     """Body label per node: the connected components of ``K``'s node graph
     (contact couples bodies only through the constraints); None for one body."""
     from scipy.sparse.csgraph import connected_components

@@ -26,7 +26,7 @@ import scipy.sparse.linalg as spla
 from ..errors import ActiveSetError
 from .active_set import LAGRANGE, ActiveSetDriver, ActiveSetOptions, Margins
 from .elimination import (
-    _bodies,
+    body_labels,
     _contact_system,
     _dirichlet_base,
     _prolongation,
@@ -115,7 +115,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     repeats (or an edge node flips twice), the solves stop at ``1e-6`` while
     the set still changes, and one solve to ``tol`` confirms the last one.
     The near-nullspace keeps the rigid-body modes on the dummy DOFs, and the
-    aggregates stay inside the bodies of ``K`` (:func:`_bodies`), so a
+    aggregates stay inside the bodies of ``K`` (:func:`body_labels`), so a
     hierarchy built at one set still serves the others (490k brake, final
     set: 34 FGMRES iterations refreshed from the all-closed set, 29 built
     there; 48 with aggregates across the interface).  Each new set starts
@@ -288,7 +288,7 @@ class _LagrangeSets:
         if self.base is None or (self.ref_rate is not None and _stale(work.info, self.ref_rate)):
             # the first set, or the aggregates have gone stale: a hierarchy of this set
             if self.bodies is False:
-                self.bodies = _bodies(self.K)
+                self.bodies = body_labels(self.K)
             # the set's CSR operator serves as the finest level unless it lives
             # in fine's buffer, which the next set overwrites
             self.base = amg_solver(A.tobsr(blocksize=(3, 3)),
@@ -355,7 +355,7 @@ def contact_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray
     A, _, _, dK = _contact_system(K, _dirichlet_base(K, is_fixed), np.zeros(N), pairs, active,
                                   P, c, elim, is_fixed, np.zeros(N), False)
     solver = amg_solver(A.tobsr(blocksize=(3, 3)), B=_reduced_modes(coords, pairs, active, fixed),
-                        tol=tol, bodies=_bodies(K), fine_csr=A)
+                        tol=tol, bodies=body_labels(K), fine_csr=A)
     # its operator minus the Dirichlet-masked K, valid while solver.A is this operator:
     # solve_contact forms each set's update from it instead of subtracting two full matrices
     solver.contact_delta = (solver.A, dK)

@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
-from ..contact.compliant import _drag_loads, constraint_rows
+from ..contact.compliant import constraint_rows, drag_loads
 from ..errors import SolverError
 
 logger = logging.getLogger(__name__)
@@ -133,10 +133,10 @@ def _hash(*arrays) -> str:
 def free_modes(K: sp.csr_matrix, coords: np.ndarray, fixed: np.ndarray) -> np.ndarray:
     """``Z`` (N x m, orthonormal columns): the rigid-body modes of each body of
     ``K`` that its supports leave free (checked: ``K Z`` vanishes)."""
-    from ..contact.elimination import _bodies
+    from ..contact.elimination import body_labels
 
     N = K.shape[0]
-    labels = _bodies(K)
+    labels = body_labels(K)
     labels = np.zeros(N // 3, dtype=np.int64) if labels is None else labels
     is_fixed = np.zeros(N, dtype=bool)
     is_fixed[fixed] = True
@@ -198,7 +198,7 @@ class Supported:
     sparse LU per body (factorised on first use)."""
 
     def __init__(self, cs):
-        from ..contact.elimination import _bodies
+        from ..contact.elimination import body_labels
 
         self.K = K = cs.K.tocsr()
         N = K.shape[0]
@@ -208,7 +208,7 @@ class Supported:
         self.held[fixed] = True
         touched = np.unique(constraint_rows(cs.pair, N).indices)
         self.held[_pinned(self.Z, touched)] = True
-        labels = _bodies(K)
+        labels = body_labels(K)
         labels = np.zeros(N // 3, dtype=np.int64) if labels is None else labels
         dof_body = np.repeat(labels, 3)
         self.keep = [np.nonzero((dof_body == b) & ~self.held)[0] for b in np.unique(labels)]
@@ -337,7 +337,7 @@ def _compute(cs, line_pressure: float) -> Condensation:
     pair, held, Z = cs.pair, sup.held, sup.Z
     mask = sp.diags((~held).astype(float))
     C = (constraint_rows(pair, N) @ mask).tocsr()
-    G1 = _unit_drag(pair, N)
+    G1 = drag_loads(pair, N, mu=1.0).tocsr()
     f = np.where(held, 0.0, cs.f) / line_pressure
     B = sp.hstack([C.T, mask @ G1, sp.csc_matrix(f[:, None])]).tocsc()
     YB = sum(_body_solves(sup, i, C.T.tocsc(), B) for i in range(len(sup.keep)))
@@ -350,16 +350,3 @@ def _compute(cs, line_pressure: float) -> Condensation:
     logger.info("condensed %d contact nodes of %d DOFs in %.1f s (%d free modes)", ns, N,
                 cond.info["seconds"], Z.shape[1])
     return cond
-
-
-def _unit_drag(pair, N: int) -> sp.csr_matrix:
-    """The friction loads per newton at mu = 1 (zero for a pair without a
-    sliding direction, one built frictionless)."""
-    if pair.drag is None:
-        return sp.csr_matrix((N, pair.slave.size))
-    saved = pair.mu
-    pair.mu = 1.0
-    try:
-        return _drag_loads(pair, N).tocsr()
-    finally:
-        pair.mu = saved

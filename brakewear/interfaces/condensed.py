@@ -43,6 +43,8 @@ __all__ = ["CondensedInterface"]
 
 #: factorisations kept per interface (sets x friction x compliance)
 _KEEP = 8
+#: largest change of the active set solved by an update of a kept factorisation
+_UPDATE_MAX = 48
 
 
 class CondensedInterface:
@@ -94,6 +96,8 @@ class CondensedInterface:
             model.meshes["pad"], "friction")
         self._H = {}                        # mu -> (H, D)
         self._lu = OrderedDict()            # (set, mu, compliance) -> LU of the set's system
+        self._base = {}                     # (mu, compliance) -> (set, LU): the updates' base
+        self._updated = {}                  # set -> times an update solved it
         self._thermal = None                # the load -> gap operator, built on first use
 
     # -------------------------------------------------------------- protocol --
@@ -149,6 +153,7 @@ class CondensedInterface:
         lam = problem.lam
         pressure = (lam if c is None else np.maximum(lam, 0.0)) / self.area
         info = {**driver.report(), "factorisations": problem.factorised,
+                "updates": problem.updated,
                 "normal_force": float(lam.sum()), "min_gap": float(problem.g.min()),
                 "time_s": time.perf_counter() - t0}
         return InterfaceSolution(pressure, act, None, info)
@@ -161,8 +166,8 @@ class CondensedInterface:
             raise CondensedRangeError(
                 f"condensed interface: the gap offset at pad node {int(self.pad_nodes[i])} "
                 f"(r = {self.r[i] * 1e3:.1f} mm) is {abs(offset[i]) * 1e6:.1f} um, beyond "
-                f"{self.valid_fraction:g} of the face's element height "
-                f"({self.max_offset[i] * 1e6:.1f} um): the worn geometry is no longer the "
+                f"its limit of {self.max_offset[i] * 1e6:.1f} um ({self.valid_fraction:g} of "
+                "the height of the elements at the face): the worn geometry is no longer the "
                 "condensed one. Use interface.model = 'fe' with numerics.update = 'geometry'")
 
     def _operators(self, mu: float):
@@ -172,17 +177,16 @@ class CondensedInterface:
                             cond.E.T + mu * cond.Dt if mu else cond.E.T)}
         return self._H[mu]
 
-    def factorised(self, key, build):
-        """The LU of ``key``'s system, from the kept ones or ``build()``."""
-        lu = self._lu.get(key)
-        if lu is not None:
-            self._lu.move_to_end(key)
-            return lu, False
-        lu = build()
+    def kept(self, key, lu, active) -> None:
+        """Keep ``lu`` (the set ``active`` under the friction and compliance of
+        ``key``) for reuse, and as the base of the updates of that friction
+        and compliance."""
         self._lu[key] = lu
         while len(self._lu) > _KEEP:
             self._lu.popitem(last=False)
-        return lu, True
+        self._base[key[1:]] = (active.copy(), lu)
+        while len(self._base) > _KEEP:
+            self._base.pop(next(iter(self._base)))
 
     def thermal_gap(self, load: np.ndarray):
         """``(gap change per contact node, the free modes' share)`` of a nodal load."""
@@ -194,39 +198,144 @@ class CondensedInterface:
 
 
 class _DenseSets:
-    """One condensed contact solve as a :class:`~brakewear.contact.active_set.SetProblem`."""
+    """One condensed contact solve as a :class:`~brakewear.contact.active_set.SetProblem`.
+
+    The system of a set ``S`` is embedded in all ``n`` nodes and the ``m``
+    modes: ``T_S = [[P K P + I - P, P E], [D P, 0]]`` with ``P`` the set's
+    mask and ``K = H + diag(c)`` (an open node's row says ``lam_i = 0``).  A
+    set met before (same friction and compliance) reuses its LU; a set that
+    differs from the last factorised one (the *base*) in at most
+    :data:`_UPDATE_MAX` nodes is solved from the base's LU by the
+    Sherman-Morrison-Woodbury formula (``T_S - T_base`` has rank at most
+    twice the changed nodes), checked by its residual; any other set is
+    factorised and becomes the base.
+    """
 
     def __init__(self, itf, H, D, q, rhs, c):
         self.itf, self.H, self.D, self.q, self.rhs, self.c = itf, H, D, q, rhs, c
         self.E = itf.cond.E
-        self.factorised = 0
+        self.factorised = self.updated = 0
         self.c_key = None if c is None else c.tobytes()
 
     def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
+        itf, n = self.itf, self.q.size
+        key = (np.packbits(active).tobytes(), itf.mu, self.c_key)
+        lu = itf._lu.get(key)
+        if lu is not None:
+            itf._lu.move_to_end(key)
+            z = self._solve_with(lu, active)
+        else:
+            base = itf._base.get(key[1:])
+            z = None
+            # a set that updates have solved twice is factorised: a history that has
+            # settled on it then solves it by two triangular solves (a contact that
+            # spreads meets each set twice: at the end of a step and the start of
+            # the next)
+            if base is not None and itf._updated.get(key, 0) < 2:
+                changed = int(np.count_nonzero(base[0] != active))
+                if 0 < changed <= min(_UPDATE_MAX, n // 4):
+                    z = self._checked(self._woodbury(active, *base), active)
+                    if z is not None:
+                        self.updated += 1
+                        itf._updated[key] = itf._updated.get(key, 0) + 1
+                        while len(itf._updated) > 4 * _KEEP:
+                            itf._updated.pop(next(iter(itf._updated)))
+            if z is None:
+                lu = self._factor(active)
+                itf.kept(key, lu, active)
+                self.factorised += 1
+                z = self._solve_with(lu, active)
+        self._state(z, active)
+
+    # ------------------------------------------------------------------ --
+    def _factor(self, active):
         A = np.nonzero(active)[0]
-        m = self.E.shape[1]
-        key = (np.packbits(active).tobytes(), self.itf.mu, self.c_key)
+        m, k = self.E.shape[1], A.size
+        M = np.empty((k + m, k + m))
+        M[:k, :k] = self.H[np.ix_(A, A)]
+        if self.c is not None:
+            M[np.arange(k), np.arange(k)] += self.c[A]
+        M[:k, k:] = self.E[A]
+        M[k:, :k] = self.D[:, A]
+        M[k:, k:] = 0.0
+        return lu_factor(M, check_finite=False)
 
-        def build():
-            n = A.size
-            M = np.empty((n + m, n + m))
-            M[:n, :n] = self.H[np.ix_(A, A)]
-            if self.c is not None:
-                M[np.arange(n), np.arange(n)] += self.c[A]
-            M[:n, n:] = self.E[A]
-            M[n:, :n] = self.D[:, A]
-            M[n:, n:] = 0.0
-            return lu_factor(M, check_finite=False)
+    def _full_rhs(self, active):
+        n = self.q.size
+        b = np.zeros(n + self.E.shape[1])
+        b[:n] = np.where(active, -self.q, 0.0)
+        b[n:] = self.rhs
+        return b
 
-        lu, new = self.itf.factorised(key, build)
-        self.factorised += new
-        x = lu_solve(lu, np.concatenate([-self.q[A], self.rhs]), check_finite=False)
-        lam = np.zeros(self.q.size)
-        lam[A] = x[:A.size]
-        self.lam = lam
-        self.g = self.q + self.H @ lam + self.E @ x[A.size:]
+    def _apply(self, lu, mask, V):
+        """``T_mask^-1 V`` from the LU of ``mask``'s compressed system."""
+        n = self.q.size
+        idx = np.concatenate([np.nonzero(mask)[0], n + np.arange(self.E.shape[1])])
+        Z = np.array(V, dtype=float, copy=True)
+        Z[idx] = lu_solve(lu, V[idx], check_finite=False)
+        return Z
+
+    def _solve_with(self, lu, active):
+        return self._apply(lu, active, self._full_rhs(active))
+
+    def _rows(self, rows, mask):
+        """Rows ``rows`` of the embedded ``T_mask``."""
+        n = self.q.size
+        R = np.zeros((rows.size, n + self.E.shape[1]))
+        inside = mask[rows]
+        r_in = rows[inside]
+        R[inside, :n] = self.H[r_in] * mask
+        if self.c is not None:
+            R[np.nonzero(inside)[0], r_in] += self.c[r_in]
+        R[inside, n:] = self.E[r_in]
+        R[np.nonzero(~inside)[0], rows[~inside]] = 1.0
+        return R
+
+    def _woodbury(self, active, base_mask, lu):
+        """The embedded system of ``active`` from the LU of ``base_mask``'s."""
+        n = self.q.size
+        d = np.nonzero(active != base_mask)[0]
+        k = d.size
+        X = self._rows(d, active) - self._rows(d, base_mask)      # changed rows
+        s = np.where(active[d], 1.0, -1.0)
+        Y = np.zeros((X.shape[1], k))                              # changed columns, other rows
+        both = np.nonzero(active & base_mask)[0]
+        Y[both] = self.H[np.ix_(both, d)] * s
+        Y[n:] = self.D[:, d] * s
+        U = np.zeros((X.shape[1], 2 * k))
+        U[d, np.arange(k)] = 1.0
+        U[:, k:] = Y
+        W = self._apply(lu, base_mask, U)
+        z0 = self._apply(lu, base_mask, self._full_rhs(active))
+        cap = np.eye(2 * k) + np.vstack([X @ W, W[d]])
+        return z0 - W @ np.linalg.solve(cap, np.concatenate([X @ z0, z0[d]]))
+
+    def _checked(self, z, active):
+        """``z`` if it solves the set's equations to round-off, else None."""
+        n = self.q.size
+        lam = np.where(active, z[:n], 0.0)
+        Hl = self.H @ lam
+        r = self.q + Hl + self.E @ z[n:]
+        if self.c is not None:
+            r = r + self.c * lam
+        ref = max(float(np.abs(self.q[active]).max()), float(np.abs(Hl[active]).max()), 1e-300)
+        ok = np.abs(r[active]).max() <= 1e-12 * ref
+        bottom = self.D @ lam - self.rhs
+        ok = ok and np.abs(bottom).max() <= 1e-12 * max(np.abs(self.rhs).max(),
+                                                        np.abs(self.D).max() * np.abs(lam).sum(),
+                                                        1e-300)
+        if ok:
+            self._known = (z, r - (0.0 if self.c is None else self.c * lam))
+        return z if ok else None
+
+    def _state(self, z, active):
+        n = self.q.size
+        self.lam = np.where(active, z[:n], 0.0)
+        known = getattr(self, "_known", None)
+        self.g = known[1] if known is not None and known[0] is z else \
+            self.q + self.H @ self.lam + self.E @ z[n:]
         if self.c is None:
-            self.g[A] = 0.0
+            self.g[active] = 0.0
 
     def margins(self, active: np.ndarray, band: float) -> Margins:
         if self.c is None:
