@@ -75,12 +75,16 @@ def constraint_rows(pair: ContactPair, n_dofs: int) -> sp.csr_matrix:
 
 def drag_loads(pair: ContactPair, n_dofs: int, mu: float | None = None) -> sp.csr_matrix:
     """``G`` (n_dofs x n_slave): nodal friction load per newton of normal force, at
-    the friction coefficient ``mu`` (default the pair's); zero for a pair without
-    a sliding direction (built frictionless)."""
+    the friction coefficient ``mu`` (default the pair's).  A pair built without
+    friction has no sliding direction and refuses ``mu > 0``."""
     ns, s = pair.slave.size, pair.slave
+    mu = pair.mu if mu is None else mu
     if pair.drag is None:
+        if mu > 0:
+            raise ValueError(f"{pair.name}: mu = {mu!r} needs a sliding direction; the pair "
+                             "was built without friction (build it with mu > 0)")
         return sp.csr_matrix((n_dofs, ns))
-    t = (pair.mu if mu is None else mu) * pair.drag
+    t = mu * pair.drag
     rows = [(3 * s[:, None] + np.arange(3)).ravel()]
     cols = [np.repeat(np.arange(ns), 3)]
     vals = [t.T.ravel()]

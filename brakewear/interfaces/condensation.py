@@ -23,9 +23,9 @@ computes, once per geometry and materials,
 fill-reducing ordering of ``K + K^T``), ``K^+ C^T`` in blocks of columns:
 with ``K`` symmetric, ``Y = K^+ C^T`` gives every product above as ``Y^T B``
 for the sparse ``B``, from ``n`` solves.  An AMG-preconditioned CG solve per
-column would cost about 1 s each at 100k DOFs (a tight tolerance, 980
-columns); the factorisation and its multi-column solves take about a minute
-(docs/performance.md has the figures).
+column measured 1.25 s at 105k DOFs (30 iterations to 1e-12; 20 minutes for
+its 980 columns); the factorisations and their multi-column solves took 71 s
+(docs/condensed.md has the figures).
 
 The result is cached on disk (:func:`cache_dir`), keyed by a hash of every
 array it is computed from, so sweeps of line pressure or wear law and resumed
@@ -337,7 +337,7 @@ def _compute(cs, line_pressure: float) -> Condensation:
     pair, held, Z = cs.pair, sup.held, sup.Z
     mask = sp.diags((~held).astype(float))
     C = (constraint_rows(pair, N) @ mask).tocsr()
-    G1 = drag_loads(pair, N, mu=1.0).tocsr()
+    G1 = drag_loads(pair, N, mu=1.0 if pair.drag is not None else 0.0).tocsr()
     f = np.where(held, 0.0, cs.f) / line_pressure
     B = sp.hstack([C.T, mask @ G1, sp.csc_matrix(f[:, None])]).tocsc()
     YB = sum(_body_solves(sup, i, C.T.tocsc(), B) for i in range(len(sup.keep)))

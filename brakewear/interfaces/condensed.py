@@ -126,6 +126,9 @@ class CondensedInterface:
         offset = np.asarray(offset, dtype=float)
         self._check_range(offset)
         if mu is not None:
+            if mu > 0 and self.fe.pair.drag is None:
+                raise WearError(f"mu = {mu!r}: this condensed interface was built without "
+                                "friction (no sliding direction); build it with mu > 0")
             self.mu = float(mu)
         cond, p = self.cond, self.line_pressure
         q = self.g0 + offset + cond.hf * p
