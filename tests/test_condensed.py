@@ -222,3 +222,11 @@ def test_friction_on_an_interface_built_without_it_is_refused():
     with pytest.raises(WearError, match="built without friction"):
         cd.solve(np.zeros(cd.area.size), None, mu=0.3)
     assert cd.solve(np.zeros(cd.area.size), None, mu=0.0).active.any()
+
+
+@pytest.mark.parametrize("fraction", [0.0, 1.5, float("nan")])
+def test_a_bad_validity_fraction_is_refused_before_condensing(fraction, tmp_path):
+    model = BrakeModel(size=12e-3, rotor="rigid")
+    with pytest.raises(WearError, match=r"valid_fraction = .* is not allowed; need 0 <"):
+        CondensedInterface(model, 1e6, 0.4, cache=tmp_path, valid_fraction=fraction)
+    assert not list(tmp_path.glob("*.npz"))
