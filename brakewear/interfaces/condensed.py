@@ -224,12 +224,12 @@ class _DenseSets:
         itf, n = self.itf, self.q.size
         key = (np.packbits(active).tobytes(), itf.mu, self.c_key)
         lu = itf._lu.get(key)
+        state = None
         if lu is not None:
             itf._lu.move_to_end(key)
-            z = self._solve_with(lu, active)
+            state = self._gap(self._solve_with(lu, active), active)
         else:
             base = itf._base.get(key[1:])
-            z = None
             # a set that updates have solved twice is factorised: a history that has
             # settled on it then solves it by two triangular solves (a contact that
             # spreads meets each set twice: at the end of a step and the start of
@@ -237,18 +237,22 @@ class _DenseSets:
             if base is not None and itf._updated.get(key, 0) < 2:
                 changed = int(np.count_nonzero(base[0] != active))
                 if 0 < changed <= min(_UPDATE_MAX, n // 4):
-                    z = self._checked(self._woodbury(active, *base), active)
-                    if z is not None:
+                    state = self._gap(self._woodbury(active, *base), active)
+                    if self._solves(*state, active):
                         self.updated += 1
                         itf._updated[key] = itf._updated.get(key, 0) + 1
                         while len(itf._updated) > 4 * _KEEP:
                             itf._updated.pop(next(iter(itf._updated)))
-            if z is None:
+                    else:
+                        state = None
+            if state is None:
                 lu = self._factor(active)
                 itf.kept(key, lu, active)
                 self.factorised += 1
-                z = self._solve_with(lu, active)
-        self._state(z, active)
+                state = self._gap(self._solve_with(lu, active), active)
+        self.lam, self.g = state
+        if self.c is None:
+            self.g[active] = 0.0
 
     # ------------------------------------------------------------------ --
     def _factor(self, active):
@@ -313,32 +317,20 @@ class _DenseSets:
         cap = np.eye(2 * k) + np.vstack([X @ W, W[d]])
         return z0 - W @ np.linalg.solve(cap, np.concatenate([X @ z0, z0[d]]))
 
-    def _checked(self, z, active):
-        """``z`` if it solves the set's equations to round-off, else None."""
+    def _gap(self, z, active):
+        """The contact forces and gaps of a solution ``z`` of the embedded system."""
         n = self.q.size
         lam = np.where(active, z[:n], 0.0)
-        Hl = self.H @ lam
-        r = self.q + Hl + self.E @ z[n:]
-        if self.c is not None:
-            r = r + self.c * lam
-        ref = max(float(np.abs(self.q[active]).max()), float(np.abs(Hl[active]).max()), 1e-300)
-        ok = np.abs(r[active]).max() <= 1e-12 * ref
-        bottom = self.D @ lam - self.rhs
-        ok = ok and np.abs(bottom).max() <= 1e-12 * max(np.abs(self.rhs).max(),
-                                                        np.abs(self.D).max() * np.abs(lam).sum(),
-                                                        1e-300)
-        if ok:
-            self._known = (z, r - (0.0 if self.c is None else self.c * lam))
-        return z if ok else None
+        return lam, self.q + self.H @ lam + self.E @ z[n:]
 
-    def _state(self, z, active):
-        n = self.q.size
-        self.lam = np.where(active, z[:n], 0.0)
-        known = getattr(self, "_known", None)
-        self.g = known[1] if known is not None and known[0] is z else \
-            self.q + self.H @ self.lam + self.E @ z[n:]
-        if self.c is None:
-            self.g[active] = 0.0
+    def _solves(self, lam, g, active) -> bool:
+        """Whether ``lam`` (with its gaps ``g``) solves the set's equations to round-off."""
+        r = g if self.c is None else g + self.c * lam
+        ref = max(float(np.abs(self.q[active]).max()), float(np.abs((g - self.q)[active]).max()),
+                  1e-300)
+        bottom = self.D @ lam - self.rhs
+        return bool(np.abs(r[active]).max() <= 1e-12 * ref and np.abs(bottom).max() <= 1e-12 * max(
+            np.abs(self.rhs).max(), np.abs(self.D).max() * np.abs(lam).sum(), 1e-300))
 
     def margins(self, active: np.ndarray, band: float) -> Margins:
         if self.c is None:
