@@ -112,7 +112,7 @@ def drag(size_mm: float, duration: float = 10.0, dt: float = 0.5,
 
 def staggered(omega: float, iterations: int = 14) -> dict:
     model = BrakeModel(size=8e-3)
-    th = ThermalModel(model)
+    th = ThermalModel(model, contact_conductance=0.0)
     mu, p_line = 0.4, 5e5
     cs = model.contact_system(p_line, mu)
     changes, active, n_active = [], None, []

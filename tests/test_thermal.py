@@ -199,7 +199,7 @@ def test_energy_balance_every_step(brake):
     """Heat into the bodies = friction power (= torque x omega), and heat in =
     stored + convected, to 1e-8 in every step of a drag and at steady state."""
     m, r = brake
-    th = ThermalModel(m)
+    th = ThermalModel(m, contact_conductance=0.0)
     q = th.flux(r.interface_pressure, MU, OMEGA)
     x = m.meshes["pad"].p[:, r.interface_nodes]
     torque_power = MU * OMEGA * float(np.hypot(x[0], x[1]) @ r.interface_force[2])
@@ -325,7 +325,7 @@ def steady_staggered(brake):
     """dt -> inf, the worst case of the staggering (a -> B/L), on a light drag
     (0.5 MPa, 1 rad/s, ~50 W)."""
     m, _ = brake
-    return _staggered(m, ThermalModel(m), None, 14)
+    return _staggered(m, ThermalModel(m, contact_conductance=0.0), None, 14)
 
 
 def test_staggered_thermoelastic_steady_iteration_converges(steady_staggered):
@@ -342,7 +342,7 @@ def test_staggered_transient_is_bounded_by_the_steady_state(brake, steady_stagge
     """One thermal update per 20 s step: the pad's peak temperature rises
     monotonically and stays below the steady state of the same coupling."""
     m, _ = brake
-    ch, tmax = _staggered(m, ThermalModel(m), 20.0, 8)
+    ch, tmax = _staggered(m, ThermalModel(m, contact_conductance=0.0), 20.0, 8)
     T_steady = steady_staggered[1][-1]
     assert np.all(np.diff(tmax) > 0) and tmax[-1] < T_steady + 0.1, (tmax, T_steady)
     assert np.all(np.isfinite(ch))
@@ -474,7 +474,7 @@ def test_step_is_solved_with_the_octave_factorisation(brake):
     import scipy.sparse.linalg as spla
 
     m, r = brake
-    th = ThermalModel(m)
+    th = ThermalModel(m, contact_conductance=0.0)
     q = th.flux(r.interface_pressure, MU, OMEGA)
     th.step(q, 1.0)
     T0 = th.T["pad"].copy()

@@ -156,22 +156,27 @@ class ThermalSpec:
     """Thermal coupling (:class:`brakewear.thermal.ThermalModel` arguments, SI).
 
     ``T_ambient`` is the scene's ``environment.ambient``; ``T_max`` (K) the
-    plausibility bound of face temperatures (None: 900 C).
+    plausibility bound of face temperatures (None: 900 C).  ``partition =
+    "auto"`` and ``contact_conductance = None`` (the defaults) resolve by the
+    rotor: a meshed rotor gets the effusivity share and a contact conductance
+    of 1e5 W/m^2 K, a rigid one the area-weighted effusivity share and none
+    (:class:`~brakewear.thermal.ThermalModel`).
     """
 
     enabled: bool = False
-    partition: str | float = "effusivity"
+    partition: str | float = "auto"
     h_conv: float | Mapping[str, float] = 40.0
     T_initial: float | None = None
     T_ref: float | None = None
-    contact_conductance: float = 0.0
+    contact_conductance: float | None = None
     mass: str = "consistent"
     T_max: float | None = None
 
     def __post_init__(self):
         check_bool("thermal.enabled", self.enabled)
         if isinstance(self.partition, str):
-            check_choice("thermal.partition", self.partition, ("effusivity", "effusivity_area"))
+            check_choice("thermal.partition", self.partition,
+                         ("auto", "effusivity", "effusivity_area"))
         else:
             check_number("thermal.partition", self.partition, 0.0, 1.0, lo_open=False)
         if isinstance(self.h_conv, Mapping):
@@ -188,7 +193,7 @@ class ThermalSpec:
         check_plausible("thermal.T_initial", self.T_initial)
         check_plausible("thermal.T_ref", self.T_ref)
         check_number("thermal.contact_conductance", self.contact_conductance, 0.0,
-                      lo_open=False, unit="W/m^2 K")
+                      lo_open=False, unit="W/m^2 K", allow_none=True)
         check_choice("thermal.mass", self.mass, ("consistent", "lumped"))
         check_number("thermal.T_max", self.T_max, 0.0, unit="K", allow_none=True)
 

@@ -29,10 +29,16 @@ from .strain import thermal_load_matrix, thermal_stress
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["ThermalModel", "T_MAX_DEFAULT"]
+__all__ = ["ThermalModel", "T_MAX_DEFAULT", "H_CONTACT_DEFAULT"]
 
 #: Default plausibility bound of face temperatures (K): 900 C.
 T_MAX_DEFAULT = 1173.15
+
+#: Default contact conductance between pad and meshed rotor (W/m^2 K): large enough
+#: that the pad face follows the rotor ring under it (a sliding interface has one
+#: temperature), inside the 1e4 - 1e6 range of pad-disc interface conductances
+#: (docs/theory.md, "Heat partition").
+H_CONTACT_DEFAULT = 1e5
 
 
 class ThermalModel:
@@ -46,7 +52,10 @@ class ThermalModel:
         elastic (meshed).  The piston is not heated (its temperature stays at
         ``T_ref``: no thermal strain).
     partition
-        ``"effusivity"`` (default; :func:`partition_effusivity`),
+        ``"auto"`` (default: ``"effusivity"`` with a meshed rotor, whose
+        contact conductance then sets the net share; ``"effusivity_area"``
+        with a rigid one, where no heat can flow back),
+        ``"effusivity"`` (:func:`partition_effusivity`),
         ``"effusivity_area"`` (the revolution-averaged variant) or a number in
         [0, 1]: the share of ``q`` that enters the pad.  The rest enters the
         rotor (with a rigid rotor it leaves the model; reported as
@@ -67,7 +76,8 @@ class ThermalModel:
     T_initial
         Initial temperature (K), default ``T_ambient``.
     contact_conductance
-        ``h_c`` (W/m^2 K, default 0: off).  Besides its share of ``q``, each
+        ``h_c`` (W/m^2 K; None, the default: :data:`H_CONTACT_DEFAULT` with a
+        meshed rotor, 0 with a rigid one; 0: off).  Besides its share of ``q``, each
         pad friction node exchanges ``h_c A_i (T_pad,i - T_ring,i)`` with the
         rotor, ``T_ring,i`` the area-weighted mean temperature of the rotor
         rings under it (the revolution average again); the rotor receives
@@ -89,18 +99,20 @@ class ThermalModel:
     PAD_FACETS = ("back", "leading", "trailing", "inner", "outer")
     ROTOR_FACETS = ("friction", "outer", "rotor_clamp")
 
-    def __init__(self, model, partition: str | float = "effusivity",
+    def __init__(self, model, partition: str | float = "auto",
                  h_conv: float | Mapping[str, float] = H_CONV_DEFAULT,
                  T_ambient: float = T_AMBIENT_DEFAULT, T_ref: float | None = None,
                  convection_facets: Mapping[str, Sequence[str]] | None = None,
                  mass: str = "consistent", T_initial: float | None = None,
-                 contact_conductance: float = 0.0, T_max: float | None = None):
+                 contact_conductance: float | None = None, T_max: float | None = None):
         self.model = model
-        #: the constructor's settings, as given (a run's checkpoint fingerprints them)
+        self.bodies = tuple(b for b in ("rotor", "pad") if b in model.bodies)
+        partition, contact_conductance = _resolve_defaults("rotor" in self.bodies, partition,
+                                                           contact_conductance)
+        #: the constructor's settings, defaults resolved (a run's checkpoint fingerprints them)
         self.settings = {"partition": partition, "h_conv": h_conv, "T_ambient": T_ambient,
                          "T_ref": T_ref, "convection_facets": convection_facets, "mass": mass,
                          "T_initial": T_initial, "contact_conductance": contact_conductance}
-        self.bodies = tuple(b for b in ("rotor", "pad") if b in model.bodies)
         if "pad" not in self.bodies:
             raise ThermalError("the brake model has no pad body")
         # ---- input checks first (nothing is assembled before they pass)
@@ -362,6 +374,17 @@ class ThermalModel:
                                   self.T[b] - self.T_ref, b) for b in self.bodies}
 
 
+def _resolve_defaults(meshed: bool, partition, contact_conductance):
+    """``partition = "auto"`` and ``contact_conductance = None`` by the rotor: a
+    meshed one takes the effusivity share and :data:`H_CONTACT_DEFAULT`, a rigid
+    one (no heat can flow back) the area-weighted share and no conductance."""
+    if isinstance(partition, str) and partition == "auto":
+        partition = "effusivity" if meshed else "effusivity_area"
+    if contact_conductance is None:
+        contact_conductance = H_CONTACT_DEFAULT if meshed else 0.0
+    return partition, contact_conductance
+
+
 def _resolve_partition(partition, pad_mat, rotor_mat, arc_angle: float) -> float:
     """The share of the frictional heat that enters the pad: by the effusivities
     (``"effusivity"``), weighted by the pad's share of the swept ring
@@ -373,14 +396,14 @@ def _resolve_partition(partition, pad_mat, rotor_mat, arc_angle: float) -> float
             ratio = arc_angle / (2 * np.pi)  # pad area / swept ring area
             gamma = partition_effusivity(pad_mat, rotor_mat, ratio)
         else:
-            raise ThermalError(f"partition = {partition!r} is not allowed; allowed: "
+            raise ThermalError(f"partition = {partition!r} is not allowed; allowed: 'auto', "
                                "'effusivity', 'effusivity_area' or a number in [0, 1]")
     else:
         try:
             gamma = float(partition)
         except (TypeError, ValueError):
             raise ThermalError(
-                f"partition = {partition!r} is not allowed; allowed: 'effusivity', "
+                f"partition = {partition!r} is not allowed; allowed: 'auto', 'effusivity', "
                 "'effusivity_area' or a number in [0, 1]") from None
         if not (np.isfinite(gamma) and 0.0 <= gamma <= 1.0):
             raise ThermalError(f"partition = {partition!r} (share of the heat into the pad) "

@@ -123,8 +123,8 @@ def check_temperature(step, thermal) -> None:
         if not (np.isfinite(T) and T > thermal.T_max):
             continue
         backflow = (", contact_conductance 0 with a meshed rotor: no heat flows back to the "
-                    "rotor" if thermal.contact_conductance == 0 and "rotor" in thermal.bodies
-                    else "")
+                    "rotor; give thermal.contact_conductance > 0 (default 1e5 W/m^2 K)"
+                    if thermal.contact_conductance == 0 and "rotor" in thermal.bodies else "")
         raise TemperatureLimitError(
             f"step {step.step} (t = {step.time:.6g} s): the {body} face reached "
             f"{T - 273.15:.0f} C, beyond the plausibility bound T_max = "
