@@ -238,9 +238,6 @@ def test_unknown_scene_name_lists_the_packaged_ones():
 
 def test_combinations_the_loop_refuses_are_refused_before_meshing(no_meshing, tmp_path):
     s = load_scene("default")
-    with pytest.raises(SceneError, match="numerics.update: 'geometry' cannot be combined"):
-        Scene(geometry=s.geometry, thermal=ThermalSpec(enabled=True),
-              numerics=Numerics(update="geometry"))
     with pytest.raises(SceneError, match="numerics.update: 'geometry' moves the FE meshes"):
         Scene(geometry=s.geometry, interface=InterfaceSpec(model="winkler"),
               numerics=Numerics(update="geometry"))

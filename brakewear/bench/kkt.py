@@ -50,7 +50,7 @@ def kkt_system(K, f, fixed, fixed_values, pair, active):
     C = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                       shape=(idx.size, N))
     B = C.T.tocsr()
-    if pair.mu > 0:
+    if pair.frictional:
         G, _ = friction_operators(N, [pair], [np.asarray(active, dtype=bool)])
         B = (B + G).tocsr()
     isfixed = np.zeros(N, dtype=bool)

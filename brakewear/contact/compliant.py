@@ -75,16 +75,17 @@ def constraint_rows(pair: ContactPair, n_dofs: int) -> sp.csr_matrix:
 
 def drag_loads(pair: ContactPair, n_dofs: int, mu: float | None = None) -> sp.csr_matrix:
     """``G`` (n_dofs x n_slave): nodal friction load per newton of normal force, at
-    the friction coefficient ``mu`` (default the pair's).  A pair built without
-    friction has no sliding direction and refuses ``mu > 0``."""
+    the friction coefficient ``mu`` (default the pair's; a number or one per slave
+    node).  A pair built without friction has no sliding direction and refuses
+    ``mu > 0``."""
     ns, s = pair.slave.size, pair.slave
     mu = pair.mu if mu is None else mu
     if pair.drag is None:
-        if mu > 0:
+        if np.any(np.asarray(mu) > 0):
             raise ValueError(f"{pair.name}: mu = {mu!r} needs a sliding direction; the pair "
                              "was built without friction (build it with mu > 0)")
         return sp.csr_matrix((n_dofs, ns))
-    t = mu * pair.drag
+    t = np.asarray(mu, dtype=float) * pair.drag
     rows = [(3 * s[:, None] + np.arange(3)).ravel()]
     cols = [np.repeat(np.arange(ns), 3)]
     vals = [t.T.ravel()]
@@ -175,7 +176,7 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     # supported stiffness the base hierarchy was built on
     free = sp.diags((~is_fixed).astype(float))
     C = (constraint_rows(pair, N) @ free).tocsr()
-    G = (free @ drag_loads(pair, N)).tocsc() if pair.mu > 0 else None
+    G = (free @ drag_loads(pair, N)).tocsc() if pair.frictional else None
     base = solver
     if base is not None:
         if base.A.shape != (N, N):

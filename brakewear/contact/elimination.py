@@ -98,9 +98,9 @@ def friction_operators(N: int, pairs, active):
             sr.append(k)
             sc.append(3 * s + i)
             sv.append(pr.normal[i, idx])
-        if pr.mu == 0:
+        if not pr.frictional:
             continue
-        t = pr.mu * pr.drag[:, idx]
+        t = pr.traction()[:, idx]
         for i in range(3):
             gr.append(3 * s + i)
             gc.append(k)

@@ -157,7 +157,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     u, lam = problem.u, problem.split(problem.lam)
     # final state and the checks every solve must pass
     gaps = [pr.gaps(u) for pr in pairs]
-    fric = [pr.mu * l * pr.drag if pr.mu > 0 else np.zeros((3, pr.slave.size))
+    fric = [pr.traction() * l if pr.frictional else np.zeros((3, pr.slave.size))
             for pr, l in zip(pairs, lam)]
     pressure = [l / pr.area for l, pr in zip(lam, pairs)]
     report = driver.report()
@@ -197,7 +197,7 @@ class _LagrangeSets:
         self.is_fixed[fixed] = True
         self.u_fixed = np.zeros(N)
         self.u_fixed[fixed] = fvals
-        self.frictional = any(pr.mu > 0 for pr in pairs)
+        self.frictional = any(pr.frictional for pr in pairs)
         self.Kd = _dirichlet_base(K, self.is_fixed)
         self.diagK = K.diagonal()
         self.base = solver  # the hierarchy every refresh starts from; never modified here

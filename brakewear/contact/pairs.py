@@ -27,7 +27,9 @@ class ContactPair:
     (pointing toward the slave), ``g0`` the initial normal gap (> 0 open).
     Friction: the master drags the slave along ``drag`` (unit tangential
     vectors, e.g. the rotor's surface velocity at the slave node) with a
-    traction ``mu p``; the master gets the opposite.
+    traction ``mu p``; the master gets the opposite.  ``mu`` is one number or
+    one per slave node (a friction law evaluated at each node's pressure, speed
+    and temperature; :meth:`set_mu`).
     """
 
     slave: np.ndarray
@@ -35,21 +37,47 @@ class ContactPair:
     normal: np.ndarray
     g0: np.ndarray
     coupling: sp.csr_matrix | None = None
-    mu: float = 0.0
+    mu: float | np.ndarray = 0.0
     drag: np.ndarray | None = None
     name: str = "contact"
 
     def __post_init__(self):
         n = self.slave.size
-        if self.mu < 0 or not np.isfinite(self.mu):
-            raise ValueError(f"{self.name}: friction coefficient mu = {self.mu!r}; need mu >= 0")
-        if self.mu > 0 and (self.drag is None or self.drag.shape != (3, n)):
-            raise ValueError(f"{self.name}: mu > 0 needs a drag direction (3, {n}) per slave node")
+        self.set_mu(self.mu)
         for key in ("area", "g0"):
             if getattr(self, key).shape != (n,):
                 raise ValueError(f"{self.name}: {key} must have shape ({n},)")
         if self.coupling is not None:
             self.coupling = sp.csr_matrix(self.coupling)
+
+    def set_mu(self, mu) -> None:
+        """Set the friction coefficient: a number, or an array with one per slave node
+        (each >= 0); ``mu > 0`` anywhere needs the pair's sliding direction."""
+        n = self.slave.size
+        if np.ndim(mu) == 0:
+            mu = float(mu)
+        else:
+            mu = np.array(mu, dtype=float)
+            if mu.shape != (n,):
+                raise ValueError(f"{self.name}: mu has shape {mu.shape}; need a number or ({n},),"
+                                 " one per slave node")
+        if np.any(np.asarray(mu) < 0) or not np.all(np.isfinite(mu)):
+            shown = mu if np.ndim(mu) == 0 else f"min {np.min(mu)!r}"
+            raise ValueError(f"{self.name}: friction coefficient mu = {shown}; need mu >= 0")
+        if np.any(np.asarray(mu) > 0) and (self.drag is None or self.drag.shape != (3, n)):
+            raise ValueError(f"{self.name}: mu > 0 needs a drag direction (3, {n}) per slave "
+                             "node; the pair was built without friction (build it with mu > 0)")
+        self.mu = mu
+
+    @property
+    def frictional(self) -> bool:
+        """Whether any slave node carries friction."""
+        return bool(np.any(np.asarray(self.mu) > 0))
+
+    def traction(self) -> np.ndarray:
+        """``mu drag`` (3, n_slave): the friction load on each slave node per newton of
+        its normal force."""
+        return np.asarray(self.mu) * self.drag
 
     @property
     def rigid(self) -> bool:

@@ -116,20 +116,17 @@ class CondensedInterface:
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
               compliance: np.ndarray | None = None, x0: np.ndarray | None = None,
-              load: np.ndarray | None = None, mu: float | None = None) -> InterfaceSolution:
+              load: np.ndarray | None = None, mu=None) -> InterfaceSolution:
         """Contact with ``offset`` (m) added to the gap (the
         :class:`~brakewear.interfaces.Interface` protocol).  ``x0`` is not
         needed (every solve is direct); ``load`` is a nodal load of the
         model's DOFs (thermal strain), ``compliance`` (m/Pa per pad node) the
-        implicit step's."""
+        implicit step's, ``mu`` a number or one per pad friction node."""
         t0 = time.perf_counter()
         offset = np.asarray(offset, dtype=float)
         self._check_range(offset)
         if mu is not None:
-            if mu > 0 and self.fe.pair.drag is None:
-                raise WearError(f"mu = {mu!r}: this condensed interface was built without "
-                                "friction (no sliding direction); build it with mu > 0")
-            self.mu = float(mu)
+            self._set_mu(mu)
         cond, p = self.cond, self.line_pressure
         q = self.g0 + offset + cond.hf * p
         rhs = -cond.zf * p
@@ -173,12 +170,39 @@ class CondensedInterface:
                 "the height of the elements at the face): the worn geometry is no longer the "
                 "condensed one. Use interface.model = 'fe' with numerics.update = 'geometry'")
 
-    def _operators(self, mu: float):
-        if mu not in self._H:
+    def _set_mu(self, mu) -> None:
+        """A number, or one friction coefficient per pad node (a friction law's)."""
+        n = self.area.size
+        mu = float(mu) if np.ndim(mu) == 0 else np.array(mu, dtype=float)
+        if np.ndim(mu) and mu.shape != (n,):
+            raise WearError(f"mu has shape {mu.shape}; need a number or ({n},), one per pad "
+                            "friction node")
+        if np.any(np.asarray(mu) < 0) or not np.all(np.isfinite(mu)):
+            raise WearError(f"mu = {mu!r} is not allowed; need friction coefficients >= 0")
+        if np.any(np.asarray(mu) > 0) and self.fe.pair.drag is None:
+            raise WearError(f"mu = {mu!r}: this condensed interface was built without "
+                            "friction (no sliding direction); build it with mu > 0")
+        self.mu = mu
+
+    @property
+    def mu_key(self):
+        """``mu`` as a key of the factorisation caches."""
+        return self.mu if np.ndim(self.mu) == 0 else self.mu.tobytes()
+
+    def _operators(self, mu):
+        """``(Hn + Ht diag(mu), E^T + Dt diag(mu))``: the friction of node j is
+        ``mu_j lam_j`` along its sliding direction (column j of ``Ht`` and ``Dt``)."""
+        key = self.mu_key
+        if key not in self._H:
             cond = self.cond
-            self._H = {mu: (cond.Hn + mu * cond.Ht if mu else cond.Hn,
-                            cond.E.T + mu * cond.Dt if mu else cond.E.T)}
-        return self._H[mu]
+            if not np.any(np.asarray(mu) > 0):
+                ops = (cond.Hn, cond.E.T)
+            elif np.ndim(mu) == 0:
+                ops = (cond.Hn + mu * cond.Ht, cond.E.T + mu * cond.Dt)
+            else:
+                ops = (cond.Hn + cond.Ht * mu[None, :], cond.E.T + cond.Dt * mu[None, :])
+            self._H = {key: ops}
+        return self._H[key]
 
     def kept(self, key, lu, active) -> None:
         """Keep ``lu`` (the set ``active`` under the friction and compliance of
@@ -222,7 +246,7 @@ class _DenseSets:
 
     def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
         itf, n = self.itf, self.q.size
-        key = (np.packbits(active).tobytes(), itf.mu, self.c_key)
+        key = (np.packbits(active).tobytes(), itf.mu_key, self.c_key)
         lu = itf._lu.get(key)
         state = None
         if lu is not None:

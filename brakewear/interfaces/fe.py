@@ -60,8 +60,12 @@ class FEInterface:
         """
         model = self.model
         radius = 2.0 * model.geometry.mesh.size + 1e-9 + opening
-        self.cs = cs = model.contact_system(self.line_pressure, self.mu, search_radius=radius)
+        mu = self.mu      # a number, or one per pad node (a friction law's last values)
+        self.cs = cs = model.contact_system(self.line_pressure, float(np.max(mu)),
+                                            search_radius=radius)
         self.pair = pair = cs.pair
+        if np.ndim(mu):
+            pair.set_mu(mu)
         self.g0 = pair.g0.copy()
         if model.rotor == "elastic":
             face_r = cs.col[self.rotor_nodes + model.offsets["rotor"]]   # retained numbering
@@ -99,7 +103,7 @@ class FEInterface:
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
               compliance: np.ndarray | None = None, x0: np.ndarray | None = None,
-              load: np.ndarray | None = None, mu: float | None = None) -> InterfaceSolution:
+              load: np.ndarray | None = None, mu=None) -> InterfaceSolution:
         """Contact solve with ``offset`` (m) added to the gap (the
         :class:`~brakewear.interfaces.Interface` protocol).
 
@@ -107,11 +111,13 @@ class FEInterface:
         layer: the implicit wear step (:mod:`brakewear.contact.compliant`), whose
         Krylov solves start from ``x0`` (the previous step's displacement),
         when given.  ``load`` is an extra nodal load of the model's DOFs (the
-        thermal strain), ``mu`` the friction coefficient of this solve.
+        thermal strain), ``mu`` the friction coefficient of this solve (a number
+        or one per pad friction node).
         """
         self.pair.g0 = self.g0 + offset
         if mu is not None:
-            self.mu = self.pair.mu = float(mu)
+            self.pair.set_mu(mu)
+            self.mu = self.pair.mu
         cs = self.cs
         f = cs.f if load is None else cs.f + cs.P.T @ load
         if compliance is not None:

@@ -52,6 +52,10 @@ class FoundationInterface:
             raise WearError("the foundation interface takes no nodal load (thermal strain); "
                             "use the FE interface for thermal coupling")
         if mu is not None:
+            if np.ndim(mu):
+                raise WearError("the foundation interface takes one friction coefficient; a "
+                                "friction law per node (mu(p, v, T)) needs the FE or the "
+                                "condensed interface")
             self.mu = float(mu)
         w = self.winkler
         if compliance is not None:

@@ -203,10 +203,6 @@ class Scene:
         if n.update == "geometry" and self.interface.model != "fe":
             raise fail("numerics.update", "'geometry' moves the FE meshes; it needs "
                                            "interface.model = 'fe'")
-        if n.update == "geometry" and self.thermal.enabled:
-            raise fail("numerics.update", "'geometry' cannot be combined with thermal coupling "
-                                           "(thermal.enabled = true): the thermal meshes do not "
-                                           "follow the worn faces; allowed: 'gap'")
         if self.thermal.enabled and self.interface.model == "winkler":
             raise fail("thermal.enabled", "true needs interface.model = 'fe' or 'condensed': "
                                           "the foundation takes no thermal-strain load (it "

@@ -315,6 +315,16 @@ class ThermalModel:
                 "relative_error": max([perr] + [v["relative_error"] for v in bodies.values()])}
 
     # ----------------------------------------------------------- state --
+    def follow(self, model) -> None:
+        """Move onto ``model``, the same brake with moved (worn) faces
+        (:class:`~brakewear.motion.BrakeMotion`: the same nodes, new
+        coordinates): everything assembled again on the moved meshes with the
+        same settings, the temperatures carried on the nodes, which move with
+        the faces.  In place, so every holder of this model sees the moved one."""
+        state = self.state_arrays()
+        self.__init__(model, T_max=self.T_max, **self.settings)
+        self.load_state(state)
+
     def state_arrays(self) -> dict:
         """The thermal state for a checkpoint: ``T_<body>`` arrays and ``thermal_time``."""
         return {**{f"T_{b}": self.T[b].copy() for b in self.bodies},

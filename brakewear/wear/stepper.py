@@ -32,8 +32,10 @@ from ..laws import WearLaw
 from ..rings import rotor_wear_rate
 from .control import StepControl
 from .limits import WearLimits, check_temperature
+from .inputs import check_inputs
+from .nodal import NodalLaws
 from .numerics import Numerics
-from .speed import ConstantSpeed, LinearSpeed, as_speed
+from .speed import ConstantSpeed, as_speed
 from .state import WearState, fingerprint
 
 logger = logging.getLogger(__name__)
@@ -62,7 +64,8 @@ class WearStep:
     solve_s: float              # s spent in contact solves in this step
     limit: str                  # what set the step: max_dh, stability, rotor_stability,
                                 # growth, wear_tol, first, end, fixed
-    mu: float = 0.0             # friction coefficient in this step (mu(T) with a friction law)
+    mu: float = 0.0             # friction coefficient in this step (with a friction law per
+                                # node: friction force over normal force, sum mu p A / sum p A)
     pad_temperature_max: float = float("nan")    # K, pad face, end of step (thermal only)
     rotor_temperature_max: float = float("nan")  # K, rotor face, end of step (thermal only)
     heat_balance_error: float = float("nan")     # |heat in - friction power| / power, this step
@@ -89,11 +92,15 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         its mean speed, so wear and heat are integrated exactly over
         ``omega(t)``, :mod:`brakewear.wear.speed`); s.
     pad_law, rotor_law
-        Wear laws of pad and rotor (``rotor_law=None``: the rotor does not wear).
+        Wear laws of pad and rotor (``rotor_law=None``: the rotor does not
+        wear): :class:`~brakewear.laws.WearLaw` or a law of
+        :mod:`brakewear.maps` (``k(p, v, T)`` per node, taken at the start of
+        each step: :mod:`brakewear.wear.nodal`).
     mu
         Friction coefficient (sliding friction drags the pad along the rotor),
-        or a :class:`brakewear.laws.FrictionLaw` (``mu(T)`` at the pad
-        face's mean temperature, updated every step; needs ``thermal``).
+        or a friction law (:class:`brakewear.laws.FrictionLaw`, a law of
+        :mod:`brakewear.maps`): ``mu(p, v, T)`` at each pad node, updated every
+        step; a law of temperature needs ``thermal``.
     numerics
         How the loop integrates (:class:`~brakewear.wear.Numerics`: scheme,
         update mode, fixed steps or the step control's tolerances and limits;
@@ -133,7 +140,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     """
     numerics = Numerics() if numerics is None else numerics
     omega = as_speed(omega)
-    mu_law, mu = _check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics,
+    mu_law, mu = check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics,
                                interface, thermal, initial_gap, checkpoint, every, resume)
     limits = WearLimits.for_model(model, update=numerics.update) if limits is None else limits
     loop = _WearLoop(model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
@@ -161,65 +168,6 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             raise loop.worn
 
 
-def _check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics, interface,
-                  thermal, initial_gap, checkpoint, every, resume):
-    """Every input check, before anything touches the model; returns ``(mu_law, mu)``."""
-    if not isinstance(numerics, Numerics):
-        raise WearError(f"numerics = {numerics!r} is not a brakewear.wear.Numerics")
-    if not (np.isfinite(duration) and duration > 0):
-        raise WearError(f"duration = {duration!r} s is not allowed; need > 0")
-    if isinstance(omega, LinearSpeed) and duration > omega.duration * (1 + 1e-12):
-        raise WearError(f"duration = {duration!r} s is longer than the speed profile's "
-                        f"{omega.duration!r} s")
-    if resume and checkpoint is None:
-        raise WearError("resume=True needs a checkpoint file")
-    if resume and not os.path.exists(checkpoint):
-        raise WearError(f"resume=True but the checkpoint {checkpoint} does not exist")
-    if isinstance(every, bool) or int(every) != every or every < 1:
-        raise WearError(f"every = {every!r} is not allowed; need a whole number >= 1")
-    for name, law in (("pad_law", pad_law), ("rotor_law", rotor_law)):
-        if law is not None and not isinstance(law, WearLaw):
-            raise WearError(f"{name} = {law!r} is not a WearLaw")
-    if numerics.scheme == "implicit" and pad_law.a != 1.0:
-        raise WearError(f"scheme = 'implicit' needs a pad wear law linear in p (a = 1); "
-                        f"got a = {pad_law.a}")
-    if initial_gap is not None:
-        initial_gap = np.asarray(initial_gap, dtype=float)
-        if initial_gap.ndim != 1 or not np.all(np.isfinite(initial_gap)):
-            raise WearError("initial_gap must be a finite 1-D array (m), one value per pad "
-                            "friction node")
-    mu_law = None
-    if hasattr(mu, "mu") and callable(mu.mu):       # a friction law mu(T)
-        if thermal is None:
-            raise WearError("a temperature-dependent friction law needs thermal=ThermalModel")
-        mu_law, mu = mu, float(mu.mu(None))
-    elif not (np.isfinite(mu) and mu >= 0):
-        raise WearError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0")
-    if thermal is not None:
-        _check_thermal(model, thermal, numerics, interface)
-    if numerics.update == "geometry" and interface is not None and not (
-            isinstance(interface, FEInterface) and interface.model is model):
-        raise WearError("update = 'geometry' rebuilds the FE interface; it needs the "
-                        "FEInterface of this model (or none)")
-    return mu_law, mu
-
-
-def _check_thermal(model, thermal, numerics, interface) -> None:
-    for attr in ("step", "flux", "thermal_load", "face_temperature", "state_arrays"):
-        if not hasattr(thermal, attr):
-            raise WearError(f"thermal = {thermal!r} is not a ThermalModel (no {attr!r})")
-    if thermal.model is not model:
-        raise WearError("thermal belongs to another BrakeModel; build it with "
-                        "ThermalModel(model) for this model")
-    if numerics.update == "geometry":
-        raise WearError("thermal coupling with update = 'geometry' is not supported (the "
-                        "thermal meshes would not follow the worn faces); use update = 'gap'")
-    if interface is not None and not getattr(interface, "accepts_load", False):
-        raise WearError(f"thermal coupling needs an interface that takes the thermal-strain "
-                        f"load; {type(interface).__name__} does not (the load would be "
-                        "dropped): use the FE interface")
-
-
 class _WearLoop:
     """The parts of one history that do not change from step to step (laws,
     speeds, areas) and the ones the loop replaces (the model and its interface
@@ -231,9 +179,12 @@ class _WearLoop:
         self.omega = omega.at(0.0)          # the speed of the step being taken
         self.limits, self.worn = limits, None
         self.pad_law, self.rotor_law, self.mu, self.mu_law = pad_law, rotor_law, mu, mu_law
+        self.laws = NodalLaws(pad_law, rotor_law, mu_law, mu)
         self.numerics, self.thermal = numerics, thermal
-        self.itf = FEInterface(model, line_pressure, mu, numerics.tol) if interface is None \
-            else interface
+        # a friction law's values are set before the first solve; any mu > 0 builds the
+        # pair's sliding directions
+        self.itf = FEInterface(model, line_pressure, mu if mu_law is None else 1.0,
+                               numerics.tol) if interface is None else interface
         self.motion = None
         if numerics.update == "geometry":
             from ..motion import BrakeMotion
@@ -245,6 +196,9 @@ class _WearLoop:
                             f"{self.A_pad.size} friction nodes")
         self.initial_gap = None if initial_gap is None else np.asarray(initial_gap, dtype=float)
         self.v = self.omega * self.itf.r                    # sliding speed at each pad node
+        # the uniform pressure of the clamp force: a friction law's state before any solve
+        self.p_nominal = np.full(self.A_pad.size, line_pressure
+                                 * model.geometry.piston.hydraulic_area / self.A_pad.sum())
         g = model.geometry
         self.r_mean = 0.5 * (g.pad.inner_radius + g.pad.outer_radius)
         self.applied = (np.zeros(self.A_pad.size), np.zeros(self.A_rot.size))  # in the meshes
@@ -291,7 +245,9 @@ class _WearLoop:
             elif state.step > 0:
                 raise WearError("the checkpoint has no thermal state; it was written by a run "
                                 "without thermal coupling")
-            self.couple()
+            self.couple(state.pressure)
+        elif self.mu_law is not None:
+            self.mu = self.laws.mu(self.p_now(state.pressure), self.v, None)
         if self.motion is not None and state.step > 0:
             self.move(state.pad_wear, state.rotor_wear, state.step)
         if state.pressure is not None:
@@ -300,11 +256,16 @@ class _WearLoop:
         state.pressure, state.active = sol.pressure, sol.active
         return s
 
-    def couple(self) -> None:
-        """Thermal strain and mu(T) of the current temperatures, for the next solves."""
+    def p_now(self, p):
+        return self.p_nominal if p is None else p
+
+    def couple(self, p) -> None:
+        """Thermal strain and the friction law at the current temperatures (and the
+        pressure ``p``, None: the nominal one), for the next solves."""
         self.load = self.thermal.thermal_load()
         if self.mu_law is not None:
-            self.mu = float(np.mean(self.mu_law.mu(self.thermal.face_temperature("pad"))))
+            self.mu = self.laws.mu(self.p_now(p), self.v,
+                                   self.thermal.face_temperature("pad"))
 
     def set_speed(self, t: float, dt: float | None) -> bool:
         """Take the next step at the mean speed over ``[t, t + dt]`` (at ``t``'s
@@ -326,6 +287,11 @@ class _WearLoop:
         self.itf = self.itf.rebuilt(self.motion.model,
                                     opening=float(pad_w.max() + rot_w.max()))
         self.applied = (pad_w.copy(), rot_w.copy())
+        if self.thermal is not None:
+            # the temperatures ride on the moved nodes; conduction, capacity and the
+            # thermal-strain load are those of the moved meshes
+            self.thermal.follow(self.motion.model)
+            self.load = self.thermal.thermal_load()
 
     def solve(self, state, pad_w, rot_w, active, eps=None, dt=None):
         """Contact of the worn state: ``(InterfaceSolution, seconds)``.  The implicit
@@ -343,54 +309,57 @@ class _WearLoop:
 
     def rates(self, p, T_pad, T_rot):
         """Pad wear rate (m/s per pad node), rotor wear flux per pad node (m^3/s) and
-        the rotor's ring-averaged wear rate (m/s per rotor wear node)."""
-        rate_pad = self.pad_law.rate(p, self.v, T_pad)
-        q_rot = (self.rotor_law.rate(p, self.v, T_rot) * self.A_pad if self.rotor_law is not None
-                 else np.zeros_like(p))
+        the rotor's ring-averaged wear rate (m/s per rotor wear node), with the laws'
+        coefficients (and a friction law's mu) taken at ``p``, the speed and the
+        temperatures (:mod:`brakewear.wear.nodal`)."""
+        self.laws.take(p, self.v, T_pad, T_rot)
+        if self.mu_law is not None:
+            self.mu = self.laws.mu(p, self.v, T_pad)
+        rate_pad = self.laws.pad_rate(p, self.v)
+        q_rot = self.laws.rotor_rate(p, self.v) * self.A_pad
         return rate_pad, q_rot, rotor_wear_rate(q_rot, self.W, self.ring, self.A_rot)
 
-    def worst(self, p, act, T_pad, T_rot) -> float:
+    def worst(self, p, act) -> float:
         """The largest ``c_i s_i / A_i`` over the contact: d(rate)/dp of both laws
         times the normal stiffness per area (the explicit scheme's bound)."""
-        slope = _rate_slope(self.pad_law, p, self.v, T_pad) + (
-            _rate_slope(self.rotor_law, p, self.v, T_rot) if self.rotor_law is not None else 0.0)
+        slope = self.laws.pad_slope(p, self.v) + self.laws.rotor_slope(p, self.v)
         return float((slope * self.itf.normal_stiffness / self.A_pad)[act].max()) \
             if act.any() else 0.0
 
-    def worst_rotor(self, p, act, T_rot) -> float:
+    def worst_rotor(self, p, act) -> float:
         """The largest ring rate per unit gap of the rotor's ring wear (1/s): per
         ring, ``sum_i c_i s_i / A_ring`` over the pad nodes in contact above it."""
         if self.rotor_law is None or not act.any():
             return 0.0
-        q = np.where(act, _rate_slope(self.rotor_law, p, self.v, T_rot)
-                     * self.itf.normal_stiffness, 0.0)
+        q = np.where(act, self.laws.rotor_slope(p, self.v) * self.itf.normal_stiffness, 0.0)
         return float(rotor_wear_rate(q, self.W, self.ring, self.A_rot).max())
 
     def step(self, state: WearState, control: StepControl) -> WearStep:
         """One accepted step from ``state`` (updated in place); its record."""
         T_pad, T_rot = self.temperatures()
-        mu_step, p, act = self.mu, state.pressure, state.active
+        p, act = state.pressure, state.active
         self.set_speed(state.time, None)
         rate_pad, q_rot, rate_rot = self.rates(p, T_pad, T_rot)
+        mu_step = self.mu
         dt, limit = control.propose(state.dt_next, control.duration - state.time,
                                     rate_pad + self.W @ rate_rot,
-                                    lambda: self.worst(p, act, T_pad, T_rot),
-                                    lambda: self.worst_rotor(p, act, T_rot))
+                                    lambda: self.worst(p, act),
+                                    lambda: self.worst_rotor(p, act))
         rejected, solve_s = 0, 0.0
         saved = self.thermal.state_arrays() if self.thermal is not None else None
         while True:
             if self.set_speed(state.time, dt):
                 rate_pad, q_rot, rate_rot = self.rates(p, T_pad, T_rot)
+                mu_step = self.mu
             if self.thermal is not None:
                 self.thermal.load_state(saved)
                 self.thermal.step(self.thermal.flux(p, mu_step, self.omega), dt)
-                self.couple()
+                self.couple(p)
             try:
-                sol, pad_w, rot_w, p_rate, s = self.attempt(state, dt, rate_pad, rate_rot,
-                                                            T_pad, act)
+                sol, pad_w, rot_w, p_rate, s = self.attempt(state, dt, rate_pad, rate_rot, act)
                 solve_s += s
                 change = np.abs(sol.pressure - p).max() / max(p.max(), 1e-300)
-                est = self.wear_error(sol.pressure, dt, rate_pad, rate_rot, T_pad, T_rot) \
+                est = self.wear_error(sol.pressure, dt, rate_pad, rate_rot) \
                     if control.on_wear_error else np.nan
                 ok = control.accepts(change, est)
             except ContactLostError:
@@ -414,13 +383,13 @@ class _WearLoop:
             dt, new_limit = control.retry(dt, est, rejected, state.step + 1, change)
             limit = new_limit or limit
         state.pad_wear, state.rotor_wear = pad_w, rot_w
-        state.pad_archard += float((self.pad_law.rate(p_rate, self.v, T_pad) * self.A_pad).sum()
-                                   * dt)
+        state.pad_archard += float((self.laws.pad_rate(p_rate, self.v) * self.A_pad).sum() * dt)
         state.rotor_archard += float(q_rot.sum() * dt)
         state.time += dt
         state.step += 1
         state.dt_next = control.next_dt(dt, change, est, now=state.time)
-        record = self.record(state, dt, p, act, rejected, solve_s, limit, mu_step, T_rot)
+        record = self.record(state, dt, p, act, rejected, solve_s, limit,
+                             NodalLaws.effective(mu_step, p, self.A_pad), T_rot)
         record.explicit = self.took_explicit
         self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
         if self.thermal is not None:
@@ -428,13 +397,13 @@ class _WearLoop:
         self.finish(state, record, sol, dt)
         return record
 
-    def attempt(self, state, dt, rate_pad, rate_rot, T_pad, act):
+    def attempt(self, state, dt, rate_pad, rate_rot, act):
         """The contact solve of a trial step: ``(solution, pad wear, rotor wear,
         pressure the pad wore with, seconds)``."""
         rot_w = state.rotor_wear + rate_rot * dt
         eps = None
         if self.numerics.scheme == "implicit":
-            eps = dt * self.pad_law.rate(1.0, self.v, T_pad)
+            eps = dt * self.laws.pad_slope(state.pressure, self.v)    # a = 1: k v^b
             if float((eps * self.itf.normal_stiffness / self.A_pad).max()) \
                     < self.numerics.implicit_floor:
                 # the wear compliance is negligible beside the elastic one: the
@@ -449,12 +418,12 @@ class _WearLoop:
         sol, s = self.solve(state, state.pad_wear, rot_w, act, eps, dt)
         return sol, state.pad_wear + eps * sol.pressure, rot_w, sol.pressure, s
 
-    def wear_error(self, p_new, dt, rate_pad, rate_rot, T_pad, T_rot) -> float:
+    def wear_error(self, p_new, dt, rate_pad, rate_rot) -> float:
         """Embedded local error of the wear depth: dt/2 x the change of the rate
         over the step (the dt^2/2 h'' of both Euler schemes)."""
-        d_rate = self.pad_law.rate(p_new, self.v, T_pad) - rate_pad
+        d_rate = self.laws.pad_rate(p_new, self.v) - rate_pad
         if self.rotor_law is not None:
-            q_new = self.rotor_law.rate(p_new, self.v, T_rot) * self.A_pad
+            q_new = self.laws.rotor_rate(p_new, self.v) * self.A_pad
             d_rate = d_rate + self.W @ (rotor_wear_rate(q_new, self.W, self.ring, self.A_rot)
                                         - rate_rot)
         return 0.5 * dt * float(np.abs(d_rate).max())
@@ -488,10 +457,3 @@ class _WearLoop:
             state.u_prev, state.dt_last = state.u, dt
         state.u = self.last_u
 
-
-def _rate_slope(law: WearLaw, p: np.ndarray, v: np.ndarray, T=None) -> np.ndarray:
-    """d(rate)/dp of ``law`` at ``p`` (for a = 1 simply k(T) v^b)."""
-    if law.a == 1.0:
-        return law.rate(1.0, v, T)
-    pp = np.maximum(p, 1e-300)
-    return law.a * law.rate(pp, v, T) / pp
