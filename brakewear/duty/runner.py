@@ -212,6 +212,8 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
             raise DutyError(f"application {i}: {app!r} is not a Stop, Drag or Dwell")
         if isinstance(app, Stop) and vehicle is None:
             raise DutyError(f"application {i}: a stop needs a vehicle")
+        if isinstance(app, Dwell) and app.speed is not None and vehicle is None:
+            raise DutyError(f"application {i}: a dwell at a vehicle speed needs a vehicle")
     first = next((a for a in apps if not isinstance(a, Dwell)), None)
     p_ref = (first.line_pressure if getattr(first, "line_pressure", None) else 1e6)
     itf = FEInterface(model, p_ref, mu, numerics.tol) if interface is None else interface
@@ -220,7 +222,7 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
     for i, app in enumerate(apps):
         t0 = _time.perf_counter()
         if isinstance(app, Dwell):
-            rec = _dwell(app, i, t, last_start, thermal, brake.itf.area.size)
+            rec = _dwell(app, i, t, last_start, thermal, brake.itf.area.size, vehicle)
         else:
             last_start = t
             rec = _braked(app, i, t, model, brake, vehicle, pad_law, rotor_law, numerics,
@@ -238,13 +240,16 @@ DWELL_STEP = 5.0
 
 
 def _dwell(app: Dwell, i: int, t: float, last_start: float, thermal,
-           n_pad: int) -> ApplicationRecord:
+           n_pad: int, vehicle) -> ApplicationRecord:
     duration = app.duration - (t - last_start) if app.from_start else app.duration
     if duration <= 0:
         raise DutyError(f"application {i}: the interval of {app.duration:g} s is shorter than "
                         f"the application before it ({t - last_start:.4g} s)")
     rec = ApplicationRecord(i, "dwell", t, duration)
     if thermal is not None:
+        omega = (app.omega if app.omega is not None else
+                 app.speed / vehicle.tyre_radius if app.speed is not None else 0.0)
+        thermal.set_speed(omega)
         n = int(np.ceil(duration / DWELL_STEP))
         for _ in range(n):
             thermal.step(np.zeros(n_pad), duration / n)

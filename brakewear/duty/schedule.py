@@ -83,14 +83,25 @@ class Drag:
 class Dwell:
     """No contact for ``duration`` (s); with ``from_start`` until ``duration`` after
     the previous application's start (a stop's length is known only once the
-    brake's torque is)."""
+    brake's torque is).  The car drives on at ``speed`` (m/s; needs a vehicle)
+    or the rotor spins at ``omega`` (rad/s): a speed-dependent convection
+    (:class:`~brakewear.thermal.SpeedConvection`) cools at that speed; neither
+    given: at rest."""
 
     duration: float
     from_start: bool = False
+    speed: float | None = None
+    omega: float | None = None
 
     def __post_init__(self):
         _check("dwell.duration", self.duration, _finite(self.duration) and self.duration > 0,
                "need > 0", "s")
+        if self.speed is not None and self.omega is not None:
+            raise DutyError("a dwell takes at most one of speed (m/s) and omega (rad/s)")
+        for key, unit in (("speed", "m/s"), ("omega", "rad/s")):
+            v = getattr(self, key)
+            if v is not None:
+                _check(f"dwell.{key}", v, _finite(v) and v >= 0, "need >= 0", unit)
 
 
 def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | None = None,

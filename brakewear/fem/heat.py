@@ -181,13 +181,17 @@ class HeatConduction:
             self.M = self.M + capacity(th.rho * th.c).assemble(b)
         if mass == "lumped":
             self.M = sp.diags(np.asarray(self.M.sum(axis=1)).ravel()).tocsr()
-        self.H = sp.csr_matrix((N, N))
+        H = sp.csr_matrix((N, N))
         self.b_amb = np.zeros(N)
         for key, h in convection.items():
             fb = fem.FacetBasis(mesh, elem, facets=mesh.boundaries[key], intorder=2)
-            self.H = self.H + _convection_form(h).assemble(fb)
+            H = H + _convection_form(h).assemble(fb)
             self.b_amb += surface_flux().assemble(fb, q=h * self.T_ambient)
-        self.K, self.M, self.H = self.K.tocsr(), self.M.tocsr(), self.H.tocsr()
+        self.H = H
+        self.K, self.M, self.H1 = self.K.tocsr(), self.M.tocsr(), self.H.tocsr()
+        self.b_amb1 = self.b_amb
+        #: factor on every convection coefficient (a speed-dependent one: set_convection_scale)
+        self.h_scale = 1.0
         self.convection = convection
         # flux input: F = S q with q at the face nodes (S = surface mass, columns of the face)
         self.flux_facets = flux_facets
@@ -222,6 +226,18 @@ class HeatConduction:
     def n(self) -> int:
         return self.mesh.nvertices
 
+    def set_convection_scale(self, scale: float) -> None:
+        """Multiply every convection coefficient by ``scale`` (>= 0) from now on: a
+        coefficient that follows the rotor's speed.  Factorisations are kept per
+        ``(dt, scale)``."""
+        if not (np.isfinite(scale) and scale >= 0):
+            raise ThermalError(f"body {self.name!r}: convection scale {scale!r} is not "
+                               "allowed; need >= 0")
+        self.h_scale = float(scale)
+        s = self.h_scale
+        self.H = self.H1 if s == 1.0 else (s * self.H1).tocsr()
+        self.b_amb = self.b_amb1 if s == 1.0 else s * self.b_amb1
+
     def flux_load(self, q: np.ndarray) -> np.ndarray:
         """Nodal heat input (W) of a flux ``q`` (W/m^2) given at the face nodes."""
         q = np.asarray(q, dtype=float)
@@ -233,11 +249,11 @@ class HeatConduction:
         return self.S @ q
 
     def _factor(self, dt: float | None):
-        key = None if dt is None else float(dt)
+        key = (None if dt is None else float(dt), self.h_scale)
         if key in self._lu:
             self._lu.move_to_end(key)
             return self._lu[key]
-        A = self.K + self.H + self.Hc + (0.0 if key is None else self.M / key)
+        A = self.K + self.H + self.Hc + (0.0 if dt is None else self.M / float(dt))
         Aff = A[self.free][:, self.free].tocsc()
         try:
             lu = spla.splu(Aff, permc_spec="MMD_AT_PLUS_A")
@@ -271,7 +287,7 @@ class HeatConduction:
         ``reuse="exact"`` factorises every new ``dt``.
         """
         if dt is None and not self.fixed_mask.any() and self.contact_conductance == 0 and not any(
-                h > 0 for h in self.convection.values()):
+                h * self.h_scale > 0 for h in self.convection.values()):
             raise ThermalError(self._singular_message())
         if dt is not None and rhs.ndim == 1 and self.reuse == "octave":
             dt0 = float(2.0 ** np.round(np.log2(dt)))

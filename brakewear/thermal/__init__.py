@@ -1,7 +1,8 @@
 """Frictional heating of the brake: heat partition, temperatures of pad and rotor, thermal strain."""
 
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
-from . import model, partition, stability, strain
+from . import convection, model, partition, stability, strain
+from .convection import *  # noqa: F403
 from .model import *  # noqa: F403
 from .partition import *  # noqa: F403
 from .stability import *  # noqa: F403
@@ -10,6 +11,7 @@ from .strain import *  # noqa: F403
 __all__ = [
     "H_CONV_DEFAULT",
     "T_AMBIENT_DEFAULT",
+    *convection.__all__,
     *model.__all__,
     *partition.__all__,
     *stability.__all__,

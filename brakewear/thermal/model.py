@@ -24,6 +24,7 @@ from ..fem.heat import THERMAL_FIELDS, HeatConduction, body_label, check_thermal
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
 from ..mesh.topology import ensure_topology
 from ..rings import rotor_rings, rotor_wear_rate
+from .convection import SpeedConvection
 from .partition import heat_flux, partition_effusivity
 from .strain import thermal_load_matrix, thermal_stress
 
@@ -62,7 +63,8 @@ class ThermalModel:
         ``rotor_unmodelled_W`` by :meth:`heat_balance`).
     h_conv
         Convection coefficient (W/m^2 K): one number for all free faces or
-        ``{"pad": h, "rotor": h}``.
+        ``{"pad": h, "rotor": h}``; a :class:`~brakewear.thermal.SpeedConvection`
+        in place of a number follows the rotor's speed (:meth:`set_speed`).
     T_ambient, T_ref
         Ambient temperature (K) and stress-free reference (default ambient).
     convection_facets
@@ -127,11 +129,7 @@ class ThermalModel:
         pad_mat = self._face_material("pad")
         gamma = _resolve_partition(partition, pad_mat, rotor_mat, g.pad.arc_angle)
         self.partition = gamma
-        hs = dict(h_conv) if isinstance(h_conv, Mapping) else {b: h_conv for b in self.bodies}
-        for b in self.bodies:
-            h = hs.get(b, H_CONV_DEFAULT)
-            if not (np.isfinite(h) and h >= 0):
-                raise ThermalError(f"body {b!r}: h_conv = {h!r} W/m^2 K is not allowed; need >= 0")
+        hs, self.speed_convection = _convection(h_conv, self.bodies)
         h_c = contact_conductance
         if not (isinstance(h_c, (int, float, np.floating)) and np.isfinite(h_c) and h_c >= 0):
             raise ThermalError(f"contact_conductance = {h_c!r} W/m^2 K is not allowed; need a "
@@ -255,7 +253,7 @@ class ThermalModel:
         comes from a dense n_ring x n_ring system.
         """
         pad, rot = self.heat["pad"], self.heat["rotor"]
-        key = None if dt is None else float(dt)
+        key = (None if dt is None else float(dt), pad.h_scale, rot.h_scale)
         if key not in self._influence:
             Zp = pad.solve(dt, self._DV)
             Zr = rot.solve(dt, self._U)
@@ -315,6 +313,12 @@ class ThermalModel:
                 "relative_error": max([perr] + [v["relative_error"] for v in bodies.values()])}
 
     # ----------------------------------------------------------- state --
+    def set_speed(self, omega: float) -> None:
+        """The rotor speed (rad/s) of the next steps: the speed-dependent convection
+        coefficients (:class:`~brakewear.thermal.SpeedConvection`) follow it."""
+        for b, law in self.speed_convection.items():
+            self.heat[b].set_convection_scale(law.scale(omega))
+
     def follow(self, model) -> None:
         """Move onto ``model``, the same brake with moved (worn) faces
         (:class:`~brakewear.motion.BrakeMotion`: the same nodes, new
@@ -382,6 +386,21 @@ class ThermalModel:
         """Element stresses ``C (eps - alpha dT I)`` per thermal body (6, n_elements)."""
         return {b: thermal_stress(self.model.meshes[b], u[b], self.model.materials[b],
                                   self.T[b] - self.T_ref, b) for b in self.bodies}
+
+
+def _convection(h_conv, bodies) -> tuple[dict, dict]:
+    """``({body: h assembled}, {body: SpeedConvection})`` of the ``h_conv`` argument:
+    a number, a SpeedConvection, or either per body."""
+    hs = dict(h_conv) if isinstance(h_conv, Mapping) else {b: h_conv for b in bodies}
+    laws = {}
+    for b in bodies:
+        h = hs.get(b, H_CONV_DEFAULT)
+        if isinstance(h, SpeedConvection):
+            laws[b], hs[b] = h, h.h_ref
+        elif not (isinstance(h, (int, float, np.floating)) and np.isfinite(h) and h >= 0):
+            raise ThermalError(f"body {b!r}: h_conv = {h!r} W/m^2 K is not allowed; need a "
+                               "number >= 0 or a SpeedConvection")
+    return hs, laws
 
 
 def _resolve_defaults(meshed: bool, partition, contact_conductance):

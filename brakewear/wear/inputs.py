@@ -55,7 +55,7 @@ def check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics, inter
 
 
 def check_thermal(model, thermal, numerics, interface) -> None:
-    need = ("step", "flux", "thermal_load", "face_temperature", "state_arrays") + (
+    need = ("step", "flux", "thermal_load", "face_temperature", "state_arrays", "set_speed") + (
         ("follow",) if numerics.update == "geometry" else ())
     for attr in need:
         if not hasattr(thermal, attr):

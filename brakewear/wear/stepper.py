@@ -353,6 +353,7 @@ class _WearLoop:
                 mu_step = self.mu
             if self.thermal is not None:
                 self.thermal.load_state(saved)
+                self.thermal.set_speed(self.omega)
                 self.thermal.step(self.thermal.flux(p, mu_step, self.omega), dt)
                 self.couple(p)
             try:

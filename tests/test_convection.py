@@ -1,0 +1,80 @@
+"""Convection that follows the rotor's speed, and cooling in the dwells of a duty."""
+import numpy as np
+import pytest
+
+from brakewear.duty import Dwell
+from brakewear.errors import DutyError, ThermalError
+from brakewear.model import BrakeModel
+from brakewear.thermal import K_AIR, NU_AIR, SpeedConvection, ThermalModel
+
+
+def test_speed_convection_law():
+    law = SpeedConvection(100.0, 50.0, 0.8, 10.0)
+    assert law.h(0.0) == 10.0 and law.h(50.0) == pytest.approx(100.0, rel=1e-15)
+    assert law.h(100.0) == pytest.approx(10.0 + 90.0 * 2 ** 0.8, rel=1e-14)
+    solid = SpeedConvection.solid(h_static=0.0)
+    # von Karman's laminar rotating disc: h = 0.33 k_air sqrt(omega / nu_air)
+    for w in (10.0, 55.0, 120.0):
+        assert solid.h(w) == pytest.approx(0.33 * K_AIR * np.sqrt(w / NU_AIR), rel=1e-12)
+    # the scale is rounded to an eighth of an octave: at most 2^(1/16) - 1 = 4.4 % off
+    for w in np.linspace(1.0, 150.0, 37):
+        s = law.scale(w)
+        assert abs(np.log2(s) * 8 - np.round(np.log2(s) * 8)) < 1e-9
+        assert abs(s * law.h_ref / law.h(w) - 1.0) <= 2 ** (1 / 16) - 1 + 1e-12
+    assert SpeedConvection(100.0, 50.0).scale(0.0) == 0.0
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(h_ref=0.0, omega_ref=50.0), "h_ref"),
+    (dict(h_ref=100.0, omega_ref=-1.0), "omega_ref"),
+    (dict(h_ref=100.0, omega_ref=50.0, exponent=3.0), "exponent"),
+    (dict(h_ref=100.0, omega_ref=50.0, h_static=200.0), "h_static"),
+])
+def test_bad_speed_convection_is_refused(kw, match):
+    with pytest.raises(ThermalError, match=match):
+        SpeedConvection(**kw)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return BrakeModel("default", size=1.2e-2)
+
+
+def _cooled(model, omega, law):
+    th = ThermalModel(model, h_conv={"pad": 40.0, "rotor": law},
+                      T_initial=473.15, contact_conductance=0.0)
+    th.set_speed(omega)
+    q = np.zeros(th.pad_nodes.size)
+    for _ in range(3):
+        th.step(q, 4.0)
+        b = th.heat_balance()
+        assert b["relative_error"] < 1e-8 or b["friction_power_W"] == 0.0
+        rotor = b["bodies"]["rotor"]
+        assert abs(rotor["stored_W"] + rotor["convected_W"]) <= 1e-8 * abs(rotor["stored_W"])
+    return th, rotor["convected_W"]
+
+
+def test_a_spinning_rotor_cools_faster_and_its_balance_holds(model):
+    law = SpeedConvection.vented()
+    th0, still = _cooled(model, 0.0, law)
+    th1, spinning = _cooled(model, 55.0, law)
+    assert th1.heat["rotor"].h_scale == 1.0 and th0.heat["rotor"].h_scale == pytest.approx(0.1, rel=2 ** (1 / 16) - 1)
+    assert spinning > 5 * still > 0
+    assert th1.face_temperature("rotor").mean() < th0.face_temperature("rotor").mean()
+    # the pad's constant coefficient does not follow the speed
+    assert th1.heat["pad"].h_scale == th0.heat["pad"].h_scale == 1.0
+
+
+def test_a_number_and_a_constant_law_cool_alike(model):
+    """h_conv = 40 and a SpeedConvection that is 40 at the speed give the same field."""
+    law = SpeedConvection(40.0, 55.0, 0.8, 0.0)
+    a, _ = _cooled(model, 55.0, law)
+    b, _ = _cooled(model, 55.0, 40.0)
+    assert np.abs(a.T["rotor"] - b.T["rotor"]).max() <= 1e-12 * a.T["rotor"].max()
+
+
+def test_dwell_speed_checks():
+    with pytest.raises(DutyError, match="at most one of speed"):
+        Dwell(10.0, speed=20.0, omega=60.0)
+    with pytest.raises(DutyError, match="dwell.speed"):
+        Dwell(10.0, speed=-1.0)
