@@ -84,7 +84,9 @@ def _figures(model, out: Path, scene) -> list[str]:
         ax[1].set(xlabel="time (s)", ylabel="max contact pressure (MPa)",
                   title="pressure at the start of each step")
         fig.suptitle(f"{scene.name}: {scene.line_pressure / 1e6:g} MPa, "
-                     f"{scene.omega:g} rad/s, mu {scene.interface.mu:g}")
+                     f"{scene.omega:g} rad/s, " + (f"mu {scene.interface.mu:g}"
+                                                   if scene.interface.mu_map is None
+                                                   else "mu map"))
         fig.tight_layout()
         path = out / "history.png"
         fig.savefig(path, dpi=110)
@@ -115,6 +117,20 @@ def step_figures(s: WearStep, itf, mu: float) -> dict:
             "rotor_T_max_C": s.rotor_temperature_max - 273.15,
             "heat_balance_error": s.heat_balance_error}),
     }
+
+
+def law_record(law):
+    """A friction coefficient or a law as JSON: a number stays; a law gives its type and
+    fields, a map its source file, axes, outside behaviour and range of values."""
+    if law is None or isinstance(law, (int, float)):
+        return law
+    if hasattr(law, "table"):
+        t = law.table
+        return {"type": type(law).__name__, "source": t.source, "axes": list(t.axes),
+                "outside": t.outside, "min": float(t.values.min()),
+                "max": float(t.values.max())}
+    return {"type": type(law).__name__,
+            **{k: v for k, v in vars(law).items() if not isinstance(v, np.ndarray)}}
 
 
 def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
@@ -190,8 +206,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         "status": "finished" if worn is None else "worn_through",
         "worn_through": None if worn is None else worn.record(),
         "line_pressure_Pa": line_pressure, "omega_rad_s": omega, "duration_s": duration,
-        "mu": mu, "rotor": model.rotor, "dofs": int(model.dofs),
-        "pad_law": vars(pad_law), "rotor_law": None if rotor_law is None else vars(rotor_law),
+        "mu": law_record(mu), "rotor": model.rotor, "dofs": int(model.dofs),
+        "pad_law": law_record(pad_law), "rotor_law": law_record(rotor_law),
         "steps": last.step, "final": rows[-1],
         "contact_solves": int(sum(int(r["contact_solves"]) for r in rows)),
         "rejected": int(sum(int(r["rejected"]) for r in rows)),
@@ -279,10 +295,10 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     if scene.interface.model == "condensed":
         from .interfaces.condensed import CondensedInterface
         kw["interface"] = CondensedInterface(model, scene.line_pressure or 1e6,
-                                             scene.interface.mu, n.tol)
+                                             scene.build_mu(), n.tol)
     if scene.interface.coning or scene.interface.pad_taper or scene.interface.gap_file:
         if "interface" not in kw:
-            kw["interface"] = FEInterface(model, scene.line_pressure, scene.interface.mu, n.tol)
+            kw["interface"] = FEInterface(model, scene.line_pressure, scene.build_mu(), n.tol)
         kw["initial_gap"] = scene.initial_gap(kw["interface"].x)
     if scene.thermal.enabled:
         from .thermal.model import ThermalModel
@@ -299,7 +315,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     worn = None
     try:
         summary = run_wear(model, out, scene.line_pressure, scene.omega, scene.duration,
-                           pad_law, rotor_law, scene.interface.mu,
+                           pad_law, rotor_law, scene.friction(),
                            vtu_every=scene.output.vtu_every, resume=resume, progress=progress,
                            **kw)
     except WornThroughError as exc:

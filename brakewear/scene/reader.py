@@ -47,11 +47,14 @@ _SCHEMA: dict[str, dict[str, str]] = {
                     "ambient": "temperature"},
     "interface": {"model": "str", "surfaces": "surfaces", "mu": "num", "method": "str",
                   "winkler_modulus": "num", "winkler_rotor": "str",
-                  "coning": "signed_length", "pad_taper": "signed_length", "gap_file": "path"},
+                  "coning": "signed_length", "pad_taper": "signed_length", "gap_file": "path",
+                  "mu_map": "path", "map_outside": "str"},
     "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
-                 "activation_energy": "num", "limit": "length"},
+                 "activation_energy": "num", "limit": "length", "k_map": "path",
+                 "map_outside": "str"},
     "wear.rotor": {"enabled": "bool", "k": "k", "a": "num", "b": "num",
-                   "T_threshold": "temperature", "activation_energy": "num", "limit": "length"},
+                   "T_threshold": "temperature", "activation_energy": "num", "limit": "length",
+                   "k_map": "path", "map_outside": "str"},
     "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
                 "T_initial": "temperature", "T_ref": "temperature",
                 "contact_conductance": "num", "mass": "str", "T_max": "temperature"},
@@ -285,8 +288,9 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
 
     iface = tables.get("interface", {})
     ikw = {k: val("interface", k) for k in iface}
-    if "gap_file" in ikw and base is not None and not Path(ikw["gap_file"]).is_absolute():
-        ikw["gap_file"] = str(base / ikw["gap_file"])       # relative to the scene file
+    for key in ("gap_file", "mu_map"):
+        if key in ikw and base is not None and not Path(ikw[key]).is_absolute():
+            ikw[key] = str(base / ikw[key])                 # relative to the scene file
     if "surfaces" in ikw:
         ikw["surfaces"] = tuple(ikw["surfaces"])
 
@@ -298,7 +302,10 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
         if b == "rotor" and not val(t, "enabled", True):
             return None
         tab.pop("enabled", None)
-        return WearSpec(**{k: val(t, k) for k in tab})
+        kw = {k: val(t, k) for k in tab}
+        if "k_map" in kw and base is not None and not Path(kw["k_map"]).is_absolute():
+            kw["k_map"] = str(base / kw["k_map"])           # relative to the scene file
+        return WearSpec(**kw)
 
     with user_units(shown):
         interface = InterfaceSpec(**ikw)

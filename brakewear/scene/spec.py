@@ -136,7 +136,7 @@ class Scene:
         self._check_interface()
         self._check_gap_file()
         self._check_consistency()
-        self.wear_laws()
+        self._check_laws()
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
         from ..mesh.estimate import check_model_size
@@ -278,6 +278,41 @@ class Scene:
         if itf.gap_file is not None:
             g = g + map_gap(self._gap_points, x, f"interface.gap_file = {itf.gap_file!r}")
         return g
+
+    def friction(self):
+        """The friction of the interface: ``interface.mu``, or the map of
+        ``interface.mu_map`` (a :class:`~brakewear.maps.FrictionMap`, read once)."""
+        itf = self.interface
+        if itf.mu_map is None:
+            return itf.mu
+        if getattr(self, "_friction_map", None) is None:
+            from .tables import read_law
+            object.__setattr__(self, "_friction_map",
+                               read_law("interface.mu_map", itf.mu_map, "mu", itf.map_outside))
+        return self._friction_map
+
+    def build_mu(self) -> float:
+        """The friction coefficient an interface is built with (a map's values are set
+        per node before the first solve; any mu > 0 builds the sliding directions)."""
+        return self.interface.mu if self.interface.mu_map is None else 1.0
+
+    def _check_laws(self) -> None:
+        """Read the laws (maps included) and refuse the combinations they cannot run in."""
+        laws = {"interface.mu_map": self.friction(), "wear.pad.k_map": self.wear_laws()[0],
+                "wear.rotor.k_map": self.wear_laws()[1]}
+        for key, law in laws.items():
+            if getattr(law, "needs_temperature", False) and hasattr(law, "table") \
+                    and not self.thermal.enabled:
+                raise fail(key, "the map varies with temperature (a T column); it needs "
+                                "thermal.enabled = true, or a map without a T column")
+        if self.interface.mu_map is not None:
+            if self.interface.model == "winkler":
+                raise fail("interface.mu_map", "a friction map per node needs interface.model "
+                                               "= 'fe' or 'condensed' (the foundation takes "
+                                               "one mu)")
+            if self.schedule:
+                raise fail("interface.mu_map", "a [schedule] turns torque into line pressure "
+                                               "through one mu; give interface.mu instead")
 
     def wear_laws(self):
         """(pad law, rotor law or None)."""

@@ -43,6 +43,18 @@ MAX_NONCONFORMITY = 1e-3
 _WEAR_INTERFACE = ("pad.friction", "rotor.friction")
 
 
+def read_law(key: str, path: str, quantity: str, outside: str):
+    """The friction (``quantity = "mu"``) or wear (``"k"``) law of a map file; a bad
+    file is refused naming ``key`` and the file's row and column."""
+    from ..errors import InputError
+    from ..maps import FrictionMap, WearMap, read_map
+    try:
+        table = read_map(path, quantity, outside)
+    except (InputError, OSError) as exc:
+        raise fail(key, str(exc)) from None
+    return FrictionMap(table) if quantity == "mu" else WearMap(table)
+
+
 @dataclass(frozen=True)
 class InterfaceSpec:
     """The pad-rotor interface.
@@ -75,6 +87,10 @@ class InterfaceSpec:
         An initial-gap map, a CSV with columns ``r_mm``, ``theta_deg``,
         ``gap_um`` (:func:`brakewear.cleaning.read_gap_map`), added to the
         coning and taper; read and checked when the scene is made.
+    mu_map, map_outside
+        A friction map ``mu(p, v, T)`` (CSV, :func:`brakewear.maps.read_map`)
+        used at each pad node instead of ``mu``; outside its grid ``"clamp"``
+        (default) or ``"error"``.  Read and checked when the scene is made.
     """
 
     model: str = "fe"
@@ -86,9 +102,12 @@ class InterfaceSpec:
     coning: float = 0.0
     pad_taper: float = 0.0
     gap_file: str | None = None
+    mu_map: str | None = None
+    map_outside: str = "clamp"
 
     def __post_init__(self):
         check_choice("interface.model", self.model, ("fe", "winkler", "condensed"))
+        check_choice("interface.map_outside", self.map_outside, ("clamp", "error"))
         if (not isinstance(self.surfaces, (tuple, list)) or len(self.surfaces) != 2
                 or not all(isinstance(s, str) for s in self.surfaces)):
             raise fail("interface.surfaces", f"{self.surfaces!r} is not allowed; expected two "
@@ -117,6 +136,10 @@ class WearSpec:
     ``limit`` (m) is the wear depth at which the run ends
     (:mod:`brakewear.wear.limits`; None: the friction layer's thickness for
     the pad, :data:`~brakewear.wear.limits.ROTOR_LIMIT` for the rotor).
+    ``k_map`` is a measured map of the specific wear rate ``k(p, v, T)``
+    (CSV, :func:`brakewear.maps.read_map`; Archard: ``a = b = 1``) used
+    instead of ``k`` and its temperature law; ``map_outside`` is ``"clamp"``
+    or ``"error"`` outside its grid.
     """
 
     k: float | None = None
@@ -125,8 +148,15 @@ class WearSpec:
     T_threshold: float = 503.15
     activation_energy: float = 0.0
     limit: float | None = None
+    k_map: str | None = None
+    map_outside: str = "clamp"
 
     def check(self, sec: str) -> None:
+        check_choice(f"{sec}.map_outside", self.map_outside, ("clamp", "error"))
+        if self.k_map is not None and (self.k is not None or self.a != 1.0 or self.b != 1.0
+                                       or self.activation_energy != 0.0):
+            raise fail(f"{sec}.k_map", "a wear map gives k(p, v, T) of the Archard law: it "
+                                       "cannot be combined with k, a, b or activation_energy")
         check_number(f"{sec}.k", self.k, 0.0, unit="1/Pa", allow_none=True)
         check_number(f"{sec}.a", self.a, 0.0)
         check_number(f"{sec}.b", self.b, 0.0)
@@ -137,8 +167,11 @@ class WearSpec:
         check_plausible(f"{sec}.T_threshold", self.T_threshold, "T_threshold")
 
     def law(self, material, sec: str, geometry_source: str = "<python>"):
-        """The :class:`~brakewear.laws.WearLaw` (``material`` supplies a missing k)."""
+        """The :class:`~brakewear.laws.WearLaw` (``material`` supplies a missing k), or the
+        :class:`~brakewear.maps.WearMap` of ``k_map``."""
         from ..laws import WearLaw
+        if self.k_map is not None:
+            return read_law(f"{sec}.k_map", self.k_map, "k", self.map_outside)
         k = self.k
         if k is None:
             k = material.wear_k
