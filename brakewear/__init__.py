@@ -56,6 +56,8 @@ _LAZY = {
     "MATERIALS": "materials", "Material": "materials", "Isotropic": "materials",
     "TransverselyIsotropic": "materials", "Thermal": "materials", "get_material": "materials",
     "WearLaw": "laws", "FrictionLaw": "laws",
+    "TableMap": "maps", "read_map": "maps", "FrictionMap": "maps", "WearMap": "maps",
+    "StribeckFriction": "maps", "MildSevereWear": "maps",
     "BrakeModel": "model", "StaticResult": "model",
     "FEInterface": "interfaces", "CondensedInterface": "interfaces",
     "FoundationInterface": "interfaces",
