@@ -31,12 +31,15 @@ from scipy.special import expit
 
 from .errors import LawError, MapError
 from .laws import node_inputs
-from .mapfile import AXES, AXIS_UNITS, BOUNDS, check_range, read_table
+from .mapfile import AXES, AXIS_UNITS, BOUNDS, check_range, parse_table, read_table
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["NodeFrictionLaw", "NodeWearLaw", "TableMap", "read_map", "FrictionMap", "WearMap",
-           "StribeckFriction", "MildSevereWear", "AXIS_UNITS"]
+           "StribeckFriction", "MildSevereWear", "example_map", "EXAMPLE_MAP", "AXIS_UNITS"]
+
+#: the illustrative resin-pad map shipped with the package (:func:`example_map`)
+EXAMPLE_MAP = "data/maps/resin_pad_illustrative.csv"
 
 #: unit shown -> (factor to SI, offset) for the messages of a map's look-up
 _SHOWN = {name: (f, o) for units in AXIS_UNITS.values() for name, f, o in units.values()}
@@ -243,6 +246,28 @@ def _multilinear(grid, values: np.ndarray, xs: list[np.ndarray]) -> np.ndarray:
         return lo + ts[k] * (along(k + 1, picks + (idx[k][1],)) - lo)
 
     return np.asarray(along(0, ()), dtype=float)
+
+
+def example_map(quantity: str, outside: str = "clamp") -> TableMap:
+    """The illustrative resin-pad map shipped with the package (:data:`EXAMPLE_MAP`).
+
+    Parameters
+    ----------
+    quantity
+        ``"mu"`` or ``"k"``.
+    outside
+        ``"clamp"`` or ``"error"`` (see :class:`TableMap`).
+
+    Returns
+    -------
+    TableMap
+        ILLUSTRATIVE numbers of the shape typical of resin-bonded pads, not a
+        measurement: calibrate with your own material's map.
+    """
+    import importlib.resources
+
+    text = importlib.resources.files("brakewear").joinpath(EXAMPLE_MAP).read_text("utf-8")
+    return TableMap(**parse_table(text, f"brakewear/{EXAMPLE_MAP}", quantity), outside=outside)
 
 
 @dataclass(frozen=True, eq=False)

@@ -1,5 +1,6 @@
 """Friction and wear laws per node: measured maps (CSV tables), closed forms, and the
 per-node calls of the existing laws."""
+import importlib.resources
 import re
 
 import numpy as np
@@ -7,8 +8,9 @@ import pytest
 
 from brakewear.errors import InputError, LawError, MapError
 from brakewear.laws import FrictionLaw, WearLaw
-from brakewear.maps import (FrictionMap, MildSevereWear, NodeFrictionLaw, NodeWearLaw,
-                            StribeckFriction, TableMap, WearMap, read_map)
+from brakewear.maps import (EXAMPLE_MAP, FrictionMap, MildSevereWear, NodeFrictionLaw,
+                            NodeWearLaw, StribeckFriction, TableMap, WearMap, example_map,
+                            read_map)
 
 RNG = np.random.default_rng(7)
 #: nodes of a contact: pressures (Pa, with tension and lift-off), speeds (m/s), T (K)
@@ -291,3 +293,21 @@ def test_mild_severe_switch_on_temperature():
 def test_mild_severe_refuses_bad_parameters(args, kwargs, fragment):
     with pytest.raises(LawError, match=re.escape(f"MildSevereWear: {fragment}")):
         MildSevereWear(*args, **kwargs)
+
+
+# ------------------------------------------------------------------- the example map --
+
+def test_the_illustrative_map_ships_with_the_package():
+    res = importlib.resources.files("brakewear").joinpath(EXAMPLE_MAP)
+    assert res.is_file()
+    assert "ILLUSTRATIVE" in res.read_text().splitlines()[0]
+    mu, k = example_map("mu"), example_map("k")
+    assert mu.axes == k.axes == ("p", "v", "T") and mu.values.shape == (5, 4, 5)
+    assert 0.33 <= mu.values.min() and mu.values.max() <= 0.45
+    assert 4e-15 <= k.values.min() and k.values.max() <= 2e-13
+    law_mu, law_k = FrictionMap(mu), WearMap(k)
+    C = 273.15
+    # mu falls slightly with speed, fades above 350 C; k rises steeply above 250 C
+    assert law_mu.mu_at(2e6, 30.0, C + 100) < law_mu.mu_at(2e6, 1.0, C + 100)
+    assert law_mu.mu_at(2e6, 10.0, C + 500) < 0.9 * law_mu.mu_at(2e6, 10.0, C + 300)
+    assert law_k.coefficient_at(2e6, 10.0, C + 500) > 5 * law_k.coefficient_at(2e6, 10.0, C + 250)
