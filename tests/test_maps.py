@@ -11,6 +11,7 @@ from brakewear.laws import FrictionLaw, WearLaw
 from brakewear.maps import (EXAMPLE_MAP, FrictionMap, MildSevereWear, NodeFrictionLaw,
                             NodeWearLaw, StribeckFriction, TableMap, WearMap, example_map,
                             read_map)
+from studyload import load_study
 
 RNG = np.random.default_rng(7)
 #: nodes of a contact: pressures (Pa, with tension and lift-off), speeds (m/s), T (K)
@@ -311,3 +312,14 @@ def test_the_illustrative_map_ships_with_the_package():
     assert law_mu.mu_at(2e6, 30.0, C + 100) < law_mu.mu_at(2e6, 1.0, C + 100)
     assert law_mu.mu_at(2e6, 10.0, C + 500) < 0.9 * law_mu.mu_at(2e6, 10.0, C + 300)
     assert law_k.coefficient_at(2e6, 10.0, C + 500) > 5 * law_k.coefficient_at(2e6, 10.0, C + 250)
+
+
+def test_the_law_maps_study_returns_its_numbers(tmp_path):
+    res = load_study("law_maps").main(out=tmp_path)
+    assert (tmp_path / "laws_example_map.png").stat().st_size > 10_000
+    assert (tmp_path / "laws_example_map.csv").read_text().startswith("T_C,")
+    hot, cold = res["T_C"][1], res["T_C"][0]
+    assert hot > cold
+    mu_cold, mu_hot = np.array(res["mu"][0]), np.array(res["mu"][1])
+    k_cold, k_hot = np.array(res["k_m2_N"][0]), np.array(res["k_m2_N"][1])
+    assert (mu_hot < mu_cold).all() and (k_hot > 3 * k_cold).all()
