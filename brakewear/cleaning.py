@@ -43,6 +43,11 @@ class LayeredWearLaw(WearLaw):
         r = super().rate(p, v, T)
         return r if self.factor is None else r * self.factor
 
+    def coefficient_at(self, p, v, T=None) -> np.ndarray:
+        """``k(T)`` times ``factor`` per pad node (the coefficient :meth:`rate` uses)."""
+        k = super().coefficient_at(p, v, T)
+        return k if self.factor is None else k * self.factor
+
 
 def coning_gap(r: np.ndarray, r_in: float, r_out: float, coning: float) -> np.ndarray:
     """Initial gap (m) of a coning (or radial pad taper) of ``coning`` m across the band.

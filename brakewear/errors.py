@@ -42,6 +42,8 @@ __all__ = [
     "DutyError",
     "ThermalError",
     "FoundationError",
+    "LawError",
+    "MapError",
     "ConvergenceError",
     "CondensedRangeError",
     "ActiveSetError",
@@ -105,6 +107,17 @@ class DutyError(InputError):
 
 class FoundationError(InputError):
     """Bad input to the foundation model (names the parameter, the value, what is allowed)."""
+
+
+class LawError(InputError):
+    """A friction or wear law that cannot be used (names the law, the parameter, the value
+    and what is allowed)."""
+
+
+class MapError(LawError):
+    """A friction or wear map that cannot be used: a bad CSV names the file, the row (its
+    line number) and the column; a look-up outside the grid of a map that refuses it names
+    the quantity, the value in the map's units and the grid's range."""
 
 
 # ----------------------------------------------------------------- solver --

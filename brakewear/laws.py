@@ -4,6 +4,13 @@
 (``a = b = 1``: Archard, ``k`` in 1/Pa = m^2/N), with an Arrhenius rise of
 ``k`` above a threshold temperature (Liu and Rhee).  :class:`FrictionLaw` --
 ``mu(T)``, a linear fade above a reference temperature.
+
+Both also answer the per-node calls of the wear loop that every friction
+and wear law of brakewear answers (:mod:`brakewear.maps` has the tables and
+the other closed forms): ``mu_at(p, v, T)``, ``coefficient_at(p, v, T)`` and
+``rate(p, v, T)``, each an array over the nodes (:func:`node_inputs` checks
+and broadcasts the nodes' pressure, sliding speed and temperature), and
+``needs_temperature``.
 """
 from __future__ import annotations
 
@@ -17,11 +24,56 @@ from .materials import T_AMBIENT_DEFAULT
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearLaw", "FrictionLaw"]
+__all__ = ["WearLaw", "FrictionLaw", "node_inputs"]
 
 
 #: Universal gas constant (J/mol K) for the Arrhenius temperature law.
 R_GAS = 8.314462618
+
+
+def node_inputs(p, v, T=None, error: type[Exception] = WearError
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, tuple[int, ...]]:
+    """The nodes' pressure, sliding speed and temperature as float arrays, checked.
+
+    Parameters
+    ----------
+    p
+        Contact pressure (Pa); tension (p < 0) counts as 0.
+    v
+        Sliding speed (m/s), >= 0 (a speed, not a velocity component).
+    T
+        Temperature (K), > 0, or None.
+    error
+        The error raised for a value that is not allowed.
+
+    Returns
+    -------
+    p, v, T, shape
+        ``p`` clipped at 0, ``v`` and ``T`` (None stays None) as arrays, and the
+        nodes' shape: the three broadcast together.
+    """
+    p = np.clip(np.asarray(p, dtype=float), 0.0, None)
+    v = np.asarray(v, dtype=float)
+    if not np.isfinite(p).all():
+        raise error(f"contact pressure {float(p[~np.isfinite(p)].flat[0])!r} Pa is not allowed; "
+                    "need a finite pressure")
+    if not (np.isfinite(v).all() and (v >= 0).all()):
+        bad = float(v[~(np.isfinite(v) & (v >= 0))].flat[0])
+        raise error(f"sliding speed {bad!r} m/s is not allowed; need a finite v >= 0 "
+                    "(a speed, not a velocity component)")
+    shapes = [p.shape, v.shape]
+    if T is not None:
+        T = np.asarray(T, dtype=float)
+        if not (np.isfinite(T).all() and (T > 0).all()):
+            bad = float(T[~(np.isfinite(T) & (T > 0))].flat[0])
+            raise error(f"temperature {bad!r} K is not allowed; need a finite T > 0 K")
+        shapes.append(T.shape)
+    return p, v, T, np.broadcast_shapes(*shapes)
+
+
+def _per_node(value, shape: tuple[int, ...]) -> np.ndarray:
+    """``value`` (a number or an array) as a new float array of the nodes' shape."""
+    return np.array(np.broadcast_to(np.asarray(value, dtype=float), shape))
 
 
 @dataclass(frozen=True)
@@ -79,6 +131,17 @@ class WearLaw:
                             "(a speed, not a velocity component)")
         return self.coefficient(T) * np.clip(p, 0.0, None) ** self.a * v ** self.b
 
+    @property
+    def needs_temperature(self) -> bool:
+        """Whether ``k`` depends on the temperature (``activation_energy > 0``)."""
+        return self.activation_energy > 0.0
+
+    def coefficient_at(self, p, v, T=None) -> np.ndarray:
+        """:meth:`coefficient` ``k(T)`` per node: an array of the shape of ``p, v, T``
+        broadcast together (:func:`node_inputs`; ``p`` and ``v`` set only the shape)."""
+        _, _, T, shape = node_inputs(p, v, T, WearError)
+        return _per_node(self.coefficient(T), shape)
+
 
 @dataclass(frozen=True)
 class FrictionLaw:
@@ -107,3 +170,13 @@ class FrictionLaw:
         if T is None or self.slope == 0.0:
             return self.mu0
         return np.maximum(self.mu_min, self.mu0 + self.slope * (np.asarray(T, float) - self.T_ref))
+
+    @property
+    def needs_temperature(self) -> bool:
+        """Whether ``mu`` depends on the temperature (``slope != 0``)."""
+        return self.slope != 0.0
+
+    def mu_at(self, p, v, T=None) -> np.ndarray:
+        """:meth:`mu` ``mu(T)`` per node, like :meth:`WearLaw.coefficient_at`."""
+        _, _, T, shape = node_inputs(p, v, T, ThermalError)
+        return _per_node(self.mu(T), shape)
