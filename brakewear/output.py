@@ -109,7 +109,9 @@ def step_figures(s: WearStep, itf, mu: float) -> dict:
         "pressure_max_Pa": float(p.max()), "contact_fraction": float(A[act].sum() / A.sum()),
         "pr_spread": float((pr.max() - pr.min()) / pr.mean()) if pr.size else float("nan"),
         "normal_force_N": F,
-        "torque_Nm": float(mu * (p * A * r).sum()),
+        "mu": s.mu,
+        "torque_Nm": float(((s.mu if s.mu_nodes is None else s.mu_nodes) * p * A * r)
+                           .sum()),
         "pad_volume_m3": s.pad_volume, "rotor_volume_m3": s.rotor_volume,
         "rejected": s.rejected, "contact_solves": s.contact_solves, "solve_s": s.solve_s,
         **({} if np.isnan(s.pad_temperature_max) else {
@@ -157,7 +159,11 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         start, _ = checkpoint_progress(ck)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    itf = kwargs.pop("interface", None) or FEInterface(model, line_pressure, mu, numerics.tol)
+    # a friction law's values are set per node before the first solve; any mu > 0 builds
+    # the pair's sliding directions
+    itf = kwargs.pop("interface", None) or FEInterface(
+        model, line_pressure, mu if np.ndim(mu) == 0 and not hasattr(mu, "mu_at") else 1.0,
+        numerics.tol)
     pad = model.meshes["pad"]
     pad_series = SeriesWriter(out, "pad", pad.p, pad.t, start)
     rot_series = (SeriesWriter(out, "rotor", model.meshes["rotor"].p, model.meshes["rotor"].t,

@@ -72,6 +72,7 @@ class WearStep:
     pressure_end: np.ndarray | None = None       # Pa, at the end of the step (= next start)
     active_end: np.ndarray | None = None
     explicit: bool = False      # the implicit scheme took this step explicitly (implicit_floor)
+    mu_nodes: np.ndarray | None = None   # mu per pad node in this step (a friction law's)
 
 
 def wear_history(model, line_pressure: float, omega: float, duration: float,
@@ -392,6 +393,7 @@ class _WearLoop:
         record = self.record(state, dt, p, act, rejected, solve_s, limit,
                              NodalLaws.effective(mu_step, p, self.A_pad), T_rot)
         record.explicit = self.took_explicit
+        record.mu_nodes = None if np.ndim(mu_step) == 0 else mu_step
         self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
         if self.thermal is not None:
             check_temperature(record, self.thermal)     # a TemperatureLimitError
