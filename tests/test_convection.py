@@ -78,3 +78,39 @@ def test_dwell_speed_checks():
         Dwell(10.0, speed=20.0, omega=60.0)
     with pytest.raises(DutyError, match="dwell.speed"):
         Dwell(10.0, speed=-1.0)
+
+
+def test_radiation_coefficient_is_the_exact_secant():
+    from brakewear.thermal import SIGMA, radiation_coefficient
+    for T in (373.15, 873.15):
+        h = radiation_coefficient(0.6, T, 293.15)
+        assert h * (T - 293.15) == pytest.approx(0.6 * SIGMA * (T ** 4 - 293.15 ** 4), rel=1e-13)
+
+
+def test_a_radiating_rotor_sheds_the_stefan_boltzmann_power(model):
+    """A rotor at a uniform 600 C with no convection: the first short step loses
+    eps sigma (T^4 - T_a^4) A (to the 2^(1/16) rounding of the coefficient), the heat
+    balance holds, and the loss falls as the rotor cools."""
+    from brakewear.thermal import SIGMA
+    th = ThermalModel(model, h_conv={"pad": 0.0, "rotor": 0.0}, emissivity={"rotor": 0.6},
+                      T_initial=873.15, contact_conductance=0.0)
+    heat = th.heat["rotor"]
+    area = float(heat.H1.sum()) / th.h_assembled["rotor"]
+    q = np.zeros(th.pad_nodes.size)
+    th.step(q, 0.01)
+    b = th.heat_balance()["bodies"]["rotor"]
+    expected = 0.6 * SIGMA * (873.15 ** 4 - 293.15 ** 4) * area
+    assert b["convected_W"] == pytest.approx(expected, rel=2 ** (1 / 16) - 1 + 1e-3)
+    assert abs(b["stored_W"] + b["convected_W"]) <= 1e-8 * b["convected_W"]
+    for _ in range(5):
+        th.step(q, 60.0)
+    later = th.heat_balance()["bodies"]["rotor"]["convected_W"]
+    assert 0 < later < 0.9 * b["convected_W"]
+    assert th.heat["pad"].h_scale == 1.0        # the pad neither convects nor radiates
+
+
+def test_bad_emissivity_is_refused(model):
+    with pytest.raises(ThermalError, match="emissivity = 1.5"):
+        ThermalModel(model, emissivity=1.5)
+    with pytest.raises(ThermalError, match="emissivity: body 'hat'"):
+        ThermalModel(model, emissivity={"hat": 0.5})

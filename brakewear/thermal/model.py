@@ -24,7 +24,7 @@ from ..fem.heat import THERMAL_FIELDS, HeatConduction, body_label, check_thermal
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
 from ..mesh.topology import ensure_topology
 from ..rings import rotor_rings, rotor_wear_rate
-from .convection import SpeedConvection
+from .convection import SpeedConvection, radiation_coefficient, rounded
 from .partition import heat_flux, partition_effusivity
 from .strain import thermal_load_matrix, thermal_stress
 
@@ -88,6 +88,10 @@ class ThermalModel:
         so a large ``h_c`` drives the pad face toward the rotor's ring
         temperature and the effective partition follows.  Needs an elastic
         (meshed) rotor.
+    emissivity
+        Radiation from the convective faces: an emissivity in [0, 1] or one per
+        body (None: none), linearised about each body's mean face temperature
+        at the start of each step (:func:`~brakewear.thermal.radiation_coefficient`).
     T_max
         Plausibility bound of the face temperatures (K, default
         :data:`T_MAX_DEFAULT`, 900 C): a wear step that leaves a pad or
@@ -106,7 +110,8 @@ class ThermalModel:
                  T_ambient: float = T_AMBIENT_DEFAULT, T_ref: float | None = None,
                  convection_facets: Mapping[str, Sequence[str]] | None = None,
                  mass: str = "consistent", T_initial: float | None = None,
-                 contact_conductance: float | None = None, T_max: float | None = None):
+                 contact_conductance: float | None = None, T_max: float | None = None,
+                 emissivity: float | Mapping[str, float] | None = None):
         self.model = model
         self.bodies = tuple(b for b in ("rotor", "pad") if b in model.bodies)
         partition, contact_conductance = _resolve_defaults("rotor" in self.bodies, partition,
@@ -114,7 +119,8 @@ class ThermalModel:
         #: the constructor's settings, defaults resolved (a run's checkpoint fingerprints them)
         self.settings = {"partition": partition, "h_conv": h_conv, "T_ambient": T_ambient,
                          "T_ref": T_ref, "convection_facets": convection_facets, "mass": mass,
-                         "T_initial": T_initial, "contact_conductance": contact_conductance}
+                         "T_initial": T_initial, "contact_conductance": contact_conductance,
+                         "emissivity": emissivity}
         if "pad" not in self.bodies:
             raise ThermalError("the brake model has no pad body")
         # ---- input checks first (nothing is assembled before they pass)
@@ -129,7 +135,8 @@ class ThermalModel:
         pad_mat = self._face_material("pad")
         gamma = _resolve_partition(partition, pad_mat, rotor_mat, g.pad.arc_angle)
         self.partition = gamma
-        hs, self.speed_convection = _convection(h_conv, self.bodies)
+        hs, self.cooling = _convection(h_conv, emissivity, self.bodies)
+        self.h_assembled, self.omega = hs, None
         h_c = contact_conductance
         if not (isinstance(h_c, (int, float, np.floating)) and np.isfinite(h_c) and h_c >= 0):
             raise ThermalError(f"contact_conductance = {h_c!r} W/m^2 K is not allowed; need a "
@@ -230,6 +237,8 @@ class ThermalModel:
 
     # ----------------------------------------------------------- solves --
     def _solve(self, q_pad: np.ndarray, dt: float | None) -> dict:
+        if any(eps > 0 for _, eps in self.cooling.values()):
+            self._update_cooling()          # radiation about this step's start
         F, figs = self._loads(q_pad)
         old = self.T
         figs["friction_in"] = {b: float(np.sum(F[b])) for b in self.bodies}
@@ -316,8 +325,24 @@ class ThermalModel:
     def set_speed(self, omega: float) -> None:
         """The rotor speed (rad/s) of the next steps: the speed-dependent convection
         coefficients (:class:`~brakewear.thermal.SpeedConvection`) follow it."""
-        for b, law in self.speed_convection.items():
-            self.heat[b].set_convection_scale(law.scale(omega))
+        if not (np.isfinite(omega) and omega >= 0):
+            raise ThermalError(f"rotor speed {omega!r} rad/s is not allowed; need >= 0")
+        self.omega = float(omega)
+        self._update_cooling()
+
+    def _update_cooling(self) -> None:
+        """Each cooled body's coefficient: convection at the speed (``h_ref`` before
+        any :meth:`set_speed`) plus radiation linearised about the mean temperature of
+        its convective faces, rounded to 2^(1/8) (:mod:`brakewear.thermal.convection`)."""
+        for b, (base, eps) in self.cooling.items():
+            h = base if not isinstance(base, SpeedConvection) else (
+                base.h_ref if self.omega is None else base.h(self.omega))
+            if eps > 0:
+                heat = self.heat[b]
+                w = np.asarray(heat.H1.sum(axis=1)).ravel()        # convective areas x h
+                Ts = float(w @ self.T[b] / w.sum())
+                h += radiation_coefficient(eps, Ts, self.T_ambient)
+            self.heat[b].set_convection_scale(rounded(h / self.h_assembled[b]))
 
     def follow(self, model) -> None:
         """Move onto ``model``, the same brake with moved (worn) faces
@@ -325,9 +350,11 @@ class ThermalModel:
         coordinates): everything assembled again on the moved meshes with the
         same settings, the temperatures carried on the nodes, which move with
         the faces.  In place, so every holder of this model sees the moved one."""
-        state = self.state_arrays()
+        state, omega = self.state_arrays(), self.omega
         self.__init__(model, T_max=self.T_max, **self.settings)
         self.load_state(state)
+        if omega is not None:
+            self.set_speed(omega)
 
     def state_arrays(self) -> dict:
         """The thermal state for a checkpoint: ``T_<body>`` arrays and ``thermal_time``."""
@@ -388,19 +415,34 @@ class ThermalModel:
                                   self.T[b] - self.T_ref, b) for b in self.bodies}
 
 
-def _convection(h_conv, bodies) -> tuple[dict, dict]:
-    """``({body: h assembled}, {body: SpeedConvection})`` of the ``h_conv`` argument:
-    a number, a SpeedConvection, or either per body."""
+def _convection(h_conv, emissivity, bodies) -> tuple[dict, dict]:
+    """``({body: h assembled}, {body: (convection, emissivity)})`` of the ``h_conv``
+    and ``emissivity`` arguments (each a value or one per body): the second holds the
+    bodies whose coefficient changes from step to step (a SpeedConvection, radiation)."""
     hs = dict(h_conv) if isinstance(h_conv, Mapping) else {b: h_conv for b in bodies}
-    laws = {}
+    es = dict(emissivity) if isinstance(emissivity, Mapping) else {
+        b: emissivity for b in bodies}
+    for key, d in (("h_conv", hs), ("emissivity", es)):
+        unknown = sorted(set(d) - set(bodies))
+        if unknown:
+            raise ThermalError(f"{key}: body {unknown[0]!r} is not a thermal body; allowed: "
+                               f"{', '.join(bodies)}")
+    cooling = {}
     for b in bodies:
-        h = hs.get(b, H_CONV_DEFAULT)
+        h, eps = hs.get(b, H_CONV_DEFAULT), es.get(b)
+        eps = 0.0 if eps is None else eps
+        if not (isinstance(eps, (int, float, np.floating)) and 0.0 <= eps <= 1.0):
+            raise ThermalError(f"body {b!r}: emissivity = {eps!r} is not allowed; need a "
+                               "number in [0, 1] (grey cast iron about 0.4-0.6 when oxidised)")
         if isinstance(h, SpeedConvection):
-            laws[b], hs[b] = h, h.h_ref
+            cooling[b], hs[b] = (h, float(eps)), h.h_ref
         elif not (isinstance(h, (int, float, np.floating)) and np.isfinite(h) and h >= 0):
             raise ThermalError(f"body {b!r}: h_conv = {h!r} W/m^2 K is not allowed; need a "
                                "number >= 0 or a SpeedConvection")
-    return hs, laws
+        elif eps > 0:
+            cooling[b] = (float(h), float(eps))
+            hs[b] = h if h > 0 else 1.0          # assembled once, then scaled
+    return hs, cooling
 
 
 def _resolve_defaults(meshed: bool, partition, contact_conductance):

@@ -1,0 +1,54 @@
+"""The default heat partition on the default drag: temperatures in the range the
+energy allows, and the fixed partition of old refused by the plausibility bound."""
+import numpy as np
+import pytest
+
+from brakewear.laws import WearLaw
+from brakewear.model import BrakeModel
+from brakewear.thermal import H_CONTACT_DEFAULT, ThermalModel
+from brakewear.wear import Numerics, wear_history
+
+
+@pytest.fixture(scope="module")
+def model():
+    return BrakeModel("default", size=1.2e-2)
+
+
+def test_defaults_resolve_by_the_rotor():
+    elastic = ThermalModel(BrakeModel("default", size=1.2e-2))
+    assert elastic.contact_conductance == H_CONTACT_DEFAULT == 1e5
+    assert elastic.settings["partition"] == "effusivity"
+    rigid = ThermalModel(BrakeModel("default", size=1.2e-2, rotor="rigid"))
+    assert rigid.contact_conductance == 0.0 and rigid.settings["partition"] == "effusivity_area"
+    # the area-weighted share: the rotor's flux averaged over a revolution
+    assert rigid.partition < 0.2 * elastic.partition
+
+
+def test_default_drag_faces_lie_between_the_bulk_rise_and_the_fade_range(model):
+    """90 s at 1 MPa, 55 rad/s, mu 0.4 (6 kW per face): the stored heat is the
+    friction work (no convection shortcut), so the faces are at least as hot as the
+    bodies' mean, E / sum(m c); with the contact conductance pad and rotor faces
+    agree within a tenth of the rise and stay below 500 C, the top of the range
+    where resin-bonded pads decompose (REFERENCES.md: about 350-450 C)."""
+    th = ThermalModel(model)
+    steps = list(wear_history(model, 1e6, 55.0, 90.0, WearLaw(5e-15), WearLaw(5e-16),
+                              mu=0.4, thermal=th, numerics=Numerics(steps=15)))
+    T0 = th.T_ambient
+    stored = sum(float((th.heat[b].M @ (th.T[b] - T0)).sum()) for b in th.bodies)
+    mc = sum(float(th.heat[b].M.sum()) for b in th.bodies)
+    bulk = stored / mc
+    pad, rotor = steps[-1].pad_temperature_max - T0, steps[-1].rotor_temperature_max - T0
+    assert bulk < rotor and bulk < pad
+    assert abs(pad - rotor) < 0.1 * rotor
+    assert max(pad, rotor) + T0 < 773.15, (pad, rotor)
+    assert all(s.heat_balance_error < 1e-8 for s in steps)
+
+
+def test_the_fixed_partition_trips_the_bound_naming_the_key(model):
+    from brakewear.errors import TemperatureLimitError
+    th = ThermalModel(model, partition="effusivity", contact_conductance=0.0)
+    with pytest.raises(TemperatureLimitError,
+                       match=r"contact_conductance 0 .* give thermal.contact_conductance > 0"):
+        for _ in wear_history(model, 1e6, 55.0, 90.0, WearLaw(5e-15), WearLaw(5e-16),
+                              mu=0.4, thermal=th, numerics=Numerics(steps=15)):
+            pass
