@@ -309,11 +309,11 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     if scene.thermal.enabled:
         from .thermal.model import ThermalModel
         t = scene.thermal
-        kw["thermal"] = ThermalModel(model, partition=t.partition, h_conv=t.h_conv,
+        kw["thermal"] = ThermalModel(model, partition=t.partition, h_conv=t.convection_law(),
                                      T_ambient=scene.ambient, T_ref=t.T_ref, mass=t.mass,
                                      T_initial=t.T_initial,
                                      contact_conductance=t.contact_conductance,
-                                     T_max=t.T_max)
+                                     T_max=t.T_max, emissivity=t.emissivity)
     out.mkdir(parents=True, exist_ok=True)
     rec_path.write_text(json.dumps(record, indent=2))
     if scene.schedule:

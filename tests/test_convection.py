@@ -114,3 +114,42 @@ def test_bad_emissivity_is_refused(model):
         ThermalModel(model, emissivity=1.5)
     with pytest.raises(ThermalError, match="emissivity: body 'hat'"):
         ThermalModel(model, emissivity={"hat": 0.5})
+
+
+def test_scene_convection_and_dwell_speed(tmp_path):
+    """thermal.convection = 'vented' gives the rotor a SpeedConvection and keeps the
+    pad's h_conv; a [schedule] with dwell_speed drives the dwells at that speed."""
+    from brakewear.duty.schedule import KMH, schedule_from_table
+    from brakewear.errors import SceneError
+    from brakewear.scene import ThermalSpec
+    t = ThermalSpec(enabled=True, convection="vented", h_conv=25.0, emissivity=0.5)
+    law = t.convection_law()
+    assert law["pad"] == 25.0 and law["rotor"] == SpeedConvection.vented()
+    with pytest.raises(SceneError, match="thermal.h_conv.rotor"):
+        ThermalSpec(convection="solid", h_conv={"rotor": 30.0})
+    with pytest.raises(SceneError, match="thermal.convection"):
+        ThermalSpec(convection="forced")
+    with pytest.raises(SceneError, match="thermal.emissivity"):
+        ThermalSpec(emissivity=2.0)
+    apps = schedule_from_table({"stops": 3, "speed_from": 80.0, "deceleration": 3.0,
+                                "interval": 60.0, "dwell_speed": 80.0})
+    dwells = [a for a in apps if isinstance(a, Dwell)]
+    assert len(dwells) == 2 and all(d.speed == pytest.approx(80.0 * KMH) for d in dwells)
+
+
+def test_a_dwell_driven_at_speed_cools_the_vented_rotor_more(model):
+    """The same stop, then 60 s of dwell at rest or driven at 80 km/h: with a vented
+    rotor's speed-dependent convection the driven dwell ends cooler."""
+    from brakewear import Numerics, WearLaw
+    from brakewear.duty import Stop, Vehicle, run_schedule
+    car = Vehicle(mass=1800.0, front_share=0.7, tyre_radius=0.32, brakes_per_axle=2)
+    end = {}
+    for label, dwell in (("rest", Dwell(60.0)), ("driven", Dwell(60.0, speed=80 / 3.6))):
+        th = ThermalModel(model, h_conv={"pad": 40.0, "rotor": SpeedConvection.vented()})
+        list(run_schedule(model, [Stop(80 / 3.6, decel=3.0), dwell], WearLaw(5e-15),
+                          WearLaw(5e-16), 0.4, vehicle=car, thermal=th,
+                          numerics=Numerics(steps=3)))
+        end[label] = float(th.face_temperature("rotor").mean())
+    rise = end["rest"] - 293.15
+    assert rise > 10.0
+    assert end["driven"] < end["rest"] - 0.05 * rise, end

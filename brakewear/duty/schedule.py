@@ -105,9 +105,11 @@ class Dwell:
 
 
 def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | None = None,
-                   line_pressure: float | None = None, interval: float | None = None) -> list:
+                   line_pressure: float | None = None, interval: float | None = None,
+                   dwell_speed: float | None = None) -> list:
     """``count`` equal stops; with ``interval`` (s, start to start) a dwell after each
-    but the last fills the rest of the interval (which must exceed the stop's time)."""
+    but the last fills the rest of the interval (which must exceed the stop's time),
+    driven at ``dwell_speed`` (m/s; None: at rest)."""
     _check("stops", count, isinstance(count, int) and not isinstance(count, bool)
            and 1 <= count <= 100_000, "need a whole number 1..100000")
     stop = Stop(v0, v1, decel, line_pressure)
@@ -119,14 +121,15 @@ def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | Non
                 t_stop = (v0 - v1) / decel
                 _check("interval", interval, _finite(interval) and interval > t_stop,
                        f"need more than the stop's {t_stop:.3g} s", "s")
-                out.append(Dwell(interval - t_stop))
+                out.append(Dwell(interval - t_stop, speed=dwell_speed))
             else:   # the stop's time is known only from the brake's torque
-                out.append(Dwell(interval, from_start=True))
+                out.append(Dwell(interval, from_start=True, speed=dwell_speed))
     return out
 
 
 _TABLE_KEYS = {"stops": "count", "speed_from": "km/h", "speed_to": "km/h",
-               "deceleration": "m/s^2", "line_pressure": "MPa", "interval": "s", "file": "path"}
+               "deceleration": "m/s^2", "line_pressure": "MPa", "interval": "s",
+               "dwell_speed": "km/h", "file": "path"}
 
 
 def schedule_from_table(table: dict, source: str = "scene", base: Path | None = None) -> list:
@@ -135,7 +138,8 @@ def schedule_from_table(table: dict, source: str = "scene", base: Path | None = 
     Either ``file = "cycle.csv"`` (:func:`read_schedule_csv`, relative to
     ``base``) or repeated stops: ``stops``, ``speed_from``, ``speed_to``
     (default 0), one of ``deceleration`` and ``line_pressure``, and
-    optionally ``interval`` (start to start).
+    optionally ``interval`` (start to start) and ``dwell_speed`` (the speed the
+    car drives on at between the stops: the rotor's convection follows it).
     """
     where = f"{source} [schedule]"
     unknown = sorted(set(table) - set(_TABLE_KEYS))
@@ -154,10 +158,12 @@ def schedule_from_table(table: dict, source: str = "scene", base: Path | None = 
     try:
         decel = table.get("deceleration")
         p = table.get("line_pressure")
+        ds = table.get("dwell_speed")
         return repeated_stops(table["stops"], table["speed_from"] * KMH,
                               table.get("speed_to", 0.0) * KMH, decel=decel,
                               line_pressure=None if p is None else p * 1e6,
-                              interval=table.get("interval"))
+                              interval=table.get("interval"),
+                              dwell_speed=None if ds is None else ds * KMH)
     except TypeError:
         raise DutyError(f"{where}: every value must be a number ({table!r})") from None
     except DutyError as e:

@@ -57,7 +57,8 @@ _SCHEMA: dict[str, dict[str, str]] = {
                    "k_map": "path", "map_outside": "str"},
     "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
                 "T_initial": "temperature", "T_ref": "temperature",
-                "contact_conductance": "num", "mass": "str", "T_max": "temperature"},
+                "contact_conductance": "num", "mass": "str", "T_max": "temperature",
+                "convection": "str", "emissivity": "num"},
     "numerics": {"scheme": "str", "update": "str", "steps": "int", "dp_tol": "num",
                  "dh_fraction": "num", "max_dh": "length", "wear_tol": "length",
                  "stability": "num", "implicit_floor": "num", "tol": "num",
@@ -69,7 +70,8 @@ _SCHEMA: dict[str, dict[str, str]] = {
                 "axle": "str", "tyre_mu": "num"},
     # checked by brakewear.duty.schedule_from_table (its own units: km/h, m/s^2, MPa, s)
     "schedule": {"stops": "raw", "speed_from": "raw", "speed_to": "raw", "deceleration": "raw",
-                 "line_pressure": "raw", "interval": "raw", "file": "raw"},
+                 "line_pressure": "raw", "interval": "raw", "dwell_speed": "raw",
+                 "file": "raw"},
 }
 
 

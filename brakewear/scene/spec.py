@@ -208,6 +208,10 @@ class Scene:
                                           "the foundation takes no thermal-strain load (it "
                                           "would be dropped)")
         self._check_duty()
+        if self.thermal.convection != "constant" and self.rotor != "elastic":
+            raise fail("thermal.convection", f"{self.thermal.convection!r} is the convection "
+                                             "of a meshed rotor; it needs components.rotor = "
+                                             "'elastic'")
         if (self.thermal.contact_conductance or 0.0) > 0 and self.rotor != "elastic":
             raise fail("thermal.contact_conductance", "> 0 needs an elastic rotor "
                                                        "(components.rotor = 'elastic')")

@@ -193,7 +193,10 @@ class ThermalSpec:
     "auto"`` and ``contact_conductance = None`` (the defaults) resolve by the
     rotor: a meshed rotor gets the effusivity share and a contact conductance
     of 1e5 W/m^2 K, a rigid one the area-weighted effusivity share and none
-    (:class:`~brakewear.thermal.ThermalModel`).
+    (:class:`~brakewear.thermal.ThermalModel`).  ``convection = "solid"`` or
+    ``"vented"`` makes the rotor's coefficient follow its speed
+    (:meth:`brakewear.thermal.SpeedConvection.solid`, ``.vented``; the pad keeps
+    ``h_conv``); ``emissivity`` adds radiation from the convective faces.
     """
 
     enabled: bool = False
@@ -204,6 +207,8 @@ class ThermalSpec:
     contact_conductance: float | None = None
     mass: str = "consistent"
     T_max: float | None = None
+    convection: str = "constant"
+    emissivity: float | None = None
 
     def __post_init__(self):
         check_bool("thermal.enabled", self.enabled)
@@ -229,6 +234,25 @@ class ThermalSpec:
                       lo_open=False, unit="W/m^2 K", allow_none=True)
         check_choice("thermal.mass", self.mass, ("consistent", "lumped"))
         check_number("thermal.T_max", self.T_max, 0.0, unit="K", allow_none=True)
+        check_choice("thermal.convection", self.convection, ("constant", "solid", "vented"))
+        if self.convection != "constant" and isinstance(self.h_conv, Mapping) \
+                and "rotor" in self.h_conv:
+            raise fail("thermal.h_conv.rotor", f"is not allowed with thermal.convection = "
+                                                f"{self.convection!r}, which sets the rotor's "
+                                                "coefficient from its speed")
+        check_number("thermal.emissivity", self.emissivity, 0.0, 1.0, lo_open=False,
+                     allow_none=True)
+
+
+    def convection_law(self):
+        """The ``h_conv`` argument of :class:`~brakewear.thermal.ThermalModel`: the
+        scene's coefficients, the rotor's following its speed unless ``"constant"``."""
+        if self.convection == "constant":
+            return self.h_conv
+        from ..thermal.convection import SpeedConvection
+        pad = self.h_conv.get("pad", 40.0) if isinstance(self.h_conv, Mapping) else self.h_conv
+        law = SpeedConvection.solid() if self.convection == "solid" else SpeedConvection.vented()
+        return {"pad": pad, "rotor": law}
 
 
 @dataclass(frozen=True)
