@@ -1,6 +1,5 @@
 """The default heat partition on the default drag: temperatures in the range the
 energy allows, and the fixed partition of old refused by the plausibility bound."""
-import numpy as np
 import pytest
 
 from brakewear.laws import WearLaw
