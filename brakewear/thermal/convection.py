@@ -88,7 +88,7 @@ class SpeedConvection:
     @classmethod
     def solid(cls, h_static: float = 10.0) -> "SpeedConvection":
         """A solid rotor: von Karman's laminar rotating disc, ``h = 0.33 k_air
-        sqrt(omega / nu_air)`` (15.8 W/m^2 K at 55 rad/s), on top of ``h_static``."""
+        sqrt(omega / nu_air)`` (16.2 W/m^2 K at 55 rad/s), on top of ``h_static``."""
         omega_ref = 55.0
         h = 0.33 * K_AIR * np.sqrt(omega_ref / NU_AIR)
         return cls(h_static + h, omega_ref, 0.5, h_static)
