@@ -117,6 +117,9 @@ def step_figures(s: WearStep, itf, mu: float) -> dict:
         **({} if np.isnan(s.pad_temperature_max) else {
             "pad_T_max_C": s.pad_temperature_max - 273.15,
             "rotor_T_max_C": s.rotor_temperature_max - 273.15,
+            "pad_T_mean_C": s.heat["pad_T_mean"] - 273.15,
+            "rotor_T_mean_C": s.heat["rotor_T_mean"] - 273.15,
+            **{k: v for k, v in s.heat.items() if k.endswith("_W")},
             "heat_balance_error": s.heat_balance_error}),
     }
 

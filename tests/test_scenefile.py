@@ -353,6 +353,11 @@ def test_a_face_beyond_T_max_ends_the_run_with_its_figures(tmp_path):
     hot = [float(r["pad_T_max_C"]) for r in rows]
     assert 20.0 < hot[0] < hot[1] < 900.0
     assert all(float(r["heat_balance_error"]) < 1e-8 for r in rows)
+    for r in rows:      # the history's heat figures: means below maxima, heat in and out
+        assert float(r["pad_T_mean_C"]) <= float(r["pad_T_max_C"])
+        assert float(r["rotor_T_mean_C"]) <= float(r["rotor_T_max_C"])
+        assert float(r["heat_pad_W"]) > 0 and float(r["heat_rotor_W"]) > 0
+        assert float(r["convected_rotor_W"]) > 0
     th = ok["thermal"]
     assert th["settings"]["contact_conductance"] == 1e5
     assert th["final"]["pad_T_max_C"] == pytest.approx(hot[1], rel=1e-12)

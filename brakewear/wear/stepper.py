@@ -73,6 +73,8 @@ class WearStep:
     active_end: np.ndarray | None = None
     explicit: bool = False      # the implicit scheme took this step explicitly (implicit_floor)
     mu_nodes: np.ndarray | None = None   # mu per pad node in this step (a friction law's)
+    heat: dict | None = None    # thermal only: mean face temperatures (K) and the step's
+                                # heat into pad and rotor and convected from each body (W)
 
 
 def wear_history(model, line_pressure: float, omega: float, duration: float,
@@ -443,7 +445,13 @@ class _WearLoop:
             rec.pad_temperature_max = float(th.face_temperature("pad").max())
             rec.rotor_temperature_max = float(T_rot.max() if "rotor" not in th.bodies
                                               else th.face_temperature("rotor").max())
-            rec.heat_balance_error = float(th.heat_balance()["relative_error"])
+            b = th.heat_balance()
+            rec.heat_balance_error = float(b["relative_error"])
+            rec.heat = {"pad_T_mean": float(th.face_temperature("pad").mean()),
+                        "rotor_T_mean": float(T_rot.mean() if "rotor" not in th.bodies
+                                              else th.face_temperature("rotor").mean()),
+                        **{f"heat_{k}_W": v["heat_in_W"] for k, v in b["bodies"].items()},
+                        **{f"convected_{k}_W": v["convected_W"] for k, v in b["bodies"].items()}}
         return rec
 
     def finish(self, state: WearState, record: WearStep, sol, dt: float) -> None:
