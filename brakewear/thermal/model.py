@@ -38,7 +38,7 @@ T_MAX_DEFAULT = 1173.15
 #: Default contact conductance between pad and meshed rotor (W/m^2 K): large enough
 #: that the pad face follows the rotor ring under it (a sliding interface has one
 #: temperature), inside the 1e4 - 1e6 range of pad-disc interface conductances
-#: (docs/theory.md, "Heat partition").
+#: (docs/thermal.md, "A heat partition that cannot run away by default").
 H_CONTACT_DEFAULT = 1e5
 
 
