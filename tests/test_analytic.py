@@ -126,3 +126,104 @@ def test_semi_infinite_profile_surface_flux_and_energy():
     stored, _ = quad(lambda x: rho * c * an.semi_infinite_temperature(x, t, q, k, rho, c),
                      0.0, 40 * depth)
     assert stored == pytest.approx(q * t, rel=1e-8), f"stored {stored} vs q t {q * t}"
+
+
+# ======================================================================
+# A single stop: linearly falling flux on a half-space, and the bulk rise
+# ======================================================================
+
+STOP = {"q0": 1.6e6, "t_stop": 4.0, "kappa": 50.0, "rho": 7200.0, "c": 500.0}
+
+
+def _duhamel(x, t, q0, t_stop, kappa, rho, c):
+    """Duhamel's integral of the constant-flux kernel, ``int q(tau) dU/dt(x, t - tau) dtau``
+    with ``dU/dt = sqrt(a / (pi s)) exp(-x^2 / (4 a s)) / kappa``, substituted
+    ``t - tau = u^2`` to remove the ``1/sqrt(s)`` singularity."""
+    a = kappa / (rho * c)
+
+    def f(u):
+        g = np.exp(-x * x / (4 * a * u * u)) if u > 0 else float(x == 0)
+        return an.stop_flux(t - u * u, q0, t_stop) * 2 / kappa * np.sqrt(a / np.pi) * g
+
+    kink = [np.sqrt(t - t_stop)] if t > t_stop else None   # the flux's end
+    return quad(f, 0, np.sqrt(t), points=kink, limit=200, epsabs=0, epsrel=1e-12)[0]
+
+
+def test_inerfc_values_and_integrals():
+    from scipy.special import erfc, gamma
+    for n in range(5):
+        assert an.inerfc(n, 0.0) == pytest.approx(1 / (2 ** n * gamma(n / 2 + 1)), rel=1e-14)
+    z = 0.7
+    assert an.inerfc(0, z) == erfc(z)
+    assert an.inerfc(1, z) == pytest.approx(np.exp(-z * z) / np.sqrt(np.pi) - z * erfc(z),
+                                            rel=1e-14)
+    for n in (1, 2, 3):       # i^n erfc(z) = int_z^inf i^(n-1) erfc
+        integral = quad(lambda s: an.inerfc(n - 1, s), z, np.inf, epsabs=0, epsrel=1e-12)[0]
+        assert an.inerfc(n, z) == pytest.approx(integral, rel=1e-10), n
+    with pytest.raises(ValueError, match="n = -1"):
+        an.inerfc(-1, z)
+
+
+@pytest.mark.parametrize("x", [0.0, 1e-3, 5e-3, 2e-2])
+def test_stop_temperature_is_duhamels_integral(x):
+    """Inside the stop and after it (zero flux, cooling), at the surface and inside."""
+    for t in (0.3, 2.0, 4.0, 6.0, 12.0):
+        exact = _duhamel(x, t, **STOP)
+        T = an.stop_temperature(x, t, **STOP)
+        assert T == pytest.approx(exact, rel=1e-9, abs=1e-12 * STOP["q0"]), (x, t, T, exact)
+
+
+def test_stop_surface_formula_is_the_x0_limit_and_peaks_at_half_the_stop():
+    t = np.linspace(0.0, 3 * STOP["t_stop"], 301)
+    Ts = an.stop_surface_temperature(t, **STOP)
+    assert np.allclose(an.stop_temperature(0.0, t, **STOP), Ts, rtol=1e-13, atol=0)
+    # Newcomb/Limpert during the stop
+    q0, ts = STOP["q0"], STOP["t_stop"]
+    e = np.sqrt(STOP["kappa"] * STOP["rho"] * STOP["c"])
+    during = t <= ts
+    newcomb = 2 * q0 * np.sqrt(t) / (e * np.sqrt(np.pi)) * (1 - 2 * t / (3 * ts))
+    assert np.allclose(Ts[during], newcomb[during], rtol=1e-13, atol=0)
+    # the maximum: at t_s / 2, of the stated value; the grid's largest lies there
+    t_peak = an.stop_peak_time(ts)
+    peak = an.stop_peak_temperature(**STOP)
+    assert t[np.argmax(Ts)] == pytest.approx(t_peak, rel=1e-12)
+    assert an.stop_surface_temperature(t_peak, **STOP) == pytest.approx(peak, rel=1e-14)
+    h = 1e-4 * ts
+    assert an.stop_surface_temperature(t_peak + h, **STOP) < peak
+    assert an.stop_surface_temperature(t_peak - h, **STOP) < peak
+    # at constant flux (t_s -> inf) it is the constant-flux surface temperature
+    T_const = an.semi_infinite_surface_temperature(2.0, q0, STOP["kappa"], STOP["rho"],
+                                                   STOP["c"])
+    assert an.stop_surface_temperature(2.0, q0, 1e12, STOP["kappa"], STOP["rho"],
+                                       STOP["c"]) == pytest.approx(T_const, rel=1e-9)
+
+
+def test_stop_temperature_obeys_fourier_at_the_surface_and_stores_the_heat():
+    k, rho, c, ts = STOP["kappa"], STOP["rho"], STOP["c"], STOP["t_stop"]
+    depth = np.sqrt(k / (rho * c) * ts)
+    for t in (1.0, 3.0, 6.0):
+        h = 1e-6 * depth
+        dTdx = (an.stop_temperature(h, t, **STOP) - an.stop_temperature(0.0, t, **STOP)) / h
+        flux = float(an.stop_flux(t, STOP["q0"], ts))
+        assert -k * dTdx == pytest.approx(flux, rel=1e-5, abs=1e-5 * STOP["q0"]), t
+        stored = quad(lambda x: rho * c * an.stop_temperature(x, t, **STOP), 0, 40 * depth,
+                      epsabs=0, epsrel=1e-11, limit=200)[0]
+        heat = an.stop_heat(0.0, t, STOP["q0"], ts)
+        assert stored == pytest.approx(heat, rel=1e-8), (t, stored, heat)
+    assert an.stop_heat(0.0, 2 * ts, STOP["q0"], ts) == pytest.approx(STOP["q0"] * ts / 2,
+                                                                      rel=1e-14)
+    # the step's mean flux is the flux's integral over it: here its midpoint value
+    assert an.stop_heat(1.0, 1.5, STOP["q0"], ts) / 0.5 == pytest.approx(
+        float(an.stop_flux(1.25, STOP["q0"], ts)), rel=1e-14)
+    with pytest.raises(ValueError, match="t_stop = 0"):
+        an.stop_flux(1.0, STOP["q0"], 0)
+
+
+def test_bulk_temperature_rise():
+    m, c = np.array([3.9, 0.35, 0.2]), np.array([500.0, 1000.0, 460.0])
+    E = 1e5
+    dT = an.bulk_temperature_rise(E, m, c)
+    assert dT * float(m @ c) == pytest.approx(E, rel=1e-14)
+    assert an.bulk_temperature_rise(E, 2.0, 500.0) == pytest.approx(100.0, rel=1e-14)
+    with pytest.raises(ValueError, match="sum\\(m c\\) = 0"):
+        an.bulk_temperature_rise(E, 0.0, 500.0)
