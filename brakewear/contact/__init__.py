@@ -5,6 +5,9 @@
   mesh's facets are in :mod:`brakewear.mesh`);
 * :mod:`~brakewear.contact.pairs` -- :class:`ContactPair` (slave nodes against a
   master surface, with its gaps);
+* :mod:`~brakewear.contact.quadratic` -- the pairs of quadratic (P2) slave faces:
+  dual mortar coupling, and :mod:`~brakewear.contact.basis`, the transformed
+  basis their solves run in (:class:`SlaveBasis`);
 * :mod:`~brakewear.contact.elimination` -- the eliminated operator of one active set;
 * :mod:`~brakewear.contact.active_set` -- the one active-set driver (its policy and
   tuning in :class:`ActiveSetOptions`);
@@ -13,10 +16,11 @@
   through a compliant layer: the implicit wear step.
 """
 
-from . import compliant, lagrange, pairs, surface
+from . import basis, compliant, lagrange, pairs, surface
+from .basis import *  # noqa: F403
 from .compliant import *  # noqa: F403
 from .lagrange import *  # noqa: F403
 from .pairs import *  # noqa: F403
 from .surface import *  # noqa: F403
 
-__all__ = [*compliant.__all__, *lagrange.__all__, *pairs.__all__, *surface.__all__]
+__all__ = [*basis.__all__, *compliant.__all__, *lagrange.__all__, *pairs.__all__, *surface.__all__]

@@ -30,6 +30,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .active_set import COMPLIANT, ActiveSetDriver, ActiveSetOptions, Margins
+from .basis import in_slave_basis
 from .pairs import ContactPair
 
 logger = logging.getLogger(__name__)
@@ -166,8 +167,12 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                          f"shape {eps.shape}, min {np.min(eps) if eps.size else None!r}")
     if x0 is not None and np.shape(x0) != (N,):
         raise ValueError(f"x0 has shape {np.shape(x0)}; the system has {N} DOFs")
-    kappa = pair.area / eps
     fixed = np.unique(np.asarray(fixed, dtype=np.int64))
+    # a quadratic slave face: solve in its transformed unknowns, u = T u~
+    if pair.basis is not None and x0 is not None:
+        x0 = pair.basis.dof_matrix(N, inverse=True) @ np.asarray(x0, dtype=float)
+    K, f, _, (pair,), T = in_slave_basis(K, f, fixed, np.zeros(fixed.size), [pair])
+    kappa = pair.area / eps
     is_fixed = np.zeros(N, dtype=bool)
     is_fixed[fixed] = True
     # the constraint rows and friction loads without the supported DOFs: the
@@ -184,7 +189,7 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                              f"{N}")
         Kd = base.ml.levels[0].A
     else:
-        base = compliant_preconditioner(K, fixed, coords, tol)
+        base = compliant_preconditioner(K, fixed, coords, tol)   # K is already transformed
         Kd = base.ml.levels[0].A
     fd = np.where(is_fixed, 0.0, np.asarray(f, dtype=float))
     if initial_active is None:
@@ -220,7 +225,8 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                                           / fmax)}
     # the pressure: the springs' compressive force (a tension kept within the
     # band counts as no pressure: no wear, no negative Archard rate)
-    return CompliantResult(x, np.maximum(force, 0.0) / pair.area, force, g, active, info)
+    u = x if T is None else T @ x
+    return CompliantResult(u, np.maximum(force, 0.0) / pair.area, force, g, active, info)
 
 
 class _CompliantSets:
@@ -274,14 +280,19 @@ class _CompliantSets:
 
 
 def compliant_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray,
-                             tol: float = 1e-9):
+                             tol: float = 1e-9, pair: ContactPair | None = None):
     """The base AMG hierarchy of ``K`` with its supports, for
     ``solve_compliant_contact(..., solver=)``: built once per stiffness (a
-    wear history in gap-offset mode keeps it for every step)."""
+    wear history in gap-offset mode keeps it for every step).  With the
+    ``pair`` of a quadratic slave face, the hierarchy of its transformed
+    stiffness (:func:`~brakewear.contact.basis.in_slave_basis`), which is the
+    one the solve uses."""
     from ..fem.boundary import apply_dirichlet
     from ..solvers.amg import amg_solver
 
     K = K.tocsr()
     fixed = np.unique(np.asarray(fixed, dtype=np.int64))
+    if pair is not None:
+        K = in_slave_basis(K, np.zeros(K.shape[0]), fixed, np.zeros(fixed.size), [pair])[0]
     Kd, _ = apply_dirichlet(K.tobsr(blocksize=(3, 3)), np.zeros(K.shape[0]), fixed)
     return amg_solver(Kd, coords=coords, fixed=fixed, tol=tol)

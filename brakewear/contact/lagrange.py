@@ -25,6 +25,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import ActiveSetError
 from .active_set import LAGRANGE, ActiveSetDriver, ActiveSetOptions, Margins
+from .basis import in_slave_basis
 from .elimination import (
     body_labels,
     _contact_system,
@@ -129,6 +130,8 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     fvals = np.broadcast_to(np.asarray(fixed_values, dtype=float), fixed.shape)
     fixed, first = np.unique(fixed, return_index=True)
     fvals = fvals[first]
+    # quadratic slave faces: solve in their transformed unknowns, u = T u~
+    K, f, fvals, pairs, T = in_slave_basis(K, f, fixed, fvals, pairs)
     size = float(np.linalg.norm(coords.max(axis=1) - coords.min(axis=1)))
     gap_tol = 1e-10 * size if gap_tol is None else gap_tol
     if linear not in ("amg", "direct"):
@@ -154,7 +157,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
                                   "solve needs a load that presses the surfaces together.")
     flat = driver.run(problem, np.concatenate(active))
     active = problem.split(flat)
-    u, lam = problem.u, problem.split(problem.lam)
+    u, lam = problem.u, problem.split(problem.lam)   # u in the transformed unknowns
     # final state and the checks every solve must pass
     gaps = [pr.gaps(u) for pr in pairs]
     fric = [pr.traction() * l if pr.frictional else np.zeros((3, pr.slave.size))
@@ -174,6 +177,8 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     if info["min_gap"] < -max(gap_tol, 1e-10 * size):
         raise ActiveSetError(f"penetration {info['min_gap']:.3e} m exceeds the gap tolerance "
                              f"{gap_tol:.1e} m after convergence")
+    if T is not None:
+        u = T @ u
     return ContactResult(u, pressure, lam, gaps, active, fric, info)
 
 
@@ -351,6 +356,7 @@ def contact_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray
                 raise ValueError(f"{pr.name}: active has shape {a.shape}; need {pr.slave.shape}")
     is_fixed = np.zeros(N, dtype=bool)
     is_fixed[fixed] = True
+    K, _, _, pairs, _ = in_slave_basis(K, np.zeros(N), fixed, np.zeros(fixed.size), pairs)
     P, c, elim = _prolongation(N, pairs, active)
     A, _, _, dK = _contact_system(K, _dirichlet_base(K, is_fixed), np.zeros(N), pairs, active,
                                   P, c, elim, is_fixed, np.zeros(N), False)

@@ -9,6 +9,8 @@ import scipy.sparse as sp
 import skfem as fem
 
 from ..mesh.surface import surface_nodes, tributary_areas
+from .basis import SlaveBasis
+from .quadratic import dual_rigid_pair, dual_surface_pair, is_quadratic, slave_basis
 from .surface import mortar_coupling, project_nodes
 
 logger = logging.getLogger(__name__)
@@ -30,6 +32,14 @@ class ContactPair:
     traction ``mu p``; the master gets the opposite.  ``mu`` is one number or
     one per slave node (a friction law evaluated at each node's pressure, speed
     and temperature; :meth:`set_mu`).
+
+    A quadratic slave face (:mod:`~brakewear.contact.quadratic`) has its
+    nodes -- vertices and mid-edge nodes -- in a transformed displacement
+    basis: ``basis`` (:class:`~brakewear.contact.basis.SlaveBasis`; None for a
+    linear face) says how, and the solvers carry the problem into it.
+    ``area`` then holds the integrals of the transformed functions (the
+    consistent nodal loads of a unit pressure, all positive), so that
+    ``force / area`` is the nodal coefficient of the dual pressure.
     """
 
     slave: np.ndarray
@@ -40,6 +50,7 @@ class ContactPair:
     mu: float | np.ndarray = 0.0
     drag: np.ndarray | None = None
     name: str = "contact"
+    basis: SlaveBasis | None = None
 
     def __post_init__(self):
         n = self.slave.size
@@ -86,7 +97,10 @@ class ContactPair:
     def gaps(self, u: np.ndarray) -> np.ndarray:
         """Normal gap (m) at each slave node for the displacement ``u`` (DOF ``3 node + i``):
         ``g0`` plus the normal component of the slave's displacement relative to the
-        master point under it (> 0 open, < 0 penetrating)."""
+        master point under it (> 0 open, < 0 penetrating).  On a quadratic face,
+        the weak gap of each node (``u`` taken into the transformed basis)."""
+        if self.basis is not None:
+            u = self.basis.dof_matrix(u.size, inverse=True) @ u
         us = u.reshape(-1, 3)[self.slave].T
         rel = us if self.rigid else us - (self.coupling @ u.reshape(-1, 3)).T
         return self.g0 + np.einsum("ij,ij->j", self.normal, rel)
@@ -96,7 +110,7 @@ def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
                     master_mesh: fem.Mesh, master_facets, master_offset: int,
                     mu: float = 0.0, drag=None, search_radius: float | None = None,
                     exclude: np.ndarray | None = None, method: str = "segment",
-                    level: int = 2, n_nodes: int | None = None,
+                    level: int | None = None, n_nodes: int | None = None,
                     name: str = "contact") -> ContactPair:
     """A contact pair between two meshed bodies (offsets = first global node of each).
 
@@ -110,12 +124,28 @@ def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
     vertex indices of the slave mesh to leave out (e.g. nodes with supported
     normal DOFs); ``n_nodes`` is the global node
     count (default: just enough for the master).
+
+    A quadratic slave mesh (``MeshTet2``) gets the dual mortar pair of
+    :mod:`~brakewear.contact.quadratic` whatever ``method`` says (its slave
+    nodes are the face's vertices and mid-edge nodes; ``level`` subdivides
+    its quadrature, 2 by default: 112 points per slave facet); a linear slave
+    face against a quadratic master is refused.
     """
     if method not in ("node", "segment"):
         raise ValueError(f"{name}: method = {method!r}; allowed: 'node', 'segment'")
-    slave = surface_nodes(slave_mesh, slave_facets)
-    N = (max(master_offset + master_mesh.nvertices, slave_offset + slave_mesh.nvertices)
+    N = (max(master_offset + master_mesh.p.shape[1], slave_offset + slave_mesh.p.shape[1])
          if n_nodes is None else n_nodes)
+    if is_quadratic(slave_mesh):
+        q = dual_surface_pair(slave_mesh, slave_facets, master_mesh, master_facets,
+                              master_mesh.p.shape[1], 2 if level is None else level,
+                              search_radius)
+        W = sp.csr_matrix((q["W"].data, q["W"].indices + master_offset, q["W"].indptr),
+                          shape=(q["slave"].size, N))
+        return _quadratic_pair(slave_mesh, q, slave_offset, W, exclude, mu, drag, name)
+    if is_quadratic(master_mesh):
+        raise ValueError(f"{name}: a linear slave face against a quadratic master is not "
+                         "supported; make the quadratic body the slave or use one order")
+    slave = surface_nodes(slave_mesh, slave_facets)
     x = slave_mesh.p[:, slave]
     pr = project_nodes(x, master_mesh, master_facets, search_radius=search_radius)
     if method == "node":
@@ -126,7 +156,8 @@ def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
         g0 = pr.gap
     else:
         W, g0, area = mortar_coupling(slave_mesh, slave_facets, slave, master_mesh, master_facets,
-                                      master_mesh.nvertices, level, search_radius)
+                                      master_mesh.nvertices, 2 if level is None else level,
+                                      search_radius)
         W = sp.csr_matrix((W.data, W.indices + master_offset, W.indptr), shape=(slave.size, N))
     if exclude is not None:
         keep = ~np.isin(slave, exclude)
@@ -138,16 +169,22 @@ def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
 
 def pair_to_rigid(slave_mesh: fem.Mesh, slave_facets, slave_offset: int, height,
                   side: int = 1, mu: float = 0.0, drag=None,
-                  exclude: np.ndarray | None = None, name: str = "rigid contact") -> ContactPair:
+                  exclude: np.ndarray | None = None, name: str = "rigid contact",
+                  level: int = 1) -> ContactPair:
     """A contact pair against a rigid surface ``z = height(x, y)``.
 
     ``side = +1``: the rigid body lies below the surface (normal +z);
     ``side = -1``: above it (normal -z).  Gaps are measured along z, the
     small-slope approximation that Hertz theory also makes.  ``exclude``
-    lists vertex indices of the slave mesh to leave out.
+    lists node indices of the slave mesh to leave out.  A quadratic slave
+    mesh gets the dual mortar pair of :mod:`~brakewear.contact.quadratic`
+    (weak gaps integrated on ``4**level`` sub-triangles per facet).
     """
     if side not in (1, -1):
         raise ValueError(f"{name}: side = {side!r}; allowed: +1 (rigid below), -1 (rigid above)")
+    if is_quadratic(slave_mesh):
+        q = dual_rigid_pair(slave_mesh, slave_facets, height, side, level)
+        return _quadratic_pair(slave_mesh, q, slave_offset, None, exclude, mu, drag, name)
     slave = surface_nodes(slave_mesh, slave_facets)
     area = tributary_areas(slave_mesh, slave_facets, slave)
     if exclude is not None:
@@ -159,6 +196,19 @@ def pair_to_rigid(slave_mesh: fem.Mesh, slave_facets, slave_offset: int, height,
     g0 = side * (x[2] - np.asarray(height(x[0], x[1]), dtype=float))
     d = _unit_tangential(drag(x), normal) if mu > 0 else None
     return ContactPair(slave + slave_offset, area, normal, g0, None, mu, d, name)
+
+
+def _quadratic_pair(slave_mesh, q: dict, offset: int, W, exclude, mu, drag,
+                    name: str) -> ContactPair:
+    """The :class:`ContactPair` of a quadratic face's dual mortar arrays ``q``."""
+    slave, area, g0, normal = q["slave"], q["area"], q["g0"], q["normal"]
+    if exclude is not None:
+        keep = ~np.isin(slave, exclude)
+        slave, area, g0, normal = slave[keep], area[keep], g0[keep], normal[:, keep]
+        W = None if W is None else W[keep]
+    d = _unit_tangential(drag(slave_mesh.p[:, slave]), normal) if mu > 0 else None
+    return ContactPair(slave + offset, area, normal, g0, W, mu, d, name,
+                       basis=slave_basis(q["nodes"], offset))
 
 
 def _unit_tangential(v: np.ndarray, n: np.ndarray) -> np.ndarray:

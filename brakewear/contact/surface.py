@@ -107,8 +107,9 @@ def tie_prolongation(n_nodes: int, slave: np.ndarray, master_nodes: np.ndarray,
     """Node-level prolongation of a tie: ``u_node = P u_retained``.
 
     ``slave`` (n,) are eliminated nodes (global numbering); ``master_nodes``
-    (3, n) and ``weights`` (3, n) express each slave as a combination of
-    master nodes, which must not be slaves themselves.  Returns ``P``
+    (k, n) and ``weights`` (k, n) express each slave as a combination of
+    master nodes (k = 3 on a linear face, 6 on a quadratic one), which must
+    not be slaves themselves.  Returns ``P``
     (n_nodes x n_retained) and the retained node indices.  The vector
     prolongation for DOFs ``3 s + i`` is ``kron(P, I3)``.
     """
@@ -121,7 +122,7 @@ def tie_prolongation(n_nodes: int, slave: np.ndarray, master_nodes: np.ndarray,
     retained = np.nonzero(~is_slave)[0]
     col = -np.ones(n_nodes, dtype=np.int64)
     col[retained] = np.arange(retained.size)
-    rows = np.concatenate([retained, np.repeat(slave, 3)])
+    rows = np.concatenate([retained, np.repeat(slave, master_nodes.shape[0])])
     cols = np.concatenate([np.arange(retained.size), col[master_nodes.T.ravel()]])
     vals = np.concatenate([np.ones(retained.size), weights.T.ravel()])
     P = sp.csr_matrix((vals, (rows, cols)), shape=(n_nodes, retained.size))

@@ -12,7 +12,12 @@ import skfem as fem
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["facet_normals", "surface_nodes", "tributary_areas"]
+__all__ = ["facet_normals", "surface_nodes", "tributary_areas", "is_quadratic",
+           "quadratic_faces", "face_nodes"]
+
+
+#: the mid-edge nodes of a quadratic facet, between its vertices (0, 1), (1, 2), (0, 2)
+FACE_EDGES = ((0, 1), (1, 2), (0, 2))
 
 
 def facet_normals(mesh: fem.Mesh, facets: np.ndarray) -> np.ndarray:
@@ -52,3 +57,35 @@ def tributary_areas(mesh: fem.Mesh, facets, nodes: np.ndarray | None = None) -> 
     if nodes is None:
         nodes = np.unique(f)
     return acc[nodes]
+
+
+def is_quadratic(mesh: fem.Mesh) -> bool:
+    """Whether the mesh carries mid-edge nodes (``MeshTet2``: P2)."""
+    return isinstance(mesh, fem.MeshTet2)
+
+
+def quadratic_faces(mesh: fem.Mesh, facets) -> np.ndarray:
+    """Nodes (6, nf) of quadratic facets: the three vertices of ``mesh.facets`` in
+    their order, then the mid-edge nodes of edges (0, 1), (1, 2), (0, 2)
+    (:data:`FACE_EDGES`) as scalar DOF numbers (edge ``e`` is node
+    ``nvertices + e``, column of ``mesh.p``)."""
+    if isinstance(facets, str):
+        facets = mesh.boundaries[facets]
+    f = mesh.facets[:, np.asarray(facets)]
+    nv = mesh.nvertices
+    e = np.sort(mesh.edges, axis=0)
+    keys = e[0].astype(np.int64) * nv + e[1]
+    order = np.argsort(keys)
+    out = [f[0], f[1], f[2]]
+    for a, b in FACE_EDGES:
+        k = np.minimum(f[a], f[b]).astype(np.int64) * nv + np.maximum(f[a], f[b])
+        out.append(nv + order[np.searchsorted(keys, k, sorter=order)])
+    return np.vstack(out)
+
+
+def face_nodes(mesh: fem.Mesh, facets) -> np.ndarray:
+    """Sorted node numbers of named facets (or facet indices): their vertices
+    (:func:`surface_nodes`) and, on a quadratic mesh, their mid-edge nodes too."""
+    if not is_quadratic(mesh):
+        return surface_nodes(mesh, facets)
+    return np.unique(quadratic_faces(mesh, facets))

@@ -1,0 +1,256 @@
+"""Contact of quadratic (P2) faces: dual mortar coupling in the transformed basis.
+
+Why this formulation.  On a 6-node triangle the vertex shape functions
+integrate to zero, so node-to-surface contact with lumped nodal areas has no
+area at the vertices and nodal multipliers there take either sign; the
+patch test fails.  Of the remedies, the one that keeps brakewear's active-set
+solver as it is -- every active slave node's normal DOF eliminated on its own,
+the reduced operator SPD for AMG -- is the dual mortar method with the
+quadratic basis transformation of Popp, Wohlmuth, Gee and Wall (SIAM J. Sci.
+Comput. 34, 2012):
+
+1. the slave face's displacement basis is transformed so that every nodal
+   integral is positive (:mod:`~brakewear.contact.basis`, ``alpha = 1/5``);
+2. the pressure is a *dual* multiplier ``p_h = sum_j p_j psi_j``, built per
+   slave triangle from the transformed functions so that
+   ``int psi_j phi~_k dA = delta_jk D_j``, ``D_j = int phi~_j dA > 0``;
+3. the weak gap of node ``j``, ``int psi_j g dA``, then involves the slave's
+   own unknown only: ``D_j (g0_j + n_j . (u~_j - sum_m W_jm u_m))`` with
+   ``W_jm = int psi_j N_m dA / D_j`` over the master's shape functions ``N_m``
+   (linear or quadratic) at the projections of the quadrature points, and
+   ``g0_j = int psi_j g0 dA / D_j``.
+
+That is exactly the form of a :class:`~brakewear.contact.ContactPair` (area
+``D_j``, coupling ``W``, gap ``g0``), so the node-wise elimination, friction
+and the compliant (wear) solve apply unchanged in the transformed unknowns;
+the nodal contact force is ``D_j p_j``.  The coupling reproduces constants
+(``W`` rows sum to one, ``sum_j D_j W_jm = int N_m``): a uniform pressure loads
+the master with its consistent nodal forces, and the weak gap is exact for
+a gap that is quadratic on each slave triangle.  A mortar method with
+piecewise-linear multipliers on the subdivided faces (positive weights too)
+would give a non-diagonal ``D``, which the node-wise elimination cannot take.
+
+Integrals use a 7-point degree-5 rule on each of the ``4**level``
+sub-triangles of a slave triangle (exact for the mass matrix of a flat face;
+the sub-triangles resolve the master's element edges on non-matching meshes).
+Curved (isoparametric) faces are integrated with their own Jacobian; the
+master is searched by its vertex triangles and evaluated with its own shape
+functions.
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import scipy.sparse as sp
+import skfem as fem
+
+from ..mesh.surface import FACE_EDGES as _EDGES
+from ..mesh.surface import is_quadratic, quadratic_faces
+from .basis import ALPHA, SlaveBasis
+from .surface import Projection, project_nodes
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["tri6", "transformed", "face_quadrature", "quadratic_face_areas", "face_values",
+           "dual_surface_pair", "dual_rigid_pair", "slave_basis"]
+
+
+# 7-point, degree-5 rule on a triangle (barycentric points, weights summing to one)
+_A, _B = (6 - np.sqrt(15)) / 21, (6 + np.sqrt(15)) / 21
+_RULE_L = np.array([[1 / 3, 1 - 2 * _A, _A, _A, 1 - 2 * _B, _B, _B],
+                    [1 / 3, _A, 1 - 2 * _A, _A, _B, 1 - 2 * _B, _B],
+                    [1 / 3, _A, _A, 1 - 2 * _A, _B, _B, 1 - 2 * _B]])
+_RULE_W = np.array([9 / 40] + [(155 - np.sqrt(15)) / 1200] * 3 + [(155 + np.sqrt(15)) / 1200] * 3)
+
+
+def tri6(lam: np.ndarray) -> np.ndarray:
+    """Standard 6-node shape functions (6, ...) at barycentric points ``lam`` (3, ...)."""
+    l0, l1, l2 = lam
+    return np.stack([l0 * (2 * l0 - 1), l1 * (2 * l1 - 1), l2 * (2 * l2 - 1),
+                     4 * l0 * l1, 4 * l1 * l2, 4 * l0 * l2])
+
+
+def _tri6_derivatives(lam: np.ndarray) -> np.ndarray:
+    """d N / d(xi, eta) (2, 6, nq) with ``lam = (1 - xi - eta, xi, eta)``."""
+    l0, l1, l2 = lam
+    z = np.zeros_like(l0)
+    dxi = np.stack([1 - 4 * l0, 4 * l1 - 1, z, 4 * (l0 - l1), 4 * l2, -4 * l2])
+    deta = np.stack([1 - 4 * l0, z, 4 * l2 - 1, -4 * l1, 4 * l1, 4 * (l0 - l2)])
+    return np.stack([dxi, deta])
+
+
+def transformed(N: np.ndarray, alpha: float = ALPHA) -> np.ndarray:
+    """The transformed functions ``phi~`` (6, ...) from the standard ones (6, ...)."""
+    out = np.empty_like(N)
+    for v in range(3):
+        out[v] = N[v] + alpha * sum(N[3 + k] for k, ab in enumerate(_EDGES) if v in ab)
+    out[3:] = (1.0 - 2.0 * alpha) * N[3:]
+    return out
+
+
+def _subdivided_rule(level: int) -> tuple[np.ndarray, np.ndarray]:
+    """Barycentric points (3, nq) and weights (nq,) summing to one: the 7-point
+    rule on each of the ``4**level`` congruent sub-triangles."""
+    m = 2 ** level
+    tris = []
+    for i in range(m):
+        for j in range(m - i):
+            tris.append(((i, j), (i + 1, j), (i, j + 1)))
+            if i + j < m - 1:
+                tris.append(((i + 1, j), (i + 1, j + 1), (i, j + 1)))
+    pts = []
+    for tri in tris:
+        c = np.array(tri, dtype=float).T / m          # (xi, eta) of the corners (2, 3)
+        xy = c @ _RULE_L                              # (2, 7)
+        pts.append(np.vstack([1 - xy[0] - xy[1], xy]))
+    return np.hstack(pts), np.tile(_RULE_W, len(tris)) / len(tris)
+
+
+def face_quadrature(mesh: fem.Mesh, facets, level: int = 1, alpha: float = ALPHA) -> dict:
+    """Quadrature of quadratic facets and their transformed and dual functions.
+
+    Returns a dict: ``nodes`` (6, nf), ``x`` (3, nf, nq) points, ``w`` (nf, nq)
+    weights (area), ``lam`` (3, nq) barycentric points, ``phi`` (6, nq)
+    transformed functions, ``psi`` (6, nf, nq) dual functions and ``D`` (6, nf)
+    the element integrals of ``phi~``.
+    """
+    nodes = quadratic_faces(mesh, facets)
+    X = mesh.p[:, nodes]                                          # (3, 6, nf)
+    lam, wr = _subdivided_rule(level)
+    N = tri6(lam)
+    dN = _tri6_derivatives(lam)                                   # (2, 6, nq)
+    x = np.einsum("akf,kq->afq", X, N)
+    t = np.einsum("akf,dkq->dafq", X, dN)                         # tangents (2, 3, nf, nq)
+    jac = np.linalg.norm(np.cross(t[0], t[1], axis=0), axis=0)    # (nf, nq), 2 x area scale
+    w = 0.5 * jac * wr
+    phi = transformed(N, alpha)
+    M = np.einsum("iq,jq,fq->fij", phi, phi, w)
+    D = M.sum(axis=2)                                             # (nf, 6)
+    if np.any(D <= 0):
+        raise ValueError(f"a quadratic facet has a non-positive basis integral "
+                         f"({D.min():.3g}): the face is too distorted for alpha = {alpha}")
+    A = D[:, :, None] * np.linalg.inv(M)                          # psi = A phi~ per facet
+    psi = np.einsum("fij,jq->ifq", A, phi)
+    return {"nodes": nodes, "x": x, "w": w, "lam": lam, "phi": phi, "psi": psi, "D": D.T}
+
+
+def _slave_numbering(nodes: np.ndarray):
+    slave = np.unique(nodes)
+    col = -np.ones(int(nodes.max()) + 1, dtype=np.int64)
+    col[slave] = np.arange(slave.size)
+    return slave, col[nodes]
+
+
+def _basis(nodes: np.ndarray, offset: int, alpha: float) -> SlaveBasis:
+    """The face's :class:`SlaveBasis` in global numbering (each mid-edge node once)."""
+    edge = nodes[3:].ravel()
+    ends = np.vstack([nodes[[a for a, _ in _EDGES]].ravel(), nodes[[b for _, b in _EDGES]].ravel()])
+    edge, first = np.unique(edge, return_index=True)
+    return SlaveBasis(edge + offset, ends[:, first] + offset, alpha)
+
+
+def quadratic_face_areas(mesh: fem.Mesh, facets, alpha: float = ALPHA):
+    """``(nodes, D)``: the face's nodes (vertices and mid-edge nodes, sorted) and
+    the integrals of their transformed functions (m^2, all positive, summing
+    to the face's area)."""
+    q = face_quadrature(mesh, facets, level=0, alpha=alpha)
+    slave, local = _slave_numbering(q["nodes"])
+    return slave, np.bincount(local.ravel(), weights=q["D"].ravel(), minlength=slave.size)
+
+
+def _assemble(q: dict, local: np.ndarray, ns: int, cols: np.ndarray, vals: np.ndarray,
+              n_cols: int) -> sp.csr_matrix:
+    """``sum_q psi_j(q) w(q) vals_b(q)`` into (ns, n_cols) at ``cols_b(q)``: rows are
+    the slave nodes ``j`` of each point's facet, ``cols``/``vals`` (k, nf, nq)."""
+    out = sp.csr_matrix((ns, n_cols))
+    pw = q["psi"] * q["w"]                                        # (6, nf, nq)
+    for j in range(6):
+        r = np.broadcast_to(local[j][:, None], pw.shape[1:])
+        rows = np.broadcast_to(r, vals.shape).ravel()
+        out = out + sp.csr_matrix(((pw[j] * vals).ravel(), (rows, cols.ravel())),
+                                  shape=(ns, n_cols))
+    return out.tocsr()
+
+
+def face_values(master_mesh: fem.Mesh, master_facets, pr: Projection
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Master nodes (k, n), shape-function values (k, n) and the master point (3, n)
+    under projected points ``pr`` (:class:`~brakewear.contact.Projection`):
+    k = 3 for a linear master, 6 for a quadratic one (its own curved geometry).
+    A tie of a quadratic face interpolates with these."""
+    if not is_quadratic(master_mesh):
+        x = np.einsum("kn,akn->an", pr.weights, master_mesh.p[:, pr.nodes])
+        return pr.nodes, pr.weights, x
+    if isinstance(master_facets, str):
+        master_facets = master_mesh.boundaries[master_facets]
+    facets = np.asarray(master_facets)
+    where = np.full(master_mesh.facets.shape[1], -1, dtype=np.int64)
+    where[facets] = np.arange(facets.size)
+    nodes = quadratic_faces(master_mesh, facets)[:, where[pr.facet]]
+    N = tri6(pr.weights)
+    return nodes, N, np.einsum("kn,akn->an", N, master_mesh.p[:, nodes])
+
+
+def _projected(points: np.ndarray, mesh: fem.Mesh, facets, search_radius,
+               chunk: int = 40_000) -> Projection:
+    """:func:`~brakewear.contact.project_nodes` in chunks of points (its candidate
+    arrays grow with points x candidates)."""
+    parts = [project_nodes(points[:, i:i + chunk], mesh, facets, search_radius=search_radius)
+             for i in range(0, points.shape[1], chunk)]
+    if len(parts) == 1:
+        return parts[0]
+    return Projection(*(np.concatenate([getattr(pt, k) for pt in parts], axis=-1)
+                        for k in ("facet", "nodes", "weights", "gap", "normal", "distance")))
+
+
+def dual_surface_pair(slave_mesh: fem.Mesh, slave_facets, master_mesh: fem.Mesh, master_facets,
+                      n_master_nodes: int, level: int = 2, search_radius: float | None = None,
+                      alpha: float = ALPHA) -> dict:
+    """The dual mortar pair of a quadratic slave face against a meshed master (see the module).
+
+    Returns a dict in the meshes' own numbering: ``slave`` (face nodes, sorted),
+    ``area`` (``D_j``), ``g0`` (weak gap), ``W`` (ns x ``n_master_nodes``), ``normal``
+    (the master's normal under each slave node) and ``nodes`` (6, nf).
+    """
+    q = face_quadrature(slave_mesh, slave_facets, level, alpha)
+    slave, local = _slave_numbering(q["nodes"])
+    ns = slave.size
+    nf, nq = q["w"].shape
+    pr = _projected(q["x"].reshape(3, -1), master_mesh, master_facets, search_radius)
+    mnodes, mvals, xm = face_values(master_mesh, master_facets, pr)
+    k = mnodes.shape[0]
+    gap = np.einsum("an,an->n", pr.normal, q["x"].reshape(3, -1) - xm).reshape(1, nf, nq)
+    D = np.bincount(local.ravel(), weights=q["D"].ravel(), minlength=ns)
+    W = _assemble(q, local, ns, mnodes.reshape(k, nf, nq), mvals.reshape(k, nf, nq),
+                  n_master_nodes)
+    g0 = _assemble(q, local, ns, np.zeros((1, nf, nq), dtype=np.int64), gap, 1)
+    normal = project_nodes(slave_mesh.p[:, slave], master_mesh, master_facets,
+                           search_radius=search_radius).normal
+    return {"slave": slave, "area": D, "g0": g0.toarray().ravel() / D,
+            "W": (sp.diags(1.0 / D) @ W).tocsr(), "normal": normal, "nodes": q["nodes"]}
+
+
+def dual_rigid_pair(slave_mesh: fem.Mesh, slave_facets, height, side: int, level: int = 1,
+                    alpha: float = ALPHA) -> dict:
+    """The dual mortar pair of a quadratic slave face against the rigid surface
+    ``z = height(x, y)`` (gaps along z, ``side`` as in
+    :func:`~brakewear.contact.pair_to_rigid`); the dict of :func:`dual_surface_pair`
+    without ``W``."""
+    q = face_quadrature(slave_mesh, slave_facets, level, alpha)
+    slave, local = _slave_numbering(q["nodes"])
+    ns = slave.size
+    x = q["x"]
+    gap = side * (x[2] - np.asarray(height(x[0], x[1]), dtype=float))
+    D = np.bincount(local.ravel(), weights=q["D"].ravel(), minlength=ns)
+    g0 = _assemble(q, local, ns, np.zeros((1,) + gap.shape, dtype=np.int64), gap[None], 1)
+    normal = np.zeros((3, ns))
+    normal[2] = side
+    return {"slave": slave, "area": D, "g0": g0.toarray().ravel() / D, "normal": normal,
+            "nodes": q["nodes"]}
+
+
+def slave_basis(nodes: np.ndarray, offset: int, alpha: float = ALPHA) -> SlaveBasis:
+    """The :class:`~brakewear.contact.basis.SlaveBasis` of facets ``nodes`` (6, nf),
+    in global numbers (``offset`` = the slave body's first global node)."""
+    return _basis(nodes, offset, alpha)
