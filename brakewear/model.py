@@ -7,7 +7,11 @@ the backplate or just a traction over its footprint, and the pad is tied to
 the rotor.  This is the ground floor the contact and wear loops stand on.
 
 Global numbering: the scalar DOFs of the bodies are stacked in the order of
-``bodies``; vector DOF ``3 s + i`` as everywhere in brakewear.
+``bodies``; vector DOF ``3 s + i`` as everywhere in brakewear.  With quadratic
+meshes (``order=2``) a body's nodes are its vertices and then its mid-edge
+nodes (the columns of ``mesh.p``); the pad's friction face is then the slave
+face of a dual mortar contact pair (:mod:`brakewear.contact.quadratic`) and
+the contact system is set in its transformed unknowns.
 """
 from __future__ import annotations
 
@@ -22,7 +26,9 @@ import scipy.sparse as sp
 
 from .checks import check_plausible
 from .contact.lagrange import solve_contact
+from .contact.basis import check_supports
 from .contact.pairs import ContactPair, pair_to_rigid, pair_to_surface
+from .contact.quadratic import face_values, quadratic_face_areas, slave_basis
 from .contact.surface import project_nodes, tie_prolongation
 from .errors import SceneError
 from .fem.assembly import BlockPattern, assemble_stiffness
@@ -39,7 +45,7 @@ from .mesh.brake import (
 )
 from .mesh.estimate import check_model_size
 from .mesh.io import read_body_mesh
-from .mesh.surface import surface_nodes, tributary_areas
+from .mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from .solvers.amg import amg_solver
 
 logger = logging.getLogger(__name__)
@@ -119,9 +125,9 @@ class BrakeModel:
         self.rotor = rotor
         self.geometry = geometry if isinstance(geometry, BrakeGeometry) else load_geometry(geometry)
         order = self.geometry.mesh.order if order is None else order
-        if order != 1:
-            raise SceneError(f"order = {order}: tied pad-rotor interfaces support P1 meshes only "
-                             "(order = 1); P2 is available for single bodies")
+        if isinstance(order, bool) or order not in (1, 2):
+            raise SceneError(f"order = {order!r} is not allowed; allowed: 1, 2")
+        self.order = int(order)
         self.piston = piston
         # a rigid rotor is the plane z = 0, not a mesh
         self.bodies = (("rotor",) if rotor == "elastic" else ()) + ("pad",) + (
@@ -134,17 +140,21 @@ class BrakeModel:
                  for b, m in (meshes or {}).items()}
         check_model_size(self.geometry, size, rotor, piston, key="size", unit="m",
                          budget_gb=memory_budget, budget_key="memory_budget",
-                         nodes={b: m.nvertices for b, m in given.items()})
+                         nodes={b: m.p.shape[1] for b, m in given.items()}, order=order)
         t0 = time.perf_counter()
         self.meshes = {b: given[b] if b in given else
                        _MESHERS[b](self.geometry, size=size, order=order) for b in self.bodies}
+        wrong = [b for b, m in self.meshes.items() if is_quadratic(m) != (self.order == 2)]
+        if wrong:
+            raise SceneError(f"meshes: the {wrong[0]} mesh is not of order {self.order}; every "
+                             "body of a model has the model's order")
         mats = component_materials(self.geometry)
         self.materials = {b: element_materials(self.meshes[b], mats[b]) for b in self.bodies}
         self.timings = {"mesh_s": time.perf_counter() - t0}
         offs, n = {}, 0
         for b in self.bodies:
             offs[b] = n
-            n += self.meshes[b].nvertices
+            n += self.meshes[b].p.shape[1]
         self.offsets, self.n_nodes = offs, n
         self._K: dict[str, sp.spmatrix] = {}
         self._patterns: dict[str, BlockPattern] = {}
@@ -207,10 +217,11 @@ class BrakeModel:
             pairs.append(("piston", "piston_face", "pad", "back"))
         for sb, sf, mb, mf in pairs:
             smesh, mmesh = self.meshes[sb], self.meshes[mb]
-            slave = surface_nodes(smesh, sf)
+            slave = face_nodes(smesh, sf)
             proj = project_nodes(smesh.p[:, slave], mmesh, mf,
                                  search_radius=0.5 * self.geometry.mesh.size + 1e-9)
-            out.append((slave + self.offsets[sb], proj.nodes + self.offsets[mb], proj.weights))
+            nodes, weights, _ = face_values(mmesh, mf, proj)
+            out.append((slave + self.offsets[sb], nodes + self.offsets[mb], weights))
         return out
 
     def loads(self, line_pressure: float) -> np.ndarray:
@@ -221,7 +232,11 @@ class BrakeModel:
             m, name, body = self.meshes["piston"], "piston_back", "piston"
         else:
             m, name, body = self.meshes["pad"], "piston_face", "pad"
-        area = tributary_areas(m, name).sum()
+        if is_quadratic(m):
+            # curved (isoparametric) facets: the area the traction is integrated over
+            area = -assemble_traction(m, name, (0.0, 0.0, -1.0))[2::3].sum()
+        else:
+            area = tributary_areas(m, name).sum()
         fb = assemble_traction(m, name, (0.0, 0.0, -F / area))
         f[3 * self.offsets[body]:3 * self.offsets[body] + fb.size] = fb
         return f
@@ -237,7 +252,7 @@ class BrakeModel:
             pm = self.meshes["piston"]
             side = boundary_dofs(pm, "piston_side", [0, 1])
             # the rim of the piston face is tied to the backplate, not guided
-            side = side[~np.isin(side // 3, surface_nodes(pm, "piston_face"))]
+            side = side[~np.isin(side // 3, face_nodes(pm, "piston_face"))]
             parts.append(self._gdofs("piston", side))
         return np.unique(np.concatenate(parts))
 
@@ -280,7 +295,7 @@ class BrakeModel:
         t0 = time.perf_counter()
         K, P, retained, col = self._reduced(tie_interface=True)
         f = self.loads(line_pressure)
-        pad_nodes = surface_nodes(self.meshes["pad"], "friction")
+        pad_nodes = face_nodes(self.meshes["pad"], "friction")
         extra = None
         if self.rotor == "rigid":
             extra = (3 * (pad_nodes + self.offsets["pad"])[:, None] + np.arange(3)).ravel()
@@ -292,9 +307,7 @@ class BrakeModel:
         t2 = time.perf_counter()
         u = P @ ur
         # reaction (constraint) forces on the pad's friction nodes = interface forces
-        glob = pad_nodes + self.offsets["pad"]
-        r = (K @ u - f).reshape(-1, 3)[glob].T
-        area = tributary_areas(self.meshes["pad"], "friction", pad_nodes)
+        pad_nodes, r, area = self._friction_forces(K @ u - f)
         F = line_pressure * self.geometry.piston.hydraulic_area
         res = StaticResult(
             u=self._split(u), interface_nodes=pad_nodes, interface_force=r,
@@ -311,8 +324,22 @@ class BrakeModel:
         return res
 
     def _split(self, u: np.ndarray) -> dict:
-        return {b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].nvertices)]
+        return {b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].p.shape[1])]
                 for b in self.bodies}
+
+    def _friction_forces(self, r: np.ndarray):
+        """The pad's friction nodes, the nodal forces (3, n) of the residual ``r``
+        (all DOFs) on them and their areas.  On a quadratic face, in the
+        transformed basis of its contact pair (:mod:`brakewear.contact.basis`):
+        there a uniform pressure gives every node its share of the area."""
+        pad, off = self.meshes["pad"], self.offsets["pad"]
+        nodes = face_nodes(pad, "friction")
+        if is_quadratic(pad):
+            r = slave_basis(quadratic_faces(pad, "friction"), off).dof_matrix(r.size).T @ r
+            area = quadratic_face_areas(pad, "friction")[1]
+        else:
+            area = tributary_areas(pad, "friction", nodes)
+        return nodes, r.reshape(-1, 3)[nodes + off].T, area
 
     def contact_pair(self, mu: float = 0.0, method: str = "segment",
                      search_radius: float | None = None) -> ContactPair:
@@ -349,6 +376,12 @@ class BrakeModel:
         K, P, retained, col = self._reduced(tie_interface=False)
         f = self.loads(line_pressure)
         pair = self.contact_pair(mu, method, search_radius)
+        if pair.basis is not None:
+            # a quadratic friction face: the system in its transformed unknowns, u = T P x
+            T = pair.basis.dof_matrix(self.dofs)
+            check_supports(pair.basis.dof_matrix(self.dofs, inverse=True), self.fixed_dofs())
+            P = (T @ P).tocsr()
+            pair.basis = None
         pair.slave = col[pair.slave]
         if pair.coupling is not None:
             pair.coupling = pair.coupling[:, retained].tocsr()
@@ -381,7 +414,7 @@ class BrakeModel:
         logger.info("contact solve: %d DOFs, %d active-set iterations", self.dofs,
                     cres.info["active_set_iterations"])
         return StaticResult(u=self._split(u),
-                            interface_nodes=surface_nodes(self.meshes["pad"], "friction"),
+                            interface_nodes=face_nodes(self.meshes["pad"], "friction"),
                             interface_force=force, interface_pressure=cres.pressure[0],
                             clamp_force=cs.clamp_force, info=info, active=cres.active[0])
 
@@ -412,12 +445,12 @@ class BrakeModel:
                 "force_balance_error": abs(result.normal_force - result.clamp_force)
                 / result.clamp_force,
                 "pressure_max_Pa": float(p.max()), "pressure_mean_Pa": float(
-                    fz.sum() / tributary_areas(pad, "friction", result.interface_nodes).sum()),
+                    fz.sum() / tributary_areas(pad, "friction").sum()),
                 "pressure_min_Pa": float(p.min()),
                 "centre_of_pressure_r_m": float((fz * r).sum() / fz.sum()),
                 "centre_of_pressure_theta_deg": float(np.degrees((fz * th).sum() / fz.sum())),
             },
-            "bodies": {b: {"nodes": int(self.meshes[b].nvertices),
+            "bodies": {b: {"nodes": int(self.meshes[b].p.shape[1]),
                            "elements": int(self.meshes[b].nelements),
                            "max_displacement_m": float(np.abs(result.u[b]).max()),
                            "max_von_mises_Pa": float(vm[b].max())} for b in self.bodies},

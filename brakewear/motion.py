@@ -31,7 +31,8 @@ import skfem as fem
 from .contact.surface import mortar_coupling, project_nodes
 from .errors import MeshQualityError
 from .fem.assembly import assemble_stiffness, stiffness_update
-from .mesh.surface import facet_normals, surface_nodes, tributary_areas
+from .mesh.surface import (facet_normals, is_quadratic, quadratic_faces, surface_nodes,
+                           tributary_areas)
 from .mesh.topology import facet_indices, keep_topology
 
 logger = logging.getLogger(__name__)
@@ -142,7 +143,8 @@ def surface_element_height(mesh: fem.Mesh, facets) -> np.ndarray:
     For every facet of the set, the height of its element over it (the
     distance from the opposite vertex, ``3 V / A``); per surface node the
     smallest over its facets.  Returned in the order of
-    :func:`brakewear.mesh.surface_nodes`.  A wear step should move a node
+    :func:`brakewear.mesh.surface.face_nodes` (on a quadratic mesh the
+    mid-edge nodes too).  A wear step should move a node
     by a fraction of this, so that the first layer never collapses.
     """
     facets = facet_indices(mesh, facets)
@@ -152,8 +154,10 @@ def surface_element_height(mesh: fem.Mesh, facets) -> np.ndarray:
                                          axis=0), axis=0)
     vol = np.abs(element_volumes(mesh))[mesh.f2t[0, facets]]
     hf = 3.0 * vol / area
-    out = np.full(mesh.nvertices, np.inf)
-    for a in range(3):
+    if is_quadratic(mesh):              # every node of a quadratic facet, mid-edge ones too
+        f = quadratic_faces(mesh, facets)
+    out = np.full(mesh.p.shape[1], np.inf)
+    for a in range(f.shape[0]):
         np.minimum.at(out, f[a], hf)
     return out[np.unique(f)]
 
@@ -324,6 +328,10 @@ class BrakeMotion:
         if not (np.isfinite(min_quality) and 0.0 < min_quality < 1.0):
             raise ValueError(f"min_quality = {min_quality!r} is not allowed; "
                              "need 0 < min_quality < 1")
+        if getattr(model, "order", 1) != 1:
+            raise ValueError(f"BrakeMotion: the model has quadratic meshes (order = "
+                             f"{model.order}); moving worn geometry supports P1 meshes only "
+                             "(wear in gap-offset mode, update = 'gap', works on P2)")
         self.model = model
         self.min_quality = float(min_quality)
         g = model.geometry

@@ -11,12 +11,14 @@ from brakewear.contact import (compliant_preconditioner, contact_preconditioner,
 from brakewear.contact.basis import SlaveBasis, in_slave_basis
 from brakewear.contact.quadratic import (face_quadrature, quadratic_face_areas, slave_basis,
                                          transformed, tri6)
-from brakewear.errors import ContactLostError
+from brakewear.errors import ContactLostError, SceneError, ThermalError, WearError
 from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.fem.boundary import _vector_facet_basis
+from brakewear.laws import WearLaw
 from brakewear.materials import Isotropic
 from brakewear.mesh import annulus_mesh
 from brakewear.mesh.surface import quadratic_faces
+from brakewear.model import BrakeModel
 
 
 
@@ -257,3 +259,99 @@ def test_in_slave_basis_leaves_linear_problems_alone():
     K = sp.identity(6, format="csr")
     out = in_slave_basis(K, np.ones(6), np.array([0]), np.array([1.0]), [])
     assert out[0] is K and out[4] is None
+
+
+# --------------------------------------------------------- the P2 brake --
+@pytest.fixture(scope="module")
+def brake2():
+    return BrakeModel("default", size=12e-3, order=2)
+
+
+def test_p2_brake_contact_and_tie_carry_the_clamp_force(brake2):
+    res = brake2.solve_contact(1e6, mu=0.4)
+    F = res.clamp_force
+    pad = brake2.meshes["pad"]
+    nodes, area = quadratic_face_areas(pad, "friction")
+    assert np.array_equal(res.interface_nodes, nodes) and (nodes >= pad.nvertices).any()
+    assert res.normal_force == pytest.approx(F, rel=1e-8)
+    assert np.all(res.interface_pressure >= 0) and 0 < res.active.sum() < res.active.size
+    # pressure = nodal force / area of the transformed basis; the friction total is mu N
+    fz = res.interface_force[2]
+    assert np.allclose(res.interface_pressure * area, fz, rtol=1e-6, atol=1e-9 * F)
+    assert np.linalg.norm(res.interface_force[:2], axis=0).sum() == pytest.approx(0.4 * F,
+                                                                                rel=1e-8)
+    tied = brake2.solve_tied(1e6)
+    assert tied.normal_force == pytest.approx(F, rel=1e-8)
+    s = brake2.summary(res)["interface"]
+    assert s["force_balance_error"] < 1e-8
+    assert 0.095 < s["centre_of_pressure_r_m"] < 0.138
+
+
+def test_p2_brake_with_the_piston_tied_to_the_backplate():
+    """The piston (P2) tied to the pad's back face by interpolation with the pad's
+    quadratic shape functions; the clamp force still reaches the rotor."""
+    model = BrakeModel("default", size=12e-3, order=2, piston="body")
+    slave, master, weights = model.ties(interface=False)[0]
+    assert master.shape[0] == 6 and np.allclose(weights.sum(axis=0), 1.0, rtol=0, atol=1e-12)
+    res = model.solve_contact(1e6, mu=0.4)
+    assert res.normal_force == pytest.approx(res.clamp_force, rel=1e-8)
+    assert model.solve_tied(1e6).normal_force == pytest.approx(res.clamp_force, rel=1e-8)
+
+
+def test_p2_brake_refuses_what_it_cannot_do(brake2):
+    from brakewear.motion import BrakeMotion
+    from brakewear.thermal import ThermalModel
+    from brakewear.wear import Numerics, wear_history
+
+    with pytest.raises(SceneError, match="order"):
+        BrakeModel("default", size=12e-3, order=3)
+    with pytest.raises(SceneError, match="order 2"):
+        BrakeModel("default", size=12e-3, order=2,
+                   meshes={"pad": BrakeModel("default", size=12e-3).meshes["pad"]})
+    with pytest.raises(ThermalError, match="P1"):
+        ThermalModel(brake2)
+    with pytest.raises(ValueError, match="P1"):
+        BrakeMotion(brake2)
+    with pytest.raises(WearError, match="gap"):
+        next(wear_history(brake2, 1e6, 50.0, 10.0, WearLaw(5e-14), None, 0.4,
+                          numerics=Numerics(update="geometry", steps=1)))
+
+
+@pytest.mark.parametrize("scheme", ["implicit", "explicit"])
+def test_p2_wear_history_conserves_the_worn_volumes(brake2, scheme):
+    """The wear loop on P2: pad and rotor depths per face node (vertices and
+    mid-edge nodes), volumes = areas @ depths equal to Archard's integral to
+    round-off, the rotor's wear a function of radius alone."""
+    from brakewear.interfaces import FEInterface
+    from brakewear.wear import Numerics, wear_history
+
+    itf = FEInterface(brake2, 1e6, 0.4)
+    steps = list(wear_history(brake2, 1e6, 50.0, 60.0, WearLaw(5e-14), WearLaw(1e-15), 0.4,
+                              numerics=Numerics(scheme=scheme, steps=3), interface=itf))
+    last = steps[-1]
+    assert last.pad_wear.shape == itf.area.shape == (face_nodes_count(brake2, "pad"),)
+    assert last.pad_volume == pytest.approx(last.pad_archard, rel=1e-10)
+    assert last.rotor_volume == pytest.approx(last.rotor_archard, rel=1e-10)
+    assert last.pad_volume == pytest.approx(float(itf.area @ last.pad_wear), rel=1e-12)
+    for j in np.unique(itf.ring):
+        ring = last.rotor_wear[itf.ring == j]
+        assert np.ptp(ring) <= 1e-12 * last.rotor_wear.max()
+    assert np.all(last.pad_wear >= 0) and last.pad_wear.max() > 0
+
+
+def face_nodes_count(model, body):
+    from brakewear.mesh.surface import face_nodes
+    return face_nodes(model.meshes[body], "friction").size
+
+
+def test_p2_rigid_rotor_wear_and_pressure():
+    from brakewear.wear import Numerics, wear_history
+
+    model = BrakeModel("default", size=12e-3, order=2, rotor="rigid")
+    res = model.solve_contact(1e6, mu=0.4)
+    assert res.normal_force == pytest.approx(res.clamp_force, rel=1e-8)
+    *_, last = wear_history(model, 1e6, 50.0, 30.0, WearLaw(5e-14), WearLaw(1e-15), 0.4,
+                            numerics=Numerics(steps=2))
+    assert last.rotor_volume == pytest.approx(last.rotor_archard, rel=1e-10)
+    assert last.pad_volume == pytest.approx(last.pad_archard, rel=1e-10)
+

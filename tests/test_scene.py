@@ -52,7 +52,7 @@ def test_bad_scene_input_is_refused_early():
     with pytest.raises(SceneError, match="piston"):
         BrakeModel("default", piston="hydraulic")
     with pytest.raises(SceneError, match="order"):
-        BrakeModel("default", order=2)
+        BrakeModel("default", order=3)
     with pytest.raises(GeometryError):
         BrakeModel("no_such_geometry")
     m = BrakeModel("default", size=6e-3)

@@ -43,7 +43,15 @@ __all__ = ["ContactResult", "solve_contact", "contact_preconditioner"]
 
 @dataclass
 class ContactResult:
-    """Contact solution: displacements and, per pair, the nodal contact state."""
+    """Contact solution: displacements and, per pair, the nodal contact state.
+
+    ``u`` is the nodal displacement.  On a quadratic slave face the nodal
+    forces (normal and friction) are those of the transformed basis
+    (:mod:`~brakewear.contact.basis`: ``int phi~_j p dA`` at node ``j``, all
+    of the same sign; their sums are the totals), ``pressure`` is force over
+    the pair's area (the dual pressure's nodal coefficient) and ``gap`` the
+    weak gap.
+    """
 
     u: np.ndarray
     pressure: list       # per pair: (ns,) normal pressure (Pa), 0 where open

@@ -9,7 +9,8 @@ import numpy as np
 
 from ..contact.compliant import compliant_preconditioner, solve_compliant_contact
 from ..contact.lagrange import contact_preconditioner, solve_contact
-from ..mesh.surface import surface_nodes, tributary_areas
+from ..contact.quadratic import quadratic_face_areas, slave_basis
+from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from ..rings import ring_wear_nodes, rotor_rings
 from .protocol import InterfaceSolution
 
@@ -29,6 +30,16 @@ class FEInterface:
     wear nodes are the rotor's friction-face nodes; with a rigid rotor (the
     plane z = 0, nothing meshed) they are rings at the radii of the pad's
     nodes, each carrying the annulus between its neighbours' mid-radii.
+
+    On quadratic meshes (``BrakeModel(order=2)``) the friction nodes are the
+    faces' vertices and mid-edge nodes, their areas the integrals of the
+    transformed basis (:mod:`brakewear.contact.basis`; all positive, summing
+    to the face's area), the pressure the dual multiplier's nodal coefficient
+    (contact force / area) and a nodal depth -- pad wear, gap offset -- the
+    coefficient of that basis.  The rotor's wear nodes are its face's nodes in
+    its own transformed basis, so ``W`` (pad node <- rotor node) carries the
+    rotor's depths into the pad's weak gaps and volumes are ``area @ depth``
+    on either face.
     """
 
     #: the thermal-strain load enters its solves
@@ -37,15 +48,15 @@ class FEInterface:
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
         self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
         pad = model.meshes["pad"]
-        self.pad_nodes = surface_nodes(pad, "friction")
+        self.pad_nodes = face_nodes(pad, "friction")
         self.x = pad.p[:, self.pad_nodes]
         self.r = np.hypot(self.x[0], self.x[1])
-        self.area = tributary_areas(pad, "friction", self.pad_nodes)
+        self.area = _face_areas(pad, self.pad_nodes)
         if model.rotor == "elastic":
             rotor = model.meshes["rotor"]
-            self.rotor_nodes = face = surface_nodes(rotor, "friction")
+            self.rotor_nodes = face = face_nodes(rotor, "friction")
             self.ring, _ = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
-            self.rotor_area = tributary_areas(rotor, "friction", face)
+            self.rotor_area = _face_areas(rotor, face)
             self.rotor_x = rotor.p[:, face]
         else:
             self.rotor_nodes = None
@@ -70,6 +81,11 @@ class FEInterface:
         if model.rotor == "elastic":
             face_r = cs.col[self.rotor_nodes + model.offsets["rotor"]]   # retained numbering
             self.W = pair.coupling[:, face_r].tocsr()
+            rotor = model.meshes["rotor"]
+            if is_quadratic(rotor):
+                # rotor depths as coefficients of its face's transformed basis
+                T = slave_basis(quadratic_faces(rotor, "friction"), 0).node_matrix(rotor.p.shape[1])
+                self.W = (self.W @ T[self.rotor_nodes][:, self.rotor_nodes]).tocsr()
         else:
             self.W = self._W
         # hierarchies of this stiffness, built on first use and shared by every
@@ -135,3 +151,11 @@ class FEInterface:
         res = solve_contact(cs.K, f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
                             initial_active=init, solver=self._base["contact"])
         return InterfaceSolution(res.pressure[0], res.active[0], res.u, res.info)
+
+
+def _face_areas(mesh, nodes: np.ndarray) -> np.ndarray:
+    """Areas of a friction face's nodes: tributary areas (linear face) or the
+    integrals of the transformed basis (quadratic face)."""
+    if is_quadratic(mesh):
+        return quadratic_face_areas(mesh, "friction")[1]
+    return tributary_areas(mesh, "friction", nodes)

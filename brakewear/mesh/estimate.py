@@ -37,6 +37,10 @@ MEMORY_ENV = "BRAKEWEAR_MEMORY_GB"
 #: Peak memory of a run: the interpreter and libraries, plus a cost per DOF (bytes).
 MEMORY_BASE = 100e6
 MEMORY_PER_DOF = 12e3
+#: The per-DOF cost of a quadratic (P2) model over a linear one: its stiffness rows hold
+#: about twice the entries (77 against 37 per row on an 8^3 Kuhn block); not calibrated
+#: against runs like the P1 figure.
+P2_MEMORY_FACTOR = 2.0
 
 
 @dataclass(frozen=True)
@@ -46,6 +50,7 @@ class ModelEstimate:
     size: float                 # m
     nodes: dict                 # body -> nodes
     elements: dict              # body -> tetrahedra
+    order: int = 1              # element order (2: nodes include the mid-edge nodes)
 
     @property
     def dofs(self) -> int:
@@ -54,7 +59,8 @@ class ModelEstimate:
     @property
     def memory(self) -> float:
         """Estimated peak memory of a run (bytes)."""
-        return MEMORY_BASE + MEMORY_PER_DOF * self.dofs
+        per_dof = MEMORY_PER_DOF * (P2_MEMORY_FACTOR if self.order == 2 else 1.0)
+        return MEMORY_BASE + per_dof * self.dofs
 
 
 def _smallest_cell(length: float, n: int, ratio: float) -> float:
@@ -98,8 +104,11 @@ def _two_sided_cells(length: float, h_end: float, h_mid: float, growth: float = 
 
 
 def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = "elastic",
-                   piston: str = "traction") -> ModelEstimate:
-    """Nodes and elements of each meshed body at ``size`` (m; default the geometry's)."""
+                   piston: str = "traction", order: int = 1) -> ModelEstimate:
+    """Nodes and elements of each meshed body at ``size`` (m; default the geometry's)
+    and element ``order`` (2: each structured grid direction gets its midpoints,
+    the piston about seven mid-edge nodes per vertex)."""
+    k = 2 if order == 2 else 1            # grid points per cell and direction
     ms, pad, rot, pis = geom.mesh, geom.pad, geom.rotor, geom.piston
     h = ms.size if size is None else float(size)
     nodes, elements = {}, {}
@@ -111,14 +120,14 @@ def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = 
         dth = span / n_fine
         nth = n_fine + _two_sided_cells(2 * math.pi - span, dth, ms.rotor_coarse_factor * dth)
         nz = _graded_cells(0.5 * rot.thickness, 0.5 * h, ms.rotor_z_ratio)
-        nodes["rotor"] = (nr + 1) * nth * (nz + 1)        # periodic in theta
+        nodes["rotor"] = (k * nr + 1) * k * nth * (k * nz + 1)   # periodic in theta
         elements["rotor"] = 6 * nr * nth * nz
     r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
     nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
     nth = max(2, math.ceil(pad.arc_angle * r_ref / h))
     nz = (_graded_cells(pad.friction_thickness, 0.5 * h, ms.pad_z_ratio)
           + max(1, math.ceil(pad.backplate_thickness / h)))
-    nodes["pad"] = (nr + 1) * (nth + 1) * (nz + 1)
+    nodes["pad"] = (k * nr + 1) * (k * nth + 1) * (k * nz + 1)
     elements["pad"] = 6 * nr * nth * nz
     if piston == "body":
         R = 0.5 * pis.diameter
@@ -129,10 +138,10 @@ def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = 
             1 + math.pi * R * (rings + 1) / h
         layers = max(2, math.ceil(pis.length / (1.5 * h)))
         rim = max(6, round(2 * math.pi * R / h))
-        nodes["piston"] = int(disc * (layers + 1))
+        nodes["piston"] = int(disc * (layers + 1)) * (8 if order == 2 else 1)
         # a triangulated disc of n nodes, b on its rim: 2 n - b - 2 triangles, 3 tets each
         elements["piston"] = int(3 * (2 * disc - rim - 2) * layers)
-    return ModelEstimate(h, nodes, elements)
+    return ModelEstimate(h, nodes, elements, 2 if order == 2 else 1)
 
 
 def memory_budget(budget_gb: float | None = None) -> tuple[float, str]:
@@ -172,7 +181,8 @@ def _fmt(size_m: float, unit: str) -> str:
 def check_model_size(geom: BrakeGeometry, size: float | None, rotor: str = "elastic",
                      piston: str = "traction", *, key: str = "mesh.size", unit: str = "mm",
                      budget_gb: float | None = None, budget_key: str = "numerics.memory_budget",
-                     user_value: str | None = None, nodes: dict | None = None) -> ModelEstimate:
+                     user_value: str | None = None, nodes: dict | None = None,
+                     order: int = 1) -> ModelEstimate:
     """Refuse a mesh size outside (0, half the pad width] or too big for the memory budget.
 
     Parameters
@@ -189,6 +199,8 @@ def check_model_size(geom: BrakeGeometry, size: float | None, rotor: str = "elas
     nodes
         Node counts of bodies whose mesh is given (a mesh file): counted as
         they are, not estimated.
+    order
+        Element order of the meshes (2: quadratic, mid-edge nodes counted).
 
     Returns
     -------
@@ -210,7 +222,7 @@ def check_model_size(geom: BrakeGeometry, size: float | None, rotor: str = "elas
         raise SceneError(f"{key}: {shown} is not allowed; allowed range (0, "
                          f"{_fmt(0.5 * width, unit)}] (half the radial pad width)")
     def estimate(size: float) -> ModelEstimate:
-        e = estimate_model(geom, size, rotor, piston)
+        e = estimate_model(geom, size, rotor, piston, order)
         for b, n in (nodes or {}).items():
             e.nodes[b], e.elements[b] = int(n), 0
         return e

@@ -121,8 +121,9 @@ class Scene:
             check_number("mesh.size", self.mesh_size, 0.0, unit="m")
         check_int("mesh.order", self.order, 1, allow_none=True)
         if self.order not in (None, 1):
-            raise fail("mesh.order", f"{self.order!r} is not allowed; a brake with a pad-rotor "
-                                      "interface supports P1 meshes only: allowed 1")
+            raise fail("mesh.order", f"{self.order!r} is not allowed; scenes (their outputs, "
+                                      "thermal coupling and geometry updates) support P1 meshes "
+                                      "only: allowed 1 (P2 from Python: BrakeModel(order=2))")
         for name, cls in (("interface", InterfaceSpec), ("thermal", ThermalSpec),
                           ("numerics", Numerics), ("output", OutputSpec)):
             if not isinstance(getattr(self, name), cls):

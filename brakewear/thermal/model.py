@@ -112,6 +112,9 @@ class ThermalModel:
                  mass: str = "consistent", T_initial: float | None = None,
                  contact_conductance: float | None = None, T_max: float | None = None,
                  emissivity: float | Mapping[str, float] | None = None):
+        if getattr(model, "order", 1) != 1:
+            raise ThermalError(f"ThermalModel: the model has quadratic meshes (order = "
+                             f"{model.order}); the thermal model supports P1 meshes only")
         self.model = model
         self.bodies = tuple(b for b in ("rotor", "pad") if b in model.bodies)
         partition, contact_conductance = _resolve_defaults("rotor" in self.bodies, partition,
