@@ -204,7 +204,8 @@ def mirrored_tets(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[np.ndarr
     return p, np.hstack(tets)
 
 
-def block_mesh(h: float, a: float = A0, split: str = "mirrored", model: str = "quarter"):
+def block_mesh(h: float, a: float = A0, split: str = "mirrored", model: str = "quarter",
+               order: int = 1):
     """The block with named faces, element size ``h`` at the patch
     (``model``: ``"quarter"`` 0 < x, y < L or ``"full"`` -L < x, y < L;
     ``split``: ``"mirrored"``, :func:`mirrored_tets`, or ``"kuhn"``, the plain
@@ -222,7 +223,7 @@ def block_mesh(h: float, a: float = A0, split: str = "mirrored", model: str = "q
         p, t = structured_tets(xs, xs, zs)
     else:
         raise ValueError(f"split = {split!r}; allowed: 'mirrored', 'kuhn'")
-    m = mapped_mesh(p, t, lambda q: q)
+    m = mapped_mesh(p, t, lambda q: q, order=order)
     tol = 1e-9 * L
     return m.with_boundaries({
         "top": lambda q: q[2] > -tol,
@@ -263,14 +264,17 @@ class HertzProblem:
                                                                           np.arange(far.size)]])
 
 
-def hertz_dofs(h_over_a: float, model: str = "quarter") -> int:
+def hertz_dofs(h_over_a: float, model: str = "quarter", order: int = 1) -> int:
     """DOF count of :func:`block_mesh` at ``h = h_over_a * a``, without building it."""
     h = h_over_a * A0
     L = L_OVER_A * A0
     nx = len(axis(h, FINE_XY * A0, L))
     if model == "full":
         nx = 2 * nx - 1
-    return 3 * nx * nx * len(axis(h, FINE_Z * A0, L))
+    nz = len(axis(h, FINE_Z * A0, L))
+    if order == 2:       # one mid-edge node per edge, face diagonal and cell diagonal
+        return 3 * (2 * nx - 1) ** 2 * (2 * nz - 1)
+    return 3 * nx * nx * nz
 
 
 def hertz_resolution(target_dofs: float, model: str = "quarter") -> float:
@@ -284,11 +288,11 @@ def hertz_resolution(target_dofs: float, model: str = "quarter") -> float:
 
 
 def hertz_problem(h_over_a: float, profile: str = "sphere", model: str = "quarter",
-                  split: str = "mirrored") -> HertzProblem:
+                  split: str = "mirrored", order: int = 1) -> HertzProblem:
     """Mesh, stiffness and contact pair with element size ``h = h_over_a * a`` at the patch."""
     t0 = time.perf_counter()
     h = h_over_a * A0
-    m = block_mesh(h, split=split, model=model)
+    m = block_mesh(h, split=split, model=model, order=order)
     copies = 4.0 if model == "quarter" else 1.0
     K, _ = assemble_stiffness(m, MATERIAL)
     sym = (np.concatenate([boundary_dofs(m, "x0", [0]), boundary_dofs(m, "y0", [1])])
@@ -362,14 +366,15 @@ def solve_problem(prob: HertzProblem, linear: str | None = None, outer_tol: floa
 
 def solve(h_over_a: float, linear: str | None = None, profile: str = "sphere",
           model: str = "quarter", split: str = "mirrored",
-          outer_tol: float = 1e-9, max_outer: int = 8) -> dict:
-    """Solve with element size ``h = h_over_a * a`` at the patch; errors against Hertz."""
+          outer_tol: float = 1e-9, max_outer: int = 8, order: int = 1) -> dict:
+    """Solve with element size ``h = h_over_a * a`` at the patch and element
+    ``order``; errors against Hertz."""
     t0 = time.perf_counter()
-    prob = hertz_problem(h_over_a, profile=profile, model=model, split=split)
+    prob = hertz_problem(h_over_a, profile=profile, model=model, split=split, order=order)
     out, _, _ = solve_problem(prob, linear=linear, outer_tol=outer_tol, max_outer=max_outer)
     dt = time.perf_counter() - t0
     m = prob.mesh
-    out.update({"h_over_a": h_over_a, "dofs": prob.dofs, "nodes": m.nvertices,
+    out.update({"h_over_a": h_over_a, "order": order, "dofs": prob.dofs, "nodes": m.p.shape[1],
                 "elements": m.nelements, "time_s": dt, "setup_s": prob.setup_s})
     logger.info("hertz h/a=%.4g (%s): %d dofs, %.1f s, p0 %.2e a %.2e delta %.2e L2 %.2e",
                 h_over_a, split, prob.dofs, dt, out["p0_err"], out["a_err"], out["delta_err"],
@@ -434,7 +439,10 @@ def measure(m, pair, res, F: float, h: float | None = None) -> dict:
         raise ValueError(f"measure: no slave node at the origin (nearest at r = {r[origin]:.3g} m)")
     if h is None:
         h = float(np.sort(r)[1])
-    p = recovered_pressure(xs[0], xs[1], res.force[0], A, act, RECOVERY * h)
+    # a quadratic face: the dual multiplier's nodal values as they are (a window
+    # over its node-type period 2h would blur the peak by (h^2/4) lap p, -21 % at h = a/2)
+    p = p_nodal if pair.basis is not None else \
+        recovered_pressure(xs[0], xs[1], res.force[0], A, act, RECOVERY * h)
     p0_h = float(p[origin])
     # contact radius: area-weighted fit of p^2 = c + m r^2 to the nodal pressures
     # (the weights balance the node types; the recovered pressure is smoothed by

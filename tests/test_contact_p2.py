@@ -355,3 +355,41 @@ def test_p2_rigid_rotor_wear_and_pressure():
     assert last.rotor_volume == pytest.approx(last.rotor_archard, rel=1e-10)
     assert last.pad_volume == pytest.approx(last.pad_archard, rel=1e-10)
 
+
+# ----------------------------------------------------------------- Hertz --
+def test_hertz_p2_coarse_mesh():
+    """Two P2 elements across the contact radius (h = a/2, 39k DOFs, ~5 s).  Observed:
+    peak pressure -7.3 %, contact radius -1.6 %, approach -0.62 % (P1 at this size:
+    -10.7 %, +6.4 %, -2.5 %)."""
+    from brakewear.verification import solve
+
+    r = solve(0.5, order=2, linear="amg")
+    assert r["order"] == 2 and r["dofs"] == 39375
+    assert r["outer_iterations"] <= 4 and r["outer_residual"] < 1e-9
+    assert abs(r["a_err"]) < 0.02, f"contact radius error {r['a_err']:+.3%}"
+    assert abs(r["delta_err"]) < 0.01, f"approach error {r['delta_err']:+.3%}"
+    assert abs(r["p0_err"]) < 0.08, f"peak pressure error {r['p0_err']:+.3%}"
+    assert r["p0_err"] == r["p0_nodal_err"]          # P2: the nodal value, unsmoothed
+
+
+@pytest.mark.slow
+def test_hertz_p2_convergence_against_p1(tmp_path):
+    """studies/hertz_p2.py on a subset of its levels.  Observed (h/a = 1/2 ... 1/6):
+    P2 peak pressure -7.3, -1.6, -1.6, -1.1, -0.39 %; contact radius within 1.6 % from
+    h = a/2; approach within 0.62 % from h = a/2, where P1 needs h = a/6 (0.79 %)."""
+    from studyload import load_study
+
+    hz2 = load_study("hertz_p2")
+    res = hz2.main(p1_levels=(1 / 4, 1 / 6), p2_levels=(1 / 2, 1 / 3, 1 / 4, 1 / 5, 1 / 6),
+                   out=tmp_path)
+    s = res["summary"]
+    p2 = [r for r in res["rows"] if r["order"] == 2]
+    assert s["P2"]["a_from"] == 0.5 and s["P2"]["delta_from"] == 0.5
+    assert s["P1"]["delta_from"] == pytest.approx(1 / 6) and s["coarser_delta_from"] >= 3.0
+    assert s["P2"]["l2_rate"] >= 0.8, s["P2"]["l2_rate"]
+    fin = p2[-1]
+    assert abs(fin["p0_err"]) < 0.01, f"P2 peak pressure at h = a/6: {fin['p0_err']:+.3%}"
+    assert abs(fin["p0_err"]) < abs(p2[0]["p0_err"]) / 10
+    assert abs(fin["delta_err"]) < 1e-3 and abs(fin["a_err"]) < 0.01
+    assert (tmp_path / "hertz_p2.json").exists()
+    assert (tmp_path / "hertz_p2.png").stat().st_size > 10_000
