@@ -47,6 +47,11 @@ Measured against Hertz at the computed ``F``:
   ``r < a - RECOVERY h`` (``l2_inner_err``, away from the square-root edge)
   and of the nodal pressure (``l2_nodal_err``).
 
+With ``order=2`` (:func:`hertz_problem`, :func:`solve`) the block is meshed
+with quadratic tetrahedra and its top face is a dual mortar pair
+(:mod:`brakewear.contact.quadratic`); the pressure is then the nodal value of
+the dual multiplier, without a recovery window (``studies/hertz_p2.py``).
+
 ``python studies/hertz.py [--out DIR] [--data DIR]`` runs the convergence study
 (table, ``hertz_convergence.csv``/``.json``/``.png``, ``hertz_pressure.png``).
 """
