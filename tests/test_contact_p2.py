@@ -393,3 +393,14 @@ def test_hertz_p2_convergence_against_p1(tmp_path):
     assert abs(fin["delta_err"]) < 1e-3 and abs(fin["a_err"]) < 0.01
     assert (tmp_path / "hertz_p2.json").exists()
     assert (tmp_path / "hertz_p2.png").stat().st_size > 10_000
+
+
+def test_p2_brake_bends_where_p1_locks():
+    """studies/brake_order.py at 12 mm: the P1 pad bends too little and its contact
+    covers 89 % of the face; P2 at the same size 62 % (P2 at 6 mm: 58 %, P1 at 3 mm: 63 %)."""
+    from studyload import load_study
+
+    res = load_study("brake_order").main(sizes={1: (12e-3,), 2: (12e-3,)})
+    p1, p2 = res["rows"]
+    assert p1["contact_share"] > 0.85 and 0.55 < p2["contact_share"] < 0.66
+    assert p2["pressure_max_MPa"] > 1.25 * p1["pressure_max_MPa"]
