@@ -152,6 +152,9 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     are written, then the :class:`~brakewear.errors.WornThroughError` is
     raised with the summary as its ``summary`` attribute.
     """
+    if getattr(model, "order", 1) != 1:
+        raise WearError(f"run_wear writes P1 meshes only; this model is quadratic (order = "
+                        f"{model.order}): run wear_history and write what you need")
     out = Path(out)
     numerics = Numerics() if numerics is None else numerics
     ck = out / "checkpoint.npz"
