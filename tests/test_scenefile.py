@@ -8,7 +8,6 @@ import sys
 import numpy as np
 import pytest
 
-import brakewear.model as scene_mod
 from brakewear.errors import GeometryError
 from brakewear.geometry import geometry_file
 from brakewear.mesh import pad_mesh, piston_mesh, rotor_mesh
@@ -53,15 +52,6 @@ def _dump(d: dict) -> str:
     for name, t in d.items():
         table(name, t)
     return "\n".join(lines) + "\n"
-
-
-@pytest.fixture
-def no_meshing(monkeypatch):
-    """Any attempt to mesh fails the test: errors must come before meshing."""
-    def boom(*a, **k):
-        raise AssertionError("a mesh was built before the scene was checked")
-    for b in list(scene_mod._MESHERS):
-        monkeypatch.setitem(scene_mod._MESHERS, b, boom)
 
 
 def test_default_scene_loads_in_si():

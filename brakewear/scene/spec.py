@@ -15,7 +15,7 @@ from __future__ import annotations
 import json
 import logging
 import math
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from os import PathLike
 from typing import Any, Mapping
 
@@ -31,7 +31,7 @@ from ..checks import (
     user_unit,
 )
 from ..geometry.files import load_geometry
-from ..geometry.parts import BrakeGeometry
+from ..geometry.parts import MAX_LAYERS, MESH_BODY_KEYS, BrakeGeometry
 from ..wear.numerics import Numerics
 from .tables import (
     _WEAR_INTERFACE,
@@ -64,6 +64,12 @@ class Scene:
         Your own meshes: body (``"pad"``, ``"rotor"``, ``"piston"``) -> mesh
         file with the named groups of :data:`brakewear.mesh.io.MESH_GROUPS`
         (scene keys ``mesh.pad_file``, ...); read and checked at once.
+    resolution
+        Per-body mesh resolution, overriding the geometry's ``[mesh]``:
+        ``pad_size``, ``rotor_size`` (m), ``friction_layers``,
+        ``backplate_layers``, ``rotor_layers`` (element layers; see
+        :class:`~brakewear.geometry.MeshSettings`).  Checked, then set on
+        ``geometry.mesh``.
     line_pressure, omega, duration, ambient
         Pa, rad/s, s, K: steady drag at constant line pressure and rotor speed.
     interface, pad_wear, rotor_wear, thermal, numerics, output
@@ -88,6 +94,7 @@ class Scene:
     mesh_size: float | None = None
     order: int | None = None
     mesh_files: Mapping[str, str] = field(default_factory=dict)
+    resolution: Mapping[str, float] = field(default_factory=dict)
     interface: InterfaceSpec = field(default_factory=InterfaceSpec)
     pad_wear: WearSpec = field(default_factory=WearSpec)
     rotor_wear: WearSpec | None = field(default_factory=WearSpec)
@@ -120,6 +127,7 @@ class Scene:
         if self.mesh_size is not None:
             check_number("mesh.size", self.mesh_size, 0.0, unit="m")
         check_int("mesh.order", self.order, 1, allow_none=True)
+        self._apply_resolution()
         if self.order not in (None, 1):
             raise fail("mesh.order", f"{self.order!r} is not allowed; a brake with a pad-rotor "
                                       "interface supports P1 meshes only: allowed 1")
@@ -149,6 +157,27 @@ class Scene:
                          budget_gb=self.numerics.memory_budget)
 
     # ------------------------------------------------------------ checks --
+    def _apply_resolution(self) -> None:
+        """Check the per-body mesh keys and set them on the geometry's mesh settings."""
+        if not isinstance(self.resolution, Mapping):
+            raise fail("mesh", f"resolution = {self.resolution!r}; expected key -> value")
+        res = dict(self.resolution)
+        object.__setattr__(self, "resolution", res)
+        pad = self.geometry.pad
+        half_width = 0.5 * (pad.outer_radius - pad.inner_radius)
+        for key, v in res.items():
+            if key not in MESH_BODY_KEYS:
+                raise fail(f"mesh.{key}", f"unknown key {key!r}; allowed per-body mesh keys: "
+                                          f"{', '.join(MESH_BODY_KEYS)}")
+            if key.endswith("_size"):
+                check_number(f"mesh.{key}", v, 0.0, half_width, unit="m")
+            elif isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_LAYERS:
+                raise fail(f"mesh.{key}", f"{v!r} is not allowed; allowed: a whole number "
+                                              f"of element layers in [1, {MAX_LAYERS}]")
+        if res:
+            g = self.geometry
+            object.__setattr__(self, "geometry", replace(g, mesh=replace(g.mesh, **res)))
+
     def _check_mesh_files(self) -> dict[str, int]:
         """Read the user's mesh files (groups checked); their node counts."""
         from ..errors import MeshFileError
@@ -338,8 +367,9 @@ class Scene:
         for k in ("interface", "pad_wear", "rotor_wear", "thermal", "numerics", "output"):
             d[k] = None if d[k] is None else asdict(d[k])
         d["interface"]["surfaces"] = list(d["interface"]["surfaces"])
-        if not d["mesh_files"]:
-            del d["mesh_files"]
+        for k in ("mesh_files", "resolution"):
+            if not d[k]:
+                del d[k]
         g = self.geometry
         d["geometry"] = {"source": str(g.source), "rotor": _geom_record(g.rotor),
                          "pad": _geom_record(g.pad), "piston": _geom_record(g.piston),
@@ -375,5 +405,6 @@ _RECORD_KEYS = {"duration": "environment.duration", "line_pressure": "environmen
                 "omega": "environment.omega", "ambient": "environment.ambient",
                 "rotor": "components.rotor", "piston": "components.piston",
                 "mesh_size": "mesh.size", "order": "mesh.order", "mesh_files": "mesh",
+                "resolution": "mesh",
                 "pad_wear": "wear.pad",
                 "rotor_wear": "wear.rotor", "geometry": "geometry"}
