@@ -157,11 +157,21 @@ def test_bad_scene_keys_name_file_key_and_range(tmp_path, no_meshing, line, key,
 def test_scene_keys_set_the_geometry_mesh(tmp_path, no_meshing):
     s = load_scene(_scene_file(tmp_path, "backplate_layers = 2\npad_size = 5.0\n"))
     assert s.resolution == {"backplate_layers": 2, "pad_size": pytest.approx(5e-3)}
-    assert s.geometry.mesh.backplate_layers == 2 and s.geometry.mesh.pad_size == 5e-3
-    assert s.to_dict()["geometry"]["mesh"]["backplate_layers"] == 2
-    assert s != load_scene("default")
+    mesh = s.meshed_geometry.mesh
+    assert mesh.backplate_layers == 2 and mesh.pad_size == 5e-3 and mesh.rotor_layers is None
+    assert s.to_dict()["resolution"] == s.resolution
+    base = dataclasses.replace(s, resolution={})
+    assert s != base and base.meshed_geometry == base.geometry == s.geometry
     # the same scene built in Python
-    assert dataclasses.replace(load_scene("default"), resolution=s.resolution) == s
+    assert dataclasses.replace(base, resolution=s.resolution) == s
+
+
+def test_scene_model_is_meshed_with_the_keys():
+    s = dataclasses.replace(load_scene("default"), mesh_size=1.2e-2,
+                            resolution={"backplate_layers": 3, "rotor_layers": 2})
+    model = s.build_model()
+    assert _levels(model.meshes["pad"], "backplate").size == 4
+    assert np.unique(np.round(model.meshes["rotor"].p[2], 12)).size == 3
 
 
 def test_scene_memory_check_counts_the_layers(no_meshing):

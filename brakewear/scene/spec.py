@@ -68,8 +68,9 @@ class Scene:
         Per-body mesh resolution, overriding the geometry's ``[mesh]``:
         ``pad_size``, ``rotor_size`` (m), ``friction_layers``,
         ``backplate_layers``, ``rotor_layers`` (element layers; see
-        :class:`~brakewear.geometry.MeshSettings`).  Checked, then set on
-        ``geometry.mesh``.
+        :class:`~brakewear.geometry.MeshSettings`); they take precedence over
+        ``mesh_size`` for their body.  ``geometry`` stays as given;
+        :attr:`meshed_geometry` is the geometry the model is meshed from.
     line_pressure, omega, duration, ambient
         Pa, rad/s, s, K: steady drag at constant line pressure and rotor speed.
     interface, pad_wear, rotor_wear, thermal, numerics, output
@@ -127,7 +128,7 @@ class Scene:
         if self.mesh_size is not None:
             check_number("mesh.size", self.mesh_size, 0.0, unit="m")
         check_int("mesh.order", self.order, 1, allow_none=True)
-        self._apply_resolution()
+        self._check_resolution()
         if self.order not in (None, 1):
             raise fail("mesh.order", f"{self.order!r} is not allowed; a brake with a pad-rotor "
                                       "interface supports P1 meshes only: allowed 1")
@@ -148,7 +149,8 @@ class Scene:
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
         from ..mesh.estimate import check_model_size
-        check_model_size(self.geometry, self.mesh_size, self.rotor, self.piston, nodes=nodes,
+        check_model_size(self.meshed_geometry, self.mesh_size, self.rotor, self.piston,
+                         nodes=nodes,
                          key="mesh.size" if self.mesh_size is not None else
                          f"mesh.size of the geometry {self.geometry.source}",
                          unit=user_unit("mesh.size") or ("m" if self.mesh_size else "mm"),
@@ -157,8 +159,14 @@ class Scene:
                          budget_gb=self.numerics.memory_budget)
 
     # ------------------------------------------------------------ checks --
-    def _apply_resolution(self) -> None:
-        """Check the per-body mesh keys and set them on the geometry's mesh settings."""
+    @property
+    def meshed_geometry(self) -> BrakeGeometry:
+        """The geometry with the scene's per-body mesh keys (``resolution``) set."""
+        g = self.geometry
+        return replace(g, mesh=replace(g.mesh, **self.resolution)) if self.resolution else g
+
+    def _check_resolution(self) -> None:
+        """Check the per-body mesh keys (names, types, ranges)."""
         if not isinstance(self.resolution, Mapping):
             raise fail("mesh", f"resolution = {self.resolution!r}; expected key -> value")
         res = dict(self.resolution)
@@ -174,9 +182,6 @@ class Scene:
             elif isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_LAYERS:
                 raise fail(f"mesh.{key}", f"{v!r} is not allowed; allowed: a whole number "
                                               f"of element layers in [1, {MAX_LAYERS}]")
-        if res:
-            g = self.geometry
-            object.__setattr__(self, "geometry", replace(g, mesh=replace(g.mesh, **res)))
 
     def _check_mesh_files(self) -> dict[str, int]:
         """Read the user's mesh files (groups checked); their node counts."""
@@ -294,7 +299,7 @@ class Scene:
     def build_model(self):
         """The :class:`~brakewear.model.BrakeModel` of the scene (this meshes)."""
         from ..model import BrakeModel
-        return BrakeModel(self.geometry, piston=self.piston, size=self.mesh_size,
+        return BrakeModel(self.meshed_geometry, piston=self.piston, size=self.mesh_size,
                           order=self.order, rotor=self.rotor, meshes=dict(self.mesh_files),
                           memory_budget=self.numerics.memory_budget)
 
