@@ -13,6 +13,7 @@ import pytest
 
 from brakewear.errors import GeometryError, SceneError
 from brakewear.geometry import geometry_file, geometry_from_dict, load_geometry
+from brakewear.geometry.parts import MESH_BODY_KEYS
 from brakewear.mesh import estimate_model, pad_mesh, rotor_mesh
 from brakewear.scene import load_scene, scene_file, scene_from_dict
 
@@ -132,7 +133,10 @@ def test_geometry_file_keys_reach_the_mesh(geometry_dict):
 
 
 def _scene_file(tmp_path: Path, lines: str) -> Path:
-    text = scene_file("default").read_text().replace("[mesh]\n", "[mesh]\n" + lines)
+    """The default scene with ``lines`` in place of its per-body mesh keys."""
+    text = "\n".join(line for line in scene_file("default").read_text().splitlines()
+                     if line.split("=")[0].strip() not in MESH_BODY_KEYS)
+    text = text.replace("[mesh]\n", "[mesh]\n" + lines)
     p = tmp_path / "my_scene.toml"
     p.write_text(text)
     return p
@@ -162,6 +166,7 @@ def test_scene_keys_set_the_geometry_mesh(tmp_path, no_meshing):
     assert s.to_dict()["resolution"] == s.resolution
     base = dataclasses.replace(s, resolution={})
     assert s != base and base.meshed_geometry == base.geometry == s.geometry
+    assert load_scene("default").resolution and not base.resolution
     # the same scene built in Python
     assert dataclasses.replace(base, resolution=s.resolution) == s
 
