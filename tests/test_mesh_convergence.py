@@ -90,10 +90,12 @@ def test_levels_must_be_three_coarse_to_fine():
 
 
 @pytest.mark.slow
-def test_pad_wear_converges_on_three_p1_meshes(tmp_path):
-    # the default scene's hour on levels 3, 4.5 (rounded to 4 layers... no: 2, 3, 4.5 would
-    # round) -- levels 2, 3, 4: sizes 9, 6, 4.5 mm with 2, 3, 4 layers
-    res = mc.main(levels=(2, 3, 4), steps=24, t_mid=None, out=None)
+def test_pad_wear_converges_on_three_p1_meshes():
+    # the default scene's physics for 1200 s (16 steps of 75 s) on levels 4, 6, 9:
+    # 4.5, 3, 2 mm with 4, 6, 9 layers (docs/performance.md: rate 1.27 and the
+    # finest mesh about 3 % off at 1200 s)
+    res = mc.main(levels=(4, 6, 9), steps=16, duration=1200.0, t_mid=None, out=None)
     est = res["orders"]["P1"]["end"]["pad_wear"]
-    assert est["rate"] > 0.5, f"observed pad wear rate {est['rate']:.3g}"
+    assert est["rate"] > 0.8, f"observed pad wear rate {est['rate']:.3g}"
     assert est["errors"][-1] < 0.05, f"finest pad wear error estimate {est['errors'][-1]:.3%}"
+    assert est["errors"][0] > est["errors"][1] > est["errors"][2]
