@@ -3,9 +3,12 @@
 The same running-in of the default brake (1 MPa line pressure, 55 rad/s,
 mu = 0.4, Archard pad k = 5e-15 1/Pa, rotor 5e-16 1/Pa, ``duration`` s) is run
 with one modelling choice changed at a time, all in one process, and each
-run's result is compared with the *reference*: the finest affordable model
-(the smallest of ``sizes``, elastic rotor, gap offset, implicit Euler with
-``ref_steps`` equal steps).
+run's result is compared with the *reference*: the Richardson estimate of the
+mesh-converged answer of ``studies/mesh_convergence.py`` at the same time
+(its fields on a fixed r-theta grid, ``docs/data/mesh_convergence.json``;
+elastic rotor, gap offset, implicit Euler with steps of ``duration /
+ref_steps``), or, with ``reference=None`` or a file of another case, the
+finest mesh of ``sizes``.
 
 Choices (each against the reference, and the non-mesh ones also against the
 *base* model of the same mesh, ``base_size``, so that the choice's own error
@@ -24,8 +27,9 @@ is seen apart from the mesh error):
   against Lame's closed form).
 
 Error metrics (the comparison of fields on different meshes is done at the
-reference's pad friction nodes: each run's field is interpolated there
-linearly, ``LinearNDInterpolator`` in (x, y), nearest value outside its hull):
+reference's points -- the grid of the estimate, or the finest mesh's pad
+friction nodes: each run's field is interpolated there linearly,
+``LinearNDInterpolator`` in (x, y), nearest value outside its hull):
 
 - ``pad_wear_l2``: area-weighted relative L2 of the pad wear after the
   running-in (the headline error);
@@ -52,7 +56,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
 
 from brakewear.mesh.surface import surface_nodes
 from brakewear.interfaces import WinklerInterface, calibrate
@@ -141,13 +144,16 @@ def _r_eff(p, area, xy) -> float:
     return float((f * np.hypot(xy[0], xy[1])).sum() / f.sum())
 
 
-def _on(field, xy, target):
-    """``field`` given at ``xy`` (2, n), linearly interpolated at ``target`` (2, m)."""
-    lin = LinearNDInterpolator(xy.T, field)(target.T)
-    miss = np.isnan(lin)
-    if miss.any():
-        lin[miss] = NearestNDInterpolator(xy.T, field)(target.T[miss])
-    return lin
+def _study(name: str):
+    """The module ``studies/<name>.py`` (the studies are scripts, not a package)."""
+    spec = importlib.util.spec_from_file_location(name, Path(__file__).with_name(f"{name}.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+#: ``field`` given at ``xy`` (2, n), linearly interpolated at ``target`` (2, m)
+_on = _study("mesh_convergence").interpolate
 
 
 def errors(case: dict, ref: dict) -> dict:
@@ -177,10 +183,7 @@ def errors(case: dict, ref: dict) -> dict:
 
 def element_order(ns_p1=(4, 8, 16), ns_p2=(2, 4, 8)) -> list[dict]:
     """P1 against P2 on the thick cylinder (the brake itself is P1 only)."""
-    path = Path(__file__).with_name("cylinder_convergence.py")
-    spec = importlib.util.spec_from_file_location("cylinder_convergence", path)
-    cyl = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(cyl)
+    cyl = _study("cylinder_convergence")
     rows = []
     for order, ns in ((1, ns_p1), (2, ns_p2)):
         for n in ns:
@@ -191,6 +194,43 @@ def element_order(ns_p1=(4, 8, 16), ns_p2=(2, 4, 8)) -> list[dict]:
     return rows
 
 
+#: the convergence study's results, whose estimate is the default reference
+CONVERGED = Path(__file__).parents[1] / "docs" / "data" / "mesh_convergence.json"
+
+
+def converged_reference(path, duration: float, ref_steps: int, run: dict) -> dict | None:
+    """The Richardson estimate of ``path`` at ``duration`` as a reference run (the
+    fields on the estimate's grid); None if the file is missing or was run for
+    another case (loads, time, step)."""
+    path = Path(path)
+    if not path.is_file():
+        logger.warning("no converged reference at %s: the finest mesh is the reference", path)
+        return None
+    data = json.loads(path.read_text())
+    c, run = data["case"], {**RUN, **run}
+    when = ("end" if np.isclose(c["duration_s"], duration) else
+            "mid" if c.get("t_mid_s") and np.isclose(c["t_mid_s"], duration) else None)
+    est = data["orders"].get("P1", {}).get(when or "end")
+    same = (when is not None and est is not None and all(
+        np.isclose(c[k], run[k]) for k in ("line_pressure", "omega", "mu"))
+        and np.isclose(c["duration_s"] / c["steps"], duration / ref_steps))
+    if not same or est["pad_wear"]["field"] is None:
+        logger.warning("%s is not this case at %g s (or has no estimate): the finest mesh is "
+                       "the reference", path, duration)
+        return None
+    g = data["grid"]
+    finest = data["orders"]["P1"]["runs"][-1][when]
+    field = lambda q: np.array(est[q]["field"] if est[q]["field"] is not None  # noqa: E731
+                               else finest[q])
+    scalar = lambda q: (est[q]["estimate"] if est[q]["estimate"] is not None  # noqa: E731
+                        else finest[q])
+    return {"name": f"Richardson estimate ({path.name}, {when})", "_xy": np.array(g["xy"]),
+            "_area": np.array(g["area"]), "_pad_wear": field("pad_wear"),
+            "_pressure": field("pressure"), "_rotor_r": np.array(g["r"]),
+            "_rotor_wear": field("rotor_wear"), "pad_wear_max_m": scalar("pad_wear_max"),
+            "pressure_max_Pa": scalar("pressure_max"), "r_eff_m": scalar("r_eff")}
+
+
 def machine_state() -> dict:
     load = os.getloadavg() if hasattr(os, "getloadavg") else (np.nan,) * 3
     return {"cpus": os.cpu_count(), "load_average_1_5_15": list(load),
@@ -198,12 +238,15 @@ def machine_state() -> dict:
             "date_utc": time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime())}
 
 
-def cases(sizes, base_size, ref_steps, implicit_steps, explicit_steps) -> list[dict]:
-    """The runs: (name, group, settings).  The last of ``sizes`` is the reference."""
+def cases(sizes, base_size, ref_steps, implicit_steps, explicit_steps,
+          finest_is_reference: bool = True) -> list[dict]:
+    """The runs: (name, group, settings).  The last of ``sizes`` is the finest mesh
+    (the reference if ``finest_is_reference``)."""
     mm = lambda s: f"{s * 1e3:g} mm"    # noqa: E731
     out = [{"name": f"mesh {mm(s)}", "group": "mesh size",
             "kw": {"size": s, "steps": ref_steps}} for s in sizes]
-    out[-1]["name"] += " (reference)"
+    if finest_is_reference:
+        out[-1]["name"] += " (reference)"
     b = {"size": base_size}
     out += [{"name": f"implicit {n} steps", "group": "wear step",
              "kw": {**b, "steps": n}} for n in implicit_steps]
@@ -227,17 +270,21 @@ def cases(sizes, base_size, ref_steps, implicit_steps, explicit_steps) -> list[d
 def main(sizes=(12e-3, 8e-3, 6e-3, 5e-3, 4e-3), base_size: float = 8e-3, ref_steps: int = 16,
          implicit_steps=(2, 4, 8, 32), explicit_steps=(16, 64), duration: float = 1200.0,
          out: str | Path | None = "docs", figures: bool = True, order_study: bool = True,
-         **run) -> dict:
+         reference: str | Path | None = CONVERGED, **run) -> dict:
     """Run all cases in this process; returns the results (and writes them under ``out``).
 
-    ``sizes`` must contain ``base_size``; its last entry is the reference's size.
+    ``sizes`` must contain ``base_size``; its last entry is the finest mesh, the
+    cost reference (``time_ratio``, ``cpu_ratio``) and, when ``reference`` (the
+    convergence study's JSON) is None or of another case, the error reference.
     """
     sizes = tuple(sizes)
     if base_size not in sizes:
         raise ValueError(f"base_size = {base_size!r} must be one of sizes = {sizes!r}")
     state0 = machine_state()
     t_all = time.perf_counter()
-    todo = cases(sizes, base_size, ref_steps, implicit_steps, explicit_steps)
+    conv = (None if reference is None else
+            converged_reference(reference, duration, ref_steps, run))
+    todo = cases(sizes, base_size, ref_steps, implicit_steps, explicit_steps, conv is None)
     res = []
     for c in todo:
         logger.info("running %s", c["name"])
@@ -247,7 +294,8 @@ def main(sizes=(12e-3, 8e-3, 6e-3, 5e-3, 4e-3), base_size: float = 8e-3, ref_ste
             logger.warning("%s failed: %s", c["name"], e)
             r = {"failed": f"{type(e).__name__}: {e}"}
         res.append({"name": c["name"], "group": c["group"], **r})
-    ref = res[len(sizes) - 1]
+    finest = res[len(sizes) - 1]
+    ref = finest if conv is None else conv
     base = res[sizes.index(base_size)]
     for r in res:
         if "failed" in r:
@@ -255,12 +303,12 @@ def main(sizes=(12e-3, 8e-3, 6e-3, 5e-3, 4e-3), base_size: float = 8e-3, ref_ste
             continue
         r["error"] = errors(r, ref)
         r["error_vs_base"] = errors(r, base) if r["group"] != "mesh size" else None
-        r["time_ratio"] = r["run_s"] / ref["run_s"]
-        r["cpu_ratio"] = r["cpu_s"] / ref["cpu_s"]
+        r["time_ratio"] = r["run_s"] / finest["run_s"]
+        r["cpu_ratio"] = r["cpu_s"] / finest["cpu_s"]
     result = {
         "case": {"geometry": "default", "duration_s": duration, **RUN, **run,
                  "pad_law_k": PAD.k, "rotor_law_k": ROTOR.k, "reference": ref["name"],
-                 "base": base["name"], "ref_steps": ref_steps},
+                 "finest": finest["name"], "base": base["name"], "ref_steps": ref_steps},
         "runs": [{k: v for k, v in r.items() if not k.startswith("_")} for r in res],
         "element_order": element_order() if order_study else [],
         "machine_before": state0, "machine_after": machine_state(),
@@ -335,9 +383,10 @@ def _scatter(ax, runs, key, tkey, ref=None, label_groups=None, star="reference")
     front = pareto(pts)
     ax.loglog([pts[i][0] for i in front], [pts[i][1] for i in front], "k--", lw=0.8,
               label="Pareto front")
-    ax.axhline(floor, color="0.7", lw=0.6)
-    ax.text(0.01, floor, " error 0 drawn here", transform=ax.get_yaxis_transform(),
-            ha="left", va="bottom", fontsize=7, color="0.4")
+    if min(errs) == 0:
+        ax.axhline(floor, color="0.7", lw=0.6)
+        ax.text(0.01, floor, " error 0 drawn here", transform=ax.get_yaxis_transform(),
+                ha="left", va="bottom", fontsize=7, color="0.4")
     ax.grid(True, which="both", alpha=0.3)
     return floor
 
@@ -351,7 +400,7 @@ def plot(result: dict, path: Path) -> None:
 
     runs = [r for r in result["runs"] if r.get("error")]
     c = result["case"]
-    ref = [r for r in runs if r["name"] == c["reference"]][0]
+    ref = next((r for r in runs if r["name"] == c["reference"]), None)
     base = [r for r in runs if r["name"] == c["base"]][0]
     tkey = "cpu_s" if all("cpu_s" in r for r in runs) else "run_s"
     tlabel = ("CPU time (s, model build + wear history)" if tkey == "cpu_s"
@@ -365,7 +414,7 @@ def plot(result: dict, path: Path) -> None:
     ax.legend(fontsize=8, loc="center left")
     ax.set_xlabel(tlabel)
     ax.set_ylabel("pad wear error vs reference (relative L2)")
-    ax.set_title(f"(a) all runs against the finest model, {c['reference']}\n"
+    ax.set_title(f"(a) all runs against the reference, {c['reference']}\n"
                  f"unlabelled: the wear-step / update choices at {base['size_m'] * 1e3:g} mm, "
                  "see (b)", fontsize=9)
     ax = axes[1]
@@ -413,7 +462,7 @@ def plot(result: dict, path: Path) -> None:
 
 def table(result: dict) -> str:
     """The Markdown table of docs/performance.md, section 'Speed against error'."""
-    lines = ["| choice | size mm | DOFs | wall s | CPU s | CPU / reference | pad wear err | "
+    lines = ["| choice | size mm | DOFs | wall s | CPU s | CPU / finest mesh | pad wear err | "
              "pressure err | r_eff err | rotor wear err | own error (pad wear vs base) |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in result["runs"]:

@@ -16,6 +16,7 @@ from brakewear.errors import GeometryError, MeshFileError, SceneError, WornThrou
 from brakewear.geometry import load_geometry
 from brakewear.mesh import read_mesh, write_mesh
 from brakewear.mesh.brake import pad_mesh
+from brakewear.geometry.parts import MESH_BODY_KEYS
 from brakewear.mesh.estimate import MEMORY_ENV, check_model_size, estimate_model
 from brakewear.scene import load_scene, scene_file
 
@@ -28,11 +29,13 @@ ROOT = Path(__file__).parents[1]
 
 
 def _scene_text(**edits) -> str:
-    """The default scene file with ``key = value`` lines replaced or added per table.
+    """The default scene file, without its per-body mesh keys (so that ``mesh.size``
+    sets the whole mesh), with ``key = value`` lines replaced or added per table.
 
     ``edits``: ``{"mesh": {"size": "0.01"}}`` style, values as TOML text.
     """
-    lines = scene_file("default").read_text().splitlines()
+    lines = [line for line in scene_file("default").read_text().splitlines()
+             if line.split("=")[0].strip() not in MESH_BODY_KEYS]
     out, table = [], None
     pending = {t: dict(kv) for t, kv in edits.items()}
     for line in lines:

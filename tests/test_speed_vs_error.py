@@ -11,6 +11,7 @@ _path = Path(__file__).parents[1] / "studies" / "speed_vs_error.py"
 _spec = importlib.util.spec_from_file_location("speed_vs_error", _path)
 sve = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(sve)
+mc = sve._study("mesh_convergence")
 
 METRICS = {"pad_wear_l2", "pressure_l2", "pad_wear_max", "pressure_max", "r_eff",
            "rotor_wear_l2"}
@@ -20,7 +21,8 @@ METRICS = {"pad_wear_l2", "pressure_l2", "pad_wear_max", "pressure_max", "r_eff"
 def result(tmp_path_factory):
     out = tmp_path_factory.mktemp("sve")
     res = sve.main(sizes=(1.5e-2, 1.2e-2), base_size=1.5e-2, ref_steps=2, implicit_steps=(1,),
-                   explicit_steps=(2,), duration=1200.0, out=out, order_study=False)
+                   explicit_steps=(2,), duration=1200.0, out=out, order_study=False,
+                   reference=None)
     return res, out
 
 
@@ -100,3 +102,38 @@ def test_element_order_on_the_cylinder():
 def test_base_size_must_be_one_of_the_sizes():
     with pytest.raises(ValueError, match="base_size"):
         sve.main(sizes=(1.5e-2,), base_size=1e-2, out=None)
+
+
+def _converged_file(tmp_path, case, run, when="mid"):
+    """A convergence-study JSON whose estimate is ``case``'s own fields on the grid."""
+    from brakewear.geometry import load_geometry
+    g = mc.grids(load_geometry())
+    field = {"pad_wear": sve._on(case["_pad_wear"], case["_xy"], g["xy"]),
+             "pressure": sve._on(case["_pressure"], case["_xy"], g["xy"]),
+             "rotor_wear": np.interp(g["r"], case["_rotor_r"], case["_rotor_wear"])}
+    est = {q: {"field": field[q].tolist()} for q in field}
+    est.update({q: {"estimate": case[k]} for q, k in (("pad_wear_max", "pad_wear_max_m"),
+                                                       ("pressure_max", "pressure_max_Pa"),
+                                                       ("r_eff", "r_eff_m"))})
+    data = {"case": {"duration_s": 3 * case["duration_s"], "t_mid_s": case["duration_s"],
+                     "steps": 3 * case["steps"], **run},
+            "orders": {"P1": {when: est, "runs": [{when: {}}]}},
+            "grid": {k: np.asarray(v).tolist() for k, v in g.items()}}
+    path = tmp_path / "mesh_convergence.json"
+    path.write_text(json.dumps(data))
+    return path
+
+
+def test_the_converged_reference_is_read_at_the_runs_time(tmp_path):
+    case = sve.run_case(1.5e-2, 600.0, 2)
+    path = _converged_file(tmp_path, case, sve.RUN)
+    ref = sve.converged_reference(path, 600.0, 2, {})
+    assert ref["name"].startswith("Richardson estimate")
+    e = sve.errors(case, ref)
+    # the run against its own fields on the grid: only the interpolation is left
+    assert e["pad_wear_l2"] < 1e-3 and abs(e["pad_wear_max"]) < 1e-12, e
+    assert abs(e["r_eff"]) < 1e-12 and e["rotor_wear_l2"] < 0.05, e
+    # another time step, another line pressure or a missing file: no such reference
+    assert sve.converged_reference(path, 600.0, 4, {}) is None
+    assert sve.converged_reference(path, 600.0, 2, {"line_pressure": 2e6}) is None
+    assert sve.converged_reference(tmp_path / "none.json", 600.0, 2, {}) is None

@@ -51,3 +51,17 @@ def test_the_fixed_partition_trips_the_bound_naming_the_key(model):
         for _ in wear_history(model, 1e6, 55.0, 90.0, WearLaw(5e-15), WearLaw(5e-16),
                               mu=0.4, thermal=th, numerics=Numerics(steps=15)):
             pass
+
+
+def test_a_rigid_rotor_drag_localises_and_is_refused_with_its_figures():
+    """With a rigid rotor only the pad expands: its hot spot takes the contact (105 pad
+    nodes to 4 within 24 s at 8 mm) and the face passes 900 C even with the
+    area-weighted share; the error names the localisation and the elastic rotor."""
+    from brakewear.errors import TemperatureLimitError
+    m = BrakeModel("default", size=8e-3, rotor="rigid")
+    with pytest.raises(TemperatureLimitError,
+                       match=r"now \d of \d+ pad nodes.*thermoelastic localisation.*"
+                             r"components.rotor = 'elastic'"):
+        for _ in wear_history(m, 1e6, 55.0, 30.0, WearLaw(5e-15), None, mu=0.4,
+                              thermal=ThermalModel(m), numerics=Numerics(steps=10)):
+            pass

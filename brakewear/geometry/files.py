@@ -29,6 +29,8 @@ from .parts import (
     _BASE_DEFAULT,
     ANGLE_UNITS,
     LENGTH_UNITS,
+    MAX_LAYERS,
+    MESH_BODY_KEYS,
     MESH_DEFAULTS,
     MODULUS_UNITS,
     BrakeGeometry,
@@ -66,14 +68,17 @@ _SCHEMA: dict[str, dict[str, str]] = {
     "piston": {"diameter": "length", "radius": "length", "angle": "angle",
                "length": "length", "material": "material", "bore_diameter": "length"},
     "mesh": {"size": "length", "order": "int", "rotor_coarse_factor": "ratio",
-             "rotor_margin": "angle", "rotor_z_ratio": "ratio", "pad_z_ratio": "ratio"},
+             "rotor_margin": "angle", "rotor_z_ratio": "ratio", "pad_z_ratio": "ratio",
+             "pad_size": "length", "rotor_size": "length", "friction_layers": "int",
+             "backplate_layers": "int", "rotor_layers": "int"},
 }
 
 
 _OPTIONAL = {
     "pad": {"center_angle"},
     "piston": {"angle", "bore_diameter"},
-    "mesh": {"order", "rotor_coarse_factor", "rotor_margin", "rotor_z_ratio", "pad_z_ratio"},
+    "mesh": {"order", "rotor_coarse_factor", "rotor_margin", "rotor_z_ratio", "pad_z_ratio",
+             *MESH_BODY_KEYS},
 }
 
 
@@ -371,6 +376,21 @@ def _mesh(ck: _Checker, s: dict, pad: PadGeometry) -> MeshSettings:
             raise ck.fail("mesh.rotor_margin", f"{ck.fmt_ang(m)} is not allowed; allowed "
                                                f"range [0, {ck.fmt_ang(hi)})")
         kw["rotor_margin"] = m
+    for key in ("pad_size", "rotor_size"):
+        if key in s:
+            v = ck.length(s, "mesh", key)
+            if v > 0.5 * width:
+                raise ck.fail(f"mesh.{key}", f"{ck.fmt_len(v)} is too coarse; allowed range (0, "
+                                             f"{ck.fmt_len(0.5 * width)}] (half the radial pad "
+                                             "width)")
+            kw[key] = v
+    for key in ("friction_layers", "backplate_layers", "rotor_layers"):
+        if key in s:
+            v = s[key]
+            if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_LAYERS:
+                raise ck.fail(f"mesh.{key}", f"{v!r} is not allowed; allowed: a whole number "
+                                             f"of element layers in [1, {MAX_LAYERS}]")
+            kw[key] = int(v)
     return MeshSettings(size=size, order=int(order), **kw)
 
 

@@ -41,6 +41,18 @@ MESH_DEFAULTS = {
 }
 
 
+#: the optional per-body [mesh] fields: None (the default) keeps the rule of
+#: ``size`` -- in-plane ``size``; through the thickness the fewest layers whose
+#: element at z = 0 is at most ``size / 2`` thick (friction layer, rotor half)
+#: and ``ceil(backplate_thickness / size)`` layers through the backplate
+MESH_BODY_KEYS = ("pad_size", "rotor_size", "friction_layers", "backplate_layers",
+                  "rotor_layers")
+
+
+#: allowed element layers through one layer of a body: [1, MAX_LAYERS]
+MAX_LAYERS = 200
+
+
 # optional thermal / wear data of custom materials come from a built-in "base"
 _BASE_DEFAULT = {"isotropic": "steel", "transversely_isotropic": "pad_resin"}
 
@@ -168,6 +180,14 @@ class MeshSettings:
     rotor_z_ratio, pad_z_ratio : float
         Largest over smallest element thickness through the rotor half and the
         friction layer; the smallest elements touch the friction interface.
+    pad_size, rotor_size : float or None
+        In-plane element size (m) of the pad and of the rotor under the pad;
+        None: ``size``.
+    friction_layers, backplate_layers, rotor_layers : int or None
+        Element layers through the pad's friction layer (graded toward the
+        friction face by ``pad_z_ratio``), the backplate (uniform) and the
+        rotor half (graded toward the friction face by ``rotor_z_ratio``);
+        None: the rule of ``size`` (:data:`MESH_BODY_KEYS`).
     """
 
     size: float
@@ -176,6 +196,11 @@ class MeshSettings:
     rotor_margin: float = math.radians(MESH_DEFAULTS["rotor_margin"])
     rotor_z_ratio: float = MESH_DEFAULTS["rotor_z_ratio"]
     pad_z_ratio: float = MESH_DEFAULTS["pad_z_ratio"]
+    pad_size: float | None = None
+    rotor_size: float | None = None
+    friction_layers: int | None = None
+    backplate_layers: int | None = None
+    rotor_layers: int | None = None
 
 
 @dataclass(frozen=True)

@@ -76,6 +76,13 @@ def _check_size_order(size: float, order: int) -> tuple[float, int]:
     return size, int(order)
 
 
+def _body_size(geom: BrakeGeometry, size: float | None, body: str) -> float:
+    """In-plane size of ``body`` (m): its ``mesh.<body>_size``, else ``size``, else
+    ``mesh.size``."""
+    own = getattr(geom.mesh, f"{body}_size")
+    return own if own is not None else (geom.mesh.size if size is None else size)
+
+
 def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None = None) -> fem.Mesh:
     """The inboard half of the rotor friction ring, a closed (periodic) ring.
 
@@ -83,14 +90,17 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     theta the elements have the in-plane ``size`` (at the pad mid radius) over
     the pad arc plus ``geom.mesh.rotor_margin`` on both sides and grow to
     ``rotor_coarse_factor * size`` elsewhere; through the thickness they are
-    ``size / 2`` thick at ``z = 0`` and grow by ``rotor_z_ratio``.
+    ``size / 2`` thick at ``z = 0`` and grow by ``rotor_z_ratio``
+    (``mesh.rotor_layers`` layers with that grading if set).
 
     Parameters
     ----------
     geom : BrakeGeometry
         The checked brake geometry (SI units).
     size, order
-        Override ``geom.mesh.size`` (m) and ``geom.mesh.order``.
+        Override ``geom.mesh.size`` (m) and ``geom.mesh.order``; a body's own
+        ``mesh.rotor_size`` / ``mesh.pad_size`` takes precedence over both
+        sizes.
 
     Returns
     -------
@@ -99,7 +109,7 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
         (inner radius) and ``outer``; subdomain ``rotor`` (all elements).
     """
     ms, ro_, pad = geom.mesh, geom.rotor, geom.pad
-    h, order = _check_size_order(ms.size if size is None else size,
+    h, order = _check_size_order(_body_size(geom, size, "rotor"),
                                  ms.order if order is None else order)
     ri, ro, half = ro_.inner_radius, ro_.outer_radius, 0.5 * ro_.thickness
     r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
@@ -113,7 +123,7 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     gap = _two_sided(2 * np.pi - span, dth, ms.rotor_coarse_factor * dth)
     th = th0 + np.concatenate([fine, span + gap[1:]])
     th[-1] = th0 + 2 * np.pi
-    nz = _n_cells(half, 0.5 * h, ms.rotor_z_ratio)
+    nz = ms.rotor_layers or _n_cells(half, 0.5 * h, ms.rotor_z_ratio)
     z = graded(-half, 0.0, nz, ms.rotor_z_ratio if nz > 1 else 1.0, "b")
     p, t = structured_tets(r, th, z, periodic_y=True)
     m = mapped_mesh(p, t, cylindrical, order=order, period=np.array([0.0, 2 * np.pi, 0.0]))
@@ -142,6 +152,12 @@ def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None =
     smaller angle: ``leading`` is the end face at ``center - arc/2`` and
     ``trailing`` the one at ``center + arc/2``.
 
+    Through the thickness: ``mesh.friction_layers`` layers in the friction
+    layer, graded by ``pad_z_ratio`` toward the friction face (default: the
+    fewest whose first layer is at most ``size / 2`` thick), and
+    ``mesh.backplate_layers`` uniform layers in the backplate (default
+    ``ceil(backplate_thickness / size)``).
+
     Parameters are those of :func:`rotor_mesh`.
 
     Returns
@@ -154,16 +170,16 @@ def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None =
         ``inner`` and ``outer`` (curved faces).
     """
     ms, pad, pis = geom.mesh, geom.pad, geom.piston
-    h, order = _check_size_order(ms.size if size is None else size,
+    h, order = _check_size_order(_body_size(geom, size, "pad"),
                                  ms.order if order is None else order)
     ri, ro, tf, tb = pad.inner_radius, pad.outer_radius, pad.friction_thickness, pad.backplate_thickness
     r_ref = 0.5 * (ri + ro)
     r = np.linspace(ri, ro, max(2, int(np.ceil((ro - ri) / h))) + 1)
     th = np.linspace(pad.leading_angle, pad.trailing_angle,
                      max(2, int(np.ceil(pad.arc_angle * r_ref / h))) + 1)
-    nzf = _n_cells(tf, 0.5 * h, ms.pad_z_ratio)
+    nzf = ms.friction_layers or _n_cells(tf, 0.5 * h, ms.pad_z_ratio)
     zf = graded(0.0, tf, nzf, ms.pad_z_ratio if nzf > 1 else 1.0, "a")
-    zb = np.linspace(tf, tf + tb, max(1, int(np.ceil(tb / h))) + 1)
+    zb = np.linspace(tf, tf + tb, (ms.backplate_layers or max(1, int(np.ceil(tb / h)))) + 1)
     z = np.concatenate([zf, zb[1:]])
     p, t = structured_tets(r, th, z)
     m = mapped_mesh(p, t, cylindrical, order=order)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..errors import SceneError
+from ..geometry.parts import MESH_BODY_KEYS
 
 if TYPE_CHECKING:
     from ..geometry import BrakeGeometry
@@ -105,12 +106,14 @@ def _two_sided_cells(length: float, h_end: float, h_mid: float, growth: float = 
 
 def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = "elastic",
                    piston: str = "traction", order: int = 1) -> ModelEstimate:
-    """Nodes and elements of each meshed body at ``size`` (m; default the geometry's)
-    and element ``order`` (2: each structured grid direction gets its midpoints,
-    the piston about seven mid-edge nodes per vertex)."""
+    """Nodes and elements of each meshed body at ``size`` (m; default the geometry's);
+    a body's own ``mesh.pad_size`` / ``rotor_size`` and layer counts take precedence.
+    Element ``order`` 2: each structured grid direction gets its midpoints, the
+    piston about seven mid-edge nodes per vertex."""
     k = 2 if order == 2 else 1            # grid points per cell and direction
     ms, pad, rot, pis = geom.mesh, geom.pad, geom.rotor, geom.piston
-    h = ms.size if size is None else float(size)
+    size = ms.size if size is None else float(size)
+    h = ms.rotor_size or size
     nodes, elements = {}, {}
     if rotor == "elastic":
         r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
@@ -119,18 +122,20 @@ def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = 
         n_fine = max(2, math.ceil(span * r_ref / h))
         dth = span / n_fine
         nth = n_fine + _two_sided_cells(2 * math.pi - span, dth, ms.rotor_coarse_factor * dth)
-        nz = _graded_cells(0.5 * rot.thickness, 0.5 * h, ms.rotor_z_ratio)
+        nz = ms.rotor_layers or _graded_cells(0.5 * rot.thickness, 0.5 * h, ms.rotor_z_ratio)
         nodes["rotor"] = (k * nr + 1) * k * nth * (k * nz + 1)   # periodic in theta
         elements["rotor"] = 6 * nr * nth * nz
+    h = ms.pad_size or size
     r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
     nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
     nth = max(2, math.ceil(pad.arc_angle * r_ref / h))
-    nz = (_graded_cells(pad.friction_thickness, 0.5 * h, ms.pad_z_ratio)
-          + max(1, math.ceil(pad.backplate_thickness / h)))
+    nz = ((ms.friction_layers or _graded_cells(pad.friction_thickness, 0.5 * h, ms.pad_z_ratio))
+          + (ms.backplate_layers or max(1, math.ceil(pad.backplate_thickness / h))))
     nodes["pad"] = (k * nr + 1) * (k * nth + 1) * (k * nz + 1)
     elements["pad"] = 6 * nr * nth * nz
     if piston == "body":
         R = 0.5 * pis.diameter
+        h = size
         rings = max(2, math.ceil(R / h))
         # about 2 pi r_k / h nodes on ring k (at least 6): the sum in closed form
         disc = 1 + sum(max(6, round(2 * math.pi * R * k / rings / h))
@@ -141,7 +146,7 @@ def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = 
         nodes["piston"] = int(disc * (layers + 1)) * (8 if order == 2 else 1)
         # a triangulated disc of n nodes, b on its rim: 2 n - b - 2 triangles, 3 tets each
         elements["piston"] = int(3 * (2 * disc - rim - 2) * layers)
-    return ModelEstimate(h, nodes, elements, 2 if order == 2 else 1)
+    return ModelEstimate(size, nodes, elements, 2 if order == 2 else 1)
 
 
 def memory_budget(budget_gb: float | None = None) -> tuple[float, str]:
@@ -233,6 +238,9 @@ def check_model_size(geom: BrakeGeometry, size: float | None, rotor: str = "elas
         lo, hi = h, 0.5 * width          # memory falls with the size: bisect the boundary
         if estimate(hi).memory > budget:
             fits = f"not even {_fmt(hi, unit)} (the largest allowed size) fits"
+            own = [k for k in MESH_BODY_KEYS if getattr(geom.mesh, k) is not None]
+            if own:
+                fits += f"; the geometry sets {', '.join(f'mesh.{k}' for k in own)} apart"
         else:
             for _ in range(60):
                 mid = math.sqrt(lo * hi)

@@ -20,6 +20,7 @@ from typing import Any, Mapping
 from ..checks import fail, user_units
 from ..errors import GeometryError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
+from ..geometry.parts import MESH_BODY_KEYS
 from ..wear.numerics import Numerics
 from .spec import Scene
 from .tables import UNITS, InterfaceSpec, OutputSpec, ThermalSpec, WearSpec
@@ -42,7 +43,8 @@ _SCHEMA: dict[str, dict[str, str]] = {
     "scene": {"name": "str", "description": "str", "geometry": "geometry"},
     "components": {"rotor": "str", "pad": "str", "piston": "str"},
     "mesh": {"size": "length", "order": "int", "pad_file": "path", "rotor_file": "path",
-             "piston_file": "path"},
+             "piston_file": "path", "pad_size": "length", "rotor_size": "length",
+             "friction_layers": "int", "backplate_layers": "int", "rotor_layers": "int"},
     "environment": {"line_pressure": "pressure", "omega": "angular_speed", "duration": "time",
                     "ambient": "temperature"},
     "interface": {"model": "str", "surfaces": "surfaces", "mu": "num", "method": "str",
@@ -324,10 +326,13 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
             if f is not None:       # relative to the scene file's folder
                 mesh_files[k[:-5]] = str(base / f) if base is not None and not \
                     Path(f).is_absolute() else f
+        resolution = {k: val("mesh", k) for k in tables.get("mesh", {})
+                      if k in MESH_BODY_KEYS}
         duty = _duty(tables, val, source, base)
         return Scene(geometry=geometry, rotor=comps["rotor"],
                      piston=comps.get("piston", "traction"),
                      mesh_size=mesh_size, order=val("mesh", "order"), mesh_files=mesh_files,
+                     resolution=resolution,
                      interface=interface, pad_wear=pad_wear, rotor_wear=rotor_wear,
                      thermal=thermal, numerics=numerics, output=output, name=name,
                      description=val("scene", "description", ""), source=source,

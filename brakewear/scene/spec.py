@@ -15,7 +15,7 @@ from __future__ import annotations
 import json
 import logging
 import math
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from os import PathLike
 from typing import Any, Mapping
 
@@ -31,7 +31,7 @@ from ..checks import (
     user_unit,
 )
 from ..geometry.files import load_geometry
-from ..geometry.parts import BrakeGeometry
+from ..geometry.parts import MAX_LAYERS, MESH_BODY_KEYS, BrakeGeometry
 from ..wear.numerics import Numerics
 from .tables import (
     _WEAR_INTERFACE,
@@ -64,6 +64,13 @@ class Scene:
         Your own meshes: body (``"pad"``, ``"rotor"``, ``"piston"``) -> mesh
         file with the named groups of :data:`brakewear.mesh.io.MESH_GROUPS`
         (scene keys ``mesh.pad_file``, ...); read and checked at once.
+    resolution
+        Per-body mesh resolution, overriding the geometry's ``[mesh]``:
+        ``pad_size``, ``rotor_size`` (m), ``friction_layers``,
+        ``backplate_layers``, ``rotor_layers`` (element layers; see
+        :class:`~brakewear.geometry.MeshSettings`); they take precedence over
+        ``mesh_size`` for their body.  ``geometry`` stays as given;
+        :attr:`meshed_geometry` is the geometry the model is meshed from.
     line_pressure, omega, duration, ambient
         Pa, rad/s, s, K: steady drag at constant line pressure and rotor speed.
     interface, pad_wear, rotor_wear, thermal, numerics, output
@@ -88,6 +95,7 @@ class Scene:
     mesh_size: float | None = None
     order: int | None = None
     mesh_files: Mapping[str, str] = field(default_factory=dict)
+    resolution: Mapping[str, float] = field(default_factory=dict)
     interface: InterfaceSpec = field(default_factory=InterfaceSpec)
     pad_wear: WearSpec = field(default_factory=WearSpec)
     rotor_wear: WearSpec | None = field(default_factory=WearSpec)
@@ -120,6 +128,7 @@ class Scene:
         if self.mesh_size is not None:
             check_number("mesh.size", self.mesh_size, 0.0, unit="m")
         check_int("mesh.order", self.order, 1, allow_none=True)
+        self._check_resolution()
         if self.order not in (None, 1):
             raise fail("mesh.order", f"{self.order!r} is not allowed; scenes (their outputs, "
                                       "thermal coupling and geometry updates) support P1 meshes "
@@ -141,7 +150,8 @@ class Scene:
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
         from ..mesh.estimate import check_model_size
-        check_model_size(self.geometry, self.mesh_size, self.rotor, self.piston, nodes=nodes,
+        check_model_size(self.meshed_geometry, self.mesh_size, self.rotor, self.piston,
+                         nodes=nodes,
                          key="mesh.size" if self.mesh_size is not None else
                          f"mesh.size of the geometry {self.geometry.source}",
                          unit=user_unit("mesh.size") or ("m" if self.mesh_size else "mm"),
@@ -150,6 +160,30 @@ class Scene:
                          budget_gb=self.numerics.memory_budget)
 
     # ------------------------------------------------------------ checks --
+    @property
+    def meshed_geometry(self) -> BrakeGeometry:
+        """The geometry with the scene's per-body mesh keys (``resolution``) set."""
+        g = self.geometry
+        return replace(g, mesh=replace(g.mesh, **self.resolution)) if self.resolution else g
+
+    def _check_resolution(self) -> None:
+        """Check the per-body mesh keys (names, types, ranges)."""
+        if not isinstance(self.resolution, Mapping):
+            raise fail("mesh", f"resolution = {self.resolution!r}; expected key -> value")
+        res = dict(self.resolution)
+        object.__setattr__(self, "resolution", res)
+        pad = self.geometry.pad
+        half_width = 0.5 * (pad.outer_radius - pad.inner_radius)
+        for key, v in res.items():
+            if key not in MESH_BODY_KEYS:
+                raise fail(f"mesh.{key}", f"unknown key {key!r}; allowed per-body mesh keys: "
+                                          f"{', '.join(MESH_BODY_KEYS)}")
+            if key.endswith("_size"):
+                check_number(f"mesh.{key}", v, 0.0, half_width, unit="m")
+            elif isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_LAYERS:
+                raise fail(f"mesh.{key}", f"{v!r} is not allowed; allowed: a whole number "
+                                              f"of element layers in [1, {MAX_LAYERS}]")
+
     def _check_mesh_files(self) -> dict[str, int]:
         """Read the user's mesh files (groups checked); their node counts."""
         from ..errors import MeshFileError
@@ -266,7 +300,7 @@ class Scene:
     def build_model(self):
         """The :class:`~brakewear.model.BrakeModel` of the scene (this meshes)."""
         from ..model import BrakeModel
-        return BrakeModel(self.geometry, piston=self.piston, size=self.mesh_size,
+        return BrakeModel(self.meshed_geometry, piston=self.piston, size=self.mesh_size,
                           order=self.order, rotor=self.rotor, meshes=dict(self.mesh_files),
                           memory_budget=self.numerics.memory_budget)
 
@@ -339,8 +373,9 @@ class Scene:
         for k in ("interface", "pad_wear", "rotor_wear", "thermal", "numerics", "output"):
             d[k] = None if d[k] is None else asdict(d[k])
         d["interface"]["surfaces"] = list(d["interface"]["surfaces"])
-        if not d["mesh_files"]:
-            del d["mesh_files"]
+        for k in ("mesh_files", "resolution"):
+            if not d[k]:
+                del d[k]
         g = self.geometry
         d["geometry"] = {"source": str(g.source), "rotor": _geom_record(g.rotor),
                          "pad": _geom_record(g.pad), "piston": _geom_record(g.piston),
@@ -376,5 +411,6 @@ _RECORD_KEYS = {"duration": "environment.duration", "line_pressure": "environmen
                 "omega": "environment.omega", "ambient": "environment.ambient",
                 "rotor": "components.rotor", "piston": "components.piston",
                 "mesh_size": "mesh.size", "order": "mesh.order", "mesh_files": "mesh",
+                "resolution": "mesh",
                 "pad_wear": "wear.pad",
                 "rotor_wear": "wear.rotor", "geometry": "geometry"}

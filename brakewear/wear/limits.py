@@ -125,13 +125,18 @@ def check_temperature(step, thermal) -> None:
         backflow = (", contact_conductance 0 with a meshed rotor: no heat flows back to the "
                     "rotor; give thermal.contact_conductance > 0 (default 1e5 W/m^2 K)"
                     if thermal.contact_conductance == 0 and "rotor" in thermal.bodies else "")
+        act = step.active if step.active_end is None else step.active_end
+        p = step.pressure if step.pressure_end is None else step.pressure_end
+        rigid = ("; with a rigid rotor nothing expands to meet the pad's hot spot: use "
+                 "components.rotor = 'elastic'" if "rotor" not in thermal.bodies else "")
         raise TemperatureLimitError(
             f"step {step.step} (t = {step.time:.6g} s): the {body} face reached "
             f"{T - 273.15:.0f} C, beyond the plausibility bound T_max = "
             f"{thermal.T_max - 273.15:.0f} C (thermal.T_max). Likely causes: the heat "
             f"partition (pad share {float(np.mean(thermal.partition)):.3g}{backflow}), a duty "
             "beyond the brake's thermal capacity (line pressure x speed x duration), or a "
-            "contact concentrated on a few nodes; raise thermal.T_max only if such "
-            "temperatures are meant",
+            f"contact concentrated on a few nodes (now {int(np.count_nonzero(act))} of "
+            f"{act.size} pad nodes, up to {float(np.max(p)) / 1e6:.3g} MPa: thermoelastic "
+            f"localisation{rigid}); raise thermal.T_max only if such temperatures are meant",
             body=body, temperature=float(T), T_max=thermal.T_max, step=step.step,
             time=step.time)
