@@ -21,10 +21,10 @@ is seen apart from the mesh error):
 - rigid against elastic rotor;
 - FE contact against the Winkler foundation (uncalibrated: layer modulus;
   and stiffness-calibrated against one FE solve, whose cost is counted);
-- element order: the brake model is P1 only (order 2 is refused for the
-  tied/contact interface), so P1 against P2 is timed on a single body, the
-  thick cylinder of ``studies/cylinder_convergence.py`` (energy-norm error
-  against Lame's closed form).
+- element order: P1 against P2 timed on a single body, the thick cylinder of
+  ``studies/cylinder_convergence.py`` (energy-norm error against Lame's
+  closed form); the brake's own P1 against P2 contact patch is
+  ``studies/brake_order.py`` (a wear history on P2 has no file output yet).
 
 Error metrics (the comparison of fields on different meshes is done at the
 reference's points -- the grid of the estimate, or the finest mesh's pad
@@ -182,7 +182,7 @@ def errors(case: dict, ref: dict) -> dict:
 
 
 def element_order(ns_p1=(4, 8, 16), ns_p2=(2, 4, 8)) -> list[dict]:
-    """P1 against P2 on the thick cylinder (the brake itself is P1 only)."""
+    """P1 against P2 on the thick cylinder (the brake's: studies/brake_order.py)."""
     cyl = _study("cylinder_convergence")
     rows = []
     for order, ns in ((1, ns_p1), (2, ns_p2)):
@@ -447,7 +447,7 @@ def plot(result: dict, path: Path) -> None:
                                    if lo / 2 <= t <= hi * 2])
     ax2.set_xlabel("wall time (s, assemble + AMG solve)")
     ax2.set_ylabel("energy-norm error vs Lame (relative)")
-    ax2.set_title("(c) element order (the brake is P1 only):\nthick cylinder, one static solve",
+    ax2.set_title("(c) element order on a single body:\nthick cylinder, one static solve",
                   fontsize=9)
     ax2.grid(True, which="both", alpha=0.3)
     if eo:
