@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from typing import Mapping
 
 from ..materials import Material
+from .caliper import CaliperGeometry, HatGeometry, SupportGeometry, VentGeometry
 
 logger = logging.getLogger(__name__)
 
@@ -69,12 +70,22 @@ class RotorGeometry:
         Full thickness of the ring (m); the model meshes the inboard half.
     material : Material
         Rotor material.
+    mount : str
+        ``"ring_clamp"`` (the ring held at its inner radius) or ``"hat"`` (the
+        flange of :attr:`hat` clamped at the bolt circle), :data:`ROTOR_MOUNTS`.
+    hat : HatGeometry or None
+        The mounting hat (``mount = "hat"`` only).
+    vents : VentGeometry or None
+        Cheeks and vanes of a vented ring; None: a solid ring.
     """
 
     inner_radius: float
     outer_radius: float
     thickness: float
     material: Material
+    mount: str = "ring_clamp"
+    hat: HatGeometry | None = None
+    vents: VentGeometry | None = None
 
 
 @dataclass(frozen=True)
@@ -93,6 +104,20 @@ class PadGeometry:
         Layer thicknesses (m); the friction layer touches the rotor.
     friction_material, backplate_material : Material
         Layer materials.
+    backplate_inner_radius, backplate_outer_radius : float or None
+        Radii of the backplate outline (m) where it is larger than the
+        lining (a real backplate carries the piston rim and the abutment
+        ears); None: the lining's radii.
+    leading_chamfer, trailing_chamfer : (float, float)
+        ``(length, depth)`` of the chamfer at each end of the lining (m):
+        the friction face is cut back linearly from ``depth`` at the end to
+        0 at ``length`` along the arc (measured at the mean radius); (0, 0):
+        none.
+    slot_width : float
+        Tangential width of a radial slot through the lining on its centre
+        line (m); 0: no slot.
+    slot_depth : float or None
+        Depth of the slot from the friction face (m); None: the whole lining.
     """
 
     inner_radius: float
@@ -103,6 +128,21 @@ class PadGeometry:
     backplate_thickness: float
     friction_material: Material
     backplate_material: Material
+    backplate_inner_radius: float | None = None
+    backplate_outer_radius: float | None = None
+    leading_chamfer: tuple[float, float] = (0.0, 0.0)
+    trailing_chamfer: tuple[float, float] = (0.0, 0.0)
+    slot_width: float = 0.0
+    slot_depth: float | None = None
+
+    @property
+    def backplate_radii(self) -> tuple[float, float]:
+        """Inner and outer radius of the backplate outline (m); the lining's
+        radii unless the backplate is larger."""
+        return (self.inner_radius if self.backplate_inner_radius is None
+                else self.backplate_inner_radius,
+                self.outer_radius if self.backplate_outer_radius is None
+                else self.backplate_outer_radius)
 
     @property
     def thickness(self) -> float:
@@ -147,6 +187,10 @@ class PistonGeometry:
     bore_diameter : float
         Hydraulic bore diameter (m), which converts line pressure to clamp
         force (:attr:`hydraulic_area`); defaults to ``diameter``.
+    rim_inner_diameter : float or None
+        Inner diameter of the piston's annular rim (m): a real piston is a
+        cup and bears on the backplate through its rim, between this
+        diameter and :attr:`diameter`; None: a solid disc footprint.
     """
 
     diameter: float
@@ -155,6 +199,14 @@ class PistonGeometry:
     length: float
     material: Material
     bore_diameter: float
+    rim_inner_diameter: float | None = None
+
+    @property
+    def footprint_area(self) -> float:
+        """Area of the footprint on the backplate (m^2): the annular rim
+        between :attr:`rim_inner_diameter` and :attr:`diameter`, or the disc."""
+        inner = self.rim_inner_diameter or 0.0
+        return 0.25 * math.pi * (self.diameter ** 2 - inner ** 2)
 
     @property
     def hydraulic_area(self) -> float:
@@ -211,6 +263,12 @@ class BrakeGeometry:
     ----------
     rotor, pad, piston, mesh
         The components and the mesh controls.
+    caliper, support
+        The caliper (fixed or floating, fingers) and the pads' support in the
+        bracket (:mod:`brakewear.geometry.caliper`).
+    extra_pistons
+        Further pistons of a multi-piston caliper beside :attr:`piston`
+        (same side; a fixed caliper mirrors all of them).
     materials : dict
         Every material the file can name: the built-ins plus its
         ``[materials.NAME]`` tables.
@@ -224,9 +282,23 @@ class BrakeGeometry:
     pad: PadGeometry
     piston: PistonGeometry
     mesh: MeshSettings
+    caliper: CaliperGeometry = CaliperGeometry()
+    support: SupportGeometry = SupportGeometry()
+    extra_pistons: tuple[PistonGeometry, ...] = ()
     materials: Mapping[str, Material] = field(compare=False, repr=False, default_factory=dict)
     source: str = field(default="<dict>", compare=False)
     units: Mapping[str, str] = field(default_factory=dict, compare=False)
+
+    @property
+    def pistons(self) -> tuple[PistonGeometry, ...]:
+        """Every piston on one side: :attr:`piston` and :attr:`extra_pistons`."""
+        return (self.piston, *self.extra_pistons)
+
+    @property
+    def clamp_area(self) -> float:
+        """Hydraulic area of one side's pistons (m^2): line pressure times this
+        is the clamp force on each pad."""
+        return sum(p.hydraulic_area for p in self.pistons)
 
     @property
     def piston_center(self) -> tuple[float, float]:

@@ -83,10 +83,14 @@ def _body_size(geom: BrakeGeometry, size: float | None, body: str) -> float:
     return own if own is not None else (geom.mesh.size if size is None else size)
 
 
-def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None = None) -> fem.Mesh:
-    """The inboard half of the rotor friction ring, a closed (periodic) ring.
+def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None = None,
+               full: bool = False) -> fem.Mesh:
+    """The inboard half of the rotor friction ring, a closed (periodic) ring
+    (``full``: the whole thickness).
 
-    ``z`` runs from ``-thickness/2`` (midplane) to ``0`` (friction face).  In
+    ``z`` runs from ``-thickness/2`` (midplane) to ``0`` (friction face);
+    with ``full`` from ``-thickness`` (outboard friction face) to ``0``, the
+    grading mirrored about the mid-plane.  In
     theta the elements have the in-plane ``size`` (at the pad mid radius) over
     the pad arc plus ``geom.mesh.rotor_margin`` on both sides and grow to
     ``rotor_coarse_factor * size`` elsewhere; through the thickness they are
@@ -107,6 +111,8 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     skfem.MeshTet or skfem.MeshTet2
         Facets ``friction`` (z = 0), ``midplane`` (z = -t/2), ``rotor_clamp``
         (inner radius) and ``outer``; subdomain ``rotor`` (all elements).
+        With ``full``: ``friction_in`` (z = 0), ``friction_out`` (z = -t),
+        ``friction`` (both), ``rotor_clamp`` and ``outer``, no ``midplane``.
     """
     ms, ro_, pad = geom.mesh, geom.rotor, geom.pad
     h, order = _check_size_order(_body_size(geom, size, "rotor"),
@@ -125,20 +131,29 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     th[-1] = th0 + 2 * np.pi
     nz = ms.rotor_layers or _n_cells(half, 0.5 * h, ms.rotor_z_ratio)
     z = graded(-half, 0.0, nz, ms.rotor_z_ratio if nz > 1 else 1.0, "b")
+    if full:
+        z = np.concatenate([-2 * half - z[::-1], z[1:]])
     p, t = structured_tets(r, th, z, periodic_y=True)
     m = mapped_mesh(p, t, cylindrical, order=order, period=np.array([0.0, 2 * np.pi, 0.0]))
     tol = 1e-9 * ro
     rmid = 0.5 * (ri + ro)
 
-    def side(X):
-        return (np.abs(X[2]) > tol) & (np.abs(X[2] + half) > tol)
+    bottom = -2 * half if full else -half
 
-    m = _with_boundaries(m, {
-        "friction": lambda X: np.abs(X[2]) < tol,
-        "midplane": lambda X: np.abs(X[2] + half) < tol,
+    def side(X):
+        return (np.abs(X[2]) > tol) & (np.abs(X[2] - bottom) > tol)
+
+    faces = {
         "rotor_clamp": lambda X: side(X) & (np.hypot(X[0], X[1]) < rmid),
         "outer": lambda X: side(X) & (np.hypot(X[0], X[1]) > rmid),
-    })
+    }
+    if full:
+        faces.update({"friction": lambda X: ~side(X), "friction_in": lambda X: np.abs(X[2]) < tol,
+                      "friction_out": lambda X: np.abs(X[2] - bottom) < tol})
+    else:
+        faces.update({"friction": lambda X: np.abs(X[2]) < tol,
+                      "midplane": lambda X: np.abs(X[2] - bottom) < tol})
+    m = _with_boundaries(m, faces)
     m = _with_subdomains(m, {"rotor": np.arange(m.t.shape[1])})
     logger.debug("rotor mesh: %d nodes, %d elements (order %d)", m.p.shape[1], m.t.shape[1], order)
     return m
