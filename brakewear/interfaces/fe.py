@@ -56,6 +56,10 @@ class FEInterface:
             rotor = model.meshes["rotor"]
             self.rotor_nodes = face = face_nodes(rotor, "friction")
             self.ring, _ = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
+            if getattr(model, "full", False):
+                # a ring is a radius on one face: each face wears under its own pad
+                out = rotor.p[2, face] < -0.5 * model.geometry.rotor.thickness
+                self.ring = self.ring + out * (int(self.ring.max()) + 1)
             self.rotor_area = _face_areas(rotor, face)
             self.rotor_x = rotor.p[:, face]
         else:
