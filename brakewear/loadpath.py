@@ -26,13 +26,42 @@ import math
 
 import numpy as np
 
+from .errors import SceneError
 from .fem.boundary import assemble_traction, boundary_dofs
 from .fem.footprint import annulus, footprint_load
 from .mesh.surface import is_quadratic, tributary_areas
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["clamp_loads", "idealised_load", "pad_support_dofs", "footprints", "uniform_traction"]
+__all__ = ["clamp_loads", "idealised_load", "pad_support_dofs", "footprints", "uniform_traction",
+           "half_model_holds", "resolve_layout"]
+
+
+def half_model_holds(geometry) -> bool:
+    """Whether one pad and the rotor's inboard half with a mirror plane model the
+    brake exactly: both pads get the same load (a fixed caliper) and the rotor
+    is symmetric about its mid-plane (no hat)."""
+    return geometry.caliper.symmetric and geometry.rotor.mount == "ring_clamp"
+
+
+def resolve_layout(geometry, layout: str, rotor: str = "elastic", strict: bool = False) -> str:
+    """``"half"`` or ``"full"`` for a model layout (``"auto"``: half where
+    :func:`half_model_holds` or the rotor is rigid, else full).  ``strict``:
+    refuse a layout the model cannot build, warn of a half model whose
+    assumption does not hold."""
+    if layout not in ("auto", "half", "full"):
+        raise SceneError(f"layout = {layout!r} is not allowed; allowed: 'auto', 'half', 'full'")
+    holds = half_model_holds(geometry)
+    if layout == "auto":
+        layout = "half" if holds or rotor == "rigid" else "full"
+    if strict and layout == "full" and rotor == "rigid":
+        raise SceneError("layout = 'full' needs rotor = 'elastic': a rigid rotor is the "
+                         "plane z = 0, with no second friction face")
+    if strict and layout == "half" and not holds:
+        logger.warning("half model of an unsymmetric brake (%s caliper, rotor mount %s): "
+                       "the outboard pad is taken to carry the inboard pad's load",
+                       geometry.caliper.type, geometry.rotor.mount)
+    return layout
 
 
 def idealised_load(geometry) -> bool:

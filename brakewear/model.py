@@ -35,7 +35,12 @@ from .fem.assembly import BlockPattern, assemble_stiffness
 from .fem.boundary import apply_dirichlet, boundary_dofs
 from .geometry.files import load_geometry
 from .geometry.parts import BrakeGeometry
-from .loadpath import clamp_loads, pad_support_dofs, uniform_traction
+from .loadpath import (
+    clamp_loads,
+    pad_support_dofs,
+    resolve_layout,
+    uniform_traction,
+)
 from .mesh.brake import (
     component_materials,
     element_materials,
@@ -45,7 +50,7 @@ from .mesh.brake import (
 )
 from .mesh.estimate import check_model_size
 from .mesh.io import read_body_mesh
-from .mesh.pads import mirrored_pads
+from .mesh.pads import mirrored_pads, whole_thickness_meshes
 from .mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from .solvers.amg import amg_solver
 from .static import body_stresses, static_summary
@@ -139,7 +144,7 @@ class BrakeModel:
             raise SceneError(f"rotor = {rotor!r} is not allowed; allowed: 'elastic', 'rigid'")
         self.rotor = rotor
         self.geometry = geometry if isinstance(geometry, BrakeGeometry) else load_geometry(geometry)
-        self.layout = self._layout(layout)
+        self.layout = resolve_layout(self.geometry, layout, rotor, strict=True)
         order = self.geometry.mesh.order if order is None else order
         if isinstance(order, bool) or order not in (1, 2):
             raise SceneError(f"order = {order!r} is not allowed; allowed: 1, 2")
@@ -154,9 +159,12 @@ class BrakeModel:
                              f"bodies: {', '.join(self.bodies)}")
         given = {b: read_body_mesh(m, b, piston) if isinstance(m, (str, PathLike)) else m
                  for b, m in (meshes or {}).items()}
+        if self.full:
+            given = whole_thickness_meshes(given, -0.5 * self.geometry.rotor.thickness)
         check_model_size(self.geometry, size, rotor, piston, key="size", unit="m",
                          budget_gb=memory_budget, budget_key="memory_budget",
-                         nodes={b: m.p.shape[1] for b, m in given.items()}, order=order)
+                         nodes={b: m.p.shape[1] for b, m in given.items()}, order=order,
+                         full=self.full)
         t0 = time.perf_counter()
         self.meshes = {b: given[b] if b in given else self._mesh(b, size, order)
                        for b in self.bodies}
@@ -174,23 +182,6 @@ class BrakeModel:
         self.offsets, self.n_nodes = offs, n
         self._K: dict[str, sp.spmatrix] = {}
         self._patterns: dict[str, BlockPattern] = {}
-
-    def _layout(self, layout: str) -> str:
-        if layout not in ("auto", "half", "full"):
-            raise SceneError(f"layout = {layout!r} is not allowed; allowed: 'auto', 'half', "
-                             "'full'")
-        g = self.geometry
-        symmetric = g.caliper.symmetric and g.rotor.mount == "ring_clamp"
-        if layout == "auto":
-            layout = "half" if symmetric or self.rotor == "rigid" else "full"
-        if layout == "full" and self.rotor == "rigid":
-            raise SceneError("layout = 'full' needs rotor = 'elastic': a rigid rotor is the "
-                             "plane z = 0, with no second friction face")
-        if layout == "half" and not symmetric:
-            logger.warning("half model of an unsymmetric brake (%s caliper, rotor mount %s): "
-                           "the outboard pad is taken to carry the inboard pad's load",
-                           g.caliper.type, g.rotor.mount)
-        return layout
 
     @property
     def full(self) -> bool:

@@ -16,7 +16,7 @@ from .mesh.surface import face_nodes
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["body_stresses", "static_summary", "face_report", "friction_faces"]
+__all__ = ["body_stresses", "static_summary", "face_report", "friction_faces", "pad_balance"]
 
 
 def body_stresses(model, result) -> dict:
@@ -83,3 +83,57 @@ def static_summary(model, result) -> dict:
                        "max_von_mises_Pa": float(vm[b].max())} for b in model.bodies},
         "solver": result.info,
     }
+
+
+def pad_balance(model, result, line_pressure: float, extra: dict | None = None) -> dict:
+    """Force and moment balance of each pad: applied clamp load + contact forces
+    (the solve's multipliers and friction) + support reactions (``K u - f`` at the
+    supported DOFs) + ``extra`` forces (name -> pad-DOF vector, e.g. springs or
+    abutments), each resultant relative to the clamp force (moments to the clamp
+    force times the pad's outer radius).  Needs ``piston = "traction"``.
+    In the full model also the caliper: its resultant force (zero: the fingers
+    or the outboard pistons balance the inboard ones) and the moment its pins
+    carry to the bracket.
+
+    Returns
+    -------
+    dict
+        ``{"in": {"force": rel, "moment": rel}, "out": ..., "caliper":
+        {"force": rel, "pin_moment_Nm": [mx, my, mz]}}``.
+    """
+    from .loadpath import pad_support_dofs      # loadpath sits beside model, above static
+
+    if model.piston != "traction":
+        raise ValueError("pad_balance needs piston = 'traction' (a meshed piston is tied "
+                         "to the pad)")
+    pad, off = model.meshes["pad"], model.offsets["pad"]
+    n = pad.p.shape[1]
+    f = model.loads(line_pressure)[3 * off:3 * (off + n)]
+    u = result.u["pad"]
+    r = model.stiffness("pad") @ u - f
+    fixed = pad_support_dofs(model.geometry, pad)
+    ext = f.copy()
+    ext[fixed] += r[fixed]
+    c = np.zeros(3 * n)
+    c.reshape(-1, 3)[result.interface_nodes] += result.interface_force.T
+    ext += c
+    for v in (extra or {}).values():
+        ext += v
+    F = line_pressure * model.geometry.clamp_area
+    R = model.geometry.pad.outer_radius
+    x = pad.p
+    half = -0.5 * model.geometry.rotor.thickness
+    sides = {"in": x[2] > half} if model.full else {"in": np.ones(n, dtype=bool)}
+    if model.full:
+        sides["out"] = ~sides["in"]
+    out = {}
+    for side, mask in sides.items():
+        e = ext.reshape(-1, 3)[mask]
+        m = np.cross(x[:, mask].T, e).sum(axis=0)
+        out[side] = {"force": float(np.linalg.norm(e.sum(axis=0)) / F),
+                     "moment": float(np.linalg.norm(m) / (F * R))}
+    if model.full:
+        fa = -f.reshape(-1, 3)     # what the pistons and fingers take from the caliper
+        out["caliper"] = {"force": float(np.linalg.norm(fa.sum(axis=0)) / F),
+                          "pin_moment_Nm": np.cross(x.T, fa).sum(axis=0).tolist()}
+    return out

@@ -18,13 +18,14 @@ import logging
 import numpy as np
 import skfem as fem
 
+from ..errors import SceneError
 from .structured import _oriented
 from .surface import is_quadratic
 from .topology import ensure_topology, keep_topology
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["mirrored_pads", "OUTBOARD_SUFFIX", "INBOARD_SUFFIX"]
+__all__ = ["mirrored_pads", "whole_thickness_meshes", "OUTBOARD_SUFFIX", "INBOARD_SUFFIX"]
 
 INBOARD_SUFFIX, OUTBOARD_SUFFIX = "_in", "_out"
 
@@ -100,3 +101,23 @@ def mirrored_pads(pad: fem.Mesh, mirror_z: float) -> fem.Mesh:
     out_mesh = keep_topology(out_mesh.with_subdomains(subs), mesh)
     logger.debug("two pads: %d nodes, %d elements", out_mesh.p.shape[1], out_mesh.t.shape[1])
     return out_mesh
+
+
+def whole_thickness_meshes(given: dict, mirror_z: float) -> dict:
+    """A user's meshes (body -> mesh) for the full model: the pad mirrored into
+    both pads; the rotor must be whole, both friction faces named.
+
+    Raises
+    ------
+    SceneError
+        A rotor mesh without ``friction_in`` and ``friction_out`` facets.
+    """
+    rotor = given.get("rotor")
+    if rotor is not None and not {"friction_in", "friction_out"} <= set(rotor.boundaries or {}):
+        raise SceneError("meshes: the full model needs a rotor mesh of the whole thickness "
+                         "with facets 'friction_in' (z = 0) and 'friction_out' (z = "
+                         f"-thickness); this one has {sorted(rotor.boundaries or {})}; use "
+                         "layout = 'half'")
+    if "pad" in given:
+        given = {**given, "pad": mirrored_pads(given["pad"], mirror_z)}
+    return given
