@@ -3,7 +3,7 @@
 :mod:`~brakewear.geometry.parts` holds the dataclasses (rotor, pad, piston,
 mesh settings), :mod:`~brakewear.geometry.caliper` the load path (caliper,
 fingers, pad support, rotor hat and vents), :mod:`~brakewear.geometry.files` reads and checks geometry
-files (docs: reference/geometry).
+files (docs: reference/geometry) and :mod:`~brakewear.geometry.loadpath` their load-path keys.
 """
 
 from . import caliper, files, parts
