@@ -162,3 +162,18 @@ def test_bad_floating_file_fails_on_load(tmp_path):
     f.write_text(geometry_file("floating").read_text().replace("radius = 126.0", "radius = 145.0"))
     with pytest.raises(GeometryError, match=r"bad.toml: caliper.fingers\[0\].radius: 145 mm"):
         load_geometry(f)
+
+
+def test_the_floating_snippet_of_the_docs_runs(capsys):
+    """docs/geometry.md's floating-caliper snippet, run as written; its comments are its output."""
+    import pathlib
+    import re
+
+    text = (pathlib.Path(__file__).parents[1] / "docs" / "geometry.md").read_text()
+    (code,) = [b for b in re.findall(r"```python\n(.*?)```", text, re.S)
+               if 'load_geometry("floating")' in b]
+    exec(compile(code, "docs/geometry.md", "exec"), {})
+    out = capsys.readouterr().out.splitlines()
+    expected = [m.strip() for m in re.findall(r"# (.*)$", code, re.M)]
+    assert out[:3] == expected, (out, expected)
+    assert "slot" in out[3] and "leading_chamfer" in out[3]

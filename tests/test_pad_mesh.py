@@ -144,3 +144,15 @@ def test_the_idealised_pad_has_no_new_faces():
     for name in ("leading_chamfer", "trailing_chamfer", "slot"):
         assert len(m.boundaries[name]) == 0
     assert len(m.boundaries["abutment_leading"]) == len(m.boundaries["abutment_trailing"]) > 0
+
+
+def test_pad_shape_study(tmp_path):
+    """studies/pad_shape.py (docs/geometry.md's figure) on a coarse mesh, without the picture."""
+    from studyload import load_study
+
+    res = load_study("pad_shape").main(size_mm=5.0, out=str(tmp_path), data=str(tmp_path),
+                                       figure=False)
+    for key in ("lining_volume", "backplate_volume", "friction_area"):
+        assert abs(res["orders"]["P2"][key]["rel_diff"]) < 1e-6, res["orders"]["P2"][key]
+        assert abs(res["orders"]["P1"][key]["rel_diff"]) < 0.5 * (5 / 95) ** 2
+    assert (tmp_path / "floating_pad.json").exists()
