@@ -6,9 +6,10 @@ fingers, pad support, rotor hat and vents), :mod:`~brakewear.geometry.files` rea
 files (docs: reference/geometry) and :mod:`~brakewear.geometry.loadpath` their load-path keys.
 """
 
-from . import caliper, files, parts
+from . import caliper, files, loadpath, parts
 from .caliper import *  # noqa: F403
 from .files import *  # noqa: F403
+from .loadpath import *  # noqa: F403
 from .parts import *  # noqa: F403
 
-__all__ = [*files.__all__, *parts.__all__, *caliper.__all__]
+__all__ = [*files.__all__, *parts.__all__, *caliper.__all__, *loadpath.__all__]
