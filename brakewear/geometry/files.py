@@ -1,7 +1,9 @@
 """Parametric brake geometry: read, check and hold a geometry/*.toml file.
 
 A geometry file describes one brake -- rotor ring, pad (friction layer on a
-steel backplate), piston -- in the units named in its ``[units]`` table.
+steel backplate), piston and, optionally, the caliper, the pads' support and
+the rotor's mount (read by :mod:`brakewear.geometry.loadpath`) -- in the
+units named in its ``[units]`` table.
 :func:`load_geometry` and :func:`geometry_from_dict` check *everything*
 (unknown keys, missing fields, types, ranges, the pad on the rotor ring, the
 piston on the pad, materials, units) before any mesh is built, and return a
