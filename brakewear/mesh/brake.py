@@ -189,9 +189,9 @@ def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None =
         piston footprint: the rim annulus or the disc), ``leading``,
         ``trailing`` (whole end faces), ``abutment_leading``,
         ``abutment_trailing`` (backplate part of each end face), ``abutment``
-        (both), ``leading_chamfer``, ``trailing_chamfer`` (the chamfer faces,
-        empty without chamfers), ``slot`` (walls and floor of the slot, empty
-        without one), ``inner`` and ``outer`` (the curved faces and, where the
+        (both), ``leading_chamfer``, ``trailing_chamfer`` (the chamfer faces)
+        and ``slot`` (walls and floor of the slot), these three only where
+        the pad has them, ``inner`` and ``outer`` (the curved faces and, where the
         backplate is larger than the lining, its exposed front face).
     """
     ms = geom.mesh

@@ -36,7 +36,11 @@ if TYPE_CHECKING:  # imported for annotations only: geometry sits above mesh
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["sector_pad_mesh", "pad_breaks"]
+__all__ = ["sector_pad_mesh", "pad_breaks", "OPTIONAL_FACES"]
+
+
+#: facet sets named only where the pad has them
+OPTIONAL_FACES = ("leading_chamfer", "trailing_chamfer", "slot")
 
 
 def _segments(breaks: list[float], h: float, min_cells: Callable[[int], int]) -> np.ndarray:
@@ -193,4 +197,5 @@ def _facet_sets(m: fem.Mesh, p: np.ndarray, geom: BrakeGeometry, b: dict) -> dic
         "inner": side & (cr < b["r_mean"]),
         "outer": side & (cr > b["r_mean"]),
     }
-    return {k: bf[v] for k, v in sets.items()}
+    # a face the pad does not have is not named (a mesh file cannot hold an empty group)
+    return {k: bf[v] for k, v in sets.items() if v.any() or k not in OPTIONAL_FACES}
