@@ -80,7 +80,7 @@ def draw(geom, m: fem.Mesh, path: Path) -> None:
     """The two views (friction face from the rotor, back from the caliper)."""
     pv = offscreen_pyvista()
     pad = geom.pad
-    pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=[1800, 720], border=False)
+    pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=[1800, 640], border=False)
     for col, names, up, title in (
             (0, ("friction", "leading_chamfer", "trailing_chamfer", "slot", "inner", "outer",
                  "leading", "trailing"), -1.0,
@@ -121,7 +121,7 @@ def draw(geom, m: fem.Mesh, path: Path) -> None:
         pl.camera.up = (math.cos(c), math.sin(c), 0.0)
         pl.enable_parallel_projection()
         pl.reset_camera()
-        pl.camera.zoom(1.05)
+        pl.camera.zoom(1.35)
         pl.add_text(title, position="upper_edge", font_size=11, color="black")
     pl.set_background("white")
     path.parent.mkdir(parents=True, exist_ok=True)
