@@ -129,7 +129,9 @@ def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = 
         elements["rotor"] = 6 * nr * nth * nz
     h = ms.pad_size or size
     r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
-    nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
+    bri, bro = pad.backplate_radii     # a larger backplate adds radial cells (whole block)
+    nr = (max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
+          + math.ceil((pad.inner_radius - bri) / h) + math.ceil((bro - pad.outer_radius) / h))
     nth = max(2, math.ceil(pad.arc_angle * r_ref / h))
     nz = ((ms.friction_layers or _graded_cells(pad.friction_thickness, 0.5 * h, ms.pad_z_ratio))
           + (ms.backplate_layers or max(1, math.ceil(pad.backplate_thickness / h))))
