@@ -40,7 +40,6 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.geometry import CaliperGeometry, load_geometry
-from brakewear.mesh.surface import face_nodes
 from brakewear.model import BrakeModel
 from brakewear.static import pad_balance
 

@@ -52,6 +52,20 @@ def _check_case(steps, update: str, interface: str) -> None:
         raise ValueError(f"steps = {steps!r} is not allowed; need a whole number >= 1")
 
 
+def _bench_model(target_dofs: float, size: float | None, layout: str):
+    """(size, model) of the default brake: ``size`` (m) or the size of about
+    ``target_dofs`` DOFs in the half model; ``layout`` half or full."""
+    from ..model import BrakeModel
+
+    if layout not in LAYOUTS:
+        raise ValueError(f"layout = {layout!r} is not allowed; allowed: {', '.join(LAYOUTS)}")
+    if size is None:
+        size, model = brake_resolution(target_dofs)
+        if layout == "half":
+            return size, model
+    return size, BrakeModel(size=size, rotor="elastic", layout=layout)
+
+
 def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
                   duration: float = 3600.0, size: float | None = None,
                   interface: str = "fe", layout: str = "half") -> dict:
@@ -86,20 +100,12 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     from ..interfaces.fe import FEInterface
     from ..laws import WearLaw
     from ..materials import MATERIALS
-    from ..model import BrakeModel
     from ..motion import BrakeMotion
     from ..wear import Numerics, wear_history
 
     _check_case(steps, update, interface)
-    if layout not in LAYOUTS:
-        raise ValueError(f"layout = {layout!r} is not allowed; allowed: {', '.join(LAYOUTS)}")
     t0 = time.perf_counter()
-    if size is None:
-        size, model = brake_resolution(target_dofs)
-    else:
-        model = BrakeModel(size=size, rotor="elastic")
-    if layout != "half":
-        model = BrakeModel(size=size, rotor="elastic", layout=layout)
+    size, model = _bench_model(target_dofs, size, layout)
     model_s = time.perf_counter() - t0
     g = model.geometry
     pad_law = WearLaw(g.pad.friction_material.wear_k or MATERIALS["pad_resin"].wear_k)
