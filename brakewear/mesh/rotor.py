@@ -303,7 +303,7 @@ def full_rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int |
     used = np.unique(t)
     renum = np.full(p.shape[1], -1, dtype=np.int64)
     renum[used] = np.arange(used.size)
-    P, t = p[:, used], renum[t]
+    P, t = np.ascontiguousarray(p[:, used]), np.ascontiguousarray(renum[t])
     mapping = vane_warp(geom) if ro_.vents is not None else None
     if mapping is None:
         from .structured import cylindrical as mapping
