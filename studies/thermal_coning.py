@@ -49,7 +49,7 @@ import numpy as np
 import skfem as fem
 
 from brakewear.fem import apply_dirichlet, assemble_stiffness, boundary_dofs, scalar_element
-from brakewear.fem.forms import _intorder, lame_parameters
+from brakewear.fem.forms import lame_parameters
 from brakewear.fem.heat import thermal_coupling
 from brakewear.geometry import load_geometry
 from brakewear.geometry.caliper import HatGeometry
@@ -291,7 +291,8 @@ def thermal_load(mesh: fem.Mesh, material, T: np.ndarray, elements=None) -> np.n
     ``G`` from :func:`brakewear.fem.heat.thermal_coupling` on the mesh's own
     (P1 or P2) elements, optionally on an element subset."""
     el = scalar_element(mesh)
-    kw = {"intorder": _intorder(el), "elements": elements}
+    # the library's rule: one point is exact for P1; degree 4 on the curved P2 elements
+    kw = {"intorder": 1 if el.maxdeg == 1 else 4, "elements": elements}
     G = thermal_coupling(material.voigt(), material.thermal.alpha).assemble(
         fem.Basis(mesh, el, **kw), fem.Basis(mesh, fem.ElementVector(el), **kw))
     return G @ T
@@ -480,9 +481,10 @@ def _figure(g, axi, est, hat3d, dT, path) -> None:
 
     m, u, basis = axi["mesh"], axi["u"], axi["basis"]
     ur, uz = u[basis.nodal_dofs[0]], u[basis.nodal_dofs[1]]
-    scale = 10.0 ** np.floor(np.log10(0.06 * g.rotor.outer_radius
-                                       / max(np.abs(ur).max(), np.abs(uz).max())))
-    fig, ax = plt.subplots(1, 2, figsize=(12, 5))
+    raw = 0.1 * g.rotor.outer_radius / max(np.abs(ur).max(), np.abs(uz).max())
+    decade = 10.0 ** np.floor(np.log10(raw))
+    scale = decade * max(k for k in (1, 2, 5) if k * decade <= raw)  # a round 1-2-5 factor
+    fig, ax = plt.subplots(1, 2, figsize=(13, 5), width_ratios=(1.1, 1))
     tri = Triangulation(1e3 * m.p[0], 1e3 * m.p[1], m.t.T)
     ax[0].triplot(tri, color="0.8", lw=0.3)
     td = Triangulation(1e3 * (m.p[0] + scale * ur), 1e3 * (m.p[1] + scale * uz), m.t.T)
@@ -511,6 +513,7 @@ def _figure(g, axi, est, hat3d, dT, path) -> None:
                     f"{1e3 * axi['cone']:.2f} mrad (axisymmetric)\nring +{dT:.0f} K")
     ax[1].grid(alpha=0.3)
     ax[1].legend(fontsize=8)
+    fig.tight_layout()
     fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
 
