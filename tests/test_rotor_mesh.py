@@ -201,3 +201,17 @@ def test_plain_ring_unchanged(geoms):
     g = load_geometry("default")
     m = rotor_mesh(g, size=SIZE, full=True)
     assert set(m.boundaries) == {"friction_in", "friction_out", "friction", "rotor_clamp", "outer"}
+
+
+def test_half_vented_ring_for_a_symmetric_model(geoms):
+    """Without a hat a vented ring may be halved at its mid-plane (rotor_mesh's
+    names); the half has half the volume, the vanes' mid-sections as midplane."""
+    g = geoms["vents"]
+    m = rotor_mesh(g, size=SIZE, order=2)
+    assert set(m.boundaries) == {"friction", "midplane", "rotor_clamp", "outer", "vents"}
+    assert _basis(m).dx.sum() == pytest.approx(0.5 * rotor_volume(g), rel=2e-5)
+    assert _area(m, "midplane") == pytest.approx(VENTS.vane_count * _vane_area(g), rel=1e-5)
+    ring = np.pi * (g.rotor.outer_radius ** 2 - g.rotor.inner_radius ** 2)
+    assert _area(m, "friction") == pytest.approx(ring, rel=1e-5)
+    with pytest.raises(ValueError, match="no mid-plane of symmetry"):
+        full_rotor_mesh(geoms["hat+vents"], size=SIZE, half=True)

@@ -50,8 +50,8 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     ``size / 2`` thick at ``z = 0`` and grow by ``rotor_z_ratio``
     (``mesh.rotor_layers`` layers with that grading if set).  A hat rotor
     (``rotor.mount = "hat"``) or a vented ring is meshed whole, hat, cheeks
-    and vanes, by :func:`brakewear.mesh.rotor.full_rotor_mesh` (``full``
-    must then be true).
+    and vanes, by :func:`brakewear.mesh.rotor.full_rotor_mesh` (a hat rotor
+    needs ``full``; a vented ring without one may be halved).
 
     Parameters
     ----------
@@ -74,10 +74,10 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     h, order = _check_size_order(_body_size(geom, size, "rotor"),
                                  ms.order if order is None else order)
     if ro_.mount == "hat" or ro_.vents is not None:
-        if not full:
-            raise ValueError(f"rotor_mesh: a rotor with mount = {ro_.mount!r} and vents = "
-                             f"{ro_.vents!r} is meshed whole; call with full=True")
-        return full_rotor_mesh(geom, size, order)
+        if not full and ro_.mount == "hat":
+            raise ValueError("rotor_mesh: a rotor with mount = 'hat' is meshed whole; "
+                             "call with full=True")
+        return full_rotor_mesh(geom, size, order, half=not full)
     ri, ro, half = ro_.inner_radius, ro_.outer_radius, 0.5 * ro_.thickness
     r = np.linspace(ri, ro, max(2, int(np.ceil((ro - ri) / h))) + 1)
     th = _ring_theta(geom, h)

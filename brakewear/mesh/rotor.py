@@ -209,7 +209,9 @@ def _heights(geom: BrakeGeometry, s: dict, h: float, h_hat: float) -> np.ndarray
     else:
         nz = ms.rotor_layers or _n_cells(c, 0.5 * h, ms.rotor_z_ratio)
         cheek = graded(-c, 0.0, nz, ms.rotor_z_ratio if nz > 1 else 1.0, "b")
-        ring = _join(-t - cheek[::-1], _cells(-t + c, -c, h), cheek)
+        n_ch = max(2, int(np.ceil((t - 2 * c) / h - 1e-9)))
+        n_ch += n_ch % 2  # even: the mid-plane is a node (the half ring)
+        ring = _join(-t - cheek[::-1], np.linspace(-t + c, -c, n_ch + 1), cheek)
     if not s["hat"]:
         return ring
     return _join(_cells(s["zb"], s["zf"], h_hat, 2), _cells(s["zf"], -t, h_hat, 2), ring)
@@ -231,7 +233,7 @@ def _keep_cells(geom: BrakeGeometry, s: dict, r, th, z) -> np.ndarray:
     return keep.ravel()
 
 
-def _facets(mesh: fem.Mesh, P: np.ndarray, s: dict) -> dict:
+def _facets(mesh: fem.Mesh, P: np.ndarray, s: dict, half: bool = False) -> dict:
     """Named boundary facets, told apart by their parametric (r, z) midpoints."""
     ensure_topology(mesh)
     bf = np.nonzero(mesh.f2t[1] == -1)[0]
@@ -241,7 +243,10 @@ def _facets(mesh: fem.Mesh, P: np.ndarray, s: dict) -> dict:
     out = {"friction_in": on_in & (r > s["ri"]), "friction_out": on_out & (r > s["ri"]),
            "outer": np.abs(r - s["ro"]) < tol}
     out["friction"] = out["friction_in"] | out["friction_out"]
-    named = out["friction"] | out["outer"]
+    if half:  # the inboard half of a ring without a hat: the names of rotor_mesh's half ring
+        del out["friction_in"], out["friction_out"]
+        out["midplane"] = np.abs(z + 0.5 * t) < tol
+    named = out["friction"] | out["outer"] | out.get("midplane", False)
     if c is not None:
         out["vents"] = ((r > s["ri"] + tol) & (r < s["ro"] - tol) & (z > -t + c - tol)
                         & (z < -c + tol) & ~named)
@@ -255,7 +260,7 @@ def _facets(mesh: fem.Mesh, P: np.ndarray, s: dict) -> dict:
 
 
 def full_rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None = None,
-                    hat_size: float | None = None) -> fem.Mesh:
+                    hat_size: float | None = None, half: bool = False) -> fem.Mesh:
     """The whole rotor: friction ring, with its hat (``rotor.mount = "hat"``)
     and its cheeks and vanes (``rotor.vents``), as one conforming mesh.
 
@@ -275,6 +280,10 @@ def full_rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int |
     hat_size : float, optional
         Element size (m) in the hat's section; default
         ``mesh.rotor_coarse_factor * size``.
+    half : bool
+        The inboard half (``-t/2 < z < 0``) of a vented ring without a hat,
+        for a model with a mid-plane of symmetry: facets ``friction``
+        (z = 0), ``midplane``, ``rotor_clamp``, ``outer``, ``vents``.
 
     Returns
     -------
@@ -290,6 +299,9 @@ def full_rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int |
     h, order = _check_size_order(_body_size(geom, size, "rotor"),
                                  geom.mesh.order if order is None else order)
     if ro_.mount == "hat":
+        if half:
+            raise ValueError("a rotor with mount = 'hat' has no mid-plane of symmetry; "
+                             "it is meshed whole (half=False)")
         _check_hat(geom)
     if ro_.vents is not None:
         _check_vents(geom)
@@ -298,6 +310,8 @@ def full_rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int |
         raise ValueError(f"hat_size = {hat_size!r} is not allowed; it must be a number > 0 (m)")
     s = _section(geom)
     r, th, z = _radii(s, h, h_hat), _theta(geom, h), _heights(geom, s, h, h_hat)
+    if half:
+        z = z[z >= -0.5 * s["t"] - 1e-9 * s["ro"]]
     p, t = structured_tets(r, th, z, periodic_y=True)
     t = t[:, np.tile(_keep_cells(geom, s, r, th, z), 6)]
     used = np.unique(t)
@@ -308,7 +322,7 @@ def full_rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int |
     if mapping is None:
         from .structured import cylindrical as mapping
     m = mapped_mesh(P, t, mapping, order=order, period=np.array([0.0, 2 * np.pi, 0.0]))
-    m = _with_boundaries(m, _facets(m, P, s))
+    m = _with_boundaries(m, _facets(m, P, s, half))
     zc = P[2, t].mean(axis=0)
     m = _with_subdomains(m, {"rotor": np.arange(t.shape[1]), "ring": np.nonzero(zc > -s["t"])[0],
                              "hat": np.nonzero(zc < -s["t"])[0]})
