@@ -194,6 +194,9 @@ def _radii(s: dict, h: float, h_hat: float) -> np.ndarray:
     extra = [x for x in (s["wi"], s["wo"]) if s["ri"] < x < s["ro"]]
     if extra:
         ring = np.unique(np.concatenate([ring, extra]))
+        lo, hi = max(s["wi"], s["ri"]), s["wo"]
+        if not ((ring > lo + 1e-12) & (ring < hi - 1e-12)).any():  # two cells across the wall
+            ring = np.unique(np.concatenate([ring, [0.5 * (lo + hi)]]))
     return np.unique(np.concatenate([inner, ring]))
 
 
