@@ -129,7 +129,8 @@ def vane_warp(geom: BrakeGeometry):
     ``theta_k -+ asin(w / 2r)`` (straight walls at distance ``w/2`` from the
     vane's radial centre line), linear in theta between edges and monotone as
     long as the vanes do not overlap.  Radii below the ring's inner radius
-    take the shift of the inner radius (the hat is turned rigidly)."""
+    take the shift of the inner radius: the map keeps every radius, so the
+    hat's surfaces of revolution are unchanged."""
     centres, b = vane_edges(geom)
     ro_, w = geom.rotor, geom.rotor.vents.vane_width
     knots = np.ravel(np.column_stack([centres - b, centres + b]))
