@@ -15,7 +15,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 import skfem as fem
 
+from .grids import _body_size, _check_size_order, _n_cells, _ring_theta
 from .pad import sector_pad_mesh
+from .rotor import full_rotor_mesh
 from .structured import _oriented, cylindrical, graded, mapped_mesh, structured_tets
 from .topology import _with_boundaries, _with_subdomains
 
@@ -35,55 +37,6 @@ __all__ = [
 ]
 
 
-def _n_cells(length: float, h_min: float, ratio: float) -> int:
-    """Fewest cells whose geometric grading (``ratio``) has its smallest cell <= h_min."""
-    n = 1
-    while n < 100_000:
-        x = graded(0.0, length, n, ratio, "a")
-        if x[1] - x[0] <= 1.05 * h_min:
-            return n
-        n += 1
-    raise ValueError(f"cannot grade {length} with smallest cell {h_min}")  # pragma: no cover
-
-
-def _two_sided(length: float, h_end: float, h_mid: float, growth: float = 1.3) -> np.ndarray:
-    """Cell boundaries on [0, length]: ``h_end`` at both ends growing by ``growth``
-    per cell up to ``h_mid`` in the middle (a coarse gap between two fine zones)."""
-    if h_mid <= h_end:
-        n = max(1, int(np.ceil(length / h_end)))
-        return np.linspace(0.0, length, n + 1)
-    ramp = [h_end * growth]
-    while ramp[-1] * growth < h_mid:
-        ramp.append(ramp[-1] * growth)
-    ramp = np.array(ramp)
-    middle = length - 2.0 * ramp.sum()
-    if middle < h_mid:
-        # too short for full ramps: a symmetric grading with the same end cell
-        n = max(2, int(np.ceil(length / (0.5 * (h_end + h_mid)))))
-        return graded(0.0, length, n, h_mid / h_end if n > 2 else 1.0, "both")
-    n_mid = max(1, int(round(middle / h_mid)))
-    cells = np.concatenate([ramp, np.full(n_mid, middle / n_mid), ramp[::-1]])
-    x = np.concatenate([[0.0], np.cumsum(cells)])
-    x[-1] = length
-    return x
-
-
-def _check_size_order(size: float, order: int) -> tuple[float, int]:
-    size = float(size)
-    if not np.isfinite(size) or size <= 0.0:
-        raise ValueError(f"mesh size = {size!r} is not allowed; it must be a finite number > 0 (m)")
-    if isinstance(order, bool) or order not in (1, 2):
-        raise ValueError(f"mesh order = {order!r} is not allowed; allowed: 1, 2")
-    return size, int(order)
-
-
-def _body_size(geom: BrakeGeometry, size: float | None, body: str) -> float:
-    """In-plane size of ``body`` (m): its ``mesh.<body>_size``, else ``size``, else
-    ``mesh.size``."""
-    own = getattr(geom.mesh, f"{body}_size")
-    return own if own is not None else (geom.mesh.size if size is None else size)
-
-
 def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None = None,
                full: bool = False) -> fem.Mesh:
     """The inboard half of the rotor friction ring, a closed (periodic) ring
@@ -96,7 +49,10 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     the pad arc plus ``geom.mesh.rotor_margin`` on both sides and grow to
     ``rotor_coarse_factor * size`` elsewhere; through the thickness they are
     ``size / 2`` thick at ``z = 0`` and grow by ``rotor_z_ratio``
-    (``mesh.rotor_layers`` layers with that grading if set).
+    (``mesh.rotor_layers`` layers with that grading if set).  A hat rotor
+    (``rotor.mount = "hat"``) or a vented ring is meshed whole, hat, cheeks
+    and vanes, by :func:`brakewear.mesh.rotor.full_rotor_mesh` (a hat rotor
+    needs ``full``; a vented ring without one may be halved).
 
     Parameters
     ----------
@@ -115,21 +71,17 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
         With ``full``: ``friction_in`` (z = 0), ``friction_out`` (z = -t),
         ``friction`` (both), ``rotor_clamp`` and ``outer``, no ``midplane``.
     """
-    ms, ro_, pad = geom.mesh, geom.rotor, geom.pad
+    ms, ro_ = geom.mesh, geom.rotor
     h, order = _check_size_order(_body_size(geom, size, "rotor"),
                                  ms.order if order is None else order)
+    if ro_.mount == "hat" or ro_.vents is not None:
+        if not full and ro_.mount == "hat":
+            raise ValueError("rotor_mesh: a rotor with mount = 'hat' is meshed whole; "
+                             "call with full=True")
+        return full_rotor_mesh(geom, size, order, half=not full)
     ri, ro, half = ro_.inner_radius, ro_.outer_radius, 0.5 * ro_.thickness
-    r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
     r = np.linspace(ri, ro, max(2, int(np.ceil((ro - ri) / h))) + 1)
-    # theta: fine over the pad arc (+ margin), a graded coarse gap elsewhere
-    span = pad.arc_angle + 2.0 * ms.rotor_margin
-    th0 = pad.center_angle - 0.5 * span
-    n_fine = max(2, int(np.ceil(span * r_ref / h)))
-    fine = np.linspace(0.0, span, n_fine + 1)
-    dth = span / n_fine
-    gap = _two_sided(2 * np.pi - span, dth, ms.rotor_coarse_factor * dth)
-    th = th0 + np.concatenate([fine, span + gap[1:]])
-    th[-1] = th0 + 2 * np.pi
+    th = _ring_theta(geom, h)
     nz = ms.rotor_layers or _n_cells(half, 0.5 * h, ms.rotor_z_ratio)
     z = graded(-half, 0.0, nz, ms.rotor_z_ratio if nz > 1 else 1.0, "b")
     if full:
