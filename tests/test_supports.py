@@ -298,3 +298,46 @@ def test_compliant_step_with_abutments_tends_to_the_rigid_contact(pad_model):
     a = solve_compliant_contact(cs.K, cs.f, cs.fixed, cs.coords, cs.pair, eps)
     b = solve_compliant_contact(cs.K, cs.f, cs.fixed, cs.coords, cs.pair, eps, supports=[])
     assert np.array_equal(a.u, b.u) and b.support_force == []
+
+
+class _PushModel(BrakeModel):
+    """The rigid-rotor brake with a push support in its contact system (what the
+    model assembles for a push support: stops, springs, no in-plane Dirichlet)."""
+
+    support = SupportGeometry(type="push", clearance=1e-4)
+
+    def contact_system(self, *args, **kw):
+        cs = super().contact_system(*args, **kw)
+        pad, off = self.meshes["pad"], self.offsets["pad"]
+        # a rigid rotor and a traction piston: no ties, the retained numbering is global
+        cs.fixed = np.setdiff1d(cs.fixed, 3 * off + boundary_dofs(pad, "abutment", [0, 1]))
+        cs.K = (cs.K + support_springs(pad, off, self.geometry.pad, self.support,
+                                       self.dofs)).tocsr()
+        cs.supports = abutment_pairs(pad, off, self.geometry.pad, self.support)
+        return cs
+
+
+def test_the_fe_interface_carries_the_supports_into_both_solve_paths():
+    from brakewear.interfaces import FEInterface
+
+    model = _PushModel(rotor="rigid", size=6e-3)
+    iface = FEInterface(model, 1e6, mu=MU)
+    assert [s.name for s in iface.supports] == ["abutment trailing (inboard)",
+                                               "abutment leading (inboard)"]
+    cs = model.contact_system(1e6, MU)
+    ref = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [cs.pair, *cs.supports],
+                        linear="direct", tol=1e-11)
+    zero = np.zeros(iface.pair.slave.size)
+    lag = iface.solve(zero, None)
+    scale = ref.pressure[0].max()
+    assert np.abs(lag.pressure - ref.pressure[0]).max() < 1e-6 * scale
+    assert lag.info["support_normal_force"][0] == pytest.approx(ref.info["normal_force"][1],
+                                                                rel=1e-6)
+    again = iface.solve(zero, lag.active)       # a wear step's start: the last sets
+    assert np.abs(again.pressure - lag.pressure).max() < 1e-6 * scale
+    eps = np.full(zero.size, 1e-15)
+    comp = iface.solve(zero, lag.active, compliance=eps, x0=lag.u)
+    assert np.abs(comp.pressure - ref.pressure[0]).max() < 1e-3 * scale
+    assert comp.info["support_normal_force"][0] == pytest.approx(
+        ref.info["normal_force"][1], rel=1e-3)
+    assert iface.at_line_pressure(2e6).cs.supports is iface.cs.supports
