@@ -12,7 +12,13 @@ from brakewear.contact import (
     solve_compliant_contact,
     solve_contact,
 )
-from brakewear.contact.supports import abutment_faces, abutment_pairs, end_normal, support_springs
+from brakewear.contact.supports import (
+    abutment_faces,
+    abutment_pairs,
+    end_normal,
+    support_springs,
+    with_supports,
+)
 from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.geometry.caliper import SupportGeometry
 from brakewear.materials import Isotropic
@@ -108,15 +114,12 @@ def pad_model():
 
 
 def _pad_system(model, support, mu):
-    """The pad on the rigid rotor plane with ``support`` instead of the bilateral one:
-    ``(K + springs, f, fixed, coords, [friction pair, *abutment pairs], springs)``."""
-    cs = model.contact_system(1e6, mu)
+    """The pad on the rigid rotor plane held by ``support``:
+    ``(K + springs, f, fixed, coords, [friction pair, *abutment pairs], springs, F)``."""
     pad, off = model.meshes["pad"], model.offsets["pad"]
-    held = 3 * off + boundary_dofs(pad, "abutment", [0, 1])
-    fixed = np.setdiff1d(cs.fixed, held) if support.type != "bilateral" else cs.fixed
-    pairs = abutment_pairs(pad, off, model.geometry.pad, support)
+    cs = with_supports(model.contact_system(1e6, mu), pad, off, model.geometry.pad, support)
     Ks = support_springs(pad, off, model.geometry.pad, support, model.dofs)
-    return (cs.K + Ks).tocsr(), cs.f, fixed, cs.coords, [cs.pair, *pairs], Ks, cs.clamp_force
+    return cs.K, cs.f, cs.fixed, cs.coords, [cs.pair, *cs.supports], Ks, cs.clamp_force
 
 
 def _pad_forces(res, pairs, K_springs, f, n_nodes):
@@ -307,14 +310,8 @@ class _PushModel(BrakeModel):
     support = SupportGeometry(type="push", clearance=1e-4)
 
     def contact_system(self, *args, **kw):
-        cs = super().contact_system(*args, **kw)
-        pad, off = self.meshes["pad"], self.offsets["pad"]
-        # a rigid rotor and a traction piston: no ties, the retained numbering is global
-        cs.fixed = np.setdiff1d(cs.fixed, 3 * off + boundary_dofs(pad, "abutment", [0, 1]))
-        cs.K = (cs.K + support_springs(pad, off, self.geometry.pad, self.support,
-                                       self.dofs)).tocsr()
-        cs.supports = abutment_pairs(pad, off, self.geometry.pad, self.support)
-        return cs
+        return with_supports(super().contact_system(*args, **kw), self.meshes["pad"],
+                             self.offsets["pad"], self.geometry.pad, self.support)
 
 
 def test_the_fe_interface_carries_the_supports_into_both_solve_paths():
@@ -341,3 +338,34 @@ def test_the_fe_interface_carries_the_supports_into_both_solve_paths():
     assert comp.info["support_normal_force"][0] == pytest.approx(
         ref.info["normal_force"][1], rel=1e-3)
     assert iface.at_line_pressure(2e6).cs.supports is iface.cs.supports
+
+
+def test_with_supports_releases_exactly_the_bilateral_support(pad_model):
+    pad, off = pad_model.meshes["pad"], pad_model.offsets["pad"]
+    cs = pad_model.contact_system(1e6, 0.0)
+    push = with_supports(cs, pad, off, pad_model.geometry.pad, SupportGeometry(type="push"))
+    released = np.setdiff1d(cs.fixed, push.fixed)
+    assert np.array_equal(released, 3 * off + boundary_dofs(pad, "abutment", [0, 1]))
+    assert with_supports(cs, pad, off, pad_model.geometry.pad, SupportGeometry()) is cs
+    assert cs.supports == [] and len(push.supports) == 2
+
+
+def test_quadratic_pad_balances_under_a_push_support():
+    model = BrakeModel(rotor="rigid", size=12e-3, order=2)
+    support = SupportGeometry(type="push", clearance=1e-4)
+    pad, off = model.meshes["pad"], model.offsets["pad"]
+    cs = with_supports(model.contact_system(1e6, MU), pad, off, model.geometry.pad, support)
+    assert cs.supports[0].basis is not None
+    res = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [cs.pair, *cs.supports],
+                        linear="direct")
+    F = cs.clamp_force
+    assert res.info["normal_force"][0] == pytest.approx(F, rel=1e-8)
+    c = model.geometry.pad.center_angle
+    tang = np.array([-np.sin(c), np.cos(c), 0.0])
+    drag = (res.friction[0].sum(axis=1)) @ tang
+    stop = res.info["normal_force"][1] * cs.supports[0].normal[:, 0] @ tang
+    Ks = support_springs(pad, off, model.geometry.pad, support, model.dofs)
+    u = cs.P @ res.u
+    spring = -(Ks @ u).reshape(-1, 3).sum(axis=0) @ tang
+    assert stop + spring == pytest.approx(-drag, rel=1e-8)
+    assert res.info["normal_force"][2] == 0

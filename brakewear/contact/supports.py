@@ -39,6 +39,7 @@ pads span the same angles, so their end faces have the same normals.
 """
 from __future__ import annotations
 
+import dataclasses
 import logging
 from typing import TYPE_CHECKING
 
@@ -56,7 +57,7 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 __all__ = ["SUPPORT_ENDS", "abutment_faces", "abutment_pairs", "support_springs",
-           "end_normal"]
+           "end_normal", "with_supports"]
 
 #: the two end faces of a pad
 SUPPORT_ENDS = ("leading", "trailing")
@@ -214,3 +215,37 @@ def _node_springs(nodes: np.ndarray, k: np.ndarray, d: np.ndarray,
     vals = k[:, None, None] * d.T[:, :, None] * d.T[:, None, :]
     return sp.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())),
                          shape=(n_dofs, n_dofs))
+
+
+def with_supports(system, mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry,
+                  support: SupportGeometry):
+    """A contact system (:class:`~brakewear.model.ContactSystem`) with its pads held
+    by ``support`` instead of the bilateral support.
+
+    ``system`` is in its retained numbering (``P``: retained -> all DOFs,
+    ``col``: node -> retained node); ``mesh`` is the pad mesh whose first
+    global node is ``offset``.  The copy has the springs added to ``K``
+    (``P^T K_s P``), the abutment nodes' in-plane DOFs released from
+    ``fixed`` and the stops appended to ``supports``.  A bilateral support
+    returns ``system`` itself.
+    """
+    _check_support(support)
+    if support.type == "bilateral":
+        return system
+    col, P = np.asarray(system.col), system.P
+    Ks = support_springs(mesh, offset, pad_geometry, support, P.shape[0])
+    pairs = []
+    for pr in abutment_pairs(mesh, offset, pad_geometry, support):
+        if np.any(col[pr.slave] < 0):
+            raise ValueError(f"{pr.name}: an abutment node is tied (eliminated); the pad's "
+                             "end faces must keep their nodes")
+        basis = None if pr.basis is None else pr.basis.renumbered(col)
+        pairs.append(dataclasses.replace(pr, slave=col[pr.slave], basis=basis))
+    ends = [f for end in SUPPORT_ENDS for f in abutment_faces(mesh, end).values()]
+    # every node of the end faces (vertices and mid-edge nodes): what the bilateral
+    # support held in the plane
+    nodes = col[_face_weights(mesh, np.concatenate(ends))[0] + offset]
+    held = (3 * nodes[:, None] + np.arange(2)).ravel()
+    return dataclasses.replace(system, K=(system.K + P.T @ Ks @ P).tocsr(),
+                               fixed=np.setdiff1d(system.fixed, held),
+                               supports=[*getattr(system, "supports", []), *pairs])
