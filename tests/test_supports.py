@@ -369,3 +369,12 @@ def test_quadratic_pad_balances_under_a_push_support():
     spring = -(Ks @ u).reshape(-1, 3).sum(axis=0) @ tang
     assert stop + spring == pytest.approx(-drag, rel=1e-8)
     assert res.info["normal_force"][2] == 0
+
+
+def test_the_condensed_interface_refuses_abutment_stops():
+    from brakewear.errors import WearError
+    from brakewear.interfaces import CondensedInterface
+
+    model = _PushModel(rotor="rigid", size=10e-3)
+    with pytest.raises(WearError, match="2 abutment stop pair"):
+        CondensedInterface(model, 1e6)

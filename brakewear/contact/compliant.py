@@ -19,6 +19,11 @@ The system ``(K + C_A^T kappa C_A) u = f - C_A^T kappa g0_A`` stays SPD
 without friction (AMG-preconditioned CG); sliding friction ``mu p`` along a
 known direction is linear in ``u`` and enters the operator (flexible GMRES
 with the same hierarchy).
+
+Rigid stops without compliance (the pad's abutments in the bracket,
+:mod:`~brakewear.contact.supports`) join the solve as ``supports``: their
+active constraints are eliminated as in the Lagrange solve, each pair with
+its own active set (:mod:`~brakewear.contact.compliant_sets`).
 """
 from __future__ import annotations
 
