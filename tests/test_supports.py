@@ -378,3 +378,44 @@ def test_the_condensed_interface_refuses_abutment_stops():
     model = _PushModel(rotor="rigid", size=10e-3)
     with pytest.raises(WearError, match="2 abutment stop pair"):
         CondensedInterface(model, 1e6)
+
+
+def test_two_pads_in_one_mesh_each_bear_on_their_own_trailing_stop(pad_model):
+    # the full model's layout: the inboard pad (z > 0) and its mirror below a 20 mm
+    # rotor (z < -20 mm) as one body, each pressed on its rotor face, dragged in +theta
+    pad, g = pad_model.meshes["pad"], pad_model.geometry
+    n, t_rotor = pad.p.shape[1], 0.02
+    cs = pad_model.contact_system(1e6, MU)
+    lo = pad.p * np.array([[1.0], [1.0], [-1.0]]) - np.array([[0.0], [0.0], [t_rotor]])
+    both = type(pad)(np.hstack([pad.p, lo]), np.hstack([pad.t, pad.t[[0, 2, 1, 3]] + n]))
+    tf = g.pad.friction_thickness
+    both = both.with_boundaries({
+        f"abutment_{end}": (lambda X, e=end: _on_end(pad_model, X, e)
+                            & ((X[2] > tf) | (X[2] < -t_rotor - tf)))
+        for end in ("leading", "trailing")})
+    S = sp.diags(np.tile([1.0, 1.0, -1.0], n))                 # the mirror on DOFs
+    K = sp.block_diag([cs.K, S @ cs.K @ S], format="csr")     # cs.K: the pad alone
+    f = np.concatenate([cs.f, S @ cs.f])
+    pr = cs.pair
+    out = ContactPair(pr.slave + n, pr.area, -pr.normal, pr.g0, None, MU, pr.drag, "out")
+    support = SupportGeometry(type="push", clearance=1e-4)
+    stops = abutment_pairs(both, 0, g.pad, support)
+    Ks = support_springs(both, 0, g.pad, support, 6 * n)
+    res = solve_contact((K + Ks).tocsr(), f, np.zeros(0, dtype=int), both.p,
+                        [pr, out, *stops], linear="direct")
+    F = cs.clamp_force
+    assert res.info["normal_force"][:2] == pytest.approx([F, F], rel=1e-8)
+    c = g.pad.center_angle
+    tang = np.array([-np.sin(c), np.cos(c), 0.0])
+    u = res.u.reshape(-1, 3)
+    for k, side in enumerate(("inboard", "outboard")):
+        assert stops[k].name == f"abutment trailing ({side})"
+        assert stops[2 + k].name == f"abutment leading ({side})"
+        drag = res.friction[k].sum(axis=1) @ tang
+        stop = res.info["normal_force"][2 + k] * stops[k].normal[:, 0] @ tang
+        nodes = slice(0, n) if side == "inboard" else slice(n, 2 * n)
+        spring = -(Ks @ res.u).reshape(-1, 3)[nodes].sum(axis=0) @ tang
+        assert stop + spring == pytest.approx(-drag, rel=1e-8), side
+        assert res.info["normal_force"][4 + k] == 0.0
+    # mirror symmetry: the outboard pad's in-plane displacement is the inboard one's
+    assert np.abs(u[n:, :2] - u[:n, :2]).max() < 1e-6 * np.abs(u[:n, :2]).max()
