@@ -27,15 +27,20 @@ import scipy.sparse as sp
 from .checks import check_plausible
 from .contact.lagrange import solve_contact
 from .contact.basis import check_supports
-from .contact.pairs import ContactPair, pair_to_rigid, pair_to_surface
+from .contact.pairs import ContactPair, merge_pairs, pair_to_rigid, pair_to_surface
 from .contact.quadratic import face_values, quadratic_face_areas, slave_basis
 from .contact.surface import project_nodes, tie_prolongation
 from .errors import SceneError
 from .fem.assembly import BlockPattern, assemble_stiffness
-from .fem.boundary import apply_dirichlet, assemble_traction, boundary_dofs
-from .fem.stress import element_stress, nodal_stress, von_mises
+from .fem.boundary import apply_dirichlet, boundary_dofs
 from .geometry.files import load_geometry
 from .geometry.parts import BrakeGeometry
+from .loadpath import (
+    clamp_loads,
+    pad_support_dofs,
+    resolve_layout,
+    uniform_traction,
+)
 from .mesh.brake import (
     component_materials,
     element_materials,
@@ -45,8 +50,10 @@ from .mesh.brake import (
 )
 from .mesh.estimate import check_model_size
 from .mesh.io import read_body_mesh
+from .mesh.pads import mirrored_pads, whole_thickness_meshes
 from .mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from .solvers.amg import amg_solver
+from .static import body_stresses, static_summary
 
 logger = logging.getLogger(__name__)
 
@@ -67,10 +74,14 @@ class StaticResult:
     clamp_force: float           # line pressure x hydraulic piston area (N)
     info: dict = field(default_factory=dict)
     active: np.ndarray | None = None  # contact status per interface node (contact solves)
+    normal_z: np.ndarray | None = None  # z of the rotor face's normal toward each node (+-1)
 
     @property
     def normal_force(self) -> float:
-        return float(self.interface_force[2].sum())
+        """Total normal force the rotor exerts on the pads (N): both faces in the
+        full model (where it is twice the clamp force)."""
+        nz = 1.0 if self.normal_z is None else self.normal_z
+        return float((self.interface_force[2] * nz).sum())
 
 
 @dataclass
@@ -109,6 +120,14 @@ class BrakeModel:
         and small enough for ``memory_budget`` (GB; default
         ``BRAKEWEAR_MEMORY_GB`` or the available memory), see
         :func:`brakewear.mesh.estimate.check_model_size`.
+    layout
+        ``"half"``: one pad and the rotor's inboard half with a mirror plane,
+        exact where both pads get the same load (a fixed caliper with equal
+        opposed pistons) and the rotor is symmetric about its mid-plane;
+        ``"full"``: both pads (one mesh, the outboard pad the mirror image of
+        the inboard one, :func:`~brakewear.mesh.pads.mirrored_pads`) and the
+        whole rotor thickness, both friction faces in contact; ``"auto"``
+        (default): ``"half"`` where its assumption holds, else ``"full"``.
     meshes
         Your own meshes for some bodies: body -> mesh file (gmsh ``.msh`` or
         any format :func:`~brakewear.mesh.read_mesh` reads) or ``skfem``
@@ -118,13 +137,15 @@ class BrakeModel:
 
     def __init__(self, geometry: BrakeGeometry | str = "default", piston: str = "traction",
                  size: float | None = None, order: int | None = None, rotor: str = "elastic",
-                 meshes: dict | None = None, memory_budget: float | None = None):
+                 meshes: dict | None = None, memory_budget: float | None = None,
+                 layout: str = "auto"):
         if piston not in ("traction", "body"):
             raise SceneError(f"piston = {piston!r} is not allowed; allowed: 'traction', 'body'")
         if rotor not in ("elastic", "rigid"):
             raise SceneError(f"rotor = {rotor!r} is not allowed; allowed: 'elastic', 'rigid'")
         self.rotor = rotor
         self.geometry = geometry if isinstance(geometry, BrakeGeometry) else load_geometry(geometry)
+        self.layout = resolve_layout(self.geometry, layout, rotor, strict=True)
         order = self.geometry.mesh.order if order is None else order
         if isinstance(order, bool) or order not in (1, 2):
             raise SceneError(f"order = {order!r} is not allowed; allowed: 1, 2")
@@ -139,12 +160,15 @@ class BrakeModel:
                              f"bodies: {', '.join(self.bodies)}")
         given = {b: read_body_mesh(m, b, piston) if isinstance(m, (str, PathLike)) else m
                  for b, m in (meshes or {}).items()}
+        if self.full:
+            given = whole_thickness_meshes(given, -0.5 * self.geometry.rotor.thickness)
         check_model_size(self.geometry, size, rotor, piston, key="size", unit="m",
                          budget_gb=memory_budget, budget_key="memory_budget",
-                         nodes={b: m.p.shape[1] for b, m in given.items()}, order=order)
+                         nodes={b: m.p.shape[1] for b, m in given.items()}, order=order,
+                         full=self.full)
         t0 = time.perf_counter()
-        self.meshes = {b: given[b] if b in given else
-                       _MESHERS[b](self.geometry, size=size, order=order) for b in self.bodies}
+        self.meshes = {b: given[b] if b in given else self._mesh(b, size, order)
+                       for b in self.bodies}
         wrong = [b for b, m in self.meshes.items() if is_quadratic(m) != (self.order == 2)]
         if wrong:
             raise SceneError(f"meshes: the {wrong[0]} mesh is not of order {self.order}; every "
@@ -159,6 +183,19 @@ class BrakeModel:
         self.offsets, self.n_nodes = offs, n
         self._K: dict[str, sp.spmatrix] = {}
         self._patterns: dict[str, BlockPattern] = {}
+
+    @property
+    def full(self) -> bool:
+        """Whether both pads and the whole rotor thickness are modelled."""
+        return self.layout == "full"
+
+    def _mesh(self, body: str, size, order):
+        if body == "rotor" and self.full:
+            return rotor_mesh(self.geometry, size=size, order=order, full=True)
+        m = _MESHERS[body](self.geometry, size=size, order=order)
+        if body == "pad" and self.full:
+            m = mirrored_pads(m, -0.5 * self.geometry.rotor.thickness)
+        return m
 
     # ------------------------------------------------------------ pieces --
     @property
@@ -212,10 +249,11 @@ class BrakeModel:
         ``interface`` includes the pad-rotor tie (elastic rotor only).
         """
         out = []
-        pairs = [("pad", "friction", "rotor", "friction")] if (
+        faces = ("friction_in", "friction_out") if self.full else ("friction",)
+        pairs = [("pad", f, "rotor", f) for f in faces] if (
             interface and self.rotor == "elastic") else []
         if self.piston == "body":
-            pairs.append(("piston", "piston_face", "pad", "back"))
+            pairs.append(("piston", "piston_face", "pad", "back_in" if self.full else "back"))
         for sb, sf, mb, mf in pairs:
             smesh, mmesh = self.meshes[sb], self.meshes[mb]
             slave = face_nodes(smesh, sf)
@@ -226,29 +264,30 @@ class BrakeModel:
         return out
 
     def loads(self, line_pressure: float) -> np.ndarray:
-        """Global load vector for a line pressure (Pa); the clamp force is p A_bore."""
-        F = line_pressure * self.geometry.piston.hydraulic_area
+        """Global load vector for a line pressure (Pa): the clamp force
+        ``p x clamp_area`` on each pad's back (:func:`~brakewear.loadpath.clamp_loads`);
+        with a meshed piston its inboard share on the piston's back face."""
         f = np.zeros(self.dofs)
+        g = self.geometry
+        pad = self.meshes["pad"]
         if self.piston == "body":
-            m, name, body = self.meshes["piston"], "piston_back", "piston"
-        else:
-            m, name, body = self.meshes["pad"], "piston_face", "pad"
-        if is_quadratic(m):
-            # curved (isoparametric) facets: the area the traction is integrated over
-            area = -assemble_traction(m, name, (0.0, 0.0, -1.0))[2::3].sum()
-        else:
-            area = tributary_areas(m, name).sum()
-        fb = assemble_traction(m, name, (0.0, 0.0, -F / area))
-        f[3 * self.offsets[body]:3 * self.offsets[body] + fb.size] = fb
+            pm = self.meshes["piston"]
+            fb = uniform_traction(pm, "piston_back", line_pressure * g.piston.hydraulic_area)
+            f[3 * self.offsets["piston"]:3 * self.offsets["piston"] + fb.size] = fb
+        fb = clamp_loads(g, pad, line_pressure, self.full,
+                         sides=("out",) if self.piston == "body" else ("in", "out"))
+        f[3 * self.offsets["pad"]:3 * self.offsets["pad"] + fb.size] = fb
         return f
 
     def fixed_dofs(self) -> np.ndarray:
         """Supports: rotor clamped at its hat radius, mid-plane symmetry,
         pad held in-plane at its abutments, piston guided by its bore."""
-        parts = [self._gdofs("pad", boundary_dofs(self.meshes["pad"], "abutment", [0, 1]))]
+        parts = [self._gdofs("pad", pad_support_dofs(self.geometry, self.meshes["pad"]))]
         if self.rotor == "elastic":
-            parts += [self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "rotor_clamp")),
-                      self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "midplane", [2]))]
+            parts.append(self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "rotor_clamp")))
+            if not self.full:
+                parts.append(self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "midplane",
+                                                                [2])))
         if self.piston == "body":
             pm = self.meshes["piston"]
             side = boundary_dofs(pm, "piston_side", [0, 1])
@@ -309,10 +348,11 @@ class BrakeModel:
         u = P @ ur
         # reaction (constraint) forces on the pad's friction nodes = interface forces
         pad_nodes, r, area = self._friction_forces(K @ u - f)
-        F = line_pressure * self.geometry.piston.hydraulic_area
+        F = line_pressure * self.geometry.clamp_area
+        nz = self.rotor_normal_z(pad_nodes)
         res = StaticResult(
             u=self._split(u), interface_nodes=pad_nodes, interface_force=r,
-            interface_pressure=r[2] / area, clamp_force=F,
+            interface_pressure=nz * r[2] / area, clamp_force=F, normal_z=nz,
             info={"interface": "tied", "rotor": self.rotor, "dofs": int(self.dofs),
                   "reduced_dofs": int(Kd.shape[0]),
                   "iterations": int(solver.info.iterations),
@@ -337,10 +377,25 @@ class BrakeModel:
         nodes = face_nodes(pad, "friction")
         if is_quadratic(pad):
             r = slave_basis(quadratic_faces(pad, "friction"), off).dof_matrix(r.size).T @ r
-            area = quadratic_face_areas(pad, "friction")[1]
-        else:
-            area = tributary_areas(pad, "friction", nodes)
-        return nodes, r.reshape(-1, 3)[nodes + off].T, area
+        return nodes, r.reshape(-1, 3)[nodes + off].T, self.friction_areas()
+
+    def friction_areas(self) -> np.ndarray:
+        """Area of each pad friction node (``face_nodes(pad, "friction")`` order):
+        tributary areas, or on a quadratic face the integrals of its transformed
+        basis (:mod:`brakewear.contact.basis`)."""
+        pad = self.meshes["pad"]
+        if is_quadratic(pad):
+            return quadratic_face_areas(pad, "friction")[1]
+        return tributary_areas(pad, "friction", face_nodes(pad, "friction"))
+
+    def rotor_normal_z(self, nodes: np.ndarray) -> np.ndarray:
+        """z of the rotor face's normal toward the pad at pad friction ``nodes``:
+        +1 on the inboard face, -1 on the outboard face of the full model (the
+        compressive normal force on a node is its force's z times this)."""
+        nz = np.ones(nodes.size)
+        if self.full:
+            nz[np.isin(nodes, face_nodes(self.meshes["pad"], "friction_out"))] = -1.0
+        return nz
 
     def contact_pair(self, mu: float = 0.0, method: str = "segment",
                      search_radius: float | None = None) -> ContactPair:
@@ -355,12 +410,13 @@ class BrakeModel:
         if self.rotor == "rigid":
             return pair_to_rigid(pad, "friction", off, height=lambda x, y: np.zeros_like(x),
                                  side=1, mu=mu, drag=drag, name="pad-rotor")
-        return pair_to_surface(pad, "friction", off, self.meshes["rotor"], "friction",
-                               self.offsets["rotor"], mu=mu, drag=drag, method=method,
-                               n_nodes=self.n_nodes,
-                               search_radius=(2.0 * self.geometry.mesh.size + 1e-9
-                                              if search_radius is None else search_radius),
-                               name="pad-rotor")
+        radius = 2.0 * self.geometry.mesh.size + 1e-9 if search_radius is None else search_radius
+        faces = ("friction_in", "friction_out") if self.full else ("friction",)
+        return merge_pairs([pair_to_surface(pad, f, off, self.meshes["rotor"], f,
+                                            self.offsets["rotor"], mu=mu, drag=drag,
+                                            method=method, n_nodes=self.n_nodes,
+                                            search_radius=radius, name=f"pad-rotor {f}")
+                            for f in faces], name="pad-rotor")
 
     def contact_system(self, line_pressure: float = 1e6, mu: float = 0.0,
                        method: str = "segment", search_radius: float | None = None
@@ -388,7 +444,7 @@ class BrakeModel:
             pair.coupling = pair.coupling[:, retained].tocsr()
         return ContactSystem(K=(P.T @ K @ P).tocsr(), f=P.T @ f, fixed=self._reduced_fixed(col),
                              coords=self.coordinates()[:, retained], pair=pair, P=P,
-                             col=col, clamp_force=line_pressure * self.geometry.piston.hydraulic_area)
+                             col=col, clamp_force=line_pressure * self.geometry.clamp_area)
 
     def solve_contact(self, line_pressure: float = 1e6, mu: float = 0.0,
                       method: str = "segment", tol: float = 1e-9,
@@ -417,43 +473,15 @@ class BrakeModel:
         return StaticResult(u=self._split(u),
                             interface_nodes=face_nodes(self.meshes["pad"], "friction"),
                             interface_force=force, interface_pressure=cres.pressure[0],
-                            clamp_force=cs.clamp_force, info=info, active=cres.active[0])
+                            clamp_force=cs.clamp_force, info=info, active=cres.active[0],
+                            normal_z=cs.pair.normal[2].copy())
 
     def stresses(self, result: StaticResult) -> dict:
         """Nodal von Mises stress per body (Pa)."""
-        out = {}
-        for b in self.bodies:
-            se = element_stress(self.meshes[b], result.u[b], self.materials[b])
-            out[b] = von_mises(nodal_stress(self.meshes[b], se))
-        return out
+        return body_stresses(self, result)
 
     def summary(self, result: StaticResult) -> dict:
-        """A JSON-ready summary of a static solve."""
-        g = self.geometry
-        pad = self.meshes["pad"]
-        x = pad.p[:, result.interface_nodes]
-        fz = result.interface_force[2]
-        r = np.hypot(x[0], x[1])
-        th = np.arctan2(x[1], x[0])
-        p = result.interface_pressure
-        vm = self.stresses(result)
-        return {
-            "geometry": str(g.source),
-            "line_pressure_Pa": result.clamp_force / g.piston.hydraulic_area,
-            "clamp_force_N": float(result.clamp_force),
-            "interface": {
-                "normal_force_N": float(result.normal_force),
-                "force_balance_error": abs(result.normal_force - result.clamp_force)
-                / result.clamp_force,
-                "pressure_max_Pa": float(p.max()), "pressure_mean_Pa": float(
-                    fz.sum() / tributary_areas(pad, "friction").sum()),
-                "pressure_min_Pa": float(p.min()),
-                "centre_of_pressure_r_m": float((fz * r).sum() / fz.sum()),
-                "centre_of_pressure_theta_deg": float(np.degrees((fz * th).sum() / fz.sum())),
-            },
-            "bodies": {b: {"nodes": int(self.meshes[b].p.shape[1]),
-                           "elements": int(self.meshes[b].nelements),
-                           "max_displacement_m": float(np.abs(result.u[b]).max()),
-                           "max_von_mises_Pa": float(vm[b].max())} for b in self.bodies},
-            "solver": result.info,
-        }
+        """A JSON-ready summary of a static solve (:func:`~brakewear.static.static_summary`)."""
+        return static_summary(self, result)
+
+

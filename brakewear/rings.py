@@ -17,7 +17,7 @@ from .errors import WearError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["rotor_rings", "rotor_wear_rate", "ring_wear_nodes", "ring_profile"]
+__all__ = ["rotor_rings", "face_rings", "rotor_wear_rate", "ring_wear_nodes", "ring_profile"]
 
 
 
@@ -37,6 +37,19 @@ def rotor_rings(r_nodes: np.ndarray, tol: float | None = None) -> tuple[np.ndarr
     ring = np.empty(r.size, dtype=np.int64)
     ring[order] = ring_sorted
     radii = np.bincount(ring, weights=r) / np.bincount(ring)
+    return ring, radii
+
+
+def face_rings(model, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`rotor_rings` of rotor friction-face nodes at ``x`` (3, n) of a
+    :class:`~brakewear.model.BrakeModel`: in the full model a ring is a radius
+    on one face (each face passes under its own pad), the outboard face's rings
+    numbered after the inboard face's."""
+    ring, radii = rotor_rings(np.hypot(x[0], x[1]))
+    if getattr(model, "full", False):
+        out = x[2] < -0.5 * model.geometry.rotor.thickness
+        ring = ring + out * radii.size
+        radii = np.concatenate([radii, radii])
     return ring, radii
 
 

@@ -301,6 +301,19 @@ def test_wear_bench_times_the_condensed_and_the_foundation_interface():
         bench.run_wear_case(3000, steps=2, update="geometry", interface="condensed")
 
 
+def test_wear_bench_times_the_full_model_on_the_half_models_mesh():
+    rows = bench.bench_wear([3000], steps=2, duration=600.0, layouts=("half", "full"))
+    half, full = rows
+    assert (half["layout"], full["layout"]) == ("half", "full")
+    assert full["size_m"] == half["size_m"]
+    # both pads and the whole rotor: about twice the DOFs and the contact nodes
+    assert 1.5 < full["dofs"] / half["dofs"] < 2.2
+    assert full["contact_nodes"] == 2 * half["contact_nodes"]
+    assert "full over half" in bench.format_wear_table(rows)
+    with pytest.raises(ValueError, match="layout = 'quarter'"):
+        bench.run_wear_case(3000, steps=2, layout="quarter")
+
+
 @pytest.mark.slow
 def test_wear_bench_geometry_mode_times_the_motion():
     row = bench.run_wear_case(3000, steps=2, duration=600.0, update="geometry", size=10e-3)

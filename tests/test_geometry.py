@@ -24,12 +24,13 @@ def default_dict():
 
 
 def modified(d, path, value):
-    """A deep copy of ``d`` with ``path`` ("pad.inner_radius") set (or deleted if value is ...)."""
+    """A deep copy of ``d`` with ``path`` ("pad.inner_radius", "caliper.fingers[0].radius") set (or deleted if value is ...)."""
     d = copy.deepcopy(d)
     keys = path.split(".")
     node = d
-    for k in keys[:-1]:
-        node = node.setdefault(k, {})
+    for k in keys[:-1]:          # "name[i]" indexes an array of tables
+        name, _, i = k.rstrip("]").partition("[")
+        node = node[name][int(i)] if i else node.setdefault(k, {})
     if value is ...:
         del node[keys[-1]]
     else:

@@ -13,7 +13,7 @@ from typing import Sequence
 from .contact import (CONTACT_CASES, CONTACT_DIRECT_MAX, CONTACT_SIZES, bench_contact,
                       format_contact_table, run_contact_case)
 from .elasticity import DEFAULT_SIZES, bench_elasticity, format_table, run_elasticity_case
-from .wear import INTERFACES, WEAR_SIZES, bench_wear, format_wear_table
+from .wear import INTERFACES, LAYOUTS, WEAR_SIZES, bench_wear, format_wear_table
 
 logger = logging.getLogger(__name__)
 
@@ -29,11 +29,12 @@ def _run_wear_bench(args: argparse.Namespace) -> int:
     def progress(row):
         print(json.dumps(row) if args.json else
               f"  {row['dofs']} DOFs: {row['per_step_s']:.2f} s/step, "
-              f"{row['step_over_contact']:.4f} x a contact solve ({row['interface']})",
+              f"{row['step_over_contact']:.4f} x a contact solve ({row['interface']}, "
+              f"{row['layout']} model)",
               flush=True)
 
     rows = bench_wear(args.sizes, args.steps, args.update, args.duration, progress,
-                      interfaces=args.interfaces)
+                      interfaces=args.interfaces, layouts=args.layouts)
     if not args.json:
         print(format_wear_table(rows))
     return 0
@@ -55,6 +56,9 @@ def _add_wear_parser(subparsers) -> None:
                         "--update gap)")
     w.add_argument("--duration", type=float, default=3600.0,
                    help="simulated drag, s (default 3600)")
+    w.add_argument("--layouts", nargs="+", choices=LAYOUTS, default=["half"],
+                   help="half model (default) and/or the full model (both pads, whole rotor) "
+                        "on the half model's mesh size")
     w.set_defaults(bench="wear", func=run_bench)
 
 

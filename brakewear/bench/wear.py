@@ -14,12 +14,17 @@ from .contact import brake_resolution
 logger = logging.getLogger(__name__)
 
 
-__all__ = ['INTERFACES', 'WEAR_SIZES', 'run_wear_case', 'bench_wear', 'format_wear_table']
+__all__ = ['INTERFACES', 'LAYOUTS', 'WEAR_SIZES', 'run_wear_case', 'bench_wear',
+           'format_wear_table']
 
 WEAR_SIZES = (3e4, 1e5)
 
 
 INTERFACES = ("fe", "condensed", "winkler")
+
+
+#: model layouts: one pad and the rotor's half, or both pads and the whole rotor
+LAYOUTS = ("half", "full")
 
 
 def _loop_interface(kind: str, model, itf):
@@ -47,9 +52,23 @@ def _check_case(steps, update: str, interface: str) -> None:
         raise ValueError(f"steps = {steps!r} is not allowed; need a whole number >= 1")
 
 
+def _bench_model(target_dofs: float, size: float | None, layout: str):
+    """(size, model) of the default brake: ``size`` (m) or the size of about
+    ``target_dofs`` DOFs in the half model; ``layout`` half or full."""
+    from ..model import BrakeModel
+
+    if layout not in LAYOUTS:
+        raise ValueError(f"layout = {layout!r} is not allowed; allowed: {', '.join(LAYOUTS)}")
+    if size is None:
+        size, model = brake_resolution(target_dofs)
+        if layout == "half":
+            return size, model
+    return size, BrakeModel(size=size, rotor="elastic", layout=layout)
+
+
 def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
                   duration: float = 3600.0, size: float | None = None,
-                  interface: str = "fe") -> dict:
+                  interface: str = "fe", layout: str = "half") -> dict:
     """Time a two-surface running-in of the default brake (elastic rotor).
 
     1 MPa line pressure, 55 rad/s, ``mu = 0.4``, the pad's and the rotor's
@@ -71,6 +90,9 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     two solves: the first pays for first-call set-up).  The ``*_cpu_s`` keys
     are the same in process CPU time (steadier on a shared machine).
 
+    ``layout``: ``"half"`` or ``"full"`` (both pads and the whole rotor on
+    the half model's mesh size: about twice the DOFs).
+
     ``interface``: ``"fe"``, ``"condensed"`` (its condensation timed apart as
     ``interface_s`` and as ``interface_over_contact`` contact solves; gap mode
     only) or ``"winkler"`` (the elastic foundation).
@@ -78,16 +100,12 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     from ..interfaces.fe import FEInterface
     from ..laws import WearLaw
     from ..materials import MATERIALS
-    from ..model import BrakeModel
     from ..motion import BrakeMotion
     from ..wear import Numerics, wear_history
 
     _check_case(steps, update, interface)
     t0 = time.perf_counter()
-    if size is None:
-        size, model = brake_resolution(target_dofs)
-    else:
-        model = BrakeModel(size=size, rotor="elastic")
+    size, model = _bench_model(target_dofs, size, layout)
     model_s = time.perf_counter() - t0
     g = model.geometry
     pad_law = WearLaw(g.pad.friction_material.wear_k or MATERIALS["pad_resin"].wear_k)
@@ -148,7 +166,7 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     per_step = total_s / n
     return {"bench": "wear", "target_dofs": float(target_dofs), "size_m": float(size),
             "dofs": int(model.dofs), "update": update, "scheme": "implicit",
-            "interface": interface, "contact_nodes": int(itf.area.size),
+            "interface": interface, "layout": layout, "contact_nodes": int(itf.area.size),
             "interface_s": interface_s, "interface_over_contact": interface_s / contact_solve_s,
             "steps": int(n), "contact_solves": int(solves), "duration_s": float(duration),
             "model_s": model_s, "total_s": total_s, "per_step_s": per_step,
@@ -164,30 +182,44 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
 
 def bench_wear(sizes: Sequence[float] = WEAR_SIZES, steps: int = 200, update: str = "gap",
                duration: float = 3600.0, progress=None,
-               interfaces: Sequence[str] = ("fe",)) -> list[dict]:
-    """:func:`run_wear_case` at each target DOF count and interface (in this
-    process); one dict per case."""
+               interfaces: Sequence[str] = ("fe",),
+               layouts: Sequence[str] = ("half",)) -> list[dict]:
+    """:func:`run_wear_case` at each target DOF count (of the half model),
+    interface and layout (in this process; the full model on the half model's
+    mesh size); one dict per case."""
     rows = []
     for target in sizes:
-        for kind in interfaces:
-            rows.append(run_wear_case(target, steps, update, duration, interface=kind))
-            if progress is not None:
-                progress(rows[-1])
+        size = None
+        for layout in layouts:
+            for kind in interfaces:
+                rows.append(run_wear_case(target, steps, update, duration, size=size,
+                                          interface=kind, layout=layout))
+                size = rows[-1]["size_m"]
+                if progress is not None:
+                    progress(rows[-1])
     return rows
 
 
 def format_wear_table(rows: Sequence[dict]) -> str:
-    out = [f"{'dofs':>8} {'interface':>9} {'update':>8} {'steps':>5} {'total s':>8} "
+    out = [f"{'dofs':>8} {'layout':>6} {'interface':>9} {'update':>8} {'steps':>5} {'total s':>8} "
            f"{'s/step':>7} "
            f"{'contact':>7} {'assembly':>8} {'motion':>6} {'solve s':>7} {'step/solve':>10}"]
     for r in rows:
-        out.append(f"{r['dofs']:>8} {r.get('interface', 'fe'):>9} {r['update']:>8} "
+        out.append(f"{r['dofs']:>8} {r.get('layout', 'half'):>6} {r.get('interface', 'fe'):>9} "
+                   f"{r['update']:>8} "
                    f"{r['steps']:>5} {r['total_s']:>8.1f} "
                    f"{r['per_step_s']:>7.4f} {r['contact_share']:>7.2f} "
                    f"{r['assembly_share']:>8.2f} {r['motion_share']:>6.2f} "
                    f"{r['contact_solve_s']:>7.2f} {r['step_over_contact']:>10.2f}")
     out.append("shares of total_s; solve s = one plain contact solve of the same model; "
                "step/solve = per-step time / that solve")
+    for h in rows:
+        for f in rows:
+            if (h.get("layout", "half"), f.get("layout")) == ("half", "full") and \
+                    h["size_m"] == f["size_m"] and h["interface"] == f["interface"]:
+                out.append(f"full over half at {h['size_m'] * 1e3:.3g} mm ({h['interface']}): "
+                           f"{f['dofs'] / h['dofs']:.2f}x the DOFs, "
+                           f"{f['per_step_s'] / h['per_step_s']:.2f}x the time per step")
     for r in rows:
         if r.get("interface", "fe") != "fe":
             out.append(f"{r['dofs']} DOFs, {r['interface']}: built in {r['interface_s']:.2f} s "

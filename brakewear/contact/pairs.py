@@ -15,7 +15,7 @@ from .surface import mortar_coupling, project_nodes
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["ContactPair", "pair_to_surface", "pair_to_rigid"]
+__all__ = ["ContactPair", "pair_to_surface", "pair_to_rigid", "merge_pairs"]
 
 
 @dataclass
@@ -221,3 +221,38 @@ def _unit_tangential(v: np.ndarray, n: np.ndarray) -> np.ndarray:
     return v / norm
 
 
+
+
+def merge_pairs(pairs: list[ContactPair], name: str = "contact") -> ContactPair:
+    """One pair of several with disjoint slave nodes (e.g. the two pads' friction
+    faces against the rotor's two faces): slave nodes, areas, normals, gaps,
+    coupling rows and drag joined and sorted by slave node."""
+    if len(pairs) == 1:
+        return pairs[0]
+    rigid = {p.rigid for p in pairs}
+    if len(rigid) > 1:
+        raise ValueError(f"{name}: cannot merge rigid and deformable masters into one pair")
+    slave = np.concatenate([p.slave for p in pairs])
+    if np.unique(slave).size != slave.size:
+        raise ValueError(f"{name}: the pairs share slave nodes; merged pairs need disjoint ones")
+    cat = lambda key: np.concatenate([getattr(p, key) for p in pairs], axis=-1)  # noqa: E731
+    coupling = None if rigid.pop() else sp.vstack([p.coupling for p in pairs], format="csr")
+    fr = [p.frictional for p in pairs]
+    drag = cat("drag") if all(fr) else None
+    mu = (np.concatenate([np.broadcast_to(np.asarray(p.mu, dtype=float), p.slave.shape)
+                          for p in pairs]) if any(fr) else 0.0)
+    if np.ndim(mu) and np.all(mu == mu[0]):
+        mu = float(mu[0])
+    bases = [p.basis for p in pairs]
+    basis = None
+    if any(b is not None for b in bases):
+        if any(b is None for b in bases):
+            raise ValueError(f"{name}: cannot merge linear and quadratic slave faces")
+        basis = SlaveBasis(np.concatenate([b.edge for b in bases]),
+                           np.hstack([b.ends for b in bases]), bases[0].alpha)
+    # in ascending slave order, the order of the face's node list (face_nodes)
+    o = np.argsort(slave, kind="stable")
+    pick = lambda a: None if a is None else (a[..., o] if np.ndim(a) else a)  # noqa: E731
+    return ContactPair(slave[o], cat("area")[o], cat("normal")[:, o], cat("g0")[o],
+                       None if coupling is None else coupling[o], pick(mu), pick(drag), name,
+                       basis=basis)

@@ -1,7 +1,9 @@
 """Parametric brake geometry: read, check and hold a geometry/*.toml file.
 
 A geometry file describes one brake -- rotor ring, pad (friction layer on a
-steel backplate), piston -- in the units named in its ``[units]`` table.
+steel backplate), piston and, optionally, the caliper, the pads' support and
+the rotor's mount (read by :mod:`brakewear.geometry.loadpath`) -- in the
+units named in its ``[units]`` table.
 :func:`load_geometry` and :func:`geometry_from_dict` check *everything*
 (unknown keys, missing fields, types, ranges, the pad on the rotor ring, the
 piston on the pad, materials, units) before any mesh is built, and return a
@@ -25,6 +27,10 @@ from typing import Any, Mapping
 
 from ..errors import GeometryError, MaterialError
 from ..materials import MATERIALS, Isotropic, Material, Thermal, TransverselyIsotropic
+from .loadpath import EXTRA_FIELDS, SECTIONS, check_footprint, pad_shape, rim_inner_diameter
+from .loadpath import caliper as _caliper
+from .loadpath import rotor_mount, stiffness_unit
+from .loadpath import support as _support
 from .parts import (
     _BASE_DEFAULT,
     ANGLE_UNITS,
@@ -227,7 +233,8 @@ def geometry_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> BrakeGeo
     ----------
     d
         Tables ``units``, ``rotor``, ``pad``, ``piston``, ``mesh`` and optional
-        ``materials``; see docs/geometry.md.
+        ``materials``, ``caliper`` and ``support`` (the load-path keys are read
+        by :mod:`brakewear.geometry.loadpath`); see docs/geometry.md.
     source
         Name used in error messages (the file path when loading a file).
 
@@ -242,7 +249,7 @@ def geometry_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> BrakeGeo
     """
     ck = _Checker(source)
     d = ck.table(d, "<top level>")
-    allowed = set(_SCHEMA) | {"materials"}
+    allowed = set(_SCHEMA) | {"materials", *SECTIONS}
     unknown = sorted(set(d) - allowed)
     if unknown:
         raise ck.fail(unknown[0], f"unknown section [{unknown[0]}]; allowed sections: "
@@ -252,7 +259,8 @@ def geometry_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> BrakeGeo
             raise ck.fail(sec, f"missing required section [{sec}]")
     secs = {sec: ck.table(d[sec], sec) for sec in _SCHEMA}
     for sec, fields in _SCHEMA.items():
-        ck.keys(secs[sec], sec, set(fields), set(fields) - _OPTIONAL.get(sec, set()))
+        ck.keys(secs[sec], sec, set(fields) | EXTRA_FIELDS.get(sec, set()),
+                set(fields) - _OPTIONAL.get(sec, set()))
 
     # units first: every other number depends on them
     for key, choices in _UNIT_CHOICES.items():
@@ -261,6 +269,7 @@ def geometry_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> BrakeGeo
             raise ck.fail(f"units.{key}", f"{u!r} is not allowed; allowed units: "
                                           f"{', '.join(repr(c) for c in choices)}")
         ck.unit_name[key] = u
+    stiffness = stiffness_unit(ck, secs["units"])
 
     materials = _materials(ck, d.get("materials", {}))
 
@@ -274,12 +283,15 @@ def geometry_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> BrakeGeo
                                           f"{', '.join(sorted(materials))}")
         return materials[name]
 
-    rotor = _rotor(ck, secs["rotor"], material)
-    pad = _pad(ck, secs["pad"], rotor, material)
+    rotor = rotor_mount(ck, secs["rotor"], _rotor(ck, secs["rotor"], material))
+    pad = pad_shape(ck, secs["pad"], _pad(ck, secs["pad"], rotor, material), rotor)
     piston = _piston(ck, secs["piston"], pad, material)
+    caliper, extra = _caliper(ck, d, pad, piston)
+    support = _support(ck, d, stiffness)
     mesh = _mesh(ck, secs["mesh"], pad)
-    return BrakeGeometry(rotor=rotor, pad=pad, piston=piston, mesh=mesh,
-                         materials=materials, source=source, units=dict(ck.unit_name))
+    return BrakeGeometry(rotor=rotor, pad=pad, piston=piston, mesh=mesh, caliper=caliper,
+                         support=support, extra_pistons=extra, materials=materials,
+                         source=source, units=dict(ck.unit_name))
 
 
 def _rotor(ck: _Checker, s: dict, material) -> RotorGeometry:
@@ -323,34 +335,9 @@ def _piston(ck: _Checker, s: dict, pad: PadGeometry, material) -> PistonGeometry
     ang = ck.angle(s, "piston", "angle") if "angle" in s else 0.0
     length = ck.length(s, "piston", "length")
     bore = ck.length(s, "piston", "bore_diameter") if "bore_diameter" in s else dia
-    a = 0.5 * dia
-    tol = 1e-9 * pad.outer_radius
-    # radially: the footprint spans rc - a .. rc + a
-    if rc - a < pad.inner_radius - tol or rc + a > pad.outer_radius + tol:
-        lo, hi = pad.inner_radius + a, pad.outer_radius - a
-        allowed = (f"[{ck.fmt_len(lo)}, {ck.fmt_len(hi)}] = [pad.inner_radius + d/2, "
-                   f"pad.outer_radius - d/2]" if lo <= hi else
-                   f"none: the piston diameter {ck.fmt_len(dia)} exceeds the radial pad "
-                   f"width {ck.fmt_len(pad.outer_radius - pad.inner_radius)}")
-        raise ck.fail("piston.radius",
-                      f"{ck.fmt_len(rc)} with piston.diameter = {ck.fmt_len(dia)} puts the "
-                      f"piston footprint [{ck.fmt_len(rc - a)}, {ck.fmt_len(rc + a)}] outside "
-                      f"the pad radii [{ck.fmt_len(pad.inner_radius)}, "
-                      f"{ck.fmt_len(pad.outer_radius)}]; allowed piston.radius: {allowed}")
-    # along the arc: distance from the piston axis to each straight pad end
-    # (a line through the rotor axis) must be at least the footprint radius
-    half = 0.5 * pad.arc_angle
-    room = half - abs(ang)
-    dist = rc * math.sin(room) if room > 0 else -1.0
-    if room <= 0 or dist < a - tol:
-        ang_max = max(half - math.asin(min(1.0, a / rc)), 0.0)
-        raise ck.fail("piston.angle",
-                      f"{ck.fmt_ang(ang)} puts the piston footprint (diameter "
-                      f"{ck.fmt_len(dia)}) across a pad end: distance to the pad end "
-                      f"{ck.fmt_len(max(dist, 0.0))} < footprint radius {ck.fmt_len(a)}; "
-                      f"allowed |piston.angle| <= {ck.fmt_ang(ang_max)} at piston.radius = "
-                      f"{ck.fmt_len(rc)}")
-    return PistonGeometry(dia, rc, ang, length, material("piston", "material"), bore)
+    rim = rim_inner_diameter(ck, s, "piston", dia)
+    check_footprint(ck, "piston", dia, rc, ang, pad)
+    return PistonGeometry(dia, rc, ang, length, material("piston", "material"), bore, rim)
 
 
 def _mesh(ck: _Checker, s: dict, pad: PadGeometry) -> MeshSettings:

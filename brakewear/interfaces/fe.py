@@ -11,7 +11,7 @@ from ..contact.compliant import compliant_preconditioner, solve_compliant_contac
 from ..contact.lagrange import contact_preconditioner, solve_contact
 from ..contact.quadratic import quadratic_face_areas, slave_basis
 from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
-from ..rings import ring_wear_nodes, rotor_rings
+from ..rings import face_rings, ring_wear_nodes
 from .protocol import InterfaceSolution
 
 logger = logging.getLogger(__name__)
@@ -55,7 +55,7 @@ class FEInterface:
         if model.rotor == "elastic":
             rotor = model.meshes["rotor"]
             self.rotor_nodes = face = face_nodes(rotor, "friction")
-            self.ring, _ = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
+            self.ring, _ = face_rings(model, rotor.p[:, face])
             self.rotor_area = _face_areas(rotor, face)
             self.rotor_x = rotor.p[:, face]
         else:

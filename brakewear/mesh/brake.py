@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import skfem as fem
 
+from .pad import sector_pad_mesh
 from .structured import _oriented, cylindrical, graded, mapped_mesh, structured_tets
 from .topology import _with_boundaries, _with_subdomains
 
@@ -160,12 +161,16 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
 
 
 def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None = None) -> fem.Mesh:
-    """The pad: an annular sector, friction layer on ``0 < z < friction_thickness``,
+    """The pad: an annular-sector lining on ``0 < z < friction_thickness``, the
     backplate above it up to ``z = friction_thickness + backplate_thickness``.
 
-    The rotor turns in +theta, so a rotor point enters under the pad at the
-    smaller angle: ``leading`` is the end face at ``center - arc/2`` and
-    ``trailing`` the one at ``center + arc/2``.
+    The lining spans the pad radii, the backplate the backplate radii
+    (``pad.backplate_radii``); the lining may have leading/trailing chamfers
+    (its friction face rises linearly to the chamfer depth at the pad end)
+    and a radial slot of constant width on the centre line
+    (:mod:`brakewear.mesh.pad`).  The rotor turns in +theta, so a rotor point
+    enters under the pad at the smaller angle: ``leading`` is the end face at
+    ``center - arc/2`` and ``trailing`` the one at ``center + arc/2``.
 
     Through the thickness: ``mesh.friction_layers`` layers in the friction
     layer, graded by ``pad_z_ratio`` toward the friction face (default: the
@@ -179,54 +184,24 @@ def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None =
     -------
     skfem.MeshTet or skfem.MeshTet2
         Subdomains ``friction_layer`` and ``backplate``; facets ``friction``
-        (z = 0), ``back`` (top face), ``piston_face`` (back facets whose
-        centroid lies inside the piston footprint), ``leading``, ``trailing``
-        (whole end faces), ``abutment`` (both end faces, backplate part only),
-        ``inner`` and ``outer`` (curved faces).
+        (the lining's face toward the rotor, chamfers included), ``back`` (top
+        face), ``piston_face`` (back facets whose centroid lies inside the
+        piston footprint: the rim annulus or the disc), ``leading``,
+        ``trailing`` (whole end faces), ``abutment_leading``,
+        ``abutment_trailing`` (backplate part of each end face), ``abutment``
+        (both), ``leading_chamfer``, ``trailing_chamfer`` (the chamfer faces)
+        and ``slot`` (walls and floor of the slot), these three only where
+        the pad has them, ``inner`` and ``outer`` (the curved faces and, where the
+        backplate is larger than the lining, its exposed front face).
     """
-    ms, pad, pis = geom.mesh, geom.pad, geom.piston
+    ms = geom.mesh
     h, order = _check_size_order(_body_size(geom, size, "pad"),
                                  ms.order if order is None else order)
-    ri, ro, tf, tb = pad.inner_radius, pad.outer_radius, pad.friction_thickness, pad.backplate_thickness
-    r_ref = 0.5 * (ri + ro)
-    r = np.linspace(ri, ro, max(2, int(np.ceil((ro - ri) / h))) + 1)
-    th = np.linspace(pad.leading_angle, pad.trailing_angle,
-                     max(2, int(np.ceil(pad.arc_angle * r_ref / h))) + 1)
+    tf, tb = geom.pad.friction_thickness, geom.pad.backplate_thickness
     nzf = ms.friction_layers or _n_cells(tf, 0.5 * h, ms.pad_z_ratio)
     zf = graded(0.0, tf, nzf, ms.pad_z_ratio if nzf > 1 else 1.0, "a")
     zb = np.linspace(tf, tf + tb, (ms.backplate_layers or max(1, int(np.ceil(tb / h)))) + 1)
-    z = np.concatenate([zf, zb[1:]])
-    p, t = structured_tets(r, th, z)
-    m = mapped_mesh(p, t, cylindrical, order=order)
-    top = tf + tb
-    tol = 1e-9 * ro
-    xc, yc = geom.piston_center
-    a = 0.5 * pis.diameter
-    rmid = 0.5 * (ri + ro)
-
-    def plane(ang):
-        n = np.array([-np.sin(ang), np.cos(ang)])
-        return lambda X: np.abs(n[0] * X[0] + n[1] * X[1]) < tol
-
-    lead, trail = plane(pad.leading_angle), plane(pad.trailing_angle)
-
-    def flat(X):
-        return (np.abs(X[2]) < tol) | (np.abs(X[2] - top) < tol) | lead(X) | trail(X)
-
-    m = _with_boundaries(m, {
-        "friction": lambda X: np.abs(X[2]) < tol,
-        "back": lambda X: np.abs(X[2] - top) < tol,
-        "piston_face": lambda X: (np.abs(X[2] - top) < tol) & (np.hypot(X[0] - xc, X[1] - yc) < a),
-        "leading": lead,
-        "trailing": trail,
-        "abutment": lambda X: (lead(X) | trail(X)) & (X[2] > tf),
-        "inner": lambda X: ~flat(X) & (np.hypot(X[0], X[1]) < rmid),
-        "outer": lambda X: ~flat(X) & (np.hypot(X[0], X[1]) > rmid),
-    })
-    m = _with_subdomains(m, {
-        "friction_layer": lambda X: X[2] < tf,
-        "backplate": lambda X: X[2] > tf,
-    })
+    m = sector_pad_mesh(geom, h, order, zf, zb)
     logger.debug("pad mesh: %d nodes, %d elements (order %d)", m.p.shape[1], m.t.shape[1], order)
     return m
 

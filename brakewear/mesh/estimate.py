@@ -105,11 +105,12 @@ def _two_sided_cells(length: float, h_end: float, h_mid: float, growth: float = 
 
 
 def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = "elastic",
-                   piston: str = "traction", order: int = 1) -> ModelEstimate:
+                   piston: str = "traction", order: int = 1, full: bool = False) -> ModelEstimate:
     """Nodes and elements of each meshed body at ``size`` (m; default the geometry's);
     a body's own ``mesh.pad_size`` / ``rotor_size`` and layer counts take precedence.
     Element ``order`` 2: each structured grid direction gets its midpoints, the
-    piston about seven mid-edge nodes per vertex."""
+    piston about seven mid-edge nodes per vertex.  ``full``: both pads and the
+    whole rotor thickness (``BrakeModel(layout="full")``)."""
     k = 2 if order == 2 else 1            # grid points per cell and direction
     ms, pad, rot, pis = geom.mesh, geom.pad, geom.rotor, geom.piston
     size = ms.size if size is None else float(size)
@@ -123,16 +124,19 @@ def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = 
         dth = span / n_fine
         nth = n_fine + _two_sided_cells(2 * math.pi - span, dth, ms.rotor_coarse_factor * dth)
         nz = ms.rotor_layers or _graded_cells(0.5 * rot.thickness, 0.5 * h, ms.rotor_z_ratio)
+        nz *= 2 if full else 1
         nodes["rotor"] = (k * nr + 1) * k * nth * (k * nz + 1)   # periodic in theta
         elements["rotor"] = 6 * nr * nth * nz
     h = ms.pad_size or size
     r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
-    nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
+    bri, bro = pad.backplate_radii     # a larger backplate adds radial cells (whole block)
+    nr = (max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
+          + math.ceil((pad.inner_radius - bri) / h) + math.ceil((bro - pad.outer_radius) / h))
     nth = max(2, math.ceil(pad.arc_angle * r_ref / h))
     nz = ((ms.friction_layers or _graded_cells(pad.friction_thickness, 0.5 * h, ms.pad_z_ratio))
           + (ms.backplate_layers or max(1, math.ceil(pad.backplate_thickness / h))))
-    nodes["pad"] = (k * nr + 1) * (k * nth + 1) * (k * nz + 1)
-    elements["pad"] = 6 * nr * nth * nz
+    nodes["pad"] = (k * nr + 1) * (k * nth + 1) * (k * nz + 1) * (2 if full else 1)
+    elements["pad"] = 6 * nr * nth * nz * (2 if full else 1)
     if piston == "body":
         R = 0.5 * pis.diameter
         h = size
@@ -187,7 +191,7 @@ def check_model_size(geom: BrakeGeometry, size: float | None, rotor: str = "elas
                      piston: str = "traction", *, key: str = "mesh.size", unit: str = "mm",
                      budget_gb: float | None = None, budget_key: str = "numerics.memory_budget",
                      user_value: str | None = None, nodes: dict | None = None,
-                     order: int = 1) -> ModelEstimate:
+                     order: int = 1, full: bool = False) -> ModelEstimate:
     """Refuse a mesh size outside (0, half the pad width] or too big for the memory budget.
 
     Parameters
@@ -206,6 +210,8 @@ def check_model_size(geom: BrakeGeometry, size: float | None, rotor: str = "elas
         they are, not estimated.
     order
         Element order of the meshes (2: quadratic, mid-edge nodes counted).
+    full
+        Both pads and the whole rotor thickness.
 
     Returns
     -------
@@ -227,7 +233,7 @@ def check_model_size(geom: BrakeGeometry, size: float | None, rotor: str = "elas
         raise SceneError(f"{key}: {shown} is not allowed; allowed range (0, "
                          f"{_fmt(0.5 * width, unit)}] (half the radial pad width)")
     def estimate(size: float) -> ModelEstimate:
-        e = estimate_model(geom, size, rotor, piston, order)
+        e = estimate_model(geom, size, rotor, piston, order, full)
         for b, n in (nodes or {}).items():
             e.nodes[b], e.elements[b] = int(n), 0
         return e

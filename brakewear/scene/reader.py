@@ -41,7 +41,7 @@ __all__ = ["load_scene", "scene_from_dict", "scene_dir", "scene_file", "availabl
 _SCHEMA: dict[str, dict[str, str]] = {
     "units": {q: "unit" for q in UNITS},
     "scene": {"name": "str", "description": "str", "geometry": "geometry"},
-    "components": {"rotor": "str", "pad": "str", "piston": "str"},
+    "components": {"rotor": "str", "pad": "str", "piston": "str", "layout": "str"},
     "mesh": {"size": "length", "order": "int", "pad_file": "path", "rotor_file": "path",
              "piston_file": "path", "pad_size": "length", "rotor_size": "length",
              "friction_layers": "int", "backplate_layers": "int", "rotor_layers": "int"},
@@ -331,6 +331,7 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
         duty = _duty(tables, val, source, base)
         return Scene(geometry=geometry, rotor=comps["rotor"],
                      piston=comps.get("piston", "traction"),
+                     layout=comps.get("layout", "auto"),
                      mesh_size=mesh_size, order=val("mesh", "order"), mesh_files=mesh_files,
                      resolution=resolution,
                      interface=interface, pad_wear=pad_wear, rotor_wear=rotor_wear,

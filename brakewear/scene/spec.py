@@ -58,6 +58,9 @@ class Scene:
         name / ``.toml`` path (loaded and checked at once; no meshing).
     rotor, piston
         Components: ``"elastic"`` | ``"rigid"`` rotor; ``"traction"`` | ``"body"`` piston.
+    layout
+        ``"auto"`` | ``"half"`` | ``"full"``: one pad and the rotor's half, or both
+        pads and the whole rotor (:class:`~brakewear.model.BrakeModel`).
     mesh_size, order
         Interface element size (m) and element order; ``None``: the geometry's.
     mesh_files
@@ -92,6 +95,7 @@ class Scene:
     ambient: float = 293.15
     rotor: str = "elastic"
     piston: str = "traction"
+    layout: str = "auto"
     mesh_size: float | None = None
     order: int | None = None
     mesh_files: Mapping[str, str] = field(default_factory=dict)
@@ -117,6 +121,11 @@ class Scene:
                                           "or a BrakeGeometry")
         check_choice("components.rotor", self.rotor, ("elastic", "rigid"))
         check_choice("components.piston", self.piston, ("traction", "body"))
+        check_choice("components.layout", self.layout, ("auto", "half", "full"))
+        if self.layout == "full" and self.rotor == "rigid":
+            raise fail("components.layout", "'full' is not allowed with components.rotor = "
+                                             "'rigid' (a plane has one friction face); allowed "
+                                             "with a rigid rotor: 'auto', 'half'")
         check_number("environment.line_pressure", self.line_pressure, 0.0, unit="Pa")
         check_number("environment.omega", self.omega, 0.0, unit="rad/s")
         check_number("environment.duration", self.duration, 0.0, unit="s")
@@ -150,8 +159,10 @@ class Scene:
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
         from ..mesh.estimate import check_model_size
+        from ..loadpath import resolve_layout
         check_model_size(self.meshed_geometry, self.mesh_size, self.rotor, self.piston,
                          nodes=nodes,
+                         full=resolve_layout(self.geometry, self.layout, self.rotor) == "full",
                          key="mesh.size" if self.mesh_size is not None else
                          f"mesh.size of the geometry {self.geometry.source}",
                          unit=user_unit("mesh.size") or ("m" if self.mesh_size else "mm"),
@@ -302,7 +313,7 @@ class Scene:
         from ..model import BrakeModel
         return BrakeModel(self.meshed_geometry, piston=self.piston, size=self.mesh_size,
                           order=self.order, rotor=self.rotor, meshes=dict(self.mesh_files),
-                          memory_budget=self.numerics.memory_budget)
+                          memory_budget=self.numerics.memory_budget, layout=self.layout)
 
     def initial_gap(self, x):
         """The initial gap (m) at pad friction nodes at ``x`` (3, n; m) from the
@@ -379,7 +390,9 @@ class Scene:
         g = self.geometry
         d["geometry"] = {"source": str(g.source), "rotor": _geom_record(g.rotor),
                          "pad": _geom_record(g.pad), "piston": _geom_record(g.piston),
-                         "mesh": asdict(g.mesh)}
+                         "mesh": asdict(g.mesh), "caliper": asdict(g.caliper),
+                         "support": asdict(g.support),
+                         "extra_pistons": [_geom_record(p) for p in g.extra_pistons]}
         return json.loads(json.dumps(d, default=str))
 
 
@@ -410,6 +423,7 @@ def _first_difference(a: Any, b: Any, path: str = "") -> str | None:
 _RECORD_KEYS = {"duration": "environment.duration", "line_pressure": "environment.line_pressure",
                 "omega": "environment.omega", "ambient": "environment.ambient",
                 "rotor": "components.rotor", "piston": "components.piston",
+                "layout": "components.layout",
                 "mesh_size": "mesh.size", "order": "mesh.order", "mesh_files": "mesh",
                 "resolution": "mesh",
                 "pad_wear": "wear.pad",

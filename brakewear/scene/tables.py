@@ -30,7 +30,8 @@ UNITS: dict[str, dict[str, float]] = {
 #: (brakewear.mesh.pad_mesh, rotor_mesh, piston_mesh); tests compare them with the meshes.
 SURFACES: dict[str, tuple[str, ...]] = {
     "pad": ("friction", "back", "piston_face", "leading", "trailing", "abutment", "inner",
-            "outer"),
+            "outer", "abutment_leading", "abutment_trailing", "leading_chamfer",
+            "trailing_chamfer", "slot"),
     "rotor": ("friction", "midplane", "rotor_clamp", "outer"),
     "piston": ("piston_face", "piston_back", "piston_side"),
 }

@@ -23,7 +23,7 @@ from ..errors import ThermalError
 from ..fem.heat import THERMAL_FIELDS, HeatConduction, body_label, check_thermal
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
 from ..mesh.topology import ensure_topology
-from ..rings import rotor_rings, rotor_wear_rate
+from ..rings import face_rings, rotor_wear_rate
 from .convection import SpeedConvection, radiation_coefficient, rounded
 from .partition import heat_flux, partition_effusivity
 from .strain import thermal_load_matrix, thermal_stress
@@ -177,7 +177,7 @@ class ThermalModel:
             face = self.heat["rotor"].face
             pair = model.contact_pair(0.0)
             self.coupling = pair.coupling[:, face + model.offsets["rotor"]].tocsr()
-            self.ring, self.ring_radii = rotor_rings(np.hypot(rotor.p[0, face], rotor.p[1, face]))
+            self.ring, self.ring_radii = face_rings(model, rotor.p[:, face])
             self.rotor_area = self.heat["rotor"].face_area
             if h_c > 0:
                 n_ring = int(self.ring.max()) + 1

@@ -1,0 +1,126 @@
+"""The caliper's load path on a brake model's meshes: clamp loads and pad supports.
+
+The clamp force ``F = line_pressure x clamp_area`` (the hydraulic area of one
+side's pistons) reaches the pads' backs:
+
+- *idealised* (the half model's historical load, kept so its answers stay
+  comparable): one solid piston, its footprint the back facets whose centre
+  lies inside the piston disc, a uniform traction over their area;
+- every other case: each piston's footprint (the annular rim between
+  ``rim_inner_diameter`` and ``diameter``, or the disc) integrated
+  mesh-independently (:func:`~brakewear.fem.footprint.footprint_load`), each
+  carrying ``line_pressure x`` its own bore area.  In the full model a fixed
+  caliper presses the outboard pad with the mirrored pistons, a floating one
+  with its fingers, which share ``F`` in proportion to their footprint areas
+  (the caliper slides on its pins, so the finger force balances the piston
+  force).
+
+Supports of the pads in the bracket: ``"bilateral"`` holds the backplate's
+end faces in-plane (Dirichlet); push and pull supports are unilateral
+abutments (:mod:`brakewear.contact.supports`).
+"""
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+
+from .errors import SceneError
+from .fem.boundary import assemble_traction, boundary_dofs
+from .fem.footprint import annulus, footprint_load
+from .mesh.surface import is_quadratic, tributary_areas
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["clamp_loads", "idealised_load", "pad_support_dofs", "footprints", "uniform_traction",
+           "half_model_holds", "resolve_layout"]
+
+
+def half_model_holds(geometry) -> bool:
+    """Whether one pad and the rotor's inboard half with a mirror plane model the
+    brake exactly: both pads get the same load (a fixed caliper) and the rotor
+    is symmetric about its mid-plane (no hat)."""
+    return geometry.caliper.symmetric and geometry.rotor.mount == "ring_clamp"
+
+
+def resolve_layout(geometry, layout: str, rotor: str = "elastic", strict: bool = False) -> str:
+    """``"half"`` or ``"full"`` for a model layout (``"auto"``: half where
+    :func:`half_model_holds` or the rotor is rigid, else full).  ``strict``:
+    refuse a layout the model cannot build, warn of a half model whose
+    assumption does not hold."""
+    if layout not in ("auto", "half", "full"):
+        raise SceneError(f"layout = {layout!r} is not allowed; allowed: 'auto', 'half', 'full'")
+    holds = half_model_holds(geometry)
+    if layout == "auto":
+        layout = "half" if holds or rotor == "rigid" else "full"
+    if strict and layout == "full" and rotor == "rigid":
+        raise SceneError("layout = 'full' needs rotor = 'elastic': a rigid rotor is the "
+                         "plane z = 0, with no second friction face")
+    if strict and layout == "half" and not holds:
+        logger.warning("half model of an unsymmetric brake (%s caliper, rotor mount %s): "
+                       "the outboard pad is taken to carry the inboard pad's load",
+                       geometry.caliper.type, geometry.rotor.mount)
+    return layout
+
+
+def idealised_load(geometry) -> bool:
+    """Whether the pad's back carries the idealised piston load (one solid piston,
+    the footprint snapped to the back facets inside it)."""
+    return not geometry.extra_pistons and geometry.piston.rim_inner_diameter is None
+
+
+def _center(geometry, radius: float, angle: float) -> tuple[float, float]:
+    a = geometry.pad.center_angle + angle
+    return radius * math.cos(a), radius * math.sin(a)
+
+
+def footprints(geometry, side: str) -> list[tuple[tuple[float, float], float, float, float]]:
+    """``(centre (x, y), inner radius, outer radius, share of F)`` of each footprint
+    on the ``"in"`` (pistons) or ``"out"`` side (mirrored pistons or fingers)."""
+    cal = geometry.caliper
+    if side == "out" and cal.type == "floating":
+        total = sum(f.area for f in cal.fingers)
+        return [(_center(geometry, f.radius, f.angle), 0.0, 0.5 * f.diameter, f.area / total)
+                for f in cal.fingers]
+    A = geometry.clamp_area
+    return [(_center(geometry, p.radius, p.angle), 0.5 * (p.rim_inner_diameter or 0.0),
+             0.5 * p.diameter, p.hydraulic_area / A) for p in geometry.pistons]
+
+
+def uniform_traction(mesh, facets: str, F: float) -> np.ndarray:
+    """Nodal loads of a uniform traction of total ``F`` (N) toward -z on ``facets``."""
+    if is_quadratic(mesh):
+        # curved (isoparametric) facets: the area the traction is integrated over
+        area = -assemble_traction(mesh, facets, (0.0, 0.0, -1.0))[2::3].sum()
+    else:
+        area = tributary_areas(mesh, facets).sum()
+    return assemble_traction(mesh, facets, (0.0, 0.0, -F / area))
+
+
+def clamp_loads(geometry, pad_mesh, line_pressure: float, full: bool,
+                sides: tuple[str, ...] = ("in", "out")) -> np.ndarray:
+    """Nodal loads (DOF ``3 node + i`` of ``pad_mesh``) of the clamp force on the
+    pads' backs: the inboard pad (side ``"in"``) pressed toward -z, the
+    outboard one (``"out"``, full model only) toward +z, each with
+    ``F = line_pressure x clamp_area``."""
+    F = line_pressure * geometry.clamp_area
+    f = np.zeros(3 * pad_mesh.p.shape[1])
+    if "in" in sides and not full and idealised_load(geometry):
+        return uniform_traction(pad_mesh, "piston_face", F)
+    todo = [s for s in (("in", "back_in" if full else "back", -1.0), ("out", "back_out", 1.0))
+            if s[0] in sides and (full or s[0] == "in")]
+    for side, facets, sign in todo:
+        for c, ri, ro, share in footprints(geometry, side):
+            f += footprint_load(pad_mesh, facets, annulus(c, ri, ro), F * share,
+                                direction=(0.0, 0.0, sign))
+    return f
+
+
+def pad_support_dofs(geometry, pad_mesh) -> np.ndarray:
+    """Supported DOFs (pad numbering) of a bilateral support: the backplate's end
+    faces held in-plane; none for push and pull supports (their abutments are
+    contact pairs)."""
+    if geometry.support.type != "bilateral":
+        return np.zeros(0, dtype=np.int64)
+    return boundary_dofs(pad_mesh, "abutment", [0, 1])

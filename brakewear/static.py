@@ -1,0 +1,139 @@
+"""What a static solve of the brake reports: stresses, contact coverage, centres of pressure.
+
+Per friction face (the half model has one, the full model the inboard
+``in`` and outboard ``out`` face): the normal force, the contact coverage
+(the share of the face's area whose nodes carry pressure), the largest and
+mean pressure and the centre of pressure in (r, theta).
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from .fem.stress import element_stress, nodal_stress, von_mises
+from .mesh.surface import face_nodes
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["body_stresses", "static_summary", "face_report", "friction_faces", "pad_balance"]
+
+
+def body_stresses(model, result) -> dict:
+    """Nodal von Mises stress per body (Pa)."""
+    out = {}
+    for b in model.bodies:
+        se = element_stress(model.meshes[b], result.u[b], model.materials[b])
+        out[b] = von_mises(nodal_stress(model.meshes[b], se))
+    return out
+
+
+def friction_faces(model, result) -> dict[str, np.ndarray]:
+    """Face name -> boolean mask over ``result.interface_nodes`` (``"in"`` and
+    ``"out"`` in the full model, ``"in"`` alone in the half model)."""
+    nodes = result.interface_nodes
+    if not getattr(model, "full", False):
+        return {"in": np.ones(nodes.size, dtype=bool)}
+    pad = model.meshes["pad"]
+    return {side: np.isin(nodes, face_nodes(pad, f"friction_{side}")) for side in ("in", "out")}
+
+
+def face_report(model, result, mask: np.ndarray, area: np.ndarray) -> dict:
+    """Normal force, coverage, pressures and centre of pressure of one face."""
+    x = model.meshes["pad"].p[:, result.interface_nodes[mask]]
+    p = result.interface_pressure[mask]
+    nz = 1.0 if result.normal_z is None else result.normal_z[mask]
+    fz = result.interface_force[2][mask] * nz
+    a = area[mask]
+    r, th = np.hypot(x[0], x[1]), np.arctan2(x[1], x[0])
+    F = fz.sum()
+    return {
+        "normal_force_N": float(F),
+        "coverage": float(a[p > 0].sum() / a.sum()),
+        "pressure_max_Pa": float(p.max()), "pressure_mean_Pa": float(F / a.sum()),
+        "pressure_min_Pa": float(p.min()),
+        "centre_of_pressure_r_m": float((fz * r).sum() / F) if F > 0 else float("nan"),
+        "centre_of_pressure_theta_deg": (float(np.degrees((fz * th).sum() / F)) if F > 0
+                                         else float("nan")),
+    }
+
+
+def static_summary(model, result) -> dict:
+    """A JSON-ready summary of a static solve: interface (all faces together,
+    and per face), bodies, solver."""
+    g = model.geometry
+    area = model.friction_areas()
+    faces = {k: face_report(model, result, m, area) for k, m in
+             friction_faces(model, result).items()}
+    whole = face_report(model, result, np.ones(area.size, dtype=bool), area)
+    n_faces = len(faces)
+    whole["force_balance_error"] = abs(whole["normal_force_N"] - n_faces * result.clamp_force) / (
+        n_faces * result.clamp_force)
+    vm = body_stresses(model, result)
+    return {
+        "geometry": str(g.source),
+        "layout": getattr(model, "layout", "half"),
+        "line_pressure_Pa": result.clamp_force / g.clamp_area,
+        "clamp_force_N": float(result.clamp_force),
+        "interface": whole,
+        "faces": faces,
+        "bodies": {b: {"nodes": int(model.meshes[b].p.shape[1]),
+                       "elements": int(model.meshes[b].nelements),
+                       "max_displacement_m": float(np.abs(result.u[b]).max()),
+                       "max_von_mises_Pa": float(vm[b].max())} for b in model.bodies},
+        "solver": result.info,
+    }
+
+
+def pad_balance(model, result, line_pressure: float, extra: dict | None = None) -> dict:
+    """Force and moment balance of each pad: applied clamp load + contact forces
+    (the solve's multipliers and friction) + support reactions (``K u - f`` at the
+    supported DOFs) + ``extra`` forces (name -> pad-DOF vector, e.g. springs or
+    abutments), each resultant relative to the clamp force (moments to the clamp
+    force times the pad's outer radius).  Needs ``piston = "traction"``.
+    In the full model also the caliper: its resultant force (zero: the fingers
+    or the outboard pistons balance the inboard ones) and the moment its pins
+    carry to the bracket.
+
+    Returns
+    -------
+    dict
+        ``{"in": {"force": rel, "moment": rel}, "out": ..., "caliper":
+        {"force": rel, "pin_moment_Nm": [mx, my, mz]}}``.
+    """
+    from .loadpath import pad_support_dofs      # loadpath sits beside model, above static
+
+    if model.piston != "traction":
+        raise ValueError("pad_balance needs piston = 'traction' (a meshed piston is tied "
+                         "to the pad)")
+    pad, off = model.meshes["pad"], model.offsets["pad"]
+    n = pad.p.shape[1]
+    f = model.loads(line_pressure)[3 * off:3 * (off + n)]
+    u = result.u["pad"]
+    r = model.stiffness("pad") @ u - f
+    fixed = pad_support_dofs(model.geometry, pad)
+    ext = f.copy()
+    ext[fixed] += r[fixed]
+    c = np.zeros(3 * n)
+    c.reshape(-1, 3)[result.interface_nodes] += result.interface_force.T
+    ext += c
+    for v in (extra or {}).values():
+        ext += v
+    F = line_pressure * model.geometry.clamp_area
+    R = model.geometry.pad.outer_radius
+    x = pad.p
+    half = -0.5 * model.geometry.rotor.thickness
+    sides = {"in": x[2] > half} if model.full else {"in": np.ones(n, dtype=bool)}
+    if model.full:
+        sides["out"] = ~sides["in"]
+    out = {}
+    for side, mask in sides.items():
+        e = ext.reshape(-1, 3)[mask]
+        m = np.cross(x[:, mask].T, e).sum(axis=0)
+        out[side] = {"force": float(np.linalg.norm(e.sum(axis=0)) / F),
+                     "moment": float(np.linalg.norm(m) / (F * R))}
+    if model.full:
+        fa = -f.reshape(-1, 3)     # what the pistons and fingers take from the caliper
+        out["caliper"] = {"force": float(np.linalg.norm(fa.sum(axis=0)) / F),
+                          "pin_moment_Nm": np.cross(x.T, fa).sum(axis=0).tolist()}
+    return out

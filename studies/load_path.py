@@ -1,0 +1,216 @@
+"""The caliper's load path: how much of the rotor the pads touch, idealised against real.
+
+Static contact of two brakes under line pressures from light to firm, with and
+without friction:
+
+- ``idealised``: ``geometry/default.toml`` as the half model has always taken
+  it: a solid 40 mm disc footprint snapped to the backplate's facets, both
+  backplate ends held in-plane, the outboard pad a mirror image of the inboard
+  one, the ring clamped at its inner radius;
+- ``floating``: ``geometry/floating.toml``, a single-piston floating caliper:
+  the piston's 54/57 mm rim on a backplate larger than the lining, two
+  fingers on the outboard pad, the bracket's abutments, the rotor on its hat;
+  both pads and the whole rotor thickness (``layout = "full"``).
+
+For each case, pressure and friction coefficient: per friction face the
+contact coverage (share of the face's area whose nodes carry pressure), the
+centre of pressure (radius, angle from the pad's centre line along the
+rotor's motion), the largest pressure over the nominal one (clamp force over
+the lining's area) and each pad's force and moment balance
+(:func:`brakewear.static.pad_balance`).  Two checks of the half model:
+
+- where its assumption holds (a fixed caliper with the floating brake's
+  piston rim on both sides and the ring clamp), ``full`` against ``half``;
+- where it does not (the floating caliper), the half model (the outboard pad
+  taken as the inboard one) against the full model.
+
+Run ``python studies/load_path.py [--out DIR] [--pressures 0.25 0.5 1 2 4]
+[--mu 0 0.4] [--pad-size MM]``; writes ``DIR/data/load_path.json`` and the
+pressure maps ``DIR/figures/load_path_mu0.png``, ``load_path_mu0.4.png``.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from brakewear.geometry import CaliperGeometry, load_geometry
+from brakewear.model import BrakeModel
+from brakewear.static import pad_balance
+
+PRESSURES_MPA = (0.25, 0.5, 1.0, 2.0, 4.0)
+MUS = (0.0, 0.4)
+#: the default scene's mesh keys (m): pad 1.5 mm, 4 + 8 layers, rotor 4.5 mm, 3 layers
+MESH = {"size": 1.5e-3, "pad_size": 1.5e-3, "rotor_size": 4.5e-3, "friction_layers": 4,
+        "backplate_layers": 8, "rotor_layers": 3}
+
+
+def meshed(geom, mesh: dict):
+    """``geom`` with the mesh keys ``mesh`` (m)."""
+    return replace(geom, mesh=replace(geom.mesh, **mesh))
+
+
+def cases(mesh: dict) -> dict:
+    """name -> (geometry, layout) of every model the study solves."""
+    ideal = meshed(load_geometry("default"), mesh)
+    flt = meshed(load_geometry("floating"), mesh)
+    fixed = replace(flt, caliper=CaliperGeometry("fixed"),
+                    rotor=replace(flt.rotor, mount="ring_clamp", hat=None))
+    return {"idealised": (ideal, "half"), "floating": (flt, "full"),
+            "floating_as_half": (flt, "half"), "fixed_full": (fixed, "full"),
+            "fixed_half": (fixed, "half")}
+
+
+def face_numbers(model, res, line_pressure: float) -> dict:
+    """Coverage, centre of pressure, peak over nominal pressure per face."""
+    g = model.geometry
+    s = model.summary(res)
+    nominal = line_pressure * g.clamp_area / g.pad.area
+    out = {}
+    for face, f in s["faces"].items():
+        th = f["centre_of_pressure_theta_deg"] - math.degrees(g.pad.center_angle)
+        out[face] = {"coverage": f["coverage"], "cop_r_mm": f["centre_of_pressure_r_m"] * 1e3,
+                     "cop_theta_deg": th, "peak_over_nominal": f["pressure_max_Pa"] / nominal,
+                     "normal_force_N": f["normal_force_N"]}
+    return out
+
+
+def pressure_field(model, res) -> dict:
+    """Nodal pressure on each friction face with its (x, y) and the face's facets
+    (for the maps)."""
+    pad = model.meshes["pad"]
+    faces = {"in": "friction_in", "out": "friction_out"} if model.full else {"in": "friction"}
+    p = np.zeros(pad.p.shape[1])
+    p[res.interface_nodes] = res.interface_pressure
+    return {k: {"facets": pad.facets[:, pad.boundaries[f]], "p": p, "xy": pad.p[:2]}
+            for k, f in faces.items()}
+
+
+def solve_case(geom, layout: str, pressures, mus, fields: bool = False) -> dict:
+    """Contact at every pressure and mu; the model is built once."""
+    t0 = time.perf_counter()
+    model = BrakeModel(geom, layout=layout)
+    rows, maps = [], {}
+    for mu in mus:
+        for p_mpa in pressures:
+            p = p_mpa * 1e6
+            res = model.solve_contact(p, mu=mu, tol=1e-10)
+            bal = pad_balance(model, res, p)
+            rows.append({"line_pressure_MPa": p_mpa, "mu": mu,
+                         "faces": face_numbers(model, res, p),
+                         "balance": {k: max(v["force"], v["moment"]) for k, v in bal.items()
+                                     if k != "caliper"},
+                         "pin_moment_Nm": bal.get("caliper", {}).get("pin_moment_Nm")})
+            if fields:
+                maps[(mu, p_mpa)] = pressure_field(model, res)
+    return {"layout": model.layout, "dofs": int(model.dofs), "rows": rows,
+            "wall_s": time.perf_counter() - t0, "maps": maps}
+
+
+def half_differences(full: dict, half: dict) -> list:
+    """Relative differences of the full model's faces from the half model's one."""
+    out = []
+    for rf, rh in zip(full["rows"], half["rows"]):
+        h = rh["faces"]["in"]
+        d = {"line_pressure_MPa": rf["line_pressure_MPa"], "mu": rf["mu"]}
+        for face, f in rf["faces"].items():
+            d[face] = {k: abs(f[k] - h[k]) / abs(h[k]) for k in
+                       ("coverage", "cop_r_mm", "peak_over_nominal")}
+        out.append(d)
+    return out
+
+
+def draw_maps(runs: dict, mu: float, pressures, path: Path) -> Path:
+    """Pressure over nominal on every face (rows) at every pressure (columns)."""
+    from brakewear.figures import offscreen_pyvista
+
+    pv = offscreen_pyvista()
+    faces = [("idealised", "in", "idealised (half model)"),
+             ("floating", "in", "floating: inboard (piston rim)"),
+             ("floating", "out", "floating: outboard (fingers)")]
+    pl = pv.Plotter(off_screen=True, shape=(len(faces), len(pressures)),
+                    window_size=[320 * len(pressures), 300 * len(faces)], border=False)
+    for i, (case, face, label) in enumerate(faces):
+        geom = runs[case]["geometry"]
+        nominal = geom.clamp_area / geom.pad.area
+        for j, p_mpa in enumerate(pressures):
+            m = runs[case]["maps"][(mu, p_mpa)][face]
+            f = m["facets"]
+            used, inv = np.unique(f, return_inverse=True)
+            pts = np.vstack([m["xy"][:, used], np.zeros(used.size)]).T
+            surf = pv.PolyData(np.ascontiguousarray(pts),
+                               np.vstack([np.full(f.shape[1], 3), inv.reshape(f.shape)]).T.ravel())
+            surf.point_data["p / p_nominal"] = m["p"][used] / (p_mpa * 1e6 * nominal)
+            pl.subplot(i, j)
+            pl.add_mesh(surf, scalars="p / p_nominal", cmap="inferno", clim=(0.0, 3.0),
+                        show_scalar_bar=(i == len(faces) - 1 and j == len(pressures) - 1),
+                        scalar_bar_args={"title": "p / p_nominal", "color": "black"})
+            pl.add_text(f"{label}\n{p_mpa:g} MPa", font_size=7, color="black")
+            pl.view_xy()
+            pl.set_background("white")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    pl.screenshot(str(path))
+    pl.close()
+    return path
+
+
+def main(pressures=PRESSURES_MPA, mus=MUS, mesh: dict | None = None, out: Path | None = None,
+         figures: bool = True) -> dict:
+    """Solve every case; returns the numbers (and writes them under ``out``)."""
+    mesh = dict(MESH if mesh is None else mesh)
+    runs = {}
+    for name, (geom, layout) in cases(mesh).items():
+        runs[name] = solve_case(geom, layout, pressures, mus,
+                                fields=figures and name in ("idealised", "floating"))
+        runs[name]["geometry"] = geom
+        print(f"{name}: {runs[name]['layout']}, {runs[name]['dofs']} DOFs, "
+              f"{runs[name]['wall_s']:.1f} s")
+    result = {"mesh_m": mesh, "pressures_MPa": list(pressures), "mu": list(mus),
+              "cases": {k: {kk: v[kk] for kk in ("layout", "dofs", "rows", "wall_s")}
+                        for k, v in runs.items()},
+              "half_where_it_holds": half_differences(runs["fixed_full"], runs["fixed_half"]),
+              "half_where_it_does_not": half_differences(runs["floating"],
+                                                         runs["floating_as_half"])}
+    if out is not None:
+        (out / "data").mkdir(parents=True, exist_ok=True)
+        (out / "data" / "load_path.json").write_text(json.dumps(result, indent=1))
+        if figures:
+            for mu in mus:
+                draw_maps(runs, mu, pressures, out / "figures" / f"load_path_mu{mu:g}.png")
+    print_table(result)
+    return result
+
+
+def print_table(result: dict) -> None:
+    """The table of docs/geometry.md, "The load path"."""
+    print("| case | face | p (MPa) | mu | coverage | CoP r (mm) | CoP theta (deg) | "
+          "p max / p nom | balance |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name in ("idealised", "floating"):
+        for r in result["cases"][name]["rows"]:
+            for face, f in r["faces"].items():
+                print(f"| {name} | {face} | {r['line_pressure_MPa']:g} | {r['mu']:g} | "
+                      f"{100 * f['coverage']:.1f} % | {f['cop_r_mm']:.2f} | "
+                      f"{f['cop_theta_deg']:+.2f} | {f['peak_over_nominal']:.2f} | "
+                      f"{r['balance'][face]:.1e} |")
+    for key in ("half_where_it_holds", "half_where_it_does_not"):
+        worst = max(max(d[f][q] for f in ("in", "out") for q in d[f]) for d in result[key])
+        print(f"{key}: largest relative difference {100 * worst:.2f} %")
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", type=Path, default=Path("docs"))
+    ap.add_argument("--pressures", type=float, nargs="+", default=list(PRESSURES_MPA))
+    ap.add_argument("--mu", type=float, nargs="+", default=list(MUS))
+    ap.add_argument("--pad-size", type=float, default=None, help="pad element size (mm)")
+    a = ap.parse_args()
+    mesh = dict(MESH)
+    if a.pad_size:
+        mesh.update(size=a.pad_size * 1e-3, pad_size=a.pad_size * 1e-3)
+    main(a.pressures, a.mu, mesh, a.out)

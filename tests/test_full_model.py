@@ -1,0 +1,162 @@
+"""The full brake model: both pads, the whole rotor, the caliper's loads.
+
+Where the half model's assumption holds (equal pistons on both sides, a rotor
+symmetric about its mid-plane) the full model must give the half model's
+answer; where it does not (fingers) it must differ the way the load path says.
+Every pad must be in force and moment balance.
+"""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import skfem as fem
+
+from brakewear.errors import SceneError
+from brakewear.fem.footprint import annulus, footprint_load, sub_triangles
+from brakewear.geometry import CaliperGeometry, FingerGeometry, load_geometry
+from brakewear.interfaces import FEInterface
+from brakewear.mesh.brake import pad_mesh, rotor_mesh
+from brakewear.mesh.pads import mirrored_pads
+from brakewear.mesh.surface import face_nodes
+from brakewear.model import BrakeModel
+from brakewear.static import pad_balance
+from brakewear.wear import wear_history
+from brakewear import Numerics, WearLaw
+
+SIZE = 6e-3
+
+
+@pytest.fixture(scope="module")
+def rim():
+    g = load_geometry()
+    return replace(g, piston=replace(g.piston, rim_inner_diameter=0.030))
+
+
+@pytest.fixture(scope="module")
+def floating(rim):
+    fingers = tuple(FingerGeometry(0.020, 0.127, np.radians(a)) for a in (-12.0, 12.0))
+    return replace(rim, caliper=CaliperGeometry("floating", fingers))
+
+
+def _volume(mesh):
+    e = fem.ElementTetP2() if isinstance(mesh, fem.MeshTet2) else fem.ElementTetP1()
+    return fem.Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(fem.Basis(mesh, e))
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_mirrored_pads_are_two_pads(rim, order):
+    pad = pad_mesh(rim, size=SIZE, order=order)
+    both = mirrored_pads(pad, -0.5 * rim.rotor.thickness)
+    assert _volume(both) == pytest.approx(2 * _volume(pad), rel=1e-12)
+    for name in pad.boundaries:
+        assert both.boundaries[name].size == 2 * pad.boundaries[name].size
+    t = rim.rotor.thickness
+    out = face_nodes(both, "friction_out")
+    assert np.allclose(both.p[2, out], -t, rtol=0, atol=1e-12 * t)
+    assert face_nodes(both, "friction").size == 2 * face_nodes(pad, "friction").size
+
+
+def test_rotor_full_thickness_faces(rim):
+    m = rotor_mesh(rim, size=SIZE, full=True)
+    t = rim.rotor.thickness
+    assert m.p[2].min() == pytest.approx(-t) and m.p[2].max() == pytest.approx(0.0)
+    assert "midplane" not in m.boundaries
+    assert m.boundaries["friction"].size == 2 * m.boundaries["friction_in"].size
+
+
+def test_sub_triangles_integrate_linear_functions_exactly():
+    lam, frac = sub_triangles(3)
+    assert lam.shape[1] * frac == pytest.approx(1.0)
+    assert np.allclose(lam.mean(axis=1), 1.0 / 3.0)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_footprint_load_resultant_and_centre_are_mesh_independent(rim, order):
+    c = rim.piston_center
+    centres = []
+    for size in (6e-3, 3e-3):
+        pad = pad_mesh(rim, size=size, order=order)
+        f = footprint_load(pad, "back", annulus(c, 0.015, 0.020), 1000.0).reshape(-1, 3)
+        assert f.sum(axis=0) == pytest.approx([0.0, 0.0, -1000.0], abs=1e-9 * 1000.0)
+        centres.append((f[:, 2] @ pad.p[0] / f[:, 2].sum(), f[:, 2] @ pad.p[1] / f[:, 2].sum()))
+    # the annulus' centre to a small share of the element size on either mesh
+    for cx, cy in centres:
+        assert np.hypot(cx - c[0], cy - c[1]) < 0.02 * 3e-3
+
+
+def test_footprint_outside_the_face_is_refused(rim):
+    pad = pad_mesh(rim, size=SIZE)
+    with pytest.raises(ValueError, match="does not overlap"):
+        footprint_load(pad, "back", annulus((1.0, 1.0), 0.0, 0.01), 1.0)
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.4])
+def test_full_model_equals_half_model_where_the_half_holds(rim, mu):
+    half = BrakeModel(rim, size=SIZE, layout="half")
+    full = BrakeModel(rim, size=SIZE, layout="full")
+    assert BrakeModel(rim, size=SIZE).layout == "half"          # auto: the assumption holds
+    sh = half.summary(half.solve_contact(1e6, mu=mu))["faces"]["in"]
+    sf = full.summary(full.solve_contact(1e6, mu=mu))["faces"]
+    for face in ("in", "out"):
+        s = sf[face]
+        assert s["normal_force_N"] == pytest.approx(sh["normal_force_N"], rel=1e-8)
+        assert s["coverage"] == pytest.approx(sh["coverage"], rel=0.01)
+        assert s["pressure_max_Pa"] == pytest.approx(sh["pressure_max_Pa"], rel=0.01)
+        assert s["centre_of_pressure_r_m"] == pytest.approx(sh["centre_of_pressure_r_m"],
+                                                            rel=1e-3)
+
+
+def test_fingers_move_the_outboard_pressure_outward(floating):
+    m = BrakeModel(floating, size=SIZE)
+    assert m.layout == "full"                                    # auto: fingers break symmetry
+    res = m.solve_contact(1e6, mu=0.4)
+    s = m.summary(res)
+    F = 1e6 * floating.clamp_area
+    for face in ("in", "out"):
+        assert s["faces"][face]["normal_force_N"] == pytest.approx(F, rel=1e-8)
+    r_in = s["faces"]["in"]["centre_of_pressure_r_m"]
+    r_out = s["faces"]["out"]["centre_of_pressure_r_m"]
+    # fingers at 127 mm, piston at 116.5 mm: the outboard centre moves out by millimetres
+    assert r_out - r_in > 0.003
+    bal = pad_balance(m, res, 1e6)
+    for face in ("in", "out"):
+        assert bal[face]["force"] < 1e-8 and bal[face]["moment"] < 1e-8
+    assert bal["caliper"]["force"] < 1e-12
+    # the pins carry the moment of the finger force's offset: F (x_fingers - x_piston)
+    x_f = 0.127 * np.cos(np.radians(12.0))
+    assert bal["caliper"]["pin_moment_Nm"][1] == pytest.approx(F * (x_f - 0.1165), rel=0.02)
+
+
+@pytest.mark.parametrize("solve", ["tied", "contact"])
+def test_each_pad_is_in_balance(rim, solve):
+    m = BrakeModel(rim, size=SIZE, layout="full")
+    res = m.solve_tied(1e6) if solve == "tied" else m.solve_contact(1e6, mu=0.4)
+    bal = pad_balance(m, res, 1e6)
+    for face in ("in", "out"):
+        assert bal[face]["force"] < 1e-8 and bal[face]["moment"] < 1e-8
+
+
+def test_full_model_wears_both_pads_as_the_half_model(rim):
+    law = WearLaw(5e-15)
+    vols = {}
+    for layout in ("half", "full"):
+        m = BrakeModel(rim, size=SIZE, layout=layout)
+        itf = FEInterface(m, 1e6, 0.4)
+        for s in wear_history(m, 1e6, 55.0, 3600.0, law, WearLaw(5e-16), 0.4,
+                              numerics=Numerics(scheme="implicit", update="gap", steps=4),
+                              interface=itf):
+            pass
+        out = (np.isin(itf.pad_nodes, face_nodes(m.meshes["pad"], "friction_out")) if m.full
+               else np.zeros(itf.pad_nodes.size, dtype=bool))
+        vols[layout] = [(s.pad_wear * itf.area)[~out].sum(), (s.pad_wear * itf.area)[out].sum()]
+        # each rotor face keeps its own rings: the rotor's worn volume is the pads' share
+        assert s.rotor_wear.max() > 0
+    assert vols["full"][0] == pytest.approx(vols["half"][0], rel=1e-3)
+    assert vols["full"][1] == pytest.approx(vols["half"][0], rel=1e-3)
+
+
+def test_layouts_refused_by_name(rim):
+    with pytest.raises(SceneError, match="layout = 'sideways'"):
+        BrakeModel(rim, size=SIZE, layout="sideways")
+    with pytest.raises(SceneError, match="rigid"):
+        BrakeModel(rim, size=SIZE, layout="full", rotor="rigid")
