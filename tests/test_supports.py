@@ -419,3 +419,45 @@ def test_two_pads_in_one_mesh_each_bear_on_their_own_trailing_stop(pad_model):
         assert res.info["normal_force"][4 + k] == 0.0
     # mirror symmetry: the outboard pad's in-plane displacement is the inboard one's
     assert np.abs(u[n:, :2] - u[:n, :2]).max() < 1e-6 * np.abs(u[:n, :2]).max()
+
+
+def test_the_floating_calipers_two_pads_balance_on_their_push_stops():
+    # the packaged floating caliper (push support, 0.2 mm clearance) as the full model:
+    # both pads in one body against both rotor faces, an elastic rotor
+    from brakewear.geometry.files import geometry_dir
+
+    model = BrakeModel(str(geometry_dir() / "floating.toml"), size=8e-3)
+    g = model.geometry
+    assert model.layout == "full" and g.support.type == "push"
+    pad, off = model.meshes["pad"], model.offsets["pad"]
+    cs = with_supports(model.contact_system(1e6, MU), pad, off, g.pad, g.support)
+    res = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [cs.pair, *cs.supports])
+    u = cs.P @ res.u
+    n = pad.p.shape[1]
+    forces = np.zeros((model.n_nodes, 3))
+    pr = cs.pair
+    np.add.at(forces, pr.slave, (pr.normal * res.force[0] + res.friction[0]).T)
+    for s, lam in zip(cs.supports, res.force[1:]):
+        np.add.at(forces, s.slave, (s.normal * lam).T)
+    Ks = support_springs(pad, off, g.pad, g.support, model.dofs)
+    forces -= (Ks @ u).reshape(-1, 3)
+    assert np.array_equal(cs.col, np.arange(model.n_nodes))  # no ties: retained = global
+    forces += cs.f.reshape(-1, 3)
+    x = model.coordinates()
+    F = cs.clamp_force
+    tang = end_normal(g.pad, "leading") + end_normal(g.pad, "trailing")
+    tang /= np.linalg.norm(tang)
+    names = [s.name for s in cs.supports]
+    mid = -0.5 * g.rotor.thickness
+    for side, sel in (("inboard", x[2, off:off + n] > mid), ("outboard", x[2, off:off + n] < mid)):
+        nodes = off + np.flatnonzero(sel)
+        fsum, msum = _resultant(forces[nodes], x[:, nodes])
+        R = np.hypot(x[0, nodes], x[1, nodes]).max()
+        assert np.abs(fsum).max() < 1e-8 * F and np.abs(msum).max() < 1e-8 * F * R, side
+        trailing = res.info["normal_force"][1 + names.index(f"abutment trailing ({side})")]
+        leading = res.info["normal_force"][1 + names.index(f"abutment leading ({side})")]
+        # the trailing stop takes the pad's drag (its tangential component), the
+        # leading one stays open
+        drag = res.friction[0][:, np.isin(pr.slave, nodes)].sum(axis=1) @ tang
+        stop = cs.supports[names.index(f"abutment trailing ({side})")].normal[:, 0] @ tang
+        assert leading == 0.0 and trailing * stop == pytest.approx(-drag, rel=1e-3), side
