@@ -96,6 +96,7 @@ class ContactSystem:
     P: sp.csr_matrix       # retained DOFs -> all DOFs
     col: np.ndarray        # global node -> retained node (-1: eliminated)
     clamp_force: float
+    supports: list = field(default_factory=list)  # rigid stops (abutments), no friction
 
 
 class BrakeModel:

@@ -13,14 +13,20 @@
   tuning in :class:`ActiveSetOptions`);
 * :mod:`~brakewear.contact.lagrange` -- :func:`solve_contact`, rigid (Lagrange) contact;
 * :mod:`~brakewear.contact.compliant` -- :func:`solve_compliant_contact`, contact
-  through a compliant layer: the implicit wear step.
+  through a compliant layer: the implicit wear step (its set problems, with or
+  without rigid support pairs, in :mod:`~brakewear.contact.compliant_sets`);
+* :mod:`~brakewear.contact.supports` -- the pad's support in the caliper bracket:
+  abutment stops as unilateral pairs with a clearance (:func:`abutment_pairs`),
+  radial rails and the anti-rattle spring as a stiffness (:func:`support_springs`).
 """
 
-from . import basis, compliant, lagrange, pairs, surface
+from . import basis, compliant, lagrange, pairs, supports, surface
 from .basis import *  # noqa: F403
 from .compliant import *  # noqa: F403
 from .lagrange import *  # noqa: F403
 from .pairs import *  # noqa: F403
+from .supports import *  # noqa: F403
 from .surface import *  # noqa: F403
 
-__all__ = [*basis.__all__, *compliant.__all__, *lagrange.__all__, *pairs.__all__, *surface.__all__]
+__all__ = [*basis.__all__, *compliant.__all__, *lagrange.__all__, *pairs.__all__,
+           *supports.__all__, *surface.__all__]

@@ -19,6 +19,11 @@ The system ``(K + C_A^T kappa C_A) u = f - C_A^T kappa g0_A`` stays SPD
 without friction (AMG-preconditioned CG); sliding friction ``mu p`` along a
 known direction is linear in ``u`` and enters the operator (flexible GMRES
 with the same hierarchy).
+
+Rigid stops without compliance (the pad's abutments in the bracket,
+:mod:`~brakewear.contact.supports`) join the solve as ``supports``: their
+active constraints are eliminated as in the Lagrange solve, each pair with
+its own active set (:mod:`~brakewear.contact.compliant_sets`).
 """
 from __future__ import annotations
 
@@ -29,8 +34,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.sparse as sp
 
-from .active_set import COMPLIANT, ActiveSetDriver, ActiveSetOptions, Margins
+from .active_set import COMPLIANT, ActiveSetDriver, ActiveSetOptions
 from .basis import in_slave_basis
+from .compliant_sets import CompliantSets, SupportedSets
 from .pairs import ContactPair
 
 logger = logging.getLogger(__name__)
@@ -54,6 +60,10 @@ class CompliantResult:
     gap: np.ndarray        # (ns,) m, g0 + C u (negative: the layer is compressed)
     active: np.ndarray     # (ns,) bool
     info: dict = field(default_factory=dict)
+    # per support pair (rigid stops, ``supports=``): normal force (N), state, gap (m)
+    support_force: list = field(default_factory=list)
+    support_active: list = field(default_factory=list)
+    support_gap: list = field(default_factory=list)
 
 
 def constraint_rows(pair: ContactPair, n_dofs: int) -> sp.csr_matrix:
@@ -106,7 +116,8 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                             max_iter: int = 60, solver=None, x0: np.ndarray | None = None,
                             loose_tol: float | None = 1e-4, release_tol: float = 1e-6,
                             cycle_tol: float = 1e-3,
-                            options: ActiveSetOptions | None = None) -> CompliantResult:
+                            options: ActiveSetOptions | None = None,
+                            supports: list | None = None) -> CompliantResult:
     """Contact of ``pair`` through springs of compliance ``compliance`` (m/Pa per slave node).
 
     Parameters
@@ -151,6 +162,15 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
         The active-set policy (default :data:`~brakewear.contact.active_set.COMPLIANT`
         with ``max_iter``, ``loose_tol``, ``release_tol`` and ``cycle_tol`` from
         the arguments).
+    supports
+        Rigid pairs without compliance (the pad's abutments,
+        :func:`~brakewear.contact.supports.abutment_pairs`; no friction), each
+        with its own active set, their active constraints eliminated
+        (:mod:`~brakewear.contact.compliant_sets`); they start from their
+        gaps at ``x0`` (or ``g0``).  The result's ``support_force``,
+        ``support_active`` and ``support_gap`` give their state.  ``solver``
+        must then be the hierarchy of :func:`compliant_preconditioner` with the
+        same ``supports`` (their quadratic faces change the unknowns).
 
     The active set follows the penalty rule: a node is active while its
     spring is compressed (``g0 + C u < 0``), within the hysteresis band.  A
@@ -168,10 +188,14 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     if x0 is not None and np.shape(x0) != (N,):
         raise ValueError(f"x0 has shape {np.shape(x0)}; the system has {N} DOFs")
     fixed = np.unique(np.asarray(fixed, dtype=np.int64))
+    supports = list(supports or [])
+    _check_supports(pair, supports)
     # a quadratic slave face: solve in its transformed unknowns, u = T u~
-    if pair.basis is not None and x0 is not None:
-        x0 = pair.basis.dof_matrix(N, inverse=True) @ np.asarray(x0, dtype=float)
-    K, f, _, (pair,), T = in_slave_basis(K, f, fixed, np.zeros(fixed.size), [pair])
+    for pr in [pair, *supports]:
+        if pr.basis is not None and x0 is not None:
+            x0 = pr.basis.dof_matrix(N, inverse=True) @ np.asarray(x0, dtype=float)
+    K, f, _, (pair, *supports), T = in_slave_basis(K, f, fixed, np.zeros(fixed.size),
+                                                   [pair, *supports])
     kappa = pair.area / eps
     is_fixed = np.zeros(N, dtype=bool)
     is_fixed[fixed] = True
@@ -208,10 +232,19 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
             active = guess
     options = replace(options or COMPLIANT, max_iter=max_iter, loose_tol=loose_tol,
                       release_tol=release_tol, cycle_band=cycle_tol)
-    problem = _CompliantSets(pair, kappa, C, G, Kd, fd, base, x)
+    if supports:
+        problem, active = _supported(pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed,
+                                     coords, active)
+    else:
+        problem = CompliantSets(pair, kappa, C, G, Kd, fd, base, x)
     driver = ActiveSetDriver(options, tol, name=pair.name)
     active = driver.run(problem, active)
-    x = problem.x
+    x = problem.u
+    state = {}
+    if supports:
+        active, a_s = problem.split(active)
+        state = {"support_force": list(problem.support_force), "support_active": a_s,
+                 "support_gap": list(problem.support_gap)}
     g = pair.g0 + C @ x
     force = np.where(active, -kappa * g, 0.0)
     fmax = max(float(force.max()), 1e-300)
@@ -225,74 +258,53 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                                           / fmax)}
     # the pressure: the springs' compressive force (a tension kept within the
     # band counts as no pressure: no wear, no negative Archard rate)
+    if supports:
+        info["support_normal_force"] = [float(v.sum()) for v in state["support_force"]]
     u = x if T is None else T @ x
-    return CompliantResult(u, np.maximum(force, 0.0) / pair.area, force, g, active, info)
+    return CompliantResult(u, np.maximum(force, 0.0) / pair.area, force, g, active, info,
+                           **state)
 
 
-class _CompliantSets:
-    """The compliant contact problem of one active set after another (a
-    :class:`~brakewear.contact.active_set.SetProblem`): ``K_d`` plus the springs
-    of the active nodes, preconditioned by a refreshed copy of the base hierarchy."""
+def _check_supports(pair: ContactPair, supports: list) -> None:
+    """Support pairs are rigid stops: no friction, their own slave nodes."""
+    from .elimination import check_disjoint
 
-    def __init__(self, pair, kappa, C, G, Kd, fd, base, x):
-        self.pair, self.kappa, self.C, self.G, self.Kd, self.fd = pair, kappa, C, G, Kd, fd
-        self.base, self.x = base, x
-        self.key = None
-        self.lin = 0
+    for s in supports:
+        if not isinstance(s, ContactPair):
+            raise ValueError(f"supports: {type(s).__name__} is not a ContactPair")
+        if s.frictional:
+            raise ValueError(f"{s.name}: a support pair has no friction (mu = {s.mu!r})")
+    if supports:
+        check_disjoint([pair, *supports])
 
-    def _new_set(self, active: np.ndarray) -> None:
-        from scipy.sparse.linalg import LinearOperator
 
-        pair, C = self.pair, self.C
-        Ca = C[active]
-        ka = self.kappa[active]
-        D = (Ca.T @ sp.diags(ka) @ Ca).tocsr()
-        self.b = self.fd - Ca.T @ (ka * pair.g0[active])
-        self.amg = self.base.refreshed(self.Kd + D, dA=D)
-        self.Aop = None
-        if self.G is not None:
-            # friction = G lambda with lambda = -kappa (g0 + C u): linear in u
-            Ga = self.G[:, active]
-            E = (Ga @ sp.diags(ka) @ Ca).tocsr()
-            self.b = self.b - Ga @ (ka * pair.g0[active])
-            A = self.amg.A
-            N = A.shape[0]
-            self.Aop = LinearOperator((N, N), matvec=lambda v, A=A, E=E: A @ v + E @ v,
-                                      dtype=float)
-
-    def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
-        key = np.packbits(active).tobytes()
-        if key != self.key:
-            self._new_set(active)
-            self.key = key
-        self.amg.tol = tol
-        self.x = self.amg.solve(self.b, x0=self.x, A=self.Aop,
-                                krylov="gmres" if self.G is not None else "cg", rtol0=rtol0)
-        self.lin += self.amg.info.iterations
-
-    def margins(self, active: np.ndarray, band: float) -> Margins:
-        """An active node stays while its spring force is above ``-band`` x the
-        largest, an open node enters when its spring would be compressed by more
-        than ``band`` x the largest."""
-        force = -self.kappa * (self.pair.g0 + self.C @ self.x)
-        fmax = max(float(force[active].max()) if active.any() else 0.0, 1e-300)
-        return Margins(force, band * fmax, force, band * fmax)
+def _supported(pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed, coords, active):
+    """The set problem with rigid ``supports`` and its flat start set (the compliant
+    pair's, then each stop's: closed where its gap at ``x`` (or ``g0``) is shut)."""
+    size = float(np.linalg.norm(coords.max(axis=1) - coords.min(axis=1)))
+    problem = SupportedSets(pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed,
+                            1e-10 * size)
+    start = [g <= problem.gap_tol for g in problem.support_gap]
+    return problem, np.concatenate([active, *start])
 
 
 def compliant_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray,
-                             tol: float = 1e-9, pair: ContactPair | None = None):
+                             tol: float = 1e-9, pair: ContactPair | None = None,
+                             supports: list | None = None):
     """The base AMG hierarchy of ``K`` with its supports, for
     ``solve_compliant_contact(..., solver=)``: built once per stiffness (a
     wear history in gap-offset mode keeps it for every step).  With the
-    ``pair`` of a quadratic slave face, the hierarchy of its transformed
-    stiffness (:func:`~brakewear.contact.basis.in_slave_basis`), which is the
-    one the solve uses."""
+    ``pair`` of a quadratic slave face (or ``supports`` pairs with quadratic
+    faces), the hierarchy of its transformed stiffness
+    (:func:`~brakewear.contact.basis.in_slave_basis`), which is the one the
+    solve uses."""
     from ..fem.boundary import apply_dirichlet
     from ..solvers.amg import amg_solver
 
     K = K.tocsr()
     fixed = np.unique(np.asarray(fixed, dtype=np.int64))
-    if pair is not None:
-        K = in_slave_basis(K, np.zeros(K.shape[0]), fixed, np.zeros(fixed.size), [pair])[0]
+    pairs = ([] if pair is None else [pair]) + list(supports or [])
+    if pairs:
+        K = in_slave_basis(K, np.zeros(K.shape[0]), fixed, np.zeros(fixed.size), pairs)[0]
     Kd, _ = apply_dirichlet(K.tobsr(blocksize=(3, 3)), np.zeros(K.shape[0]), fixed)
     return amg_solver(Kd, coords=coords, fixed=fixed, tol=tol)

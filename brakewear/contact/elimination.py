@@ -17,7 +17,7 @@ from ..solvers.patched import PatchedMatrix
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["friction_operators", "body_labels"]
+__all__ = ["friction_operators", "body_labels", "check_disjoint"]
 
 
 def _local_frames(n: np.ndarray):
@@ -81,6 +81,17 @@ def _prolongation(N: int, pairs, active):
     P = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                       shape=(N, N))
     return P, c, elim
+
+
+def check_disjoint(pairs) -> None:
+    """Refuse pairs that share a slave node: a node has one normal constraint."""
+    nodes = np.concatenate([pr.slave for pr in pairs]) if pairs else np.zeros(0, dtype=int)
+    uniq, counts = np.unique(nodes, return_counts=True)
+    if np.any(counts > 1):
+        n = int(uniq[counts > 1][0])
+        names = [pr.name for pr in pairs if np.isin(n, pr.slave)]
+        raise ValueError(f"node {n} is a slave node of more than one contact pair "
+                         f"({', '.join(names)}); a node may be constrained by one pair only")
 
 
 def friction_operators(N: int, pairs, active):

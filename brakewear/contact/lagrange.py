@@ -28,6 +28,7 @@ from .active_set import LAGRANGE, ActiveSetDriver, ActiveSetOptions, Margins
 from .basis import in_slave_basis
 from .elimination import (
     body_labels,
+    check_disjoint,
     _contact_system,
     _dirichlet_base,
     _prolongation,
@@ -139,6 +140,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     fixed, first = np.unique(fixed, return_index=True)
     fvals = fvals[first]
     # quadratic slave faces: solve in their transformed unknowns, u = T u~
+    check_disjoint(pairs)
     K, f, fvals, pairs, T = in_slave_basis(K, f, fixed, fvals, pairs)
     size = float(np.linalg.norm(coords.max(axis=1) - coords.min(axis=1)))
     gap_tol = 1e-10 * size if gap_tol is None else gap_tol

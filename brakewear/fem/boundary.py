@@ -81,7 +81,7 @@ def _dirichlet_bsr(K: sp.bsr_matrix, fixed: np.ndarray) -> tuple[sp.bsr_matrix, 
         sel = on_diag & fixed[r]
         sub[sel, c, c] = diag[r[sel]]
     keep = K.data.reshape(K.data.shape[0], -1).any(axis=1)
-    keep[cand] = sub.reshape(sub.shape[0], -1).any(axis=1)
+    keep[cand] = sub.any(axis=(1, 2))  # (no fixed DOF: no candidate block)
     if keep.all():
         data = K.data.copy()
         data[cand] = sub

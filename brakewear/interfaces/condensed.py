@@ -80,6 +80,11 @@ class CondensedInterface:
                             "0 < valid_fraction <= 1")
         self.fe = fe if fe is not None else FEInterface(model, line_pressure, mu, tol)
         fe = self.fe
+        if fe.supports:
+            # a unilateral stop is a second contact: no longer linear off the friction face
+            raise WearError(f"the condensed interface needs a bilateral pad support; this "
+                            f"contact system has {len(fe.supports)} abutment stop pair(s) "
+                            "(push/pull support): use the FE interface")
         self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
         for name in ("pad_nodes", "x", "r", "area", "rotor_nodes", "ring", "rotor_area",
                      "rotor_x", "W", "normal_stiffness", "g0"):

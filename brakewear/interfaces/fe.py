@@ -75,6 +75,10 @@ class FEInterface:
         self.cs = cs = model.contact_system(self.line_pressure, float(np.max(mu)),
                                             search_radius=radius)
         self.pair = pair = cs.pair
+        # rigid stops without friction (the pad's abutments in the bracket), each with
+        # its own active set; the last solve's sets start the next Lagrange solve
+        self.supports = list(getattr(cs, "supports", None) or [])
+        self.support_active = None
         if np.ndim(mu):
             pair.set_mu(mu)
         self.g0 = pair.g0.copy()
@@ -129,6 +133,11 @@ class FEInterface:
         when given.  ``load`` is an extra nodal load of the model's DOFs (the
         thermal strain), ``mu`` the friction coefficient of this solve (a number
         or one per pad friction node).
+
+        The contact system's ``supports`` (rigid stops: the pad's abutments,
+        :mod:`brakewear.contact.supports`) enter both paths; ``info`` then
+        holds their normal force per pair (``support_normal_force``, N) and
+        :attr:`support_active` their last active sets.
         """
         self.pair.g0 = self.g0 + offset
         if mu is not None:
@@ -136,21 +145,34 @@ class FEInterface:
             self.mu = self.pair.mu
         cs = self.cs
         f = cs.f if load is None else cs.f + cs.P.T @ load
+        supports = self.supports or None
         if compliance is not None:
             if "compliant" not in self._base:
-                self._base["compliant"] = compliant_preconditioner(cs.K, cs.fixed, cs.coords,
-                                                                   self.tol)
+                self._base["compliant"] = compliant_preconditioner(
+                    cs.K, cs.fixed, cs.coords, self.tol, supports=supports)
             res = solve_compliant_contact(cs.K, f, cs.fixed, cs.coords, self.pair,
                                           compliance, initial_active=active, tol=self.tol,
-                                          solver=self._base["compliant"], x0=x0)
+                                          solver=self._base["compliant"], x0=x0,
+                                          supports=supports)
+            if supports:
+                self.support_active = res.support_active
             return InterfaceSolution(res.pressure, res.active, res.u, res.info)
+        pairs = [self.pair, *self.supports]
         if "contact" not in self._base:
             self._base["contact"] = contact_preconditioner(cs.K, cs.fixed, cs.coords,
-                                                           [self.pair], tol=self.tol)
-        init = None if active is None else [np.asarray(active, dtype=bool)]
-        res = solve_contact(cs.K, f, cs.fixed, cs.coords, [self.pair], tol=self.tol,
+                                                           pairs, tol=self.tol)
+        init = None
+        if active is not None:
+            init = [np.asarray(active, dtype=bool)] + (
+                self.support_active or [s.g0 <= 0 for s in self.supports])
+        res = solve_contact(cs.K, f, cs.fixed, cs.coords, pairs, tol=self.tol,
                             initial_active=init, solver=self._base["contact"])
-        return InterfaceSolution(res.pressure[0], res.active[0], res.u, res.info)
+        info = res.info
+        if self.supports:
+            self.support_active = res.active[1:]
+            info = {**info, "support_normal_force": info["normal_force"][1:],
+                    "normal_force": info["normal_force"][:1]}
+        return InterfaceSolution(res.pressure[0], res.active[0], res.u, info)
 
 
 def _face_areas(mesh, nodes: np.ndarray) -> np.ndarray:
