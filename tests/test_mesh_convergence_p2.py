@@ -134,7 +134,9 @@ def test_a_p1_record_of_another_run_is_refused():
 def test_p2_family_converges_to_the_p1_estimate():
     # the default scene's physics for 1200 s in 16 steps of 75 s on P2 levels 2, 3, 4
     # (9, 6, 4.5 mm with 2, 3, 4 layers), measured against the P1 family's estimate
-    # at 1200 s of the same steps (docs/data/mesh_convergence.json, "mid")
+    # at 1200 s of the same steps (docs/data/mesh_convergence.json, "mid"); measured:
+    # differences 4.9e-8, 2.9e-8 m, errors 2.6, 1.7, 0.70 %, fitted order 1.85
+    # (3 minutes of CPU)
     res = mc2.main(levels=(2, 3, 4), steps=16, duration=1200.0, out=None)
     assert res["p1_reference"]["state"] == "mid"
     est = res["orders"]["P2"]["end"]["pad_wear"]
