@@ -181,7 +181,7 @@ def rate_vs(runs: list, key: str = "p1_estimate") -> float | None:
     """Fitted order of the pad wear error (relative L2) of ``runs`` from the
     estimate ``key`` against the in-plane size: the slope of ``log(err)``
     against ``log(h)``; ``None`` where an error is missing or zero."""
-    err = [r["errors"][key]["pad_wear"] for r in runs]
+    err = [r["errors"][key].get("pad_wear") for r in runs]
     if len(runs) < 2 or any(e is None or e <= 0 for e in err):
         return None
     h = [r["mesh"]["size"] for r in runs]
@@ -201,7 +201,7 @@ def error_rows(p1_record: dict, p2: dict, when: str = "end") -> list:
     for r in p2["runs"]:
         rows.append({"order": 2, "kind": "level", "level": r["level"], "mesh": mc._label(r),
                      "dofs": r["dofs"], "wall_s": r["wall_s"], "cpu_s": r["cpu_s"],
-                     "err_pad_wear": r["errors"]["p1_estimate"]["pad_wear"],
+                     "err_pad_wear": r["errors"]["p1_estimate"].get("pad_wear"),
                      "err_pad_wear_own": r["errors"]["end"]["pad_wear"]})
     return rows
 
@@ -268,7 +268,11 @@ def plot(result: dict, path: Path) -> None:
     a.set_title("(a) error against run time, P1 and P2 (error from the P1 Richardson "
                 "estimate)", fontsize=9)
     a.grid(True, which="both", alpha=0.3)
-    a.legend(fontsize=7.5, loc="lower left")
+    if a.get_legend_handles_labels()[0]:
+        a.legend(fontsize=7.5, loc="lower left")
+    else:
+        a.text(0.5, 0.5, "no Richardson estimate: no errors to show", ha="center",
+               transform=a.transAxes)
     _plot_arc(ax[1], result)
     c = result["case"]
     fig.suptitle(f"Default scene's running-in, {c['duration_s']:g} s, {c['steps']} implicit "
