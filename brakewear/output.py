@@ -6,6 +6,7 @@
   ``pressure`` (Pa), ``pad_wear`` (m), ``active`` (1 in contact) on its
   friction face (zero elsewhere);
 - ``rotor.pvd`` + ``rotor_NNNNN.vtu`` (elastic rotor): ``rotor_wear`` (m);
+  quadratic (P2) models write ``tetra10`` cells, every mid-edge node a point;
 - ``history.csv``: one row per accepted step;
 - ``checkpoint.npz``: the loop's state (resume with ``resume=True``);
 - ``summary.json``: what a user asks first (wear, pressure, steps, cost).
