@@ -6,6 +6,7 @@
   ``pressure`` (Pa), ``pad_wear`` (m), ``active`` (1 in contact) on its
   friction face (zero elsewhere);
 - ``rotor.pvd`` + ``rotor_NNNNN.vtu`` (elastic rotor): ``rotor_wear`` (m);
+  quadratic (P2) models write ``tetra10`` cells, every mid-edge node a point;
 - ``history.csv``: one row per accepted step;
 - ``checkpoint.npz``: the loop's state (resume with ``resume=True``);
 - ``summary.json``: what a user asks first (wear, pressure, steps, cost).
@@ -31,7 +32,7 @@ import numpy as np
 
 from .errors import SceneError, WearError, WornThroughError
 from .interfaces.fe import FEInterface
-from .mesh.series import SeriesWriter, face_fields
+from .mesh.series import SeriesWriter, cell_nodes, face_fields
 from .rings import ring_profile
 from .scene.spec import _first_difference
 from .wear.numerics import Numerics
@@ -152,9 +153,6 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     are written, then the :class:`~brakewear.errors.WornThroughError` is
     raised with the summary as its ``summary`` attribute.
     """
-    if getattr(model, "order", 1) != 1:
-        raise WearError(f"run_wear writes P1 meshes only; this model is quadratic (order = "
-                        f"{model.order}): run wear_history and write what you need")
     out = Path(out)
     numerics = Numerics() if numerics is None else numerics
     ck = out / "checkpoint.npz"
@@ -171,16 +169,17 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         model, line_pressure, mu if np.ndim(mu) == 0 and not hasattr(mu, "mu_at") else 1.0,
         numerics.tol)
     pad = model.meshes["pad"]
-    pad_series = SeriesWriter(out, "pad", pad.p, pad.t, start)
-    rot_series = (SeriesWriter(out, "rotor", model.meshes["rotor"].p, model.meshes["rotor"].t,
-                               start)
+    rotor = model.meshes.get("rotor")
+    pad_series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad), start)
+    rot_series = (SeriesWriter(out, "rotor", rotor.p, cell_nodes(rotor), start)
                   if model.rotor == "elastic" and itf.rotor_nodes is not None else None)
     csv_path = out / "history.csv"
     rows = []
     if resume and csv_path.exists():
         with open(csv_path, newline="") as fh:
             rows = [r for r in csv.DictReader(fh) if int(r["step"]) <= start]
-    n_pad, last, thermal = pad.nvertices, None, kwargs.get("thermal")
+    # every node of the mesh (with the mid-edge nodes of a quadratic one)
+    n_pad, last, thermal = pad.p.shape[1], None, kwargs.get("thermal")
     setup_s = time.perf_counter() - t0
 
     def write_vtu(s: WearStep) -> None:
@@ -188,7 +187,7 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
                              active=s.active)
         pad_series.write(s.step, s.time, {**fields, **temperature_field(thermal, "pad", n_pad)})
         if rot_series is not None:
-            a = np.zeros(model.meshes["rotor"].nvertices)
+            a = np.zeros(rotor.p.shape[1])
             a[itf.rotor_nodes] = s.rotor_wear
             rot_series.write(s.step, s.time,
                              {"rotor_wear": a, **temperature_field(thermal, "rotor", a.size)})

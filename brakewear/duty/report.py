@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 
-from ..mesh.series import SeriesWriter, face_fields
+from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..rings import ring_profile
 from .runner import run_schedule
 
@@ -41,7 +41,7 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
     """Run ``scene.schedule`` on ``model`` and write the files above; the summary."""
     t0 = time.perf_counter()
     pad = model.meshes["pad"]
-    series = SeriesWriter(out, "pad", pad.p, pad.t)
+    series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad))
     rows, last, n_braked = [], None, 0
     for rec in run_schedule(model, list(scene.schedule), pad_law, rotor_law, scene.interface.mu,
                             vehicle=scene.vehicle, numerics=scene.numerics, interface=interface,
@@ -50,7 +50,7 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
         _write_csv(out / "applications.csv", rows)
         if rec.kind != "dwell":
             n_braked += 1
-            fields = face_fields(pad.nvertices, interface.pad_nodes, pressure=rec.pressure,
+            fields = face_fields(pad.p.shape[1], interface.pad_nodes, pressure=rec.pressure,
                                  pad_wear=rec.pad_wear, active=rec.active)
             series.write(n_braked, rec.t_start + rec.duration, fields)
             last = rec

@@ -8,16 +8,33 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-__all__ = ["SeriesWriter", "face_fields"]
+__all__ = ["SeriesWriter", "face_fields", "cell_nodes"]
+
+#: meshio's cell type by the number of nodes of a tetrahedron
+CELL_TYPES = {4: "tetra", 10: "tetra10"}
+
+
+def cell_nodes(mesh) -> np.ndarray:
+    """Node numbers (4, n) of a linear tetrahedral mesh's cells, or (10, n) of a
+    quadratic one's (``MeshTet2``): the vertices, then the mid-edge nodes (edge
+    ``e`` is node ``nvertices + e``) of the edges (0, 1), (1, 2), (0, 2), (0, 3),
+    (1, 3), (2, 3) -- skfem's ``RefTet.edges``, which is VTK's tetra10 order."""
+    if mesh.p.shape[1] == mesh.nvertices:
+        return mesh.t
+    return np.vstack([mesh.t, mesh.nvertices + mesh.t2e])
 
 
 class SeriesWriter:
-    """A ParaView time series (``NAME.pvd`` + one VTU per written step) of one mesh."""
+    """A ParaView time series (``NAME.pvd`` + one VTU per written step) of one mesh;
+    ``tets``: (4, n) linear or (10, n) quadratic cells (:func:`cell_nodes`)."""
 
     def __init__(self, directory: str | os.PathLike, name: str, points: np.ndarray,
                  tets: np.ndarray, resume_step: int | None = None):
         self.dir, self.name = Path(directory), name
         self.points, self.tets = np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T)
+        if tets.shape[0] not in CELL_TYPES:
+            raise ValueError(f"cells of {tets.shape[0]} nodes: allowed 4 (tetra), 10 (tetra10)")
+        self.cell_type = CELL_TYPES[tets.shape[0]]
         self.entries: list[tuple[float, int]] = []
         pvd = self.dir / f"{name}.pvd"
         if resume_step is not None and pvd.exists():
@@ -31,7 +48,7 @@ class SeriesWriter:
 
     def write(self, step: int, time_s: float, fields: dict) -> Path:
         path = self.dir / f"{self.name}_{step:05d}.vtu"
-        meshio.Mesh(self.points, [("tetra", self.tets)],
+        meshio.Mesh(self.points, [(self.cell_type, self.tets)],
                     point_data={k: np.asarray(v, dtype=float) for k, v in fields.items()}
                     ).write(path)
         self.entries = [e for e in self.entries if e[1] != step] + [(time_s, step)]

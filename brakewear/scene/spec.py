@@ -138,10 +138,8 @@ class Scene:
             check_number("mesh.size", self.mesh_size, 0.0, unit="m")
         check_int("mesh.order", self.order, 1, allow_none=True)
         self._check_resolution()
-        if self.order not in (None, 1):
-            raise fail("mesh.order", f"{self.order!r} is not allowed; scenes (their outputs, "
-                                      "thermal coupling and geometry updates) support P1 meshes "
-                                      "only: allowed 1 (P2 from Python: BrakeModel(order=2))")
+        if self.order is not None:
+            check_choice("mesh.order", self.order, (1, 2))
         for name, cls in (("interface", InterfaceSpec), ("thermal", ThermalSpec),
                           ("numerics", Numerics), ("output", OutputSpec)):
             if not isinstance(getattr(self, name), cls):
@@ -152,6 +150,7 @@ class Scene:
             if not isinstance(spec, WearSpec):
                 raise fail(sec, f"{spec!r} is not a WearSpec")
             spec.check(sec)
+        self._check_order()
         self._check_interface()
         self._check_gap_file()
         self._check_consistency()
@@ -176,6 +175,26 @@ class Scene:
         """The geometry with the scene's per-body mesh keys (``resolution``) set."""
         g = self.geometry
         return replace(g, mesh=replace(g.mesh, **self.resolution)) if self.resolution else g
+
+    def _check_order(self) -> None:
+        """Quadratic (P2) meshes run FE contact with the gap-offset update, without
+        thermal coupling; every other combination is refused by name."""
+        order = self.geometry.mesh.order if self.order is None else self.order
+        if order != 2:
+            return
+        for bad, key, what, instead in (
+                (self.thermal.enabled, "thermal.enabled", "thermal coupling",
+                 "thermal.enabled = false, or mesh.order = 1"),
+                (self.numerics.update == "geometry", "numerics.update",
+                 "update = 'geometry' (moving worn surfaces)",
+                 "numerics.update = 'gap', or mesh.order = 1"),
+                (self.interface.model != "fe", "interface.model",
+                 f"interface.model = {self.interface.model!r}",
+                 "interface.model = 'fe', or mesh.order = 1")):
+            if bad:
+                raise fail(key, f"{what} with mesh.order = 2 is not supported (quadratic "
+                                f"meshes: FE contact, gap offset, no thermal field); use "
+                                f"{instead}")
 
     def _check_resolution(self) -> None:
         """Check the per-body mesh keys (names, types, ranges)."""
