@@ -215,3 +215,15 @@ def test_half_vented_ring_for_a_symmetric_model(geoms):
     assert _area(m, "friction") == pytest.approx(ring, rel=1e-5)
     with pytest.raises(ValueError, match="no mid-plane of symmetry"):
         full_rotor_mesh(geoms["hat+vents"], size=SIZE, half=True)
+
+
+def test_packaged_hat_rotor_has_no_zero_width_cells():
+    # floating.toml puts the hat wall's outer surface exactly at the ring's inner
+    # radius (87 + 6/2 = 90 mm): round-off must not leave a cell of zero width there
+    from brakewear.geometry import load_geometry
+    from brakewear.motion import element_volumes
+
+    g = load_geometry("floating")
+    m = rotor_mesh(g, size=8e-3, full=True)
+    v = element_volumes(m)
+    assert v.min() > 1e-3 * np.median(v)

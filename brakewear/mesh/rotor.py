@@ -180,6 +180,15 @@ def _join(*parts: np.ndarray) -> np.ndarray:
     return np.concatenate([parts[0]] + [p[1:] for p in parts[1:]])
 
 
+def _merged(x: np.ndarray, scale: float) -> np.ndarray:
+    """Sorted grid values with those closer than ``1e-9 scale`` merged (a wall
+    whose outer radius is the ring's inner radius up to round-off must not
+    leave a cell of zero width)."""
+    x = np.unique(x)
+    keep = np.concatenate([[True], np.diff(x) > 1e-9 * scale])
+    return x[keep]
+
+
 def _radii(s: dict, h: float, h_hat: float) -> np.ndarray:
     """r grid: the ring at ``h``; below it the hat's breaks at ``h_hat``, two
     cells at least across the wall."""
@@ -192,13 +201,14 @@ def _radii(s: dict, h: float, h_hat: float) -> np.ndarray:
              for a, b in zip(breaks[:-1], breaks[1:])]
     inner = _join(*parts) if parts else np.array([s["ri"]])
     # a wall reaching under the ring: its breaks inside the ring become ring nodes
-    extra = [x for x in (s["wi"], s["wo"]) if s["ri"] < x < s["ro"]]
+    tol = 1e-9 * s["ro"]
+    extra = [x for x in (s["wi"], s["wo"]) if s["ri"] + tol < x < s["ro"] - tol]
     if extra:
         ring = np.unique(np.concatenate([ring, extra]))
         lo, hi = max(s["wi"], s["ri"]), s["wo"]
         if not ((ring > lo + 1e-12) & (ring < hi - 1e-12)).any():  # two cells across the wall
             ring = np.unique(np.concatenate([ring, [0.5 * (lo + hi)]]))
-    return np.unique(np.concatenate([inner, ring]))
+    return _merged(np.concatenate([inner, ring]), s["ro"])
 
 
 def _heights(geom: BrakeGeometry, s: dict, h: float, h_hat: float) -> np.ndarray:
