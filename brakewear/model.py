@@ -28,6 +28,7 @@ from .checks import check_plausible
 from .contact.lagrange import solve_contact
 from .contact.basis import check_supports
 from .contact.pairs import ContactPair, merge_pairs, pair_to_rigid, pair_to_surface
+from .contact.supports import support_forces, with_supports
 from .contact.quadratic import face_values, quadratic_face_areas, slave_basis
 from .contact.surface import project_nodes, tie_prolongation
 from .errors import SceneError
@@ -75,6 +76,7 @@ class StaticResult:
     info: dict = field(default_factory=dict)
     active: np.ndarray | None = None  # contact status per interface node (contact solves)
     normal_z: np.ndarray | None = None  # z of the rotor face's normal toward each node (+-1)
+    support_force: np.ndarray | None = None  # pad DOFs: abutment stops + rails and springs (N)
 
     @property
     def normal_force(self) -> float:
@@ -257,6 +259,9 @@ class BrakeModel:
         for sb, sf, mb, mf in pairs:
             smesh, mmesh = self.meshes[sb], self.meshes[mb]
             slave = face_nodes(smesh, sf)
+            if mb == "rotor":     # chamfers leave the plane: only the face in touch is tied
+                plane = -self.geometry.rotor.thickness if sf == "friction_out" else 0.0
+                slave = slave[np.abs(smesh.p[2, slave] - plane) < 1e-9 * self.geometry.pad.thickness]
             proj = project_nodes(smesh.p[:, slave], mmesh, mf,
                                  search_radius=0.5 * self.geometry.mesh.size + 1e-9)
             nodes, weights, _ = face_values(mmesh, mf, proj)
@@ -336,6 +341,7 @@ class BrakeModel:
         K, P, retained, col = self._reduced(tie_interface=True)
         f = self.loads(line_pressure)
         pad_nodes = face_nodes(self.meshes["pad"], "friction")
+        pad_nodes = pad_nodes[np.abs(self.meshes["pad"].p[2, pad_nodes]) < 1e-12]
         extra = None
         if self.rotor == "rigid":
             extra = (3 * (pad_nodes + self.offsets["pad"])[:, None] + np.arange(3)).ravel()
@@ -442,9 +448,11 @@ class BrakeModel:
         pair.slave = col[pair.slave]
         if pair.coupling is not None:
             pair.coupling = pair.coupling[:, retained].tocsr()
-        return ContactSystem(K=(P.T @ K @ P).tocsr(), f=P.T @ f, fixed=self._reduced_fixed(col),
-                             coords=self.coordinates()[:, retained], pair=pair, P=P,
-                             col=col, clamp_force=line_pressure * self.geometry.clamp_area)
+        cs = ContactSystem(K=(P.T @ K @ P).tocsr(), f=P.T @ f, fixed=self._reduced_fixed(col),
+                           coords=self.coordinates()[:, retained], pair=pair, P=P,
+                           col=col, clamp_force=line_pressure * self.geometry.clamp_area)
+        g = self.geometry
+        return with_supports(cs, self.meshes["pad"], self.offsets["pad"], g.pad, g.support)
 
     def solve_contact(self, line_pressure: float = 1e6, mu: float = 0.0,
                       method: str = "segment", tol: float = 1e-9,
@@ -458,7 +466,8 @@ class BrakeModel:
         t0 = time.perf_counter()
         cs = self.contact_system(line_pressure, mu, method)
         t1 = time.perf_counter()
-        cres = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [cs.pair], tol=tol, linear=linear)
+        cres = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [cs.pair, *cs.supports], tol=tol,
+                             linear=linear)
         return self._contact_result(cs, cres, {"interface": f"contact ({method})", "mu": mu,
                                                "assemble_s": t1 - t0,
                                                "total_s": time.perf_counter() - t0})
@@ -474,7 +483,10 @@ class BrakeModel:
                             interface_nodes=face_nodes(self.meshes["pad"], "friction"),
                             interface_force=force, interface_pressure=cres.pressure[0],
                             clamp_force=cs.clamp_force, info=info, active=cres.active[0],
-                            normal_z=cs.pair.normal[2].copy())
+                            normal_z=cs.pair.normal[2].copy(),
+                            support_force=support_forces(
+                                cs, cres.force[1:], u, self.meshes["pad"], self.offsets["pad"],
+                                self.geometry.pad, self.geometry.support))
 
     def stresses(self, result: StaticResult) -> dict:
         """Nodal von Mises stress per body (Pa)."""

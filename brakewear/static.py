@@ -88,7 +88,8 @@ def static_summary(model, result) -> dict:
 def pad_balance(model, result, line_pressure: float, extra: dict | None = None) -> dict:
     """Force and moment balance of each pad: applied clamp load + contact forces
     (the solve's multipliers and friction) + support reactions (``K u - f`` at the
-    supported DOFs) + ``extra`` forces (name -> pad-DOF vector, e.g. springs or
+    supported DOFs; the abutment stops, rails and springs of push and pull
+    supports, ``result.support_force``) + ``extra`` forces (name -> pad-DOF vector, e.g. springs or
     abutments), each resultant relative to the clamp force (moments to the clamp
     force times the pad's outer radius).  Needs ``piston = "traction"``.
     In the full model also the caliper: its resultant force (zero: the fingers
@@ -117,6 +118,8 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
     c = np.zeros(3 * n)
     c.reshape(-1, 3)[result.interface_nodes] += result.interface_force.T
     ext += c
+    if result.support_force is not None:
+        ext += result.support_force
     for v in (extra or {}).values():
         ext += v
     F = line_pressure * model.geometry.clamp_area

@@ -57,7 +57,7 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 __all__ = ["SUPPORT_ENDS", "abutment_faces", "abutment_pairs", "support_springs",
-           "end_normal", "with_supports"]
+           "end_normal", "with_supports", "support_forces"]
 
 #: the two end faces of a pad
 SUPPORT_ENDS = ("leading", "trailing")
@@ -249,3 +249,20 @@ def with_supports(system, mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry
     return dataclasses.replace(system, K=(system.K + P.T @ Ks @ P).tocsr(),
                                fixed=np.setdiff1d(system.fixed, held),
                                supports=[*getattr(system, "supports", []), *pairs])
+
+
+def support_forces(system, stop_forces: list, u: np.ndarray, mesh: fem.Mesh, offset: int,
+                   pad_geometry: PadGeometry, support: SupportGeometry) -> np.ndarray | None:
+    """Nodal forces (the pad mesh's DOFs, ``3 node + i``) of a solved system's
+    abutment stops (``stop_forces``: one multiplier array per pair of
+    ``system.supports``) and of the rails and springs at the displacement ``u``
+    (all DOFs); None for a bilateral support (its reactions are Dirichlet's)."""
+    if support.type == "bilateral":
+        return None
+    n_nodes = u.size // 3
+    F = np.zeros((n_nodes, 3))
+    node = np.flatnonzero(np.asarray(system.col) >= 0)        # retained -> global node
+    for s, lam in zip(system.supports, stop_forces):
+        np.add.at(F, node[s.slave], (s.normal * lam).T)
+    F -= (support_springs(mesh, offset, pad_geometry, support, u.size) @ u).reshape(-1, 3)
+    return F[offset:offset + mesh.p.shape[1]].ravel()
