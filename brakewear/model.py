@@ -1,17 +1,15 @@
 """A brake model: components, the interfaces between them, and their loads.
 
-:class:`BrakeModel` builds only what it is asked for: the bodies named in
-``bodies`` are meshed and assembled (once; the stiffness matrices and their
-sparsity patterns are kept for reuse), the piston is either a body tied to
-the backplate or just a traction over its footprint, and the pad is tied to
-the rotor.  This is the ground floor the contact and wear loops stand on.
-
+:class:`BrakeModel` builds only what it is asked for: the half model (one pad,
+the rotor's inboard half) or the full one (both pads, the whole rotor), the
+piston as a body tied to the backplate or as the caliper's footprint loads
+(:mod:`brakewear.loadpath`); stiffness matrices are assembled once and kept.
 Global numbering: the scalar DOFs of the bodies are stacked in the order of
-``bodies``; vector DOF ``3 s + i`` as everywhere in brakewear.  With quadratic
-meshes (``order=2``) a body's nodes are its vertices and then its mid-edge
-nodes (the columns of ``mesh.p``); the pad's friction face is then the slave
-face of a dual mortar contact pair (:mod:`brakewear.contact.quadratic`) and
-the contact system is set in its transformed unknowns.
+``bodies``; vector DOF ``3 s + i``.  With quadratic meshes (``order=2``) a
+body's nodes are its vertices, then its mid-edge nodes; the pad's friction
+face is then the slave face of a dual mortar pair
+(:mod:`brakewear.contact.quadratic`), the contact system in its transformed
+unknowns.
 """
 from __future__ import annotations
 
@@ -285,8 +283,8 @@ class BrakeModel:
         return f
 
     def fixed_dofs(self) -> np.ndarray:
-        """Supports: rotor clamped at its hat radius, mid-plane symmetry,
-        pad held in-plane at its abutments, piston guided by its bore."""
+        """Supports: the rotor's clamp (and mid-plane symmetry in the half
+        model), a bilateral pad support, the piston guided by its bore."""
         parts = [self._gdofs("pad", pad_support_dofs(self.geometry, self.meshes["pad"]))]
         if self.rotor == "elastic":
             parts.append(self._gdofs("rotor", boundary_dofs(self.meshes["rotor"], "rotor_clamp")))
@@ -456,17 +454,19 @@ class BrakeModel:
 
     def solve_contact(self, line_pressure: float = 1e6, mu: float = 0.0,
                       method: str = "segment", tol: float = 1e-9,
-                      linear: str = "amg") -> StaticResult:
+                      linear: str = "amg", load: np.ndarray | None = None) -> StaticResult:
         """Frictional contact of pad and rotor under ``line_pressure`` (Pa).
 
         Sliding friction ``mu p`` drags the pad along the rotor's velocity
-        (+theta); equal and opposite on the rotor.  Returns the nodal contact
-        pressure on the pad's friction face (zero where it lifts off).
+        (+theta); equal and opposite on the rotor.  ``load``: an extra nodal
+        load (N, every DOF; e.g. a thermal strain's).  Returns the nodal
+        contact pressure on the pad's friction face (zero where it lifts off).
         """
         t0 = time.perf_counter()
         cs = self.contact_system(line_pressure, mu, method)
         t1 = time.perf_counter()
-        cres = solve_contact(cs.K, cs.f, cs.fixed, cs.coords, [cs.pair, *cs.supports], tol=tol,
+        f = cs.f if load is None else cs.f + cs.P.T @ load
+        cres = solve_contact(cs.K, f, cs.fixed, cs.coords, [cs.pair, *cs.supports], tol=tol,
                              linear=linear)
         return self._contact_result(cs, cres, {"interface": f"contact ({method})", "mu": mu,
                                                "assemble_s": t1 - t0,

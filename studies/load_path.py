@@ -10,7 +10,16 @@ without friction:
 - ``floating``: ``geometry/floating.toml``, a single-piston floating caliper:
   the piston's 54/57 mm rim on a backplate larger than the lining, two
   fingers on the outboard pad, the bracket's abutments, the rotor on its hat;
-  both pads and the whole rotor thickness (``layout = "full"``).
+  both pads and the whole rotor thickness (``layout = "full"``);
+- ``floating_hot``: the same with the friction ring 100 K warmer than the hat
+  (the first seconds of a firm stop): the hat cones the ring
+  (studies/thermal_coning.py) and the faces no longer conform.
+
+With conforming flat faces and linear elasticity the contact problem is
+proportional: pressure scales with the line pressure and coverage does not
+change with it (the table shows it to the solver's tolerance).  What makes
+coverage depend on the line pressure is a non-conformity, here the ring's
+thermal cone, which the line pressure has to flatten.
 
 For each case, pressure and friction coefficient: per friction face the
 contact coverage (share of the face's area whose nodes carry pressure), the
@@ -20,19 +29,32 @@ the lining's area) and each pad's force and moment balance
 (:func:`brakewear.static.pad_balance`).  Two checks of the half model:
 
 - where its assumption holds (a fixed caliper with the floating brake's
-  piston rim on both sides and the ring clamp), ``full`` against ``half``;
-- where it does not (the floating caliper), the half model (the outboard pad
-  taken as the inboard one) against the full model.
+  piston rim on both sides, the ring clamped at its inner radius), ``full``
+  against ``half``;
+- where it does not (the floating caliper's fingers, on the same clamped
+  ring), the half model (the outboard pad taken as the inboard one) against
+  the full model.
+
+Two more questions of the floating brake:
+
+- the hat cones a heated ring (studies/thermal_coning.py): with the friction
+  ring ``dT`` warmer than the hat (the first seconds of a hard stop), how the
+  coverage of each face changes (:func:`hat_coverage`);
+- coverage at 0.5 MPa under mesh refinement: pad, lining layers and rotor
+  refined together, the observed rate and a Richardson estimate
+  (:func:`coverage_convergence`).
 
 Run ``python studies/load_path.py [--out DIR] [--pressures 0.25 0.5 1 2 4]
-[--mu 0 0.4] [--pad-size MM]``; writes ``DIR/data/load_path.json`` and the
-pressure maps ``DIR/figures/load_path_mu0.png``, ``load_path_mu0.4.png``.
+[--mu 0 0.4] [--pad-size MM] [--levels 1 1.5 2]``; writes
+``DIR/data/load_path.json`` and the pressure maps
+``DIR/figures/load_path_mu0.png``, ``load_path_mu0.4.png``.
 """
 from __future__ import annotations
 
 import argparse
 import json
 import math
+import sys
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -42,6 +64,10 @@ import numpy as np
 from brakewear.geometry import CaliperGeometry, load_geometry
 from brakewear.model import BrakeModel
 from brakewear.static import pad_balance
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from mesh_convergence import richardson  # noqa: E402  (sibling scripts, not a package)
+from thermal_coning import thermal_load  # noqa: E402
 
 PRESSURES_MPA = (0.25, 0.5, 1.0, 2.0, 4.0)
 MUS = (0.0, 0.4)
@@ -55,15 +81,20 @@ def meshed(geom, mesh: dict):
     return replace(geom, mesh=replace(geom.mesh, **mesh))
 
 
+#: the friction ring's temperature above the hat's in the ``floating_hot`` case (K)
+HOT_RING_K = 100.0
+
+
 def cases(mesh: dict) -> dict:
-    """name -> (geometry, layout) of every model the study solves."""
+    """name -> (geometry, layout, ring temperature rise K) of every model solved."""
     ideal = meshed(load_geometry("default"), mesh)
     flt = meshed(load_geometry("floating"), mesh)
-    fixed = replace(flt, caliper=CaliperGeometry("fixed"),
-                    rotor=replace(flt.rotor, mount="ring_clamp", hat=None))
-    return {"idealised": (ideal, "half"), "floating": (flt, "full"),
-            "floating_as_half": (flt, "half"), "fixed_full": (fixed, "full"),
-            "fixed_half": (fixed, "half")}
+    ring = replace(flt, rotor=replace(flt.rotor, mount="ring_clamp", hat=None))
+    fixed = replace(ring, caliper=CaliperGeometry("fixed"))
+    return {"idealised": (ideal, "half", 0.0), "floating": (flt, "full", 0.0),
+            "floating_hot": (flt, "full", HOT_RING_K),
+            "fingers_full": (ring, "full", 0.0), "fingers_half": (ring, "half", 0.0),
+            "fixed_full": (fixed, "full", 0.0), "fixed_half": (fixed, "half", 0.0)}
 
 
 def face_numbers(model, res, line_pressure: float) -> dict:
@@ -91,15 +122,34 @@ def pressure_field(model, res) -> dict:
             for k, f in faces.items()}
 
 
-def solve_case(geom, layout: str, pressures, mus, fields: bool = False) -> dict:
-    """Contact at every pressure and mu; the model is built once."""
+def ring_load(model, dT: float) -> np.ndarray | None:
+    """The load (every DOF) of the friction ring's elements ``dT`` (K) warmer than
+    the hat (a hat rotor; None for dT = 0)."""
+    if dT == 0.0:
+        return None
+    rotor, off = model.meshes["rotor"], model.offsets["rotor"]
+    unit = thermal_load(rotor, model.geometry.rotor.material, np.ones(rotor.p.shape[1]),
+                        elements=rotor.subdomains["ring"])
+    load = np.zeros(model.dofs)
+    load[3 * off:3 * off + unit.size] = dT * unit
+    return load
+
+
+def solve_case(geom, layout: str, pressures, mus, dT: float = 0.0,
+               fields: bool = False) -> dict:
+    """Contact at every pressure and mu (the ring ``dT`` warmer than the hat);
+    the model is built once."""
     t0 = time.perf_counter()
     model = BrakeModel(geom, layout=layout)
+    load = ring_load(model, dT)
     rows, maps = [], {}
     for mu in mus:
         for p_mpa in pressures:
             p = p_mpa * 1e6
-            res = model.solve_contact(p, mu=mu, tol=1e-10)
+            # a thermal load is large against the clamp force: a tighter solve keeps
+            # each pad's balance, relative to the clamp force, below 1e-8
+            res = model.solve_contact(p, mu=mu, tol=1e-10 if load is None else 1e-13,
+                                      load=load)
             bal = pad_balance(model, res, p)
             rows.append({"line_pressure_MPa": p_mpa, "mu": mu,
                          "faces": face_numbers(model, res, p),
@@ -125,6 +175,10 @@ def half_differences(full: dict, half: dict) -> list:
     return out
 
 
+#: the cases drawn in the pressure maps
+MAPPED = ("idealised", "floating", "floating_hot")
+
+
 def draw_maps(runs: dict, mu: float, pressures, path: Path) -> Path:
     """Pressure over nominal on every face (rows) at every pressure (columns)."""
     from brakewear.figures import offscreen_pyvista
@@ -132,7 +186,9 @@ def draw_maps(runs: dict, mu: float, pressures, path: Path) -> Path:
     pv = offscreen_pyvista()
     faces = [("idealised", "in", "idealised (half model)"),
              ("floating", "in", "floating: inboard (piston rim)"),
-             ("floating", "out", "floating: outboard (fingers)")]
+             ("floating", "out", "floating: outboard (fingers)"),
+             ("floating_hot", "in", f"floating, ring +{HOT_RING_K:g} K: inboard"),
+             ("floating_hot", "out", f"floating, ring +{HOT_RING_K:g} K: outboard")]
     pl = pv.Plotter(off_screen=True, shape=(len(faces), len(pressures)),
                     window_size=[320 * len(pressures), 300 * len(faces)], border=False)
     for i, (case, face, label) in enumerate(faces):
@@ -159,14 +215,56 @@ def draw_maps(runs: dict, mu: float, pressures, path: Path) -> Path:
     return path
 
 
+def hat_coverage(geom, dTs=(0.0, 100.0, 200.0), line_pressure: float = 1e6,
+                 mu: float = 0.4) -> list:
+    """Coverage and centre of pressure of both faces with the friction ring
+    ``dT`` (K) warmer than the hat (the ring's elements heated uniformly)."""
+    model = BrakeModel(geom, layout="full")
+    rows = []
+    for dT in dTs:
+        res = model.solve_contact(line_pressure, mu=mu, tol=1e-13, load=ring_load(model, dT))
+        rows.append({"dT_K": dT, "faces": face_numbers(model, res, line_pressure)})
+    return rows
+
+
+#: refinement levels of the coverage study: pad size 6 mm / n, n lining and
+#: 2 n backplate layers, rotor 12 mm / n with n layers per half
+def level_mesh(n: float) -> dict:
+    """The mesh keys (m) of refinement level ``n``."""
+    return {"size": 6e-3 / n, "pad_size": 6e-3 / n, "rotor_size": 12e-3 / n,
+            "friction_layers": max(1, round(2 * n)), "backplate_layers": max(1, round(2 * n)),
+            "rotor_layers": max(1, round(n))}
+
+
+def coverage_convergence(levels=(1.0, 1.5, 2.0), line_pressure: float = 0.5e6,
+                         mus=MUS) -> dict:
+    """Coverage of both faces of the floating brake at ``line_pressure`` on
+    meshes refined by the ratio between levels: per face and mu the values,
+    the observed rate and the Richardson estimate of the three finest."""
+    geom = load_geometry("floating")
+    runs = []
+    for n in levels:
+        r = solve_case(meshed(geom, level_mesh(n)), "full", [line_pressure / 1e6], mus)
+        runs.append({"level": n, "dofs": r["dofs"], "wall_s": r["wall_s"], "rows": r["rows"]})
+        print(f"level {n:g}: {r['dofs']} DOFs, {r['wall_s']:.1f} s")
+    ratio = levels[-1] / levels[-2]
+    out = {"levels": list(levels), "runs": runs, "estimate": {}}
+    for k, mu in enumerate(mus):
+        for face in ("in", "out"):
+            vals = [run["rows"][k]["faces"][face]["coverage"] for run in runs]
+            est = richardson(vals[-3:], (levels[-2] / levels[-3], ratio))
+            out["estimate"][f"mu{mu:g}_{face}"] = {"values": vals, **est}
+    return out
+
+
 def main(pressures=PRESSURES_MPA, mus=MUS, mesh: dict | None = None, out: Path | None = None,
-         figures: bool = True) -> dict:
+         figures: bool = True, levels=(1.0, 1.5, 2.0), dTs=(0.0, 100.0, 200.0)) -> dict:
     """Solve every case; returns the numbers (and writes them under ``out``)."""
     mesh = dict(MESH if mesh is None else mesh)
     runs = {}
-    for name, (geom, layout) in cases(mesh).items():
-        runs[name] = solve_case(geom, layout, pressures, mus,
-                                fields=figures and name in ("idealised", "floating"))
+    for name, (geom, layout, dT) in cases(mesh).items():
+        runs[name] = solve_case(geom, layout, pressures, mus, dT,
+                                fields=figures and name in MAPPED)
         runs[name]["geometry"] = geom
         print(f"{name}: {runs[name]['layout']}, {runs[name]['dofs']} DOFs, "
               f"{runs[name]['wall_s']:.1f} s")
@@ -174,8 +272,10 @@ def main(pressures=PRESSURES_MPA, mus=MUS, mesh: dict | None = None, out: Path |
               "cases": {k: {kk: v[kk] for kk in ("layout", "dofs", "rows", "wall_s")}
                         for k, v in runs.items()},
               "half_where_it_holds": half_differences(runs["fixed_full"], runs["fixed_half"]),
-              "half_where_it_does_not": half_differences(runs["floating"],
-                                                         runs["floating_as_half"])}
+              "half_where_it_does_not": half_differences(runs["fingers_full"],
+                                                         runs["fingers_half"]),
+              "hat_coverage": hat_coverage(runs["floating"]["geometry"], dTs),
+              "coverage_convergence": coverage_convergence(levels) if levels else None}
     if out is not None:
         (out / "data").mkdir(parents=True, exist_ok=True)
         (out / "data" / "load_path.json").write_text(json.dumps(result, indent=1))
@@ -191,7 +291,7 @@ def print_table(result: dict) -> None:
     print("| case | face | p (MPa) | mu | coverage | CoP r (mm) | CoP theta (deg) | "
           "p max / p nom | balance |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for name in ("idealised", "floating"):
+    for name in MAPPED:
         for r in result["cases"][name]["rows"]:
             for face, f in r["faces"].items():
                 print(f"| {name} | {face} | {r['line_pressure_MPa']:g} | {r['mu']:g} | "
@@ -209,8 +309,10 @@ if __name__ == "__main__":
     ap.add_argument("--pressures", type=float, nargs="+", default=list(PRESSURES_MPA))
     ap.add_argument("--mu", type=float, nargs="+", default=list(MUS))
     ap.add_argument("--pad-size", type=float, default=None, help="pad element size (mm)")
+    ap.add_argument("--levels", type=float, nargs="*", default=[1.0, 1.5, 2.0],
+                    help="refinement levels of the coverage study (none: skip it)")
     a = ap.parse_args()
     mesh = dict(MESH)
     if a.pad_size:
         mesh.update(size=a.pad_size * 1e-3, pad_size=a.pad_size * 1e-3)
-    main(a.pressures, a.mu, mesh, a.out)
+    main(a.pressures, a.mu, mesh, a.out, levels=tuple(a.levels))
