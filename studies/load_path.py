@@ -148,7 +148,7 @@ def solve_case(geom, layout: str, pressures, mus, dT: float = 0.0,
             p = p_mpa * 1e6
             # a thermal load is large against the clamp force: a tighter solve keeps
             # each pad's balance, relative to the clamp force, below 1e-8
-            res = model.solve_contact(p, mu=mu, tol=1e-10 if load is None else 1e-13,
+            res = model.solve_contact(p, mu=mu, tol=1e-10 if load is None else 1e-12,
                                       load=load)
             bal = pad_balance(model, res, p)
             rows.append({"line_pressure_MPa": p_mpa, "mu": mu,
@@ -222,7 +222,7 @@ def hat_coverage(geom, dTs=(0.0, 100.0, 200.0), line_pressure: float = 1e6,
     model = BrakeModel(geom, layout="full")
     rows = []
     for dT in dTs:
-        res = model.solve_contact(line_pressure, mu=mu, tol=1e-13, load=ring_load(model, dT))
+        res = model.solve_contact(line_pressure, mu=mu, tol=1e-12, load=ring_load(model, dT))
         rows.append({"dT_K": dT, "faces": face_numbers(model, res, line_pressure)})
     return rows
 
