@@ -483,7 +483,7 @@ class BrakeModel:
                             interface_nodes=face_nodes(self.meshes["pad"], "friction"),
                             interface_force=force, interface_pressure=cres.pressure[0],
                             clamp_force=cs.clamp_force, info=info, active=cres.active[0],
-                            normal_z=cs.pair.normal[2].copy(),
+                            normal_z=np.sign(cs.pair.normal[2]),
                             support_force=support_forces(
                                 cs, cres.force[1:], u, self.meshes["pad"], self.offsets["pad"],
                                 self.geometry.pad, self.geometry.support))

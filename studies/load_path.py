@@ -66,8 +66,7 @@ from brakewear.model import BrakeModel
 from brakewear.static import pad_balance
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from mesh_convergence import richardson  # noqa: E402  (sibling scripts, not a package)
-from thermal_coning import thermal_load  # noqa: E402
+from thermal_coning import thermal_load  # noqa: E402  (a sibling script, not a package)
 
 PRESSURES_MPA = (0.25, 0.5, 1.0, 2.0, 4.0)
 MUS = (0.0, 0.4)
@@ -236,25 +235,54 @@ def level_mesh(n: float) -> dict:
             "rotor_layers": max(1, round(n))}
 
 
+def richardson_h(h, f) -> dict:
+    """Observed rate and Richardson estimate from the last three of values ``f``
+    on meshes of relative size ``h`` (any ratios): ``p`` solves
+    ``(h1^p - h2^p) / (h2^p - h3^p) = (f1 - f2) / (f2 - f3)``; not in the
+    asymptotic range (no estimate) where the differences change sign."""
+    from scipy.optimize import brentq
+
+    (h1, h2, h3), (f1, f2, f3) = h[-3:], f[-3:]
+    if (f1 - f2) * (f2 - f3) <= 0:
+        return {"rate": None, "estimate": None, "asymptotic": False}
+    target = (f1 - f2) / (f2 - f3)
+    g = lambda p: (h1 ** p - h2 ** p) / (h2 ** p - h3 ** p) - target  # noqa: E731
+    lo, hi = 1e-3, 10.0
+    if g(lo) * g(hi) > 0:
+        return {"rate": None, "estimate": None, "asymptotic": False}
+    p = brentq(g, lo, hi)
+    f0 = f3 - (f2 - f3) * h3 ** p / (h2 ** p - h3 ** p)
+    return {"rate": p, "estimate": f0, "asymptotic": True,
+            "errors": [v / f0 - 1.0 for v in f]}
+
+
 def coverage_convergence(levels=(1.0, 1.5, 2.0), line_pressure: float = 0.5e6,
                          mus=MUS) -> dict:
     """Coverage of both faces of the floating brake at ``line_pressure`` on
-    meshes refined by the ratio between levels: per face and mu the values,
-    the observed rate and the Richardson estimate of the three finest."""
+    meshes refined by the levels (element sizes ``1 / level`` relative): per
+    face and mu the values, the observed rate and the Richardson estimate of
+    the three finest (:func:`richardson_h`)."""
     geom = load_geometry("floating")
     runs = []
     for n in levels:
         r = solve_case(meshed(geom, level_mesh(n)), "full", [line_pressure / 1e6], mus)
         runs.append({"level": n, "dofs": r["dofs"], "wall_s": r["wall_s"], "rows": r["rows"]})
         print(f"level {n:g}: {r['dofs']} DOFs, {r['wall_s']:.1f} s")
-    ratio = levels[-1] / levels[-2]
-    out = {"levels": list(levels), "runs": runs, "estimate": {}}
-    for k, mu in enumerate(mus):
+    return analyse_coverage({"levels": list(levels), "runs": runs})
+
+
+def analyse_coverage(cc: dict) -> dict:
+    """Rates and estimates of a :func:`coverage_convergence` record (coverage and
+    centre-of-pressure radius of each face and mu)."""
+    h = [1.0 / n for n in cc["levels"]]
+    cc["estimate"] = {}
+    for k, mu in enumerate(r["mu"] for r in cc["runs"][0]["rows"]):
         for face in ("in", "out"):
-            vals = [run["rows"][k]["faces"][face]["coverage"] for run in runs]
-            est = richardson(vals[-3:], (levels[-2] / levels[-3], ratio))
-            out["estimate"][f"mu{mu:g}_{face}"] = {"values": vals, **est}
-    return out
+            for q in ("coverage", "cop_r_mm"):
+                vals = [run["rows"][k]["faces"][face][q] for run in cc["runs"]]
+                cc["estimate"][f"{q}_mu{mu:g}_{face}"] = {"values": vals,
+                                                          **richardson_h(h, vals)}
+    return cc
 
 
 def main(pressures=PRESSURES_MPA, mus=MUS, mesh: dict | None = None, out: Path | None = None,
@@ -301,6 +329,10 @@ def print_table(result: dict) -> None:
     for key in ("half_where_it_holds", "half_where_it_does_not"):
         worst = max(max(d[f][q] for f in ("in", "out") for q in d[f]) for d in result[key])
         print(f"{key}: largest relative difference {100 * worst:.2f} %")
+    for key, e in ((result.get("coverage_convergence") or {}).get("estimate") or {}).items():
+        est = "not asymptotic" if e["estimate"] is None else \
+            f"rate {e['rate']:.2f}, estimate {e['estimate']:.4g}"
+        print(f"{key}: {' '.join(f'{v:.4g}' for v in e['values'])}; {est}")
 
 
 if __name__ == "__main__":

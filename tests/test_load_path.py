@@ -66,7 +66,29 @@ def test_coverage_convergence_reports_rates_and_estimates():
     out = lp.coverage_convergence(levels=(0.5, 0.75, 1.0), mus=(0.0,))
     assert [r["level"] for r in out["runs"]] == [0.5, 0.75, 1.0]
     assert out["runs"][0]["dofs"] < out["runs"][-1]["dofs"]
-    for key in ("mu0_in", "mu0_out"):
+    for key in ("coverage_mu0_in", "coverage_mu0_out"):
         e = out["estimate"][key]
         assert len(e["values"]) == 3 and all(0 < v <= 1 for v in e["values"])
         assert "rate" in e
+
+
+def test_richardson_with_uneven_ratios_recovers_a_known_rate():
+    h = [1.0, 2 / 3, 0.5, 1 / 3]
+    f = [0.6 + 0.1 * x ** 1.3 for x in h]
+    e = lp.richardson_h(h, f)
+    assert e["rate"] == pytest.approx(1.3, rel=1e-6)
+    assert e["estimate"] == pytest.approx(0.6, rel=1e-9)
+    assert lp.richardson_h(h, [0.7, 0.6, 0.65, 0.6])["estimate"] is None
+
+
+def test_the_docs_snippet_runs(capsys):
+    """The snippet of docs/load_path.md, run as written (an 8 mm floating brake)."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "load_path.md").read_text()
+    code = re.search(r"```python\n(.*?)```", text, re.S)[1]
+    exec(compile(code, "docs/load_path.md", "exec"), {})
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert [s.split()[0] for s in lines[:2]] == ["in", "out"]
+    assert lines[2] == "True True"
