@@ -60,13 +60,19 @@ def _figures(model, out: Path, scene) -> list[str]:
     if pvd.exists() and last:
         m = meshio.read(last[-1])
         pad = model.meshes["pad"]
+        # the full model's two friction faces, each seen from its rotor face
+        faces = ((("friction_in", "_in", "inboard ", (0.0, 0.0, -1.0)),
+                  ("friction_out", "_out", "outboard ", (0.0, 0.0, 1.0)))
+                 if "friction_out" in (pad.boundaries or {}) else
+                 (("friction", "", "", (0.0, 0.0, -1.0)),))
         for fld, png, scale, label, cmap in (
-                ("pad_wear", "pad_wear.png", 1e6, "pad wear (um)", "viridis"),
-                ("pressure", "pad_pressure.png", 1e-6, "pressure (MPa)", "inferno")):
-            files.append(str(plot_field(
-                pad, m.point_data[fld] * scale, out / png,
-                f"{scene.name}: {label}, last step", label=label, cmap=cmap,
-                facets="friction", view=(0.0, 0.0, -1.0))))
+                ("pad_wear", "pad_wear", 1e6, "pad wear (um)", "viridis"),
+                ("pressure", "pad_pressure", 1e-6, "pressure (MPa)", "inferno")):
+            for facets, suffix, which, view in faces:
+                files.append(str(plot_field(
+                    pad, m.point_data[fld] * scale, out / f"{png}{suffix}.png",
+                    f"{scene.name}: {which}{label}, last step", label=label, cmap=cmap,
+                    facets=facets, view=view)))
     with open(out / "history.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     if rows:
