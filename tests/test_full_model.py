@@ -188,3 +188,26 @@ def test_a_full_scene_runs_and_pictures_both_faces(tmp_path):
     centre = {side: (w * r)[face_nodes(pad, f"friction_{side}")].sum()
               / w[face_nodes(pad, f"friction_{side}")].sum() for side in ("in", "out")}
     assert centre["out"] > centre["in"] + 2e-3
+
+
+def test_meshed_piston_and_fixed_calipers_with_two_pistons_per_side():
+    g = load_geometry("floating")
+    # the meshed piston on the inboard pad, the fingers on the outboard one
+    m = BrakeModel(g, size=8e-3, piston="body")
+    s = m.summary(m.solve_contact(1e6, mu=0.4))["faces"]
+    F = 1e6 * g.clamp_area
+    assert s["in"]["normal_force_N"] == pytest.approx(F, rel=1e-8)
+    assert s["out"]["normal_force_N"] == pytest.approx(F, rel=1e-8)
+    # a fixed caliper with two opposed 40 mm pistons per side, +-12 deg
+    p1 = replace(g.piston, diameter=0.040, rim_inner_diameter=0.036, bore_diameter=0.040,
+                 radius=0.119, angle=np.radians(-12.0))
+    fixed = replace(g, caliper=CaliperGeometry("fixed"), piston=p1,
+                    extra_pistons=(replace(p1, angle=np.radians(12.0)),))
+    assert fixed.clamp_area == pytest.approx(2 * np.pi * 0.020 ** 2)
+    m = BrakeModel(fixed, size=8e-3)
+    res = m.solve_contact(1e6, mu=0.4)
+    s = m.summary(res)["faces"]
+    for face in ("in", "out"):
+        assert s[face]["normal_force_N"] == pytest.approx(1e6 * fixed.clamp_area, rel=1e-8)
+    bal = pad_balance(m, res, 1e6)
+    assert max(bal["in"].values()) < 1e-8 and max(bal["out"].values()) < 1e-8
