@@ -211,3 +211,33 @@ def test_meshed_piston_and_fixed_calipers_with_two_pistons_per_side():
         assert s[face]["normal_force_N"] == pytest.approx(1e6 * fixed.clamp_area, rel=1e-8)
     bal = pad_balance(m, res, 1e6)
     assert max(bal["in"].values()) < 1e-8 and max(bal["out"].values()) < 1e-8
+
+
+def test_geometry_update_and_thermal_coupling_on_both_faces(rim):
+    """Where the half model holds, the full model's geometry update and heating
+    give the half model's answer on both faces."""
+    from brakewear.thermal import ThermalModel
+
+    law, rlaw = WearLaw(5e-15), WearLaw(5e-16)
+    out = {}
+    for layout in ("half", "full"):
+        m = BrakeModel(rim, size=SIZE, layout=layout)
+        for s in wear_history(m, 1e6, 55.0, 72000.0, law, rlaw, 0.4,
+                              numerics=Numerics(scheme="implicit", update="geometry", steps=3)):
+            pass
+        m = BrakeModel(rim, size=SIZE, layout=layout)
+        th = ThermalModel(m)
+        for _ in wear_history(m, 1e6, 55.0, 30.0, law, rlaw, 0.4, thermal=th,
+                              interface=FEInterface(m, 1e6, 0.4),
+                              numerics=Numerics(scheme="implicit", update="gap", steps=3)):
+            pass
+        pad = m.meshes["pad"]
+        faces = ("friction_in", "friction_out") if m.full else ("friction",)
+        out[layout] = {"wear": s.pad_wear.max(), "p": s.pressure.max(),
+                       "T": [th.T["pad"][face_nodes(pad, f)].max() for f in faces]}
+    h, f = out["half"], out["full"]
+    assert f["wear"] == pytest.approx(h["wear"], rel=1e-3)
+    assert f["p"] == pytest.approx(h["p"], rel=1e-3)
+    rise = h["T"][0] - 293.15
+    for T in f["T"]:
+        assert abs(T - h["T"][0]) < 0.02 * rise
