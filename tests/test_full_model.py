@@ -12,7 +12,8 @@ import pytest
 import skfem as fem
 
 from brakewear.errors import SceneError
-from brakewear.fem.footprint import annulus, footprint_load, sub_triangles
+from brakewear.fem.footprint import annulus, footprint_load
+from brakewear.fem.triangle import subdivided_rule, tri6
 from brakewear.geometry import CaliperGeometry, FingerGeometry, load_geometry
 from brakewear.interfaces import FEInterface
 from brakewear.mesh.brake import pad_mesh, rotor_mesh
@@ -64,10 +65,12 @@ def test_rotor_full_thickness_faces(rim):
     assert m.boundaries["friction"].size == 2 * m.boundaries["friction_in"].size
 
 
-def test_sub_triangles_integrate_linear_functions_exactly():
-    lam, frac = sub_triangles(3)
-    assert lam.shape[1] * frac == pytest.approx(1.0)
-    assert np.allclose(lam.mean(axis=1), 1.0 / 3.0)
+def test_subdivided_rule_integrates_quadratic_shape_functions_exactly():
+    # int N_i dA / A: 0 at the vertices, 1/3 at the edges of the P2 triangle
+    for level in (0, 2):
+        lam, w = subdivided_rule(level)
+        assert w.sum() == pytest.approx(1.0, rel=1e-14)
+        assert np.allclose(tri6(lam) @ w, [0, 0, 0, 1 / 3, 1 / 3, 1 / 3], rtol=0, atol=1e-14)
 
 
 @pytest.mark.parametrize("order", [1, 2])
