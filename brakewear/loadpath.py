@@ -13,7 +13,9 @@ side's pistons) reaches the pads' backs:
   caliper presses the outboard pad with the mirrored pistons, a floating one
   with its fingers, which share ``F`` in proportion to their footprint areas
   (the caliper slides on its pins, so the finger force balances the piston
-  force).
+  force).  A compliant bridge (``caliper.bridge_tilt > 0``) turns the
+  fingers' jaw under the clamp force, so the finger pressure varies across
+  the footprints (:func:`jaw_pressure`).
 
 Supports of the pads in the bracket: ``"bilateral"`` holds the backplate's
 end faces in-plane (Dirichlet); push and pull supports are unilateral
@@ -23,8 +25,10 @@ from __future__ import annotations
 
 import logging
 import math
+from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from .errors import SceneError
 from .fem.boundary import assemble_traction, boundary_dofs
@@ -34,7 +38,7 @@ from .mesh.surface import is_quadratic, tributary_areas
 logger = logging.getLogger(__name__)
 
 __all__ = ["clamp_loads", "idealised_load", "pad_support_dofs", "footprints", "uniform_traction",
-           "half_model_holds", "resolve_layout"]
+           "half_model_holds", "resolve_layout", "jaw_pressure", "JawPressure"]
 
 
 def half_model_holds(geometry) -> bool:
@@ -88,6 +92,78 @@ def footprints(geometry, side: str) -> list[tuple[tuple[float, float], float, fl
              0.5 * p.diameter, p.hydraulic_area / A) for p in geometry.pistons]
 
 
+@dataclass(frozen=True)
+class JawPressure:
+    """The finger pressure of a tilted caliper jaw on the outboard backplate:
+    ``p(x) = k max(0, delta + theta (e . x))``, ``e`` the unit radial vector of
+    the pad's centre line (the jaw turns about a tangential axis).
+
+    Attributes
+    ----------
+    stiffness : float
+        ``k``, the finger layer's normal stiffness per unit area (Pa/m).
+    delta : float
+        The jaw's approach at the rotor axis (m), from the force balance.
+    theta : float
+        The jaw's tilt (rad): ``bridge_tilt x F``.
+    direction : tuple of float
+        ``e`` (x, y).
+    forces : tuple of float
+        Each finger's force (N), summing to ``F``.
+    """
+
+    stiffness: float
+    delta: float
+    theta: float
+    direction: tuple[float, float]
+    forces: tuple[float, ...]
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        """Pressure (Pa) at points ``x (3, n)`` if they lie under a finger."""
+        s = self.direction[0] * x[0] + self.direction[1] * x[1]
+        return self.stiffness * np.maximum(self.delta + self.theta * s, 0.0)
+
+
+def _disc_force(k: float, a: float, A: float, B: float) -> float:
+    """``k`` times the integral of ``max(0, A + B u)`` over a disc of radius ``a``,
+    ``u`` the coordinate along the tilt scaled by ``a`` (``B >= 0``)."""
+    if B <= 0.0:
+        return k * math.pi * a * a * max(A, 0.0)
+
+    def G(u: float) -> float:   # antiderivative of 2 sqrt(1 - u^2) (A + B u)
+        r = math.sqrt(max(1.0 - u * u, 0.0))
+        return A * (u * r + math.asin(u)) - 2.0 * B * r ** 3 / 3.0
+    u0 = min(max(-A / B, -1.0), 1.0)
+    return k * a * a * (G(1.0) - G(u0))
+
+
+def jaw_pressure(geometry, F: float) -> JawPressure:
+    """The finger pressure of a floating caliper's jaw under the clamp force ``F``
+    (N): the jaw, rigid, turned by ``theta = caliper.bridge_tilt x F`` so that it
+    leaves the backplate at the inner radius, pressing through a layer of
+    stiffness ``caliper.finger_stiffness``; its approach ``delta`` is the one
+    whose finger forces (over the exact circular footprints, in closed form)
+    sum to ``F``.  ``theta = 0``: a uniform pressure, each finger's force in
+    proportion to its area."""
+    cal = geometry.caliper
+    k, theta = cal.finger_stiffness, cal.bridge_tilt * F
+    a0 = geometry.pad.center_angle
+    e = (math.cos(a0), math.sin(a0))
+    discs = [(0.5 * f.diameter, f.radius * math.cos(f.angle)) for f in cal.fingers]
+
+    def forces(delta: float) -> list[float]:
+        return [_disc_force(k, a, delta + theta * s, theta * a) for a, s in discs]
+    area = sum(math.pi * a * a for a, _ in discs)
+    lo = -theta * max(s + a for a, s in discs)                  # no finger touches
+    hi = 1.01 * F / (k * area) - theta * min(s - a for a, s in discs)  # pressed > F/A
+    if theta == 0.0 or F <= 0.0:
+        delta = F / (k * area)
+    else:
+        delta = brentq(lambda d: sum(forces(d)) - F, lo, hi, xtol=1e-14 * (hi - lo),
+                       rtol=4 * np.finfo(float).eps)
+    return JawPressure(k, delta, theta, e, tuple(forces(delta)))
+
+
 def uniform_traction(mesh, facets: str, F: float) -> np.ndarray:
     """Nodal loads of a uniform traction of total ``F`` (N) toward -z on ``facets``."""
     if is_quadratic(mesh):
@@ -111,9 +187,26 @@ def clamp_loads(geometry, pad_mesh, line_pressure: float, full: bool,
     todo = [s for s in (("in", "back_in" if full else "back", -1.0), ("out", "back_out", 1.0))
             if s[0] in sides and (full or s[0] == "in")]
     for side, facets, sign in todo:
+        if side == "out" and geometry.caliper.bridge_tilt > 0.0:
+            f += _jaw_load(geometry, pad_mesh, facets, F)
+            continue
         for c, ri, ro, share in footprints(geometry, side):
             f += footprint_load(pad_mesh, facets, annulus(c, ri, ro), F * share,
                                 direction=(0.0, 0.0, sign))
+    return f
+
+
+def _jaw_load(geometry, pad_mesh, facets: str, F: float) -> np.ndarray:
+    """Nodal loads of a tilted jaw's fingers (:func:`jaw_pressure`) toward +z."""
+    jaw = jaw_pressure(geometry, F)
+    f = np.zeros(3 * pad_mesh.p.shape[1])
+    for (c, ri, ro, _), Fi in zip(footprints(geometry, "out"), jaw.forces):
+        if Fi > 1e-9 * F:     # a finger the jaw has lifted off carries nothing
+            disc = annulus(c, ri, ro)
+            f += footprint_load(pad_mesh, facets, lambda x, d=disc: d(x) * jaw(x), Fi,
+                                direction=(0.0, 0.0, 1.0))
+    logger.debug("jaw tilt %.3g mrad, finger forces %s N", 1e3 * jaw.theta,
+                 ", ".join(f"{x:.4g}" for x in jaw.forces))
     return f
 
 

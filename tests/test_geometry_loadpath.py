@@ -27,6 +27,14 @@ def default():
     return tomllib.loads(geometry_file("default").read_text())
 
 
+def test_bridge_keys_in_si(floating):
+    g = geometry_from_dict(modified(modified(floating, "caliper.bridge_tilt", 0.08),
+                                    "caliper.finger_stiffness", 500.0))
+    assert g.caliper.bridge_tilt == pytest.approx(0.08e-3 / 1e3, rel=1e-12)     # rad/N
+    assert g.caliper.finger_stiffness == pytest.approx(500e6 / 1e-3, rel=1e-12)  # Pa/m
+    assert load_geometry("floating").caliper.bridge_tilt == 0.0                 # rigid bridge
+
+
 def test_floating_loads_in_si():
     g = load_geometry("floating")
     assert g.caliper.type == "floating" and not g.caliper.symmetric
@@ -141,6 +149,12 @@ BAD = [
     ("f", "support.spring_stiffness", -5.0, "support.spring_stiffness", ["-5.0 N/mm", "> 0"]),
     ("f", "support.type", ..., "support.type", ["missing"]),
     ("f", "units.stiffness", "lbf/in", "units.stiffness", ["'lbf/in'", "'N/m', 'N/mm', 'kN/mm'"]),
+    ("f", "caliper.bridge_tilt", -0.1, "caliper.bridge_tilt", ["-0.1 mrad/kN", ">= 0 mrad/kN"]),
+    ("f", "caliper.finger_stiffness", 0.0, "caliper.finger_stiffness",
+     ["0.0 MPa/mm", "> 0 MPa/mm"]),
+    ("f", "caliper.bridge_tilt", "0.1", "caliper.bridge_tilt", ["'0.1'", "expected a number"]),
+    ("d", "caliper", {"type": "fixed", "bridge_tilt": 0.1}, "caliper.bridge_tilt",
+     ["caliper.type = 'fixed'", "floating caliper"]),
 ]
 
 

@@ -87,12 +87,25 @@ class CaliperGeometry:
         press the inboard pad and the :attr:`fingers` the outboard pad with
         the same total force (the caliper slides on its pins).
     fingers : tuple of FingerGeometry
-        Finger footprints on the outboard pad (floating calipers only); the
-        clamp force is shared in proportion to their areas.
+        Finger footprints on the outboard pad (floating calipers only); with
+        a rigid bridge the clamp force is shared in proportion to their areas.
+    bridge_tilt : float
+        Compliance of the caliper bridge (rad/N, floating calipers only): under
+        a clamp force ``F`` the bridge spreads and the fingers' jaw turns by
+        ``bridge_tilt x F`` about a tangential axis, away from the pad at its
+        inner radius (the bridge reaches over the rotor's outer edge).  0: a
+        rigid bridge.
+    finger_stiffness : float
+        Normal stiffness per unit area (Pa/m) of the layer between the jaw and
+        the backplate (a shim, the local compliance of finger and plate): with
+        a tilted jaw the finger pressure is ``finger_stiffness x`` the jaw's
+        local approach (:func:`brakewear.loadpath.jaw_pressure`).
     """
 
     type: str = "fixed"
     fingers: tuple[FingerGeometry, ...] = ()
+    bridge_tilt: float = 0.0
+    finger_stiffness: float = 1e12
 
     @property
     def symmetric(self) -> bool:

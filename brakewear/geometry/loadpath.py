@@ -60,6 +60,9 @@ _HAT_KEYS = {"height", "wall_radius", "wall_thickness", "flange_thickness", "bor
 _VENT_KEYS = {"cheek_thickness", "vane_count", "vane_width"}
 _FINGER_KEYS = {"diameter", "radius", "angle"}
 _PISTON_KEYS = {"diameter", "rim_inner_diameter", "bore_diameter", "radius", "angle"}
+#: ``[caliper]`` bridge keys: unit in the file, SI per file unit, whether 0 is refused
+_BRIDGE_KEYS = {"bridge_tilt": ("mrad/kN", 1e-6, False),
+                "finger_stiffness": ("MPa/mm", 1e9, True)}
 _SUPPORT_KEYS = {"type", "clearance", "rail_stiffness", "spring_stiffness"}
 
 
@@ -301,8 +304,9 @@ def caliper(ck, d: Mapping, pad: PadGeometry, piston: PistonGeometry
     if "caliper" not in d:
         return CaliperGeometry(), ()
     s = ck.table(d["caliper"], "caliper")
-    ck.keys(s, "caliper", {"type", "fingers", "pistons"}, {"type"})
+    ck.keys(s, "caliper", {"type", "fingers", "pistons", *_BRIDGE_KEYS}, {"type"})
     kind = _choice(ck, s["type"], "caliper.type", CALIPER_TYPES)
+    bridge = _bridge(ck, s, kind)
     rows = _rows(ck, s, "fingers")
     if kind == "fixed" and rows:
         raise ck.fail("caliper.fingers", f"{len(rows)} finger(s) on a fixed caliper; a fixed "
@@ -334,7 +338,24 @@ def caliper(ck, d: Mapping, pad: PadGeometry, piston: PistonGeometry
                                     rim_inner_diameter(ck, t, name, dia)))
     _no_overlap(ck, ["piston", *(f"caliper.pistons[{i}]" for i in range(len(extra)))],
                 [(p.diameter, p.radius, p.angle) for p in (piston, *extra)])
-    return CaliperGeometry(kind, tuple(fingers)), tuple(extra)
+    return CaliperGeometry(kind, tuple(fingers), **bridge), tuple(extra)
+
+
+def _bridge(ck, s: Mapping, kind: str) -> dict[str, float]:
+    """``caliper.bridge_tilt`` (mrad/kN) and ``caliper.finger_stiffness`` (MPa/mm) in SI."""
+    out = {}
+    for key, (unit, si, strict) in _BRIDGE_KEYS.items():
+        if key not in s:
+            continue
+        if kind != "floating":
+            raise ck.fail(f"caliper.{key}", f"is given with caliper.type = {kind!r}; the bridge "
+                                            "and its fingers belong to a floating caliper")
+        v = ck.number(s, "caliper", key)
+        if v < 0.0 or (strict and v == 0.0):
+            raise ck.fail(f"caliper.{key}", f"{v!r} {unit} is not allowed; it must be "
+                                            f"{'>' if strict else '>='} 0 {unit}")
+        out[key] = v * si
+    return out
 
 
 def _rows(ck, s: Mapping, key: str) -> list[dict]:
