@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from brakewear.errors import StepSizeError, WearError
-from brakewear.geometry import load_geometry
+from brakewear.geometry import SupportGeometry, load_geometry
 from brakewear.interfaces import FEInterface, FoundationInterface, Interface, WinklerInterface
 from brakewear.laws import WearLaw
 from brakewear.model import BrakeModel
@@ -73,6 +73,11 @@ def test_resume_with_a_changed_material_is_refused(model, tmp_path):
     changed = BrakeModel(replace(g, pad=replace(g.pad, friction_material=other)), size=12e-3)
     with pytest.raises(WearError, match=rf"geometry\.pad\.friction_material\.elastic\.{field}"):
         next(wear_history(changed, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, checkpoint=ck,
+                          resume=True, numerics=Numerics(steps=3)))
+    # the load path is the brake too: another bracket is another brake
+    push = BrakeModel(replace(g, support=SupportGeometry("push", 2e-4)), size=12e-3)
+    with pytest.raises(WearError, match=r"geometry\.support\.type: bilateral -> push"):
+        next(wear_history(push, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, checkpoint=ck,
                           resume=True, numerics=Numerics(steps=3)))
     # the same inputs resume
     rest = list(wear_history(model, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, checkpoint=ck,

@@ -220,7 +220,8 @@ class _WearLoop:
     def fingerprint(self, duration: float) -> dict:
         """Every resolved input of this run (a checkpoint is resumed only by the same)."""
         g = self.model.geometry
-        geometry = {k: getattr(g, k) for k in ("rotor", "pad", "piston", "mesh")}
+        geometry = {k: getattr(g, k) for k in ("rotor", "pad", "piston", "mesh", "caliper",
+                                               "support", "extra_pistons")}
         itf = {"type": type(self.itf).__name__}
         winkler = getattr(self.itf, "winkler", None)
         if winkler is not None:
