@@ -1,5 +1,6 @@
 """Scenes on quadratic (P2) meshes: a tiny run end to end with its tetra10 VTU read
-back, and the combinations quadratic meshes do not support refused by name."""
+back, with and without thermal coupling, and the combinations quadratic meshes do
+not support refused by name."""
 import json
 
 import meshio
@@ -61,8 +62,24 @@ def test_a_quadratic_scene_runs_and_writes_tetra10(tmp_path):
     assert (tmp_path / "pad_wear.png").stat().st_size > 10_000
 
 
+def test_a_quadratic_thermal_scene_writes_temperatures_at_every_node(tmp_path):
+    summary = run_scene(_small(thermal=ThermalSpec(enabled=True)), tmp_path)
+    th = summary["thermal"]["final"]
+    assert 20.0 < th["pad_T_max_C"] < 900.0
+    assert th["heat_balance"]["relative_error"] < 1e-10
+    model = _small().build_model()
+    for body in ("pad", "rotor"):
+        mesh = model.meshes[body]
+        T = meshio.read(sorted(tmp_path.glob(f"{body}_*.vtu"))[-1]).point_data["temperature_C"]
+        assert T.shape == (mesh.p.shape[1],)                 # every P2 node
+        # a linear field on the vertices: each mid-edge node the mean of its edge's ends
+        mid = T[mesh.nvertices:]
+        assert np.allclose(mid, 0.5 * (T[mesh.edges[0]] + T[mesh.edges[1]]), rtol=1e-12)
+    pad = meshio.read(sorted(tmp_path.glob("pad_*.vtu"))[-1]).point_data["temperature_C"]
+    assert pad.max() == pytest.approx(th["pad_T_max_C"], rel=1e-9)   # heated from its face
+
+
 @pytest.mark.parametrize("change,key,alternative", [
-    (dict(thermal=ThermalSpec(enabled=True)), "thermal coupling", "thermal.enabled = false"),
     (dict(numerics=Numerics(update="geometry")), "update = 'geometry'", "numerics.update = 'gap'"),
     (dict(interface=InterfaceSpec(model="winkler")), "interface.model = 'winkler'",
      "interface.model = 'fe'"),

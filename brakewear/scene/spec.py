@@ -177,14 +177,12 @@ class Scene:
         return replace(g, mesh=replace(g.mesh, **self.resolution)) if self.resolution else g
 
     def _check_order(self) -> None:
-        """Quadratic (P2) meshes run FE contact with the gap-offset update, without
-        thermal coupling; every other combination is refused by name."""
+        """Quadratic (P2) meshes run FE contact with the gap-offset update (with or
+        without thermal coupling); every other combination is refused by name."""
         order = self.geometry.mesh.order if self.order is None else self.order
         if order != 2:
             return
         for bad, key, what, instead in (
-                (self.thermal.enabled, "thermal.enabled", "thermal coupling",
-                 "thermal.enabled = false, or mesh.order = 1"),
                 (self.numerics.update == "geometry", "numerics.update",
                  "update = 'geometry' (moving worn surfaces)",
                  "numerics.update = 'gap', or mesh.order = 1"),
@@ -193,7 +191,7 @@ class Scene:
                  "interface.model = 'fe', or mesh.order = 1")):
             if bad:
                 raise fail(key, f"{what} with mesh.order = 2 is not supported (quadratic "
-                                f"meshes: FE contact, gap offset, no thermal field); use "
+                                f"meshes: FE contact, gap offset); use "
                                 f"{instead}")
 
     def _check_resolution(self) -> None:

@@ -1,10 +1,11 @@
 """Frictional heating of the brake: heat partition, temperatures of pad and rotor, thermal strain."""
 
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
-from . import convection, model, partition, stability, strain
+from . import convection, model, partition, quadratic, stability, strain
 from .convection import *  # noqa: F403
 from .model import *  # noqa: F403
 from .partition import *  # noqa: F403
+from .quadratic import *  # noqa: F403
 from .stability import *  # noqa: F403
 from .strain import *  # noqa: F403
 
@@ -14,6 +15,7 @@ __all__ = [
     *convection.__all__,
     *model.__all__,
     *partition.__all__,
+    *quadratic.__all__,
     *stability.__all__,
     *strain.__all__,
 ]

@@ -26,7 +26,7 @@ from ..mesh.topology import ensure_topology
 from ..rings import face_rings, rotor_wear_rate
 from .convection import SpeedConvection, radiation_coefficient, rounded
 from .partition import heat_flux, partition_effusivity
-from .strain import thermal_load_matrix, thermal_stress
+from .strain import model_thermal_load, thermal_stress
 
 logger = logging.getLogger(__name__)
 
@@ -48,9 +48,11 @@ class ThermalModel:
     Parameters
     ----------
     model
-        A :class:`brakewear.model.BrakeModel`.  The pad (friction layer and
-        backplate) always gets a temperature field; the rotor only if it is
-        elastic (meshed).  The piston is not heated (its temperature stays at
+        A :class:`brakewear.model.BrakeModel` (of order 2: the temperature is
+        a linear field on its vertices,
+        :class:`~brakewear.thermal.quadratic.QuadraticThermal`).  The pad
+        (friction layer and backplate) always gets a temperature field; the
+        rotor only if it is elastic (meshed).  The piston is not heated (its temperature stays at
         ``T_ref``: no thermal strain).
     partition
         ``"auto"`` (default: ``"effusivity"`` with a meshed rotor, whose
@@ -103,6 +105,13 @@ class ThermalModel:
     """
 
     PAD_FACETS = ("back", "leading", "trailing", "inner", "outer")
+
+    def __new__(cls, model=None, *args, **kwargs):
+        # a model of P2 tetrahedra: the temperature on its vertices (thermal.quadratic)
+        if cls is ThermalModel and getattr(model, "order", 1) == 2:
+            from .quadratic import QuadraticThermal, linear_twin
+            return QuadraticThermal(model, ThermalModel(linear_twin(model), *args, **kwargs))
+        return super().__new__(cls)
     ROTOR_FACETS = ("friction", "outer", "rotor_clamp")
 
     def __init__(self, model, partition: str | float = "auto",
@@ -112,9 +121,6 @@ class ThermalModel:
                  mass: str = "consistent", T_initial: float | None = None,
                  contact_conductance: float | None = None, T_max: float | None = None,
                  emissivity: float | Mapping[str, float] | None = None):
-        if getattr(model, "order", 1) != 1:
-            raise ThermalError(f"ThermalModel: the model has quadratic meshes (order = "
-                             f"{model.order}); the thermal model supports P1 meshes only")
         self.model = model
         self.bodies = tuple(b for b in ("rotor", "pad") if b in model.bodies)
         partition, contact_conductance = _resolve_defaults("rotor" in self.bodies, partition,
@@ -401,16 +407,8 @@ class ThermalModel:
         without a temperature field.  Add it to the mechanical load:
         ``f = cs.f + cs.P.T @ thermal.thermal_load()`` for a contact system.
         """
-        T = self.T if T is None else T
-        m = self.model
-        f = np.zeros(3 * m.n_nodes)
-        for b in self.bodies:
-            if b not in self._G:
-                self._G[b] = thermal_load_matrix(m.meshes[b], m.materials[b], b)
-            fb = self._G[b] @ (np.asarray(T[b], dtype=float) - self.T_ref)
-            o = 3 * m.offsets[b]
-            f[o:o + fb.size] = fb
-        return f
+        return model_thermal_load(self.model, self.bodies, self.T if T is None else T,
+                                  self.T_ref, self._G)
 
     def stresses(self, u: Mapping[str, np.ndarray]) -> dict:
         """Element stresses ``C (eps - alpha dT I)`` per thermal body (6, n_elements)."""

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import logging
+from typing import Mapping
 
 import numpy as np
 import scipy.sparse as sp
@@ -14,7 +15,7 @@ from ..materials import Material
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["thermal_load_matrix", "thermal_stress"]
+__all__ = ["thermal_load_matrix", "model_thermal_load", "thermal_stress"]
 
 
 def _elastic_groups(mesh: fem.Mesh, materials, name: str) -> list[tuple[np.ndarray, Material]]:
@@ -28,20 +29,41 @@ def _elastic_groups(mesh: fem.Mesh, materials, name: str) -> list[tuple[np.ndarr
 
 
 def thermal_load_matrix(mesh: fem.Mesh, materials, name: str = "body") -> sp.csr_matrix:
-    """``G`` (3N x N): the thermal-strain load is ``G @ (T - T_ref)`` (N per node).
+    """``G`` (3N x n_vertices): the thermal-strain load is ``G @ (T - T_ref)`` of the
+    temperature ``T`` at the vertices (N nodes; a P2 mesh's temperature is linear
+    on its vertices, :mod:`brakewear.thermal.quadratic`).
 
     Vector DOF ``3 s + i`` as in :mod:`brakewear.fem`; each material
-    group contributes with its own ``C`` and ``alpha``.
+    group contributes with its own ``C`` and ``alpha``.  On a P2 mesh the rule
+    is the P2 stiffness's (degree 4 on the curved elements), so that a
+    uniform warming of a free body is balanced by the stiffness to round-off.
     """
     if not isinstance(mesh, fem.MeshTet1):
-        raise ThermalError(f"body {name!r}: thermal load needs a P1 MeshTet, got "
+        raise ThermalError(f"body {name!r}: thermal load needs a MeshTet (P1 or P2), got "
                            f"{type(mesh).__name__}")
-    G = sp.csr_matrix((3 * mesh.nvertices, mesh.nvertices))
+    quad = isinstance(mesh, fem.MeshTet2)
+    q, vel = (4, fem.ElementTetP2()) if quad else (1, fem.ElementTetP1())
+    G = sp.csr_matrix((3 * mesh.p.shape[1], mesh.nvertices))
     for e, m in _elastic_groups(mesh, materials, name):
-        sb = fem.Basis(mesh, fem.ElementTetP1(), intorder=1, elements=e)
-        vb = fem.Basis(mesh, fem.ElementVector(fem.ElementTetP1()), intorder=1, elements=e)
+        sb = fem.Basis(mesh, fem.ElementTetP1(), intorder=q, elements=e)
+        vb = fem.Basis(mesh, fem.ElementVector(vel), intorder=q, elements=e)
         G = G + thermal_coupling(m.voigt(), m.thermal.alpha).assemble(sb, vb)
     return G.tocsr()
+
+
+def model_thermal_load(model, bodies, T: Mapping[str, np.ndarray], T_ref: float,
+                       cache: dict) -> np.ndarray:
+    """Thermal-strain load (3 * model.n_nodes,) in ``model``'s global numbering of the
+    vertex temperatures ``T[b]`` of each body in ``bodies``; the matrices
+    (:func:`thermal_load_matrix`) are kept in ``cache``."""
+    f = np.zeros(3 * model.n_nodes)
+    for b in bodies:
+        if b not in cache:
+            cache[b] = thermal_load_matrix(model.meshes[b], model.materials[b], b)
+        fb = cache[b] @ (np.asarray(T[b], dtype=float) - T_ref)
+        o = 3 * model.offsets[b]
+        f[o:o + fb.size] = fb
+    return f
 
 
 def thermal_stress(mesh: fem.Mesh, u: np.ndarray, materials, dT: np.ndarray,
