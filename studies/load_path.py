@@ -204,7 +204,11 @@ def draw_maps(runs: dict, mu: float, pressures, path: Path) -> Path:
             pl.subplot(i, j)
             pl.add_mesh(surf, scalars="p / p_nominal", cmap="inferno", clim=(0.0, 3.0),
                         show_scalar_bar=(i == len(faces) - 1 and j == len(pressures) - 1),
-                        scalar_bar_args={"title": "p / p_nominal", "color": "black"})
+                        scalar_bar_args={"title": "p / p_nominal", "color": "black",
+                                         "vertical": True, "position_x": 0.8,
+                                         "position_y": 0.1, "height": 0.8, "width": 0.08,
+                                         "n_labels": 4, "fmt": "%.0f",
+                                         "title_font_size": 12, "label_font_size": 11})
             pl.add_text(f"{label}\n{p_mpa:g} MPa", font_size=7, color="black")
             pl.view_xy()
             pl.set_background("white")
