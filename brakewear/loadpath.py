@@ -146,6 +146,10 @@ def jaw_pressure(geometry, F: float) -> JawPressure:
     sum to ``F``.  ``theta = 0``: a uniform pressure, each finger's force in
     proportion to its area."""
     cal = geometry.caliper
+    if not (cal.bridge_tilt >= 0.0 and cal.finger_stiffness > 0.0 and cal.fingers):
+        raise SceneError(f"caliper: bridge_tilt = {cal.bridge_tilt!r} rad/N (need >= 0), "
+                         f"finger_stiffness = {cal.finger_stiffness!r} Pa/m (need > 0) and "
+                         f"{len(cal.fingers)} finger(s) (need >= 1) do not make a jaw")
     k, theta = cal.finger_stiffness, cal.bridge_tilt * F
     a0 = geometry.pad.center_angle
     e = (math.cos(a0), math.sin(a0))

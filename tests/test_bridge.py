@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from brakewear.errors import SceneError
 from brakewear.geometry import load_geometry
 from brakewear.loadpath import clamp_loads, jaw_pressure
 from brakewear.mesh.brake import pad_mesh
@@ -62,6 +63,11 @@ def test_jaw_forces_balance_the_clamp_force_and_match_the_footprint_integral(flo
         f = g.caliper.fingers[0]
         inner = np.array([[f.radius * np.cos(f.angle) - 0.45 * f.diameter], [0.0], [0.0]])
         assert jaw(inner)[0] == 0.0
+
+
+def test_a_jaw_that_is_not_one_is_refused(floating):
+    with pytest.raises(SceneError, match="bridge_tilt = -1e-07 rad/N"):
+        jaw_pressure(replace(floating, caliper=replace(floating.caliper, bridge_tilt=-1e-7)), 1.0)
 
 
 def test_full_contact_centre_in_closed_form(floating):
