@@ -124,3 +124,20 @@ def test_thermal_with_a_foundation_is_refused_before_solving(model):
         next(wear_history(model, 1e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=fd,
                           thermal=ThermalModel(model, contact_conductance=1e5),
                           numerics=Numerics(scheme="explicit")))
+
+
+def test_an_interface_of_another_line_pressure_runs_at_the_run_s(model):
+    """An interface built for 1 MPa in a 0.5 MPa run: the run's pressure, not its own."""
+    def last(itf):
+        for s in wear_history(model, 0.5e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=itf,
+                              numerics=Numerics(scheme="implicit", steps=2)):
+            pass
+        return s.pressure
+    p_half = last(FEInterface(model, 0.5e6, 0.4))
+    p_other = last(FEInterface(model, 1e6, 0.4))
+    np.testing.assert_allclose(p_other, p_half, rtol=1e-8, atol=1e-10 * p_half.max())
+    fd = FoundationInterface(model, WinklerInterface.from_model(model), 1e6, 0.4)
+    with pytest.raises(WearError, match="built for a line pressure of 1 MPa and the run asks "
+                                        "for 0.5 MPa"):
+        next(wear_history(model, 0.5e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=fd,
+                          numerics=Numerics(scheme="explicit")))

@@ -171,6 +171,20 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             raise loop.worn
 
 
+def _at_pressure(interface, line_pressure: float):
+    """``interface`` under the run's line pressure: itself, its
+    ``at_line_pressure`` copy (the load scaled, nothing assembled), or an error
+    where it can do neither (its own pressure would be used quietly)."""
+    own = getattr(interface, "line_pressure", None)
+    if own is None or own == line_pressure:
+        return interface
+    if hasattr(interface, "at_line_pressure"):
+        return interface.at_line_pressure(line_pressure)
+    raise WearError(f"the interface was built for a line pressure of {own / 1e6:g} MPa and "
+                    f"the run asks for {line_pressure / 1e6:g} MPa; build the "
+                    f"{type(interface).__name__} with the run's line pressure")
+
+
 class _WearLoop:
     """The parts of one history that do not change from step to step (laws,
     speeds, areas) and the ones the loop replaces (the model and its interface
@@ -187,7 +201,8 @@ class _WearLoop:
         # a friction law's values are set before the first solve; any mu > 0 builds the
         # pair's sliding directions
         self.itf = FEInterface(model, line_pressure, mu if mu_law is None else 1.0,
-                               numerics.tol) if interface is None else interface
+                               numerics.tol) if interface is None else _at_pressure(
+                                   interface, line_pressure)
         self.motion = None
         if numerics.update == "geometry":
             from ..motion import BrakeMotion
