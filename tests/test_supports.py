@@ -462,3 +462,20 @@ def test_the_floating_calipers_two_pads_balance_on_their_push_stops():
         drag = res.friction[0][:, np.isin(pr.slave, nodes)].sum(axis=1) @ tang
         stop = cs.supports[names.index(f"abutment trailing ({side})")].normal[:, 0] @ tang
         assert leading == 0.0 and trailing * stop == pytest.approx(-drag, rel=1e-3), side
+
+
+def test_a_pad_apart_from_the_rotor_while_its_stop_touches_starts_at_first_touch():
+    """A push-type pad on a rigid rotor with every face node apart (a worn, coned
+    rotor between stops): the bearing stop touches, the rotor does not; the first
+    solve starts the rotor contact at its closest nodes instead of leaving the pad
+    free to move toward the rotor (a singular system)."""
+    from brakewear.interfaces import FEInterface
+
+    m = BrakeModel("floating", rotor="rigid", size=8e-3)
+    itf = FEInterface(m, 1e6, 0.4)
+    r = itf.r
+    offset = 5e-6 + 30e-6 * (r - r.min()) / (r.max() - r.min())   # apart everywhere
+    sol = itf.solve(offset, None, mu=0.4)
+    F = 1e6 * m.geometry.clamp_area
+    assert (sol.pressure * itf.area).sum() == pytest.approx(F, rel=1e-8)
+    assert sol.active.any() and not sol.active.all()

@@ -81,7 +81,8 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     coords
         Node coordinates (3, n_nodes) for the rigid-body near-nullspace.
     pairs
-        :class:`ContactPair` list.
+        :class:`ContactPair` list; the first is the loaded contact (pad on
+        rotor), any others hold bodies in place (bracket stops).
     tol
         Relative residual of each linear solve.
     gap_tol
@@ -96,7 +97,8 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
         noise, without which nodes at the contact edge can flip forever.
     initial_active
         Starting active set per pair (default: the nodes with ``g0 <=
-        gap_tol``, else the closest ones); a wear step passes the last one.
+        gap_tol``; if the first pair, the loaded contact, has none, its
+        closest ones); a wear step passes the last one.
         A given set is taken as a good guess: every solve is then tight.
     solver
         A hierarchy from :func:`contact_preconditioner` for this ``K``,
@@ -148,9 +150,11 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
         raise ValueError(f"linear = {linear!r}; allowed: 'amg', 'direct'")
     if initial_active is None:
         active = [pr.g0 <= gap_tol for pr in pairs]
-        if not any(a.any() for a in active):  # first touch: the closest nodes
-            gmin = min(pr.g0.min() for pr in pairs)
-            active = [pr.g0 <= gmin + gap_tol for pr in pairs]
+        if not active[0].any():
+            # first touch of the loaded contact (the first pair): its closest nodes,
+            # whatever the other pairs (a bracket stop that touches holds the pad
+            # in its plane, not against the rotor)
+            active[0] = pairs[0].g0 <= pairs[0].g0.min() + gap_tol
     else:
         active = [np.asarray(a, dtype=bool).copy() for a in initial_active]
     if solver is not None:
