@@ -21,7 +21,9 @@ deceleration and number of stops.
 
 Model: the default brake with a rigid rotor (one face, the plane z = 0, its
 wear revolution-averaged on rings), the pad and backplate elastic, mesh
-``size`` mm; isothermal Archard wear (pad ``k`` of a resin pad, rotor
+``size`` mm (``geometry = "floating"``: the floating caliper's inboard pad
+with its piston rim, chamfers, slot and push-type bracket, which needs
+``interface = "fe"``; ``support = "bilateral"`` holds its ends instead); isothermal Archard wear (pad ``k`` of a resin pad, rotor
 ``k_corrosion`` on the layer and ``k`` of grey cast iron beneath), implicit
 pad wear, gap-offset update (:func:`brakewear.duty.run_schedule`).  The contact
 solves run on the FE model condensed onto the pad's contact nodes
@@ -55,7 +57,8 @@ logger = logging.getLogger("cleaning_stops")
 DEFAULTS = dict(decels=(0.5, 1.0, 1.5, 2.0, 3.0, 4.0), stops=20, speed=50.0, interval=120.0,
                 mass=1800.0, front_share=0.7, tyre_radius=0.32, regen_share=0.0,
                 corrosion=25.0, k_corrosion=1e-12, coning=30.0, mu=0.4, threshold=0.02,
-                size=4.0, dp_tol=0.05, pad_modulus=1.0, interface="condensed")
+                size=4.0, dp_tol=0.05, pad_modulus=1.0, interface="condensed",
+                geometry="default", support=None)
 
 
 def run_decel(task: dict) -> dict:
@@ -76,12 +79,18 @@ def run_decel(task: dict) -> dict:
         return {"decel": task["decel"], "error": f"{type(e).__name__}: {e}"}
 
 
-def _geometry(pad_modulus: float):
-    """The default brake, its friction layer's moduli scaled by ``pad_modulus``."""
+def _geometry(pad_modulus: float, name: str = "default", support: str | None = None):
+    """The brake of geometry file ``name`` (default: the default brake), its friction
+    layer's moduli scaled by ``pad_modulus``; ``support = "bilateral"``: both
+    backplate ends held in-plane instead of the file's support."""
     from dataclasses import replace
 
     from brakewear import load_geometry
-    g = load_geometry("default")
+    from brakewear.geometry import SupportGeometry
+    g = load_geometry(name)
+    if support is not None:
+        _check("support", support, support == "bilateral", "allowed: None, 'bilateral'")
+        g = replace(g, support=SupportGeometry())
     if pad_modulus == 1.0:
         return g
     m = g.pad.friction_material
@@ -94,8 +103,9 @@ def _geometry(pad_modulus: float):
 def _interface(task: dict):
     """The study's model and its interface: the FE contact, or its condensation
     (the same answer; read from the cache when a run of this model made it)."""
-    model = BrakeModel(_geometry(task.get("pad_modulus", 1.0)), size=task["size"] * 1e-3,
-                       rotor="rigid")
+    model = BrakeModel(_geometry(task.get("pad_modulus", 1.0), task.get("geometry", "default"),
+                                 task.get("support")),
+                       size=task["size"] * 1e-3, rotor="rigid")
     kind = task.get("interface", "fe")
     _check("interface", kind, kind in ("fe", "condensed"), "allowed: 'fe', 'condensed'")
     if kind == "condensed":
@@ -169,6 +179,10 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
     _check("settings", sorted(unknown), not unknown, f"allowed: {', '.join(DEFAULTS)}")
     st = {**DEFAULTS, **settings, "decels": sorted(float(a) for a in decels), "stops": stops}
     _check("stops", stops, isinstance(stops, int) and stops >= 1, "need a whole number >= 1")
+    support = _geometry(1.0, st["geometry"], st["support"]).support.type
+    _check("interface", st["interface"], st["interface"] != "condensed" or support == "bilateral",
+           f"the condensed interface needs a bilateral pad support and geometry "
+           f"{st['geometry']!r} has a {support!r} one: use interface = 'fe'")
     Vehicle(mass=st["mass"], front_share=st["front_share"], tyre_radius=st["tyre_radius"],
             regen_share=st["regen_share"]).check_deceleration(max(st["decels"]))
     t0 = time.perf_counter()
@@ -482,6 +496,11 @@ def _cli(argv=None) -> dict:
     for k in ("speed", "interval", "mass", "front_share", "regen_share", "corrosion",
               "k_corrosion", "coning", "mu", "threshold", "size", "pad_modulus"):
         ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=float, default=DEFAULTS[k])
+    ap.add_argument("--geometry", default=DEFAULTS["geometry"],
+                    help="geometry file or packaged name (e.g. 'floating': the real piston rim "
+                         "and bracket on the inboard pad; the rotor stays rigid)")
+    ap.add_argument("--support", choices=("bilateral",), default=None,
+                    help="hold both backplate ends in-plane instead of the geometry's support")
     ap.add_argument("--interface", choices=("fe", "condensed"), default=DEFAULTS["interface"],
                     help="FE contact solves, or the FE model condensed onto the pad's contact "
                          "nodes once (the same answer, much faster; the default)")

@@ -157,3 +157,18 @@ def test_probability_of_clean_refuses_bad_settings_before_running(kw, words, mon
     monkeypatch.setattr(study, "run_decel", lambda task: pytest.fail("ran a sample"))
     with pytest.raises(ValueError, match=words):
         study.probability_of_clean(1.0, **{"n": 4, **kw}, executor=_Serial())
+
+
+def test_the_floating_brake_cleans_with_its_energy_and_refuses_the_condensed_interface():
+    """The real inboard load path (piston rim, push bracket) in the vehicle study: its
+    stops dissipate the vehicle's energy as the default brake's do."""
+    task = dict(study.DEFAULTS, decel=1.0, stops=2, size=12.0, k_corrosion=8e-12,
+                geometry="floating", interface="fe")
+    run = study.run_decel(task)
+    assert "error" not in run
+    for row in run["rows"]:
+        assert row["friction_face_kJ"] == pytest.approx(row["target_face_kJ"], rel=0.03)
+    with pytest.raises(ValueError, match="needs a bilateral pad support and geometry "
+                                         "'floating' has a 'push' one"):
+        study.main(decels=(1.0,), stops=1, geometry="floating", interface="condensed",
+                   executor=_Serial())
