@@ -26,7 +26,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..errors import ActiveSetError, ContactLostError, StepSizeError, WearError
+from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, StepSizeError,
+                      WearError)
 from ..interfaces.fe import FEInterface
 from ..laws import WearLaw
 from ..rings import rotor_wear_rate
@@ -389,10 +390,12 @@ class _WearLoop:
                         "surfaces apart (no node left in contact); use more steps or the "
                         "automatic step control, which retries smaller") from None
                 change, est, ok = np.inf, np.inf, False
-            except ActiveSetError as e:
+            except (ActiveSetError, ConvergenceError) as e:
                 # the implicit step's contact set cycles when the wear changes it a lot
-                # within the step (a corrosion layer worn through under part of the pad):
-                # a shorter step is a smaller change and a better-posed problem
+                # within the step (a corrosion layer worn through under part of the pad),
+                # and its springs (compliance ~ k v dt) hold a pad that is free to tilt
+                # only weakly on a long step: a shorter step is a smaller change and a
+                # better-posed problem
                 if control.fixed or self.numerics.scheme != "implicit":
                     raise
                 logger.info("step %d: %s; retrying with dt/2", state.step + 1, e)
