@@ -58,7 +58,7 @@ DEFAULTS = dict(decels=(0.5, 1.0, 1.5, 2.0, 3.0, 4.0), stops=20, speed=50.0, int
                 mass=1800.0, front_share=0.7, tyre_radius=0.32, regen_share=0.0,
                 corrosion=25.0, k_corrosion=1e-12, coning=30.0, mu=0.4, threshold=0.02,
                 size=4.0, dp_tol=0.05, pad_modulus=1.0, interface="condensed",
-                geometry="default", support=None)
+                geometry="default", support=None, piston="traction")
 
 
 def run_decel(task: dict) -> dict:
@@ -105,7 +105,8 @@ def _interface(task: dict):
     (the same answer; read from the cache when a run of this model made it)."""
     model = BrakeModel(_geometry(task.get("pad_modulus", 1.0), task.get("geometry", "default"),
                                  task.get("support")),
-                       size=task["size"] * 1e-3, rotor="rigid")
+                       size=task["size"] * 1e-3, rotor="rigid",
+                       piston=task.get("piston", "traction"))
     kind = task.get("interface", "fe")
     _check("interface", kind, kind in ("fe", "condensed"), "allowed: 'fe', 'condensed'")
     if kind == "condensed":
@@ -499,6 +500,9 @@ def _cli(argv=None) -> dict:
     ap.add_argument("--geometry", default=DEFAULTS["geometry"],
                     help="geometry file or packaged name (e.g. 'floating': the real piston rim "
                          "and bracket on the inboard pad; the rotor stays rigid)")
+    ap.add_argument("--piston", choices=("traction", "body"), default=DEFAULTS["piston"],
+                    help="the clamp force as a traction on the piston footprint (the pad free "
+                         "to tilt on it), or the piston meshed, tied and guided by its bore")
     ap.add_argument("--support", choices=("bilateral",), default=None,
                     help="hold both backplate ends in-plane instead of the geometry's support")
     ap.add_argument("--interface", choices=("fe", "condensed"), default=DEFAULTS["interface"],
