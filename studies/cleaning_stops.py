@@ -264,9 +264,9 @@ def plot_map(result: dict, path: Path) -> None:
     x = np.arange(len(runs))
     im = ax.imshow(M * 100, origin="lower", aspect="auto", cmap="viridis", vmin=0, vmax=100,
                    extent=(-0.5, len(runs) - 0.5, 0.5, st["stops"] + 0.5))
-    ax.set_xticks(x, [f"{r['decel']:g}\n{r['line_pressure_MPa']:.2f} MPa" for r in runs],
-                  fontsize=8)
-    ax.set_xlabel("deceleration (m/s^2) and its line pressure")
+    ax.set_xticks(x, [f"{r['decel']:g}\n{r['line_pressure_MPa']:.2f}" for r in runs],
+                  fontsize=8 if len(runs) <= 7 else 7)
+    ax.set_xlabel("deceleration (m/s^2) and its line pressure (MPa)")
     ax.set_ylabel("stops")
     ax.yaxis.get_major_locator().set_params(integer=True)
     ax.set_title("cleaned share of the friction band's area (%)", fontsize=10)
