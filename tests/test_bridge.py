@@ -82,11 +82,10 @@ def test_full_contact_centre_in_closed_form(floating):
     assert ref[0, 1] / ref[0, 0] == pytest.approx(s + a * B / (4 * A), rel=1e-7)
 
 
-@pytest.mark.parametrize("tilt", [0.05, 1.0])
-def test_nodal_loads_carry_the_jaw_force_and_centre(floating, tilt):
+@pytest.mark.parametrize("tilt, order, size", [(0.05, 1, 3e-3), (1.0, 1, 3e-3), (1.0, 2, 6e-3)])
+def test_nodal_loads_carry_the_jaw_force_and_centre(floating, tilt, order, size):
     g = tilted(floating, tilt)
-    size = 3e-3
-    both = mirrored_pads(pad_mesh(g, size=size), -0.5 * g.rotor.thickness)
+    both = mirrored_pads(pad_mesh(g, size=size, order=order), -0.5 * g.rotor.thickness)
     F = 1e6 * g.clamp_area
     f = clamp_loads(g, both, 1e6, full=True, sides=("out",)).reshape(-1, 3)
     assert f.sum(axis=0) == pytest.approx([0.0, 0.0, F], abs=1e-12 * F)
