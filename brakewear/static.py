@@ -16,7 +16,8 @@ from .mesh.surface import face_nodes
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["body_stresses", "static_summary", "face_report", "friction_faces", "pad_balance"]
+__all__ = ["body_stresses", "static_summary", "face_report", "friction_faces", "pad_balance",
+           "caliper_balance"]
 
 
 def body_stresses(model, result) -> dict:
@@ -85,6 +86,55 @@ def static_summary(model, result) -> dict:
     }
 
 
+def _pad_sides(model) -> dict[str, np.ndarray]:
+    """Pad nodes of each side: ``"in"`` and, in the full model, ``"out"``."""
+    x = model.meshes["pad"].p
+    n = x.shape[1]
+    if not model.full:
+        return {"in": np.ones(n, dtype=bool)}
+    inboard = x[2] > -0.5 * model.geometry.rotor.thickness
+    return {"in": inboard, "out": ~inboard}
+
+
+def _traction_only(model) -> None:
+    if model.piston != "traction":
+        raise ValueError("pad and caliper balances need piston = 'traction' (a meshed "
+                         "piston is tied to the pad)")
+
+
+def caliper_balance(model, line_pressure: float) -> dict:
+    """Force and moment balance of a full model's caliper: what its pistons
+    (inboard) and its fingers or outboard pistons (outboard) press onto the pads
+    is, by reaction, what the pads press back onto the caliper; the caliper
+    slides on its pins, so these forces must cancel (the bridge carries them
+    from one side to the other) and only a couple is left, carried by the pins
+    to the bracket.  The clamp loads alone decide it (no solve needed).
+    Needs ``piston = "traction"``.
+
+    Returns
+    -------
+    dict
+        ``inboard_force_N`` and ``outboard_force_N``: the normal force of each
+        side's footprints; ``force``: the norm of the caliper's resultant
+        force relative to ``F = line_pressure x clamp_area``;
+        ``pin_moment_Nm``: the moment ``[mx, my, mz]`` of the pads' reactions
+        on the caliper (the resultant being zero, it is the same about any
+        point, so it is the moment about the pins).
+    """
+    _traction_only(model)
+    if not model.full:
+        raise ValueError("caliper_balance needs the full model: the half model has one pad")
+    pad, off = model.meshes["pad"], model.offsets["pad"]
+    n = pad.p.shape[1]
+    fa = -model.loads(line_pressure)[3 * off:3 * (off + n)].reshape(-1, 3)
+    sides = _pad_sides(model)
+    F = line_pressure * model.geometry.clamp_area
+    return {"inboard_force_N": float(fa[sides["in"], 2].sum()),
+            "outboard_force_N": float(-fa[sides["out"], 2].sum()),
+            "force": float(np.linalg.norm(fa.sum(axis=0)) / F),
+            "pin_moment_Nm": np.cross(pad.p.T, fa).sum(axis=0).tolist()}
+
+
 def pad_balance(model, result, line_pressure: float, extra: dict | None = None) -> dict:
     """Force and moment balance of each pad: applied clamp load + contact forces
     (the solve's multipliers and friction) + support reactions (``K u - f`` at the
@@ -92,21 +142,18 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
     supports, ``result.support_force``) + ``extra`` forces (name -> pad-DOF vector, e.g. springs or
     abutments), each resultant relative to the clamp force (moments to the clamp
     force times the pad's outer radius).  Needs ``piston = "traction"``.
-    In the full model also the caliper: its resultant force (zero: the fingers
-    or the outboard pistons balance the inboard ones) and the moment its pins
-    carry to the bracket.
+    In the full model also the caliper (:func:`caliper_balance`).
 
     Returns
     -------
     dict
         ``{"in": {"force": rel, "moment": rel}, "out": ..., "caliper":
-        {"force": rel, "pin_moment_Nm": [mx, my, mz]}}``.
+        {"inboard_force_N": ..., "outboard_force_N": ..., "force": rel,
+        "pin_moment_Nm": [mx, my, mz]}}``.
     """
     from .loadpath import pad_support_dofs      # loadpath sits beside model, above static
 
-    if model.piston != "traction":
-        raise ValueError("pad_balance needs piston = 'traction' (a meshed piston is tied "
-                         "to the pad)")
+    _traction_only(model)
     pad, off = model.meshes["pad"], model.offsets["pad"]
     n = pad.p.shape[1]
     f = model.loads(line_pressure)[3 * off:3 * (off + n)]
@@ -125,18 +172,12 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
     F = line_pressure * model.geometry.clamp_area
     R = model.geometry.pad.outer_radius
     x = pad.p
-    half = -0.5 * model.geometry.rotor.thickness
-    sides = {"in": x[2] > half} if model.full else {"in": np.ones(n, dtype=bool)}
-    if model.full:
-        sides["out"] = ~sides["in"]
     out = {}
-    for side, mask in sides.items():
+    for side, mask in _pad_sides(model).items():
         e = ext.reshape(-1, 3)[mask]
         m = np.cross(x[:, mask].T, e).sum(axis=0)
         out[side] = {"force": float(np.linalg.norm(e.sum(axis=0)) / F),
                      "moment": float(np.linalg.norm(m) / (F * R))}
     if model.full:
-        fa = -f.reshape(-1, 3)     # what the pistons and fingers take from the caliper
-        out["caliper"] = {"force": float(np.linalg.norm(fa.sum(axis=0)) / F),
-                          "pin_moment_Nm": np.cross(x.T, fa).sum(axis=0).tolist()}
+        out["caliper"] = caliper_balance(model, line_pressure)
     return out

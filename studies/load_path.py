@@ -25,8 +25,10 @@ For each case, pressure and friction coefficient: per friction face the
 contact coverage (share of the face's area whose nodes carry pressure), the
 centre of pressure (radius, angle from the pad's centre line along the
 rotor's motion), the largest pressure over the nominal one (clamp force over
-the lining's area) and each pad's force and moment balance
-(:func:`brakewear.static.pad_balance`).  Two checks of the half model:
+the lining's area), each pad's force and moment balance
+(:func:`brakewear.static.pad_balance`) and, in the full model, the caliper's:
+the pistons' and the fingers' forces, the relative residual of their sum and
+the couple the pins carry (:func:`brakewear.static.caliper_balance`).  Two checks of the half model:
 
 - where its assumption holds (a fixed caliper with the floating brake's
   piston rim on both sides, the ring clamped at its inner radius), ``full``
@@ -47,7 +49,10 @@ Two more questions of the floating brake:
 Run ``python studies/load_path.py [--out DIR] [--pressures 0.25 0.5 1 2 4]
 [--mu 0 0.4] [--pad-size MM] [--levels 1 1.5 2]``; writes
 ``DIR/data/load_path.json`` and the pressure maps
-``DIR/figures/load_path_mu0.png``, ``load_path_mu0.4.png``.
+``DIR/figures/load_path_mu0.png``, ``load_path_mu0.4.png``.  With
+``--caliper-only`` it solves no contact and writes only the caliper's balance
+of every full-model case, ``DIR/data/load_path_caliper.json``
+(:func:`caliper_main`; seconds on any mesh).
 """
 from __future__ import annotations
 
@@ -63,7 +68,7 @@ import numpy as np
 
 from brakewear.geometry import CaliperGeometry, load_geometry
 from brakewear.model import BrakeModel
-from brakewear.static import pad_balance
+from brakewear.static import caliper_balance, pad_balance
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from thermal_coning import thermal_load  # noqa: E402  (a sibling script, not a package)
@@ -154,11 +159,19 @@ def solve_case(geom, layout: str, pressures, mus, dT: float = 0.0,
                          "faces": face_numbers(model, res, p),
                          "balance": {k: max(v["force"], v["moment"]) for k, v in bal.items()
                                      if k != "caliper"},
-                         "pin_moment_Nm": bal.get("caliper", {}).get("pin_moment_Nm")})
+                         "caliper": bal.get("caliper")})
             if fields:
                 maps[(mu, p_mpa)] = pressure_field(model, res)
     return {"layout": model.layout, "dofs": int(model.dofs), "rows": rows,
             "wall_s": time.perf_counter() - t0, "maps": maps}
+
+
+def caliper_rows(geom, pressures) -> list:
+    """The caliper's balance (:func:`brakewear.static.caliper_balance`) of the
+    full model of ``geom`` at every pressure (MPa): the clamp loads alone
+    decide it, so no contact is solved and it is cheap on any mesh."""
+    model = BrakeModel(geom, layout="full")
+    return [{"line_pressure_MPa": p, **caliper_balance(model, p * 1e6)} for p in pressures]
 
 
 def half_differences(full: dict, half: dict) -> list:
@@ -321,15 +334,16 @@ def main(pressures=PRESSURES_MPA, mus=MUS, mesh: dict | None = None, out: Path |
 def print_table(result: dict) -> None:
     """The table of docs/geometry.md, "The load path"."""
     print("| case | face | p (MPa) | mu | coverage | CoP r (mm) | CoP theta (deg) | "
-          "p max / p nom | balance |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "p max / p nom | balance | caliper |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for name in MAPPED:
         for r in result["cases"][name]["rows"]:
+            cal = "" if r["caliper"] is None else f"{r['caliper']['force']:.1e}"
             for face, f in r["faces"].items():
                 print(f"| {name} | {face} | {r['line_pressure_MPa']:g} | {r['mu']:g} | "
                       f"{100 * f['coverage']:.1f} % | {f['cop_r_mm']:.2f} | "
                       f"{f['cop_theta_deg']:+.2f} | {f['peak_over_nominal']:.2f} | "
-                      f"{r['balance'][face]:.1e} |")
+                      f"{r['balance'][face]:.1e} | {cal} |")
     for key in ("half_where_it_holds", "half_where_it_does_not"):
         worst = max(max(d[f][q] for f in ("in", "out") for q in d[f]) for d in result[key])
         print(f"{key}: largest relative difference {100 * worst:.2f} %")
@@ -337,6 +351,26 @@ def print_table(result: dict) -> None:
         est = "not asymptotic" if e["estimate"] is None else \
             f"rate {e['rate']:.2f}, estimate {e['estimate']:.4g}"
         print(f"{key}: {' '.join(f'{v:.4g}' for v in e['values'])}; {est}")
+
+
+def caliper_main(pressures=PRESSURES_MPA, mesh: dict | None = None,
+                 out: Path | None = None) -> dict:
+    """The caliper's balance of every full-model case at every pressure (no
+    contact solves; :func:`caliper_rows`); writes ``out/data/load_path_caliper.json``."""
+    mesh = dict(MESH if mesh is None else mesh)
+    result = {"mesh_m": mesh, "pressures_MPa": list(pressures),
+              "cases": {name: caliper_rows(geom, pressures)
+                        for name, (geom, layout, _) in cases(mesh).items()
+                        if layout == "full" and name != "floating_hot"}}
+    for name, rows in result["cases"].items():
+        for r in rows:
+            print(f"{name} {r['line_pressure_MPa']:g} MPa: inboard {r['inboard_force_N']:.6g} N, "
+                  f"outboard {r['outboard_force_N']:.6g} N, residual {r['force']:.1e}, "
+                  f"pin moment {', '.join(f'{m:+.4g}' for m in r['pin_moment_Nm'])} N m")
+    if out is not None:
+        (out / "data").mkdir(parents=True, exist_ok=True)
+        (out / "data" / "load_path_caliper.json").write_text(json.dumps(result, indent=1))
+    return result
 
 
 if __name__ == "__main__":
@@ -347,8 +381,14 @@ if __name__ == "__main__":
     ap.add_argument("--pad-size", type=float, default=None, help="pad element size (mm)")
     ap.add_argument("--levels", type=float, nargs="*", default=[1.0, 1.5, 2.0],
                     help="refinement levels of the coverage study (none: skip it)")
+    ap.add_argument("--caliper-only", action="store_true",
+                    help="only the caliper's balance (no contact solves): "
+                         "DIR/data/load_path_caliper.json")
     a = ap.parse_args()
     mesh = dict(MESH)
     if a.pad_size:
         mesh.update(size=a.pad_size * 1e-3, pad_size=a.pad_size * 1e-3)
-    main(a.pressures, a.mu, mesh, a.out, levels=tuple(a.levels))
+    if a.caliper_only:
+        caliper_main(a.pressures, mesh, a.out)
+    else:
+        main(a.pressures, a.mu, mesh, a.out, levels=tuple(a.levels))

@@ -30,9 +30,31 @@ def test_conforming_contact_is_proportional_and_balanced(floating):
         assert b["normal_force_N"] == pytest.approx(4 * a["normal_force_N"], rel=1e-8)
     for row in run["rows"]:
         assert max(row["balance"].values()) < 1e-8
+        # the caliper: the piston's force is the fingers' force, both the clamp force
+        cal, F = row["caliper"], row["line_pressure_MPa"] * 1e6 * floating.clamp_area
+        assert cal["force"] < 1e-8
+        assert cal["inboard_force_N"] == pytest.approx(F, rel=1e-8)
+        assert cal["outboard_force_N"] == pytest.approx(F, rel=1e-8)
     # the fingers sit outboard of the piston: so does the outboard centre of pressure
     f = _faces(run, 0)
     assert f["out"]["cop_r_mm"] > f["in"]["cop_r_mm"] + 2.0
+
+
+def test_the_caliper_only_run_balances_every_full_case():
+    out = lp.caliper_main([0.25, 4.0], lp.level_mesh(1.0))
+    assert set(out["cases"]) == {"floating", "fingers_full", "fixed_full"}
+    g = load_geometry("floating")
+    for name, rows in out["cases"].items():
+        for r in rows:
+            F = r["line_pressure_MPa"] * 1e6 * g.clamp_area
+            assert r["force"] < 1e-8
+            assert r["outboard_force_N"] == pytest.approx(r["inboard_force_N"], rel=1e-8)
+            # the pins carry the couple of the fingers' offset, F (x_fingers - x_piston),
+            # to the footprints' quadrature on 6 mm facets (1.2 %; 0.2 % at 2.5 mm);
+            # opposed pistons leave none
+            x_f = 0.126 * np.cos(np.radians(12.0))
+            my = F * (x_f - 0.119) if name != "fixed_full" else 0.0
+            assert r["pin_moment_Nm"][1] == pytest.approx(my, abs=0.03 * F * (x_f - 0.119))
 
 
 def test_a_hot_ring_cones_and_the_line_pressure_flattens_it(floating):
@@ -91,4 +113,4 @@ def test_the_docs_snippet_runs(capsys):
     exec(compile(code, "docs/load_path.md", "exec"), {})
     lines = capsys.readouterr().out.strip().splitlines()
     assert [s.split()[0] for s in lines[:2]] == ["in", "out"]
-    assert lines[2] == "True True"
+    assert lines[2] == "True True True"
