@@ -227,3 +227,29 @@ def test_packaged_hat_rotor_has_no_zero_width_cells():
     m = rotor_mesh(g, size=8e-3, full=True)
     v = element_volumes(m)
     assert v.min() > 1e-3 * np.median(v)
+
+
+def test_rotor_shapes_study(tmp_path):
+    """studies/rotor_shapes.py (docs/geometry.md's figure) on a coarse mesh, without
+    the picture: its closed forms are the ones worked out by hand above, and the
+    meshes' volumes meet them."""
+    from studyload import load_study
+
+    res = load_study("rotor_shapes").main(size_mm=8.0, data=str(tmp_path), figure=False)
+    g = load_geometry("floating")
+    t, ri, ro = 0.024, 0.090, 0.150
+    wall = np.pi * (0.090 ** 2 - 0.084 ** 2) * (0.042 - 0.007)
+    flange = np.pi * (0.090 ** 2 - 0.033 ** 2) * 0.007
+    vents = _rotor(g, vents=VentGeometry(0.008, 37, 0.006))
+    hand = {"hat": np.pi * (ro ** 2 - 0.084 ** 2) * t + wall + flange,
+            # the neck over the wall is the outboard cheek only; the channels less the vanes
+            "vented": (np.pi * (ro ** 2 - ri ** 2) * t + np.pi * (ri ** 2 - 0.084 ** 2) * 0.008
+                       + wall + flange
+                       - (np.pi * (ro ** 2 - ri ** 2) - 37 * _vane_area(vents)) * (t - 0.016))}
+    for name, row in res["rotors"].items():
+        assert row["closed_form_m3"]["total"] == pytest.approx(hand[name], rel=1e-12)
+        assert row["rotor_volume_m3"] == pytest.approx(hand[name], rel=1e-12)
+        assert abs(row["orders"]["P1"]["rel_diff"]) < 1e-2, name
+        assert abs(row["orders"]["P2"]["rel_diff"]) < 2e-5, name
+        assert row["orders"]["P2"]["dofs"] > row["orders"]["P1"]["dofs"]
+    assert (tmp_path / "rotor_mounts.json").exists()
