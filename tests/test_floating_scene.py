@@ -51,3 +51,21 @@ def test_packaged_floating_scene_runs_coarse(tmp_path):
     # at 1 MPa the contact pressure stays within a few times the nominal pressure
     nominal = 1e6 * s.geometry.clamp_area / s.geometry.pad.area
     assert nominal < final["pressure_max_Pa"] < 10 * nominal
+
+
+def test_inline_geometry_takes_the_load_path_tables():
+    """The floating geometry written inline as [geometry] (docs/scenes.md's table:
+    caliper, fingers, support, rotor.hat, rotor.vents) gives the packaged one."""
+    from brakewear.geometry import geometry_file, load_geometry
+    from brakewear.scene import scene_from_dict
+
+    scene = tomllib.loads(scene_file("floating").read_text())
+    del scene["scene"]["geometry"]
+    scene["geometry"] = tomllib.loads(geometry_file("floating").read_text())
+    scene["geometry"]["rotor"]["vents"] = {"cheek_thickness": 8.0, "vane_count": 37,
+                                           "vane_width": 6.0}
+    g = scene_from_dict(scene).geometry
+    ref = load_geometry("floating")
+    assert g.caliper == ref.caliper and g.support == ref.support
+    assert g.rotor.hat == ref.rotor.hat and g.support.rail_stiffness == pytest.approx(1e9)
+    assert g.rotor.vents.vane_count == 37 and g.rotor.vents.vane_width == pytest.approx(6e-3)
