@@ -359,6 +359,11 @@ def test_a_face_beyond_T_max_ends_the_run_with_its_figures(tmp_path):
         assert float(r["rotor_T_mean_C"]) <= float(r["rotor_T_max_C"])
         assert float(r["heat_pad_W"]) > 0 and float(r["heat_rotor_W"]) > 0
         assert float(r["convected_rotor_W"]) > 0
+        # the net heat into the two bodies is the friction power, torque x omega
+        friction_W = float(r["torque_Nm"]) * s.omega
+        assert float(r["heat_pad_W"]) + float(r["heat_rotor_W"]) == pytest.approx(
+            friction_W, rel=1e-8)
+        assert float(r["heat_pad_W"]) < 0.5 * friction_W
     th = ok["thermal"]
     assert th["settings"]["contact_conductance"] == 1e5
     assert th["final"]["pad_T_max_C"] == pytest.approx(hot[1], rel=1e-12)

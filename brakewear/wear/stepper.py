@@ -469,7 +469,9 @@ class _WearLoop:
             rec.heat = {"pad_T_mean": float(th.face_temperature("pad").mean()),
                         "rotor_T_mean": float(T_rot.mean() if "rotor" not in th.bodies
                                               else th.face_temperature("rotor").mean()),
-                        **{f"heat_{k}_W": v["heat_in_W"] for k, v in b["bodies"].items()},
+                        # net: friction share plus the contact exchange in, less out
+                        **{f"heat_{k}_W": v["heat_in_W"] - v["to_contact_W"]
+                           for k, v in b["bodies"].items()},
                         **{f"convected_{k}_W": v["convected_W"] for k, v in b["bodies"].items()}}
         return rec
 
