@@ -81,7 +81,8 @@ def _figures(model, out: Path, scene) -> list[str]:
         import matplotlib.pyplot as plt
         t = np.array([0.0] + [float(r["time_s"]) for r in rows])
         t_start = np.array([float(r["time_s"]) - float(r["dt_s"]) for r in rows])
-        fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+        hot = "pad_T_max_C" in rows[0]
+        fig, ax = plt.subplots(1, 3 if hot else 2, figsize=(15 if hot else 10, 4))
         for key, label in (("pad_wear_max_m", "pad, max"), ("pad_wear_mean_m", "pad, mean"),
                            ("rotor_wear_max_m", "rotor, max")):
             ax[0].plot(t, [0.0] + [1e6 * float(r[key]) for r in rows], label=label)
@@ -90,6 +91,14 @@ def _figures(model, out: Path, scene) -> list[str]:
         ax[1].plot(t_start, [1e-6 * float(r["pressure_max_Pa"]) for r in rows], marker=".")
         ax[1].set(xlabel="time (s)", ylabel="max contact pressure (MPa)",
                   title="pressure at the start of each step")
+        for key, label in (("pad_T_max_C", "pad face, max"), ("pad_T_mean_C", "pad face, mean"),
+                           ("rotor_T_max_C", "rotor face, max"),
+                           ("rotor_T_mean_C", "rotor face, mean")) if hot else ():
+            ax[2].plot(t[1:], [float(r[key]) for r in rows], label=label)
+        if hot:
+            ax[2].set(xlabel="time (s)", ylabel="temperature (C)",
+                      title="face temperatures at the end of each step")
+            ax[2].legend()
         fig.suptitle(f"{scene.name}: {scene.line_pressure / 1e6:g} MPa, "
                      f"{scene.omega:g} rad/s, " + (f"mu {scene.interface.mu:g}"
                                                    if scene.interface.mu_map is None

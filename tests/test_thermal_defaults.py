@@ -65,3 +65,22 @@ def test_a_rigid_rotor_drag_localises_and_is_refused_with_its_figures():
         for _ in wear_history(m, 1e6, 55.0, 30.0, WearLaw(5e-15), None, mu=0.4,
                               thermal=ThermalModel(m), numerics=Numerics(steps=10)):
             pass
+
+
+def test_the_packaged_thermal_scene_is_the_default_drag_with_heat_on():
+    """`brakewear run thermal`: the default scene's brake, mesh, load and laws, the
+    first 90 s of its drag in 30 equal steps, heating on with the default partition
+    and the plausibility bound of 900 C."""
+    import dataclasses
+
+    from brakewear.scene import load_scene
+    hot, cold = load_scene("thermal"), load_scene("default")
+    assert hot.thermal.enabled and not cold.thermal.enabled
+    assert hot.thermal.contact_conductance == H_CONTACT_DEFAULT
+    assert hot.thermal.T_max == pytest.approx(900.0 + 273.15)
+    assert hot.duration == pytest.approx(90.0) and hot.numerics.steps == 30
+    same = ("geometry", "line_pressure", "omega", "ambient", "rotor", "piston", "layout",
+            "mesh_size", "order", "resolution", "interface", "pad_wear", "rotor_wear")
+    assert {f: getattr(hot, f) for f in same} == {f: getattr(cold, f) for f in same}
+    assert dataclasses.replace(hot.numerics, steps=None, dp_tol=cold.numerics.dp_tol,
+                               dh_fraction=cold.numerics.dh_fraction) == cold.numerics
