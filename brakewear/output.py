@@ -37,7 +37,7 @@ from .rings import ring_profile
 from .scene.spec import _first_difference
 from .wear.numerics import Numerics
 from .wear.state import checkpoint_progress
-from .wear.stepper import WearStep, wear_history
+from .wear.stepper import WearStep, check_resume, wear_history
 
 logger = logging.getLogger(__name__)
 
@@ -279,7 +279,9 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     Writes what :func:`brakewear.output.run_wear` writes, plus
     ``scene.json`` (this scene, SI) and, with ``output.figures``, PNG
     figures.  ``resume=True`` continues from ``out/checkpoint.npz`` and
-    refuses a folder written by a different scene.  ``progress`` is
+    refuses a folder written by a different scene or with other inputs
+    (geometry and material data, laws, numerics, package version: the
+    checkpoint's fingerprint), also when that run has already finished.  ``progress`` is
     called with each :class:`~brakewear.wear.WearStep`.
     """
     out = check_out(out)
@@ -288,10 +290,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     if resume and scene.schedule:
         raise SceneError("--resume: a scene with a [schedule] runs from its start (its "
                          "applications are not checkpointed); run it again without --resume")
-    if resume:
-        done = _resumable(scene, out, record, rec_path)
-        if done is not None:
-            return done
+    done = _resumable(scene, out, record, rec_path) if resume else None
     # every input is checked (and the model built) before anything is written to out
     pad_law, rotor_law = scene.wear_laws()
     model = scene.build_model()
@@ -325,6 +324,11 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                                      T_initial=t.T_initial,
                                      contact_conductance=t.contact_conductance,
                                      T_max=t.T_max, emissivity=t.emissivity)
+    if done is not None:      # finished: nothing to run, once its inputs are the same
+        check_resume(model, scene.line_pressure, scene.omega, scene.duration, pad_law,
+                     rotor_law, scene.friction(), checkpoint=out / "checkpoint.npz", **kw)
+        logger.info("run in %s already finished (step %d)", out, done["steps"])
+        return done
     out.mkdir(parents=True, exist_ok=True)
     rec_path.write_text(json.dumps(record, indent=2))
     if scene.schedule:
@@ -365,7 +369,9 @@ def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict) -
 
 def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
     """Check that ``out`` holds a run of ``scene`` to resume (raises SceneError
-    naming the difference); its summary if that run has finished, else None."""
+    naming the difference); its summary if that run has finished, else None
+    (the inputs the scene resolves to are checked against the checkpoint's
+    fingerprint once the model is built)."""
     ck = out / "checkpoint.npz"
     if not ck.exists():
         raise SceneError(f"--resume: {ck} does not exist (no checkpoint was written: "
@@ -387,7 +393,6 @@ def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
                          f"{t_done:.6g} s, beyond environment.duration = "
                          f"{scene.duration:.6g} s; allowed: a duration >= {t_done:.6g} s")
     if t_done >= scene.duration * (1 - 1e-12):
-        logger.info("run in %s already finished (step %d)", out, step_done)
         summ = out / "summary.json"
         if not summ.exists():
             raise SceneError(f"--resume: the run in {out} has finished (step "
