@@ -36,6 +36,7 @@ from .mesh.series import SeriesWriter, cell_nodes, face_fields
 from .rings import ring_profile
 from .scene.spec import _first_difference
 from .wear.numerics import Numerics
+from .wear.records import step_figures, temperature_field, thermal_record
 from .wear.state import checkpoint_progress
 from .wear.stepper import WearStep, check_resume, wear_history
 
@@ -100,35 +101,6 @@ def _figures(model, out: Path, scene) -> list[str]:
         plt.close(fig)
         files.append(str(path))
     return files
-
-
-def step_figures(s: WearStep, itf, mu: float) -> dict:
-    """Per-step figures of a wear step (the rows of history.csv)."""
-    p, act, A, r = s.pressure, s.active, itf.area, itf.r
-    F = float((p * A).sum())
-    pr = (p * r)[act]
-    return {
-        "step": s.step, "time_s": s.time, "dt_s": s.dt, "limit": s.limit,
-        "sliding_distance_m": s.sliding_distance,
-        "pad_wear_max_m": float(s.pad_wear.max()), "pad_wear_mean_m": float(
-            (s.pad_wear * A).sum() / A.sum()),
-        "rotor_wear_max_m": float(s.rotor_wear.max()),
-        "pressure_max_Pa": float(p.max()), "contact_fraction": float(A[act].sum() / A.sum()),
-        "pr_spread": float((pr.max() - pr.min()) / pr.mean()) if pr.size else float("nan"),
-        "normal_force_N": F,
-        "mu": s.mu,
-        "torque_Nm": float(((s.mu if s.mu_nodes is None else s.mu_nodes) * p * A * r)
-                           .sum()),
-        "pad_volume_m3": s.pad_volume, "rotor_volume_m3": s.rotor_volume,
-        "rejected": s.rejected, "contact_solves": s.contact_solves, "solve_s": s.solve_s,
-        **({} if np.isnan(s.pad_temperature_max) else {
-            "pad_T_max_C": s.pad_temperature_max - 273.15,
-            "rotor_T_max_C": s.rotor_temperature_max - 273.15,
-            "pad_T_mean_C": s.heat["pad_T_mean"] - 273.15,
-            "rotor_T_mean_C": s.heat["rotor_T_mean"] - 273.15,
-            **{k: v for k, v in s.heat.items() if k.endswith("_W")},
-            "heat_balance_error": s.heat_balance_error}),
-    }
 
 
 def law_record(law):
@@ -241,26 +213,6 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         worn.summary = summary
         raise worn
     return summary
-
-
-def temperature_field(thermal, body: str, n: int) -> dict:
-    """``{"temperature_C": ...}`` of ``body`` for its VTU (``n`` mesh nodes), or {}
-    without a thermal model or a field of that body on those nodes."""
-    if thermal is None or body not in thermal.bodies or thermal.T[body].size != n:
-        return {}
-    return {"temperature_C": thermal.T[body] - 273.15}
-
-
-def thermal_record(thermal, last: WearStep) -> dict:
-    """The summary's ``thermal`` entry: settings, the pad's heat share, the bound
-    and the final face temperatures and heat balance."""
-    return {"settings": {k: v for k, v in thermal.settings.items()
-                         if k != "convection_facets"},
-            "pad_share": float(np.mean(thermal.partition)), "T_max_K": thermal.T_max,
-            "final": {"pad_T_max_C": last.pad_temperature_max - 273.15,
-                      "rotor_T_max_C": last.rotor_temperature_max - 273.15,
-                      "heat_balance": {k: v for k, v in thermal.heat_balance().items()
-                                       if k != "bodies"}}}
 
 
 def _write_csv(path: Path, rows: list) -> None:

@@ -36,6 +36,7 @@ from .limits import WearLimits, check_temperature
 from .inputs import at_pressure, check_inputs
 from .nodal import NodalLaws
 from .numerics import Numerics
+from .records import thermal_state
 from .speed import ConstantSpeed, as_speed
 from .state import WearState, check_fingerprint, fingerprint
 
@@ -469,18 +470,9 @@ class _WearLoop:
                        float((state.rotor_wear * self.A_rot).sum()),
                        state.pad_archard, state.rotor_archard, rejected, rejected + 1,
                        solve_s, limit, mu_step)
-        th = self.thermal
-        if th is not None:
-            rec.pad_temperature_max = float(th.face_temperature("pad").max())
-            rec.rotor_temperature_max = float(T_rot.max() if "rotor" not in th.bodies
-                                              else th.face_temperature("rotor").max())
-            b = th.heat_balance()
-            rec.heat_balance_error = float(b["relative_error"])
-            rec.heat = {"pad_T_mean": float(th.face_temperature("pad").mean()),
-                        "rotor_T_mean": float(T_rot.mean() if "rotor" not in th.bodies
-                                              else th.face_temperature("rotor").mean()),
-                        **{f"heat_{k}_W": v["heat_in_W"] for k, v in b["bodies"].items()},
-                        **{f"convected_{k}_W": v["convected_W"] for k, v in b["bodies"].items()}}
+        if self.thermal is not None:
+            for k, v in thermal_state(self.thermal, T_rot).items():
+                setattr(rec, k, v)
         return rec
 
     def finish(self, state: WearState, record: WearStep, sol, dt: float) -> None:
