@@ -359,6 +359,10 @@ def test_a_face_beyond_T_max_ends_the_run_with_its_figures(tmp_path):
         assert float(r["rotor_T_mean_C"]) <= float(r["rotor_T_max_C"])
         assert float(r["heat_pad_W"]) > 0 and float(r["heat_rotor_W"]) > 0
         assert float(r["convected_rotor_W"]) > 0
+        # net heat: the contact exchange leaves one body and enters the other, so the
+        # two sum to the friction power of the step (torque x speed, 55 rad/s)
+        assert float(r["heat_pad_W"]) + float(r["heat_rotor_W"]) == pytest.approx(
+            float(r["torque_Nm"]) * 55.0, rel=1e-9)
     th = ok["thermal"]
     assert th["settings"]["contact_conductance"] == 1e5
     assert th["final"]["pad_T_max_C"] == pytest.approx(hot[1], rel=1e-12)

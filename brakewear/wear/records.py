@@ -28,8 +28,9 @@ def thermal_state(th, T_rot=None) -> dict:
     """The figures after the last solve of the thermal model ``th``, named as the
     fields of a :class:`~brakewear.wear.WearStep`: the largest face temperatures
     of pad and rotor (K), the solve's relative heat-balance error, and ``heat``
-    (the mean face temperatures, K; the heat into and convected from each body,
-    W).  ``T_rot`` is
+    (the mean face temperatures, K; the net heat into each body, W: its friction
+    share plus the net contact exchange, so that the two sum to the friction
+    power; the heat convected (and radiated) from each body, W).  ``T_rot`` is
     the rotor temperature under the pad of a rigid rotor (default: the thermal
     model's, the ambient)."""
     T_pad = th.face_temperature("pad")
@@ -42,7 +43,8 @@ def thermal_state(th, T_rot=None) -> dict:
             "rotor_temperature_max": float(T_rot.max()),
             "heat_balance_error": float(b["relative_error"]),
             "heat": {"pad_T_mean": float(T_pad.mean()), "rotor_T_mean": float(T_rot.mean()),
-                     **{f"heat_{k}_W": v["heat_in_W"] for k, v in b["bodies"].items()},
+                     **{f"heat_{k}_W": v["heat_in_W"] - v["to_contact_W"]
+                        for k, v in b["bodies"].items()},
                      **{f"convected_{k}_W": v["convected_W"] for k, v in b["bodies"].items()}}}
 
 
