@@ -244,6 +244,30 @@ def test_combinations_the_loop_refuses_are_refused_before_meshing(no_meshing, tm
               numerics=Numerics(update="geometry"))
 
 
+def test_thermal_with_the_foundation_interface_is_refused_before_meshing(no_meshing,
+                                                                        tmp_path, capsys):
+    """The foundation (Winkler) interface takes no thermal-strain load: a scene asking
+    for both is refused naming both keys, from Python and from the command line (exit
+    2, nothing meshed or written)."""
+    from brakewear.cli import main
+    s = load_scene("default")
+    with pytest.raises(SceneError) as e:
+        Scene(geometry=s.geometry, interface=InterfaceSpec(model="winkler"),
+              thermal=ThermalSpec(enabled=True))
+    msg = str(e.value)
+    assert msg.startswith("thermal.enabled: true needs interface.model = 'fe' or "
+                          "'condensed'"), msg
+    assert "thermal-strain load" in msg
+    path = tmp_path / "hot_winkler.toml"
+    path.write_text(_dump(_edit(lambda d: (d["interface"].update(model="winkler"),
+                                           d["thermal"].update(enabled=True)))))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}: thermal.enabled: true needs interface.model = 'fe'" in err, err
+    assert not out.exists()
+
+
 def test_thermal_and_winkler_scenes_run(tmp_path):
     s = load_scene("default")
     small = dict(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0,
