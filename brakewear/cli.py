@@ -143,7 +143,12 @@ def _print_schedule(scene: str, s: dict) -> None:
           f"{e['largest_relative_difference']:.1%}); pad wear max "
           f"{s['pad_wear_max_m'] * 1e6:.3f} um, rotor wear max "
           f"{s['rotor_wear_max_m'] * 1e6:.3f} um")
-    print(f"  wrote {s['out']}/: summary.json, applications.csv, pad.pvd, scene.json")
+    th = s.get("thermal")
+    if th is not None:
+        print(f"  at the end: pad face {th['final']['pad_T_max_C']:.4g} C, rotor face "
+              f"{th['final']['rotor_T_max_C']:.4g} C (max)")
+    print(f"  wrote {s['out']}/: summary.json, applications.csv, pad.pvd"
+          + (", rotor.pvd" if s["files"].get("rotor") else "") + ", scene.json")
 
 
 def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,

@@ -36,8 +36,9 @@ from .mesh.series import SeriesWriter, cell_nodes, face_fields
 from .rings import ring_profile
 from .scene.spec import _first_difference
 from .wear.numerics import Numerics
+from .wear.records import step_figures, temperature_field, thermal_record
 from .wear.state import checkpoint_progress
-from .wear.stepper import WearStep, wear_history
+from .wear.stepper import WearStep, check_resume, wear_history
 
 logger = logging.getLogger(__name__)
 
@@ -109,35 +110,6 @@ def _figures(model, out: Path, scene) -> list[str]:
         plt.close(fig)
         files.append(str(path))
     return files
-
-
-def step_figures(s: WearStep, itf, mu: float) -> dict:
-    """Per-step figures of a wear step (the rows of history.csv)."""
-    p, act, A, r = s.pressure, s.active, itf.area, itf.r
-    F = float((p * A).sum())
-    pr = (p * r)[act]
-    return {
-        "step": s.step, "time_s": s.time, "dt_s": s.dt, "limit": s.limit,
-        "sliding_distance_m": s.sliding_distance,
-        "pad_wear_max_m": float(s.pad_wear.max()), "pad_wear_mean_m": float(
-            (s.pad_wear * A).sum() / A.sum()),
-        "rotor_wear_max_m": float(s.rotor_wear.max()),
-        "pressure_max_Pa": float(p.max()), "contact_fraction": float(A[act].sum() / A.sum()),
-        "pr_spread": float((pr.max() - pr.min()) / pr.mean()) if pr.size else float("nan"),
-        "normal_force_N": F,
-        "mu": s.mu,
-        "torque_Nm": float(((s.mu if s.mu_nodes is None else s.mu_nodes) * p * A * r)
-                           .sum()),
-        "pad_volume_m3": s.pad_volume, "rotor_volume_m3": s.rotor_volume,
-        "rejected": s.rejected, "contact_solves": s.contact_solves, "solve_s": s.solve_s,
-        **({} if np.isnan(s.pad_temperature_max) else {
-            "pad_T_max_C": s.pad_temperature_max - 273.15,
-            "rotor_T_max_C": s.rotor_temperature_max - 273.15,
-            "pad_T_mean_C": s.heat["pad_T_mean"] - 273.15,
-            "rotor_T_mean_C": s.heat["rotor_T_mean"] - 273.15,
-            **{k: v for k, v in s.heat.items() if k.endswith("_W")},
-            "heat_balance_error": s.heat_balance_error}),
-    }
 
 
 def law_record(law):
@@ -252,26 +224,6 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     return summary
 
 
-def temperature_field(thermal, body: str, n: int) -> dict:
-    """``{"temperature_C": ...}`` of ``body`` for its VTU (``n`` mesh nodes), or {}
-    without a thermal model or a field of that body on those nodes."""
-    if thermal is None or body not in thermal.bodies or thermal.T[body].size != n:
-        return {}
-    return {"temperature_C": thermal.T[body] - 273.15}
-
-
-def thermal_record(thermal, last: WearStep) -> dict:
-    """The summary's ``thermal`` entry: settings, the pad's heat share, the bound
-    and the final face temperatures and heat balance."""
-    return {"settings": {k: v for k, v in thermal.settings.items()
-                         if k != "convection_facets"},
-            "pad_share": float(np.mean(thermal.partition)), "T_max_K": thermal.T_max,
-            "final": {"pad_T_max_C": last.pad_temperature_max - 273.15,
-                      "rotor_T_max_C": last.rotor_temperature_max - 273.15,
-                      "heat_balance": {k: v for k, v in thermal.heat_balance().items()
-                                       if k != "bodies"}}}
-
-
 def _write_csv(path: Path, rows: list) -> None:
     tmp = path.with_name("." + path.name + ".tmp")
     with open(tmp, "w", newline="") as fh:
@@ -288,7 +240,9 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     Writes what :func:`brakewear.output.run_wear` writes, plus
     ``scene.json`` (this scene, SI) and, with ``output.figures``, PNG
     figures.  ``resume=True`` continues from ``out/checkpoint.npz`` and
-    refuses a folder written by a different scene.  ``progress`` is
+    refuses a folder written by a different scene or with other inputs
+    (geometry and material data, laws, numerics, package version: the
+    checkpoint's fingerprint), also when that run has already finished.  ``progress`` is
     called with each :class:`~brakewear.wear.WearStep`.
     """
     out = check_out(out)
@@ -297,10 +251,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     if resume and scene.schedule:
         raise SceneError("--resume: a scene with a [schedule] runs from its start (its "
                          "applications are not checkpointed); run it again without --resume")
-    if resume:
-        done = _resumable(scene, out, record, rec_path)
-        if done is not None:
-            return done
+    done = _resumable(scene, out, record, rec_path) if resume else None
     # every input is checked (and the model built) before anything is written to out
     pad_law, rotor_law = scene.wear_laws()
     model = scene.build_model()
@@ -334,6 +285,11 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                                      T_initial=t.T_initial,
                                      contact_conductance=t.contact_conductance,
                                      T_max=t.T_max, emissivity=t.emissivity)
+    if done is not None:      # finished: nothing to run, once its inputs are the same
+        check_resume(model, scene.line_pressure, scene.omega, scene.duration, pad_law,
+                     rotor_law, scene.friction(), checkpoint=out / "checkpoint.npz", **kw)
+        logger.info("run in %s already finished (step %d)", out, done["steps"])
+        return done
     out.mkdir(parents=True, exist_ok=True)
     rec_path.write_text(json.dumps(record, indent=2))
     if scene.schedule:
@@ -374,7 +330,9 @@ def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict) -
 
 def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
     """Check that ``out`` holds a run of ``scene`` to resume (raises SceneError
-    naming the difference); its summary if that run has finished, else None."""
+    naming the difference); its summary if that run has finished, else None
+    (the inputs the scene resolves to are checked against the checkpoint's
+    fingerprint once the model is built)."""
     ck = out / "checkpoint.npz"
     if not ck.exists():
         raise SceneError(f"--resume: {ck} does not exist (no checkpoint was written: "
@@ -396,7 +354,6 @@ def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
                          f"{t_done:.6g} s, beyond environment.duration = "
                          f"{scene.duration:.6g} s; allowed: a duration >= {t_done:.6g} s")
     if t_done >= scene.duration * (1 - 1e-12):
-        logger.info("run in %s already finished (step %d)", out, step_done)
         summ = out / "summary.json"
         if not summ.exists():
             raise SceneError(f"--resume: the run in {out} has finished (step "

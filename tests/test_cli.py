@@ -115,6 +115,30 @@ def test_resume_refuses_another_scene_and_a_missing_checkpoint(tmp_path, capsys)
     assert "checkpoint.npz does not exist" in capsys.readouterr().err
 
 
+def test_resume_of_a_finished_run_refuses_a_changed_material(tmp_path, capsys):
+    """The geometry file's custom material changed after the run finished: its resume
+    is refused like an unfinished one (exit 2), naming the values in the file's units."""
+    from brakewear.geometry import geometry_file
+    g = geometry_file("default").read_text().replace('friction_material = "pad_resin"',
+                                                     'friction_material = "soft_pad"')
+    g += ('\n[materials.soft_pad]\ntype = "transversely_isotropic"\nbase = "pad_resin"\n'
+          "E_p = 8.0\nE_t = 3.0\nnu_p = 0.25\nnu_tp = 0.2\nG_t = 1.5\nwear_k = 5e-15\n")
+    (tmp_path / "g.toml").write_text(g)
+    scene = str(_tiny(tmp_path, **{'geometry = "default"': 'geometry = "g.toml"'}))
+    out = str(tmp_path / "out")
+    assert main(["run", scene, "--out", out, "--quiet"]) == 0
+    assert main(["run", scene, "--out", out, "--resume", "--quiet"]) == 0
+    assert "already holds the finished run" in capsys.readouterr().out
+    (tmp_path / "g.toml").write_text(g.replace("wear_k = 5e-15", "wear_k = 2e-14")
+                                      .replace("E_t = 3.0", "E_t = 2.9"))
+    assert main(["run", scene, "--out", out, "--resume", "--quiet"]) == 2
+    o, err = capsys.readouterr()
+    assert "nothing to do" not in o
+    assert "was written by a run with other inputs" in err
+    assert "friction_material.elastic.E_t: 3 GPa -> 2.9 GPa" in err
+    assert "friction_material.wear_k: 5e-15 1/Pa -> 2e-14 1/Pa" in err
+
+
 def test_bad_scene_exits_2_naming_the_key_without_traceback(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(scene_file("default").read_text().replace("omega = 55.0", "omgea = 55.0"))

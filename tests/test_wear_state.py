@@ -9,7 +9,8 @@ from brakewear.geometry import SupportGeometry, load_geometry
 from brakewear.interfaces import FEInterface, FoundationInterface, Interface, WinklerInterface
 from brakewear.laws import WearLaw
 from brakewear.model import BrakeModel
-from brakewear.wear import Numerics, StepControl, WearState, fingerprint, wear_history
+from brakewear.wear import (Numerics, StepControl, WearState, check_fingerprint, fingerprint,
+                            wear_history)
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
 
@@ -51,6 +52,34 @@ def test_fingerprint_names_what_changed(tmp_path):
     st.save(tmp_path / "c.npz", a)
     with pytest.raises(WearError, match=r"law\.k: 5e-15 -> 2e-14"):
         WearState.load(tmp_path / "c.npz", b, 2, 2)
+
+
+def test_changed_values_are_shown_in_the_geometry_files_units(tmp_path):
+    """Geometry values in the file's [units]; the others in SI with the unit named, to 4
+    significant digits unless more are needed to tell the two apart."""
+    def prints(r, E, ang, rho, p, k):
+        return fingerprint(geometry={"pad": {"inner_radius": r, "arc_angle": ang,
+                                             "friction_material": {"elastic": {"E_t": E},
+                                                                   "thermal": {"rho": rho}}}},
+                           line_pressure=p, pad_law=replace(PAD, k=k))
+    ck = tmp_path / "c.npz"
+    WearState.fresh(2, 2).save(ck, prints(0.095, 3.0e9, np.radians(55.0), 2400.0, 1e6, 5e-15))
+    new = prints(0.0961234567, 2.9e9, np.radians(50.0), 2400.0 * (1 + 1e-9), 1.5e6, 2e-14)
+    with pytest.raises(WearError) as e:
+        check_fingerprint(ck, new, {"length": "mm", "angle": "deg", "modulus": "GPa"})
+    msg = str(e.value)
+    for words in ("geometry.pad.inner_radius: 95 mm -> 96.12 mm",
+                  "geometry.pad.friction_material.elastic.E_t: 3 GPa -> 2.9 GPa",
+                  "geometry.pad.arc_angle: 55 deg -> 50 deg",
+                  "thermal.rho: 2400 kg/m^3 -> 2400.000002 kg/m^3",
+                  "line_pressure: 1e+06 Pa -> 1.5e+06 Pa"):
+        assert words in msg, msg
+    assert "(and 1 more)" in msg      # pad_law.k, the sixth
+    # a geometry in metres and pascals: the same change in those units
+    with pytest.raises(WearError, match=r"E_t: 3e\+09 Pa -> 2.9e\+09 Pa"):
+        check_fingerprint(ck, new, {"length": "m", "angle": "rad", "modulus": "Pa"})
+    # an unchanged run passes
+    check_fingerprint(ck, prints(0.095, 3.0e9, np.radians(55.0), 2400.0, 1e6, 5e-15))
 
 
 def test_resume_with_another_wear_law_is_refused(model, tmp_path):

@@ -6,12 +6,20 @@ scene with a ``[schedule]`` and writes, into the run's folder,
 * ``applications.csv``: per application its kind, start, duration, line
   pressure, deceleration, speeds, effective radius, torque, the vehicle's
   kinetic and regenerated energy and the demand on each face, the model's
-  friction work per face, worn volumes, steps and the face temperature;
+  friction work per face, worn volumes, steps and the pad face temperature
+  (K); with thermal coupling also the thermal columns of
+  :class:`~brakewear.wear.records.HeatTally` (face temperatures of pad and
+  rotor at the end and their peaks, C; heat into and convected from each
+  body, J; the largest heat-balance error of its steps);
 * ``pad.pvd`` / ``pad_NNNNN.vtu``: the pad after each braked application
-  (pressure at its end, cumulative pad wear, contact status);
+  (pressure at its end, cumulative pad wear, contact status) and, with thermal
+  coupling, ``temperature_C``, also after each dwell (its cooling; no contact);
+* ``rotor.pvd`` / ``rotor_NNNNN.vtu`` (elastic rotor): ``rotor_wear`` and
+  ``temperature_C`` at the same times;
 * ``summary.json``: the totals (energy demanded and dissipated per face,
-  their largest relative difference, worn volumes, the largest wear) and the
-  rotor's wear profile.
+  their largest relative difference, worn volumes, the largest wear), the
+  rotor's wear profile and, with thermal coupling, ``thermal``: the settings
+  and the final state (:func:`~brakewear.wear.records.thermal_record`).
 """
 from __future__ import annotations
 
@@ -20,9 +28,11 @@ import logging
 import time
 from pathlib import Path
 
+import numpy as np
 
 from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..rings import ring_profile
+from ..wear.records import temperature_field, thermal_record
 from .runner import run_schedule
 
 logger = logging.getLogger(__name__)
@@ -40,20 +50,18 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
                        thermal=None, initial_gap=None, progress=None) -> dict:
     """Run ``scene.schedule`` on ``model`` and write the files above; the summary."""
     t0 = time.perf_counter()
-    pad = model.meshes["pad"]
-    series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad))
-    rows, last, n_braked = [], None, 0
+    write = _Frames(model, out, interface, thermal)
+    rows, last, final = [], None, None
     for rec in run_schedule(model, list(scene.schedule), pad_law, rotor_law, scene.interface.mu,
                             vehicle=scene.vehicle, numerics=scene.numerics, interface=interface,
                             thermal=thermal, initial_gap=initial_gap):
-        rows.append({k: getattr(rec, k) for k in APPLICATION_COLUMNS})
+        rows.append({**{k: getattr(rec, k) for k in APPLICATION_COLUMNS}, **(rec.heat or {})})
         _write_csv(out / "applications.csv", rows)
         if rec.kind != "dwell":
-            n_braked += 1
-            fields = face_fields(pad.p.shape[1], interface.pad_nodes, pressure=rec.pressure,
-                                 pad_wear=rec.pad_wear, active=rec.active)
-            series.write(n_braked, rec.t_start + rec.duration, fields)
             last = rec
+        if rec.kind != "dwell" or thermal is not None:    # a dwell changes temperatures only
+            write(rec)
+        final = rec
         if progress is not None:
             progress(rec)
     braked = [r for r in rows if r["kind"] != "dwell"]
@@ -74,15 +82,45 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
         "rotor_wear_profile": dict(zip(("r_m", "wear_m"), (
             a.tolist() for a in ring_profile(interface, last.rotor_wear)))),
         "run_s": time.perf_counter() - t0,
-        "files": {"applications": "applications.csv", "pad": "pad.pvd"},
+        "files": {"applications": "applications.csv", "pad": "pad.pvd",
+                  "rotor": "rotor.pvd" if write.rotor is not None else None},
+        "thermal": None if thermal is None else thermal_record(thermal, final),
     }
     logger.info("schedule: %d applications, %.4g J demanded and %.4g J dissipated per face",
                 len(rows), demand, dissipated)
     return summary
 
 
+class _Frames:
+    """The pad's (and an elastic rotor's) VTU series: one frame per application written."""
+
+    def __init__(self, model, out: Path, itf, thermal):
+        self.itf, self.thermal, self.n = itf, thermal, 0
+        self.pad = model.meshes["pad"]
+        self.pad_series = SeriesWriter(out, "pad", self.pad.p, cell_nodes(self.pad))
+        rotor = model.meshes.get("rotor")
+        self.rotor = (SeriesWriter(out, "rotor", rotor.p, cell_nodes(rotor))
+                      if model.rotor == "elastic" and getattr(itf, "rotor_nodes", None)
+                      is not None else None)
+        self.n_rotor = None if self.rotor is None else rotor.p.shape[1]
+
+    def __call__(self, rec) -> None:
+        self.n += 1
+        t, n_pad, th = rec.t_start + rec.duration, self.pad.p.shape[1], self.thermal
+        p = rec.pressure if rec.pressure is not None else np.zeros(rec.pad_wear.size)
+        act = rec.active if rec.active is not None else np.zeros(rec.pad_wear.size, bool)
+        fields = face_fields(n_pad, self.itf.pad_nodes, pressure=p, pad_wear=rec.pad_wear,
+                             active=act)
+        self.pad_series.write(self.n, t, {**fields, **temperature_field(th, "pad", n_pad)})
+        if self.rotor is not None:
+            a = np.zeros(self.n_rotor)
+            a[self.itf.rotor_nodes] = rec.rotor_wear
+            self.rotor.write(self.n, t, {"rotor_wear": a,
+                                         **temperature_field(th, "rotor", self.n_rotor)})
+
+
 def _write_csv(path: Path, rows: list) -> None:
     with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(APPLICATION_COLUMNS))
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)

@@ -22,12 +22,14 @@ from __future__ import annotations
 import logging
 import time as _time
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 
 import numpy as np
 
 from ..errors import ConvergenceError, DutyError
 from ..interfaces.fe import FEInterface
 from ..wear.numerics import Numerics
+from ..wear.records import HeatTally, thermal_state
 from ..wear.speed import ConstantSpeed, LinearSpeed
 from ..wear.stepper import wear_history
 from .schedule import Drag, Dwell, Stop
@@ -63,12 +65,17 @@ class ApplicationRecord:
     pad_volume_m3: float = 0.0            # worn in this application
     rotor_volume_m3: float = 0.0
     steps: int = 0
-    pad_temperature_max: float | None = None
+    pad_temperature_max: float | None = None     # K, pad face, at the end
+    rotor_temperature_max: float | None = None   # K, rotor face (a rigid one's: the ambient)
     run_s: float = 0.0
     pad_wear: np.ndarray | None = field(default=None, repr=False)    # cumulative, m
     rotor_wear: np.ndarray | None = field(default=None, repr=False)
     pressure: np.ndarray | None = field(default=None, repr=False)    # at the end, Pa
     active: np.ndarray | None = field(default=None, repr=False)
+    #: thermal only: the face temperatures at the end and their peaks (C), the heat into
+    #: and convected from each body (J) and the largest balance error of its steps
+    #: (:class:`~brakewear.wear.records.HeatTally`)
+    heat: dict | None = field(default=None, repr=False)
 
     @property
     def torque_drift(self) -> float | None:
@@ -251,10 +258,21 @@ def _dwell(app: Dwell, i: int, t: float, last_start: float, thermal,
                  app.speed / vehicle.tyre_radius if app.speed is not None else 0.0)
         thermal.set_speed(omega)
         n = int(np.ceil(duration / DWELL_STEP))
+        tally = HeatTally()
         for _ in range(n):
             thermal.step(np.zeros(n_pad), duration / n)
-        rec.pad_temperature_max = float(thermal.face_temperature("pad").max())
+            last = SimpleNamespace(**thermal_state(thermal))
+            tally.add(last, duration / n)
+        _heat(rec, last, tally)
     return rec
+
+
+def _heat(rec: ApplicationRecord, last, tally: HeatTally) -> None:
+    """The thermal figures of ``rec``: the face temperatures of its ``last`` step
+    (the fields of :func:`~brakewear.wear.records.thermal_state`) and its tally."""
+    rec.pad_temperature_max = last.pad_temperature_max
+    rec.rotor_temperature_max = last.rotor_temperature_max
+    rec.heat = tally.columns()
 
 
 def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numerics, thermal,
@@ -264,13 +282,14 @@ def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numeri
     itf = brake.itf.at_line_pressure(rec.line_pressure)
     A, r = itf.area, itf.r
     implicit = numerics.scheme == "implicit"
-    last = None
+    last, tally = None, HeatTally()
     for s in wear_history(model, rec.line_pressure, speed, rec.duration, pad_law, rotor_law,
                           brake.mu, numerics=numerics, interface=itf, thermal=thermal,
                           initial_gap=brake.offset()):
         d_theta = speed.angle(s.time) - speed.angle(s.time - s.dt)
         p_used = s.pressure_end if implicit else s.pressure
         rec.friction_face_J += brake.mu * float((p_used * A * r).sum()) * d_theta
+        tally.add(s, s.dt)
         if on_step is not None:
             on_step(rec, s, brake.pad_wear + s.pad_wear, brake.rotor_wear + s.rotor_wear)
         last = s
@@ -281,7 +300,7 @@ def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numeri
     rec.steps = last.step
     rec.pressure, rec.active = last.pressure_end, last.active_end
     if thermal is not None:
-        rec.pad_temperature_max = last.pad_temperature_max
+        _heat(rec, last, tally)
     if rec.target_face_J is None:        # a drag: the model's torque over its angle
         rec.target_face_J = rec.torque * rec.rotor_angle / FACES
     return rec

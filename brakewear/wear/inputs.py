@@ -70,3 +70,17 @@ def check_thermal(model, thermal, numerics, interface) -> None:
         raise WearError(f"thermal coupling needs an interface that takes the thermal-strain "
                         f"load; {type(interface).__name__} does not (the load would be "
                         "dropped): use the FE interface")
+
+
+def at_pressure(interface, line_pressure: float):
+    """``interface`` under the run's line pressure: itself, its
+    ``at_line_pressure`` copy (the load scaled, nothing assembled), or an error
+    where it can do neither (its own pressure would be used quietly)."""
+    own = getattr(interface, "line_pressure", None)
+    if own is None or own == line_pressure:
+        return interface
+    if hasattr(interface, "at_line_pressure"):
+        return interface.at_line_pressure(line_pressure)
+    raise WearError(f"the interface was built for a line pressure of {own / 1e6:g} MPa and "
+                    f"the run asks for {line_pressure / 1e6:g} MPa; build the "
+                    f"{type(interface).__name__} with the run's line pressure")

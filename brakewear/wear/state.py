@@ -6,7 +6,9 @@ run (geometry values, material data, wear and friction laws, line pressure,
 speed, numerics, interface, thermal settings, package version).  A run
 resumed from it repeats the uninterrupted run exactly, because every step is
 solved from the stored state alone; a resume whose inputs differ from the
-fingerprint is refused with what changed.
+fingerprint is refused with what changed: each changed value in the unit of
+the geometry file for its keys (lengths, angles, moduli, stiffnesses), in SI
+with the unit named for the others (:func:`check_fingerprint`).
 """
 from __future__ import annotations
 
@@ -14,6 +16,7 @@ import dataclasses
 import hashlib
 import json
 import logging
+import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +27,7 @@ from ..errors import WearError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearState", "fingerprint", "checkpoint_progress"]
+__all__ = ["WearState", "fingerprint", "checkpoint_progress", "check_fingerprint"]
 
 _ARRAYS = ("pad_wear", "rotor_wear", "pressure", "active", "u", "u_prev")
 _SCALARS = ("step", "time", "pad_archard", "rotor_archard", "dt_next", "dt_last")
@@ -80,17 +83,13 @@ class WearState:
 
     @classmethod
     def load(cls, path: str | os.PathLike, prints: dict, n_pad: int,
-             n_rotor: int) -> tuple["WearState", dict]:
+             n_rotor: int, units: dict | None = None) -> tuple["WearState", dict]:
         """The state in ``path`` and its other arrays (thermal state), after checking
-        it belongs to this run: same fingerprint, same numbers of wear nodes."""
+        it belongs to this run: same fingerprint (:func:`check_fingerprint`, changed
+        values shown in ``units``), same numbers of wear nodes."""
         path = Path(path)
-        if not path.exists():
-            raise WearError(f"resume=True but the checkpoint {path} does not exist")
-        with np.load(path) as d:
-            if "fingerprint" not in d:
-                raise WearError(f"checkpoint {path} has no fingerprint of its inputs (written "
-                                "by an older brakewear); run again without resume")
-            _compare(path, json.loads(str(d["fingerprint"])), prints)
+        with _open(path) as d:
+            _compare(path, json.loads(str(d["fingerprint"])), prints, units)
             arrays = {k: d[k].copy() for k in _ARRAYS}
             scalars = {k: d[k].item() for k in _SCALARS}
             extra = {k: d[k].copy() for k in d.files
@@ -117,11 +116,124 @@ def checkpoint_progress(path: str | os.PathLike) -> tuple[int, float]:
         return int(d["step"]), float(d["time"])
 
 
-def _compare(path: Path, old: dict, new: dict) -> None:
+def check_fingerprint(path: str | os.PathLike, prints: dict,
+                      units: dict | None = None) -> None:
+    """Refuse the checkpoint ``path`` (a :class:`~brakewear.errors.WearError` naming
+    what changed) unless it was written by a run with the inputs ``prints``.
+
+    ``units`` is the ``[units]`` table of the geometry file (``BrakeGeometry.units``):
+    changed geometry values are shown in its units (``3 GPa -> 2.9 GPa``), the
+    others in SI with the unit named (``5e-15 1/Pa -> 2e-14 1/Pa``), each to 4
+    significant digits (more where 4 would not tell them apart).
+    """
+    path = Path(path)
+    with _open(path) as d:
+        _compare(path, json.loads(str(d["fingerprint"])), prints, units)
+
+
+def _open(path: Path):
+    if not path.exists():
+        raise WearError(f"resume=True but the checkpoint {path} does not exist")
+    d = np.load(path)
+    if "fingerprint" not in d:
+        d.close()
+        raise WearError(f"checkpoint {path} has no fingerprint of its inputs (written "
+                        "by an older brakewear); run again without resume")
+    return d
+
+
+#: SI units of fingerprint keys outside the geometry file's units (by the whole key,
+#: then by its last part)
+_SI_UNITS = {"line_pressure": "Pa", "omega": "rad/s", "duration": "s", "limits.pad": "m",
+             "limits.rotor": "m", "numerics.max_dh": "m", "wear_k": "1/Pa",
+             "rho": "kg/m^3", "c": "J/(kg K)", "kappa": "W/(m K)", "alpha": "1/K",
+             "activation_energy": "J/mol", "h_conv": "W/(m^2 K)",
+             "contact_conductance": "W/(m^2 K)", "T_ambient": "K", "T_ref": "K",
+             "T_initial": "K", "T_threshold": "K", "T_max": "K"}
+
+_LENGTHS = ("radius", "thickness", "diameter", "length", "size", "clearance", "width",
+            "depth", "height", "chamfer")
+
+
+def _file_unit(key: str, units: dict | None) -> tuple[str, float] | None:
+    """``(unit, SI value of one unit)`` the geometry file gives ``key`` in, or None."""
+    from ..geometry.loadpath import STIFFNESS_UNITS
+    from ..geometry.parts import ANGLE_UNITS, LENGTH_UNITS, MODULUS_UNITS
+
+    if not units or not key.startswith("geometry."):
+        return None
+    last = key.rsplit(".", 1)[-1]
+    if last == "bridge_tilt":
+        return "mrad/kN", 1e-6
+    if last == "finger_stiffness":
+        return "MPa/mm", 1e9
+    table, name = None, None
+    if ".elastic." in key and last[:1] in ("E", "G"):
+        table, name = MODULUS_UNITS, units.get("modulus")
+    elif last.endswith("angle") or last == "rotor_margin":
+        table, name = ANGLE_UNITS, units.get("angle")
+    elif last.endswith("_stiffness"):
+        table, name = STIFFNESS_UNITS, units.get("stiffness", "N/mm")
+    elif last.endswith(_LENGTHS):
+        table, name = LENGTH_UNITS, units.get("length")
+    return (name, table[name]) if table is not None and name in table else None
+
+
+def _shown_pair(key: str, old, new, units: dict | None) -> tuple[str, str]:
+    """``old`` and ``new`` (fingerprint values) as text in the unit of ``key``."""
+    unit = _file_unit(key, units)
+    if unit is None:
+        si = _SI_UNITS.get(key) or _SI_UNITS.get(key.rsplit(".", 1)[-1])
+        unit = None if si is None else (si, 1.0)
+    a, b = _number(old), _number(new)
+    if a is None and b is None:
+        return _text(old), _text(new)
+    for digits in range(4, 18):
+        sa = _text(old) if a is None else _in_unit(a, unit, digits)
+        sb = _text(new) if b is None else _in_unit(b, unit, digits)
+        if sa != sb:
+            break
+    return sa, sb
+
+
+def _number(v) -> float | list | None:
+    """A fingerprint value as a number (a float's repr, an int) or a list of them."""
+    if isinstance(v, list):
+        vs = [_number(x) for x in v]
+        return None if any(x is None or isinstance(x, list) for x in vs) else vs
+    if isinstance(v, bool) or v is None:
+        return None
+    if isinstance(v, int):
+        return v
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return None
+
+
+def _in_unit(v, unit: tuple[str, float] | None, digits: int) -> str:
+    if isinstance(v, list):
+        return "[" + ", ".join(_in_unit(x, unit, digits) for x in v) + "]"
+    if isinstance(v, int) and unit is None:
+        return str(v)
+    if unit is None:
+        return f"{v:.{digits}g}"
+    name, factor = unit
+    return f"{v / factor:.{digits}g} {name}" if math.isfinite(v) else f"{v} {name}"
+
+
+def _text(v) -> str:
+    return "(absent)" if v is _ABSENT else str(v)
+
+
+_ABSENT = object()
+
+
+def _compare(path: Path, old: dict, new: dict, units: dict | None = None) -> None:
     changed = sorted(k for k in set(old) | set(new) if old.get(k) != new.get(k))
     if changed:
-        shown = "; ".join(f"{k}: {old.get(k, '(absent)')} -> {new.get(k, '(absent)')}"
-                          for k in changed[:5])
+        shown = "; ".join("{}: {} -> {}".format(k, *_shown_pair(
+            k, old.get(k, _ABSENT), new.get(k, _ABSENT), units)) for k in changed[:5])
         more = f" (and {len(changed) - 5} more)" if len(changed) > 5 else ""
         raise WearError(f"checkpoint {path} was written by a run with other inputs: {shown}"
                         f"{more}. Resume with the same inputs, or run again without resume")

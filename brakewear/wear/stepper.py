@@ -33,11 +33,12 @@ from ..laws import WearLaw
 from ..rings import rotor_wear_rate
 from .control import StepControl
 from .limits import WearLimits, check_temperature
-from .inputs import check_inputs
+from .inputs import at_pressure, check_inputs
 from .nodal import NodalLaws
 from .numerics import Numerics
+from .records import thermal_state
 from .speed import ConstantSpeed, as_speed
-from .state import WearState, fingerprint
+from .state import WearState, check_fingerprint, fingerprint
 
 logger = logging.getLogger(__name__)
 
@@ -142,19 +143,17 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
     WearStep
         One record per accepted step.
     """
-    numerics = Numerics() if numerics is None else numerics
-    omega = as_speed(omega)
-    mu_law, mu = check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics,
-                               interface, thermal, initial_gap, checkpoint, every, resume)
-    limits = WearLimits.for_model(model, update=numerics.update) if limits is None else limits
-    loop = _WearLoop(model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
-                     interface, thermal, initial_gap, limits)
-    control = StepControl(numerics, duration, loop.dh_limit(), omega)
+    loop = _checked_loop(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
+                         numerics, interface, thermal, initial_gap, checkpoint, every, resume,
+                         limits)
+    numerics = loop.numerics
+    control = StepControl(numerics, duration, loop.dh_limit(), loop.speed)
     prints = loop.fingerprint(duration)
     n_pad, n_rot = loop.A_pad.size, loop.A_rot.size
     extra: dict = {}
     if resume:
-        state, extra = WearState.load(checkpoint, prints, n_pad, n_rot)
+        state, extra = WearState.load(checkpoint, prints, n_pad, n_rot,
+                                      model.geometry.units)
     else:
         state = WearState.fresh(n_pad, n_rot, control.initial_dt())
     first_s = loop.start(state, extra)
@@ -172,18 +171,30 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             raise loop.worn
 
 
-def _at_pressure(interface, line_pressure: float):
-    """``interface`` under the run's line pressure: itself, its
-    ``at_line_pressure`` copy (the load scaled, nothing assembled), or an error
-    where it can do neither (its own pressure would be used quietly)."""
-    own = getattr(interface, "line_pressure", None)
-    if own is None or own == line_pressure:
-        return interface
-    if hasattr(interface, "at_line_pressure"):
-        return interface.at_line_pressure(line_pressure)
-    raise WearError(f"the interface was built for a line pressure of {own / 1e6:g} MPa and "
-                    f"the run asks for {line_pressure / 1e6:g} MPa; build the "
-                    f"{type(interface).__name__} with the run's line pressure")
+def check_resume(model, line_pressure: float, omega, duration: float, pad_law,
+                 rotor_law=None, mu=0.0, *, checkpoint, numerics: Numerics | None = None,
+                 interface=None, thermal=None, initial_gap=None, every: int = 10,
+                 limits=None) -> None:
+    """The check :func:`wear_history` makes before it resumes, without running: refuse
+    ``checkpoint`` (a :class:`~brakewear.errors.WearError` naming what changed) unless
+    it was written with these inputs (the arguments of :func:`wear_history`).  A run
+    that has already finished is checked this way before it is reported as done."""
+    loop = _checked_loop(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
+                         numerics, interface, thermal, initial_gap, checkpoint, every, True,
+                         limits)
+    check_fingerprint(checkpoint, loop.fingerprint(duration), model.geometry.units)
+
+
+def _checked_loop(model, line_pressure, omega, duration, pad_law, rotor_law, mu, numerics,
+                  interface, thermal, initial_gap, checkpoint, every, resume, limits):
+    """The inputs checked, and the loop of a history built from them."""
+    numerics = Numerics() if numerics is None else numerics
+    omega = as_speed(omega)
+    mu_law, mu = check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics,
+                               interface, thermal, initial_gap, checkpoint, every, resume)
+    limits = WearLimits.for_model(model, update=numerics.update) if limits is None else limits
+    return _WearLoop(model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
+                     interface, thermal, initial_gap, limits)
 
 
 class _WearLoop:
@@ -202,7 +213,7 @@ class _WearLoop:
         # a friction law's values are set before the first solve; any mu > 0 builds the
         # pair's sliding directions
         self.itf = FEInterface(model, line_pressure, mu if mu_law is None else 1.0,
-                               numerics.tol) if interface is None else _at_pressure(
+                               numerics.tol) if interface is None else at_pressure(
                                    interface, line_pressure)
         self.motion = None
         if numerics.update == "geometry":
@@ -459,20 +470,9 @@ class _WearLoop:
                        float((state.rotor_wear * self.A_rot).sum()),
                        state.pad_archard, state.rotor_archard, rejected, rejected + 1,
                        solve_s, limit, mu_step)
-        th = self.thermal
-        if th is not None:
-            rec.pad_temperature_max = float(th.face_temperature("pad").max())
-            rec.rotor_temperature_max = float(T_rot.max() if "rotor" not in th.bodies
-                                              else th.face_temperature("rotor").max())
-            b = th.heat_balance()
-            rec.heat_balance_error = float(b["relative_error"])
-            rec.heat = {"pad_T_mean": float(th.face_temperature("pad").mean()),
-                        "rotor_T_mean": float(T_rot.mean() if "rotor" not in th.bodies
-                                              else th.face_temperature("rotor").mean()),
-                        # net: friction share plus the contact exchange in, less out
-                        **{f"heat_{k}_W": v["heat_in_W"] - v["to_contact_W"]
-                           for k, v in b["bodies"].items()},
-                        **{f"convected_{k}_W": v["convected_W"] for k, v in b["bodies"].items()}}
+        if self.thermal is not None:
+            for k, v in thermal_state(self.thermal, T_rot).items():
+                setattr(rec, k, v)
         return rec
 
     def finish(self, state: WearState, record: WearStep, sol, dt: float) -> None:

@@ -1,0 +1,147 @@
+"""The figures of a wear run as its files hold them, one set for drags and schedules.
+
+* :func:`thermal_state` -- the thermal figures after a thermal solve (face
+  temperatures, heat into and convected from each body, balance error), as
+  the fields of a :class:`~brakewear.wear.WearStep`;
+* :func:`step_figures` -- a step's row of ``history.csv``, with
+  :func:`thermal_columns` when coupled;
+* :class:`HeatTally` -- the thermal columns of one application of a schedule
+  (``applications.csv``) from its steps;
+* :func:`temperature_field` -- a body's ``temperature_C`` for its VTU;
+* :func:`thermal_record` -- the summary's ``thermal`` entry.
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["thermal_state", "step_figures", "thermal_columns", "HeatTally",
+           "temperature_field", "thermal_record"]
+
+C0 = 273.15         # K at 0 C
+
+
+def thermal_state(th, T_rot=None) -> dict:
+    """The figures after the last solve of the thermal model ``th``, named as the
+    fields of a :class:`~brakewear.wear.WearStep`: the largest face temperatures
+    of pad and rotor (K), the solve's relative heat-balance error, and ``heat``
+    (the mean face temperatures, K; the net heat into each body, W: its friction
+    share plus the net contact exchange, so that the two sum to the friction
+    power; the heat convected (and radiated) from each body, W).  ``T_rot`` is
+    the rotor temperature under the pad of a rigid rotor (default: the thermal
+    model's, the ambient)."""
+    T_pad = th.face_temperature("pad")
+    if "rotor" in th.bodies:
+        T_rot = th.face_temperature("rotor")
+    elif T_rot is None:
+        T_rot = th.rotor_temperature_under_pad()
+    b = th.heat_balance()
+    return {"pad_temperature_max": float(T_pad.max()),
+            "rotor_temperature_max": float(T_rot.max()),
+            "heat_balance_error": float(b["relative_error"]),
+            "heat": {"pad_T_mean": float(T_pad.mean()), "rotor_T_mean": float(T_rot.mean()),
+                     **{f"heat_{k}_W": v["heat_in_W"] - v["to_contact_W"]
+                        for k, v in b["bodies"].items()},
+                     **{f"convected_{k}_W": v["convected_W"] for k, v in b["bodies"].items()}}}
+
+
+def thermal_columns(s) -> dict:
+    """The thermal columns of a step ``s`` (a :class:`~brakewear.wear.WearStep`, or
+    any object with the fields of :func:`thermal_state`); {} without thermal."""
+    if s.heat is None or np.isnan(s.pad_temperature_max):
+        return {}
+    return {"pad_T_max_C": s.pad_temperature_max - C0,
+            "rotor_T_max_C": s.rotor_temperature_max - C0,
+            "pad_T_mean_C": s.heat["pad_T_mean"] - C0,
+            "rotor_T_mean_C": s.heat["rotor_T_mean"] - C0,
+            **{k: v for k, v in s.heat.items() if k.endswith("_W")},
+            "heat_balance_error": s.heat_balance_error}
+
+
+def step_figures(s, itf, mu: float) -> dict:
+    """Per-step figures of a wear step (the rows of history.csv)."""
+    p, act, A, r = s.pressure, s.active, itf.area, itf.r
+    F = float((p * A).sum())
+    pr = (p * r)[act]
+    return {
+        "step": s.step, "time_s": s.time, "dt_s": s.dt, "limit": s.limit,
+        "sliding_distance_m": s.sliding_distance,
+        "pad_wear_max_m": float(s.pad_wear.max()), "pad_wear_mean_m": float(
+            (s.pad_wear * A).sum() / A.sum()),
+        "rotor_wear_max_m": float(s.rotor_wear.max()),
+        "pressure_max_Pa": float(p.max()), "contact_fraction": float(A[act].sum() / A.sum()),
+        "pr_spread": float((pr.max() - pr.min()) / pr.mean()) if pr.size else float("nan"),
+        "normal_force_N": F,
+        "mu": s.mu,
+        "torque_Nm": float(((s.mu if s.mu_nodes is None else s.mu_nodes) * p * A * r)
+                           .sum()),
+        "pad_volume_m3": s.pad_volume, "rotor_volume_m3": s.rotor_volume,
+        "rejected": s.rejected, "contact_solves": s.contact_solves, "solve_s": s.solve_s,
+        **thermal_columns(s),
+    }
+
+
+class HeatTally:
+    """The thermal columns of one application from the steps it took (:meth:`add`).
+
+    :meth:`columns` gives the face temperatures at its end (``pad_T_max_C``,
+    ``pad_T_mean_C``, ``rotor_T_max_C``, ``rotor_T_mean_C``), their highest
+    values at the ends of its steps (the same names with ``_peak_C``), the heat
+    into and convected from each body over it (``heat_pad_J``,
+    ``convected_rotor_J``, ...: the steps' powers times their lengths) and the
+    largest relative heat-balance error of its steps.
+    """
+
+    _T = ("pad_T_max_C", "pad_T_mean_C", "rotor_T_max_C", "rotor_T_mean_C")
+
+    def __init__(self):
+        self.last: dict = {}
+        self.peak: dict = {}
+        self.energy: dict = {}
+        self.error = 0.0
+
+    def add(self, s, dt: float) -> None:
+        """The step ``s`` (as for :func:`thermal_columns`) of length ``dt`` (s)."""
+        c = thermal_columns(s)
+        if not c:
+            return
+        for k in self._T:
+            self.peak[k] = max(self.peak.get(k, -np.inf), c[k])
+        for k, v in c.items():
+            if k.endswith("_W"):
+                self.energy[k[:-2] + "_J"] = self.energy.get(k[:-2] + "_J", 0.0) + v * dt
+        self.error = max(self.error, c["heat_balance_error"])
+        self.last = c
+
+    def columns(self) -> dict | None:
+        """The application's thermal columns (None: no thermal step was added)."""
+        if not self.last:
+            return None
+        return {**{k: self.last[k] for k in self._T},
+                **{k.replace("_C", "_peak_C"): self.peak[k] for k in self._T},
+                **self.energy, "heat_balance_error": self.error}
+
+
+def temperature_field(thermal, body: str, n: int) -> dict:
+    """``{"temperature_C": ...}`` of ``body`` for its VTU (``n`` mesh nodes), or {}
+    without a thermal model or a field of that body on those nodes."""
+    if thermal is None or body not in thermal.bodies or thermal.T[body].size != n:
+        return {}
+    return {"temperature_C": thermal.T[body] - C0}
+
+
+def thermal_record(thermal, last) -> dict:
+    """The summary's ``thermal`` entry: settings, the pad's heat share, the bound
+    and the final face temperatures and heat balance.  ``last``: the run's last
+    :class:`~brakewear.wear.WearStep` (or a schedule's last
+    :class:`~brakewear.duty.ApplicationRecord`), for its face temperatures (K)."""
+    return {"settings": {k: v for k, v in thermal.settings.items()
+                         if k != "convection_facets"},
+            "pad_share": float(np.mean(thermal.partition)), "T_max_K": thermal.T_max,
+            "final": {"pad_T_max_C": last.pad_temperature_max - C0,
+                      "rotor_T_max_C": last.rotor_temperature_max - C0,
+                      "heat_balance": {k: v for k, v in thermal.heat_balance().items()
+                                       if k != "bodies"}}}
