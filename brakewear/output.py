@@ -198,7 +198,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
                                      or last.time >= duration * (1 - 1e-12)):
             write_vtu(last)
     if last is None:
-        raise RuntimeError("the wear history produced no step (was the run already finished?)")
+        raise WearError(f"{out}: the checkpoint holds a finished run (t = {duration:g} s); "
+                         "nothing to resume. Run without resume, or into another folder")
     total_s = time.perf_counter() - t0
     summary = {
         "status": "finished" if worn is None else "worn_through",

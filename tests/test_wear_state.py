@@ -170,3 +170,19 @@ def test_an_interface_of_another_line_pressure_runs_at_the_run_s(model):
                                         "for 0.5 MPa"):
         next(wear_history(model, 0.5e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=fd,
                           numerics=Numerics(scheme="explicit")))
+
+
+def test_run_wear_resumed_after_its_end_says_so_in_the_hierarchy(tmp_path):
+    """Resuming a finished run from Python is an input error (exit code 2) that says
+    the run is finished, not a bare RuntimeError."""
+    from brakewear.errors import WearError
+    from brakewear.laws import WearLaw
+    from brakewear.model import BrakeModel
+    from brakewear.output import run_wear
+    from brakewear.wear import Numerics
+    model = BrakeModel("default", size=1.2e-2)
+    args = (model, tmp_path, 1e6, 55.0, 20.0, WearLaw(5e-15), WearLaw(5e-16), 0.4)
+    run_wear(*args, numerics=Numerics(steps=2))
+    with pytest.raises(WearError, match="finished run") as e:
+        run_wear(*args, numerics=Numerics(steps=2), resume=True)
+    assert e.value.exit_code == 2
