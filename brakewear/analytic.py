@@ -1,4 +1,4 @@
-"""Closed-form reference solutions (../shared/REFERENCES.md), tested on their own.
+"""Closed-form reference solutions (docs/references.md), tested on their own.
 
 All functions take and return SI units and accept NumPy arrays where a
 coordinate is an argument.

@@ -5,7 +5,7 @@ either isotropic (``E``, ``nu``) or transversely isotropic about the local
 z axis (the pad normal), which is how friction materials are usually
 characterised: stiff in the plane of the pad, softest through its thickness.
 
-Typical values are from ../shared/REFERENCES.md; each default below states the
+Typical values are from docs/references.md; each default below states the
 value it took from the quoted range.
 """
 from __future__ import annotations

@@ -2,7 +2,7 @@
 elastic half-space, 3D quarter model (used by ``studies/hertz.py`` and by
 ``brakewear bench contact``).
 
-Set-up (REFERENCES.md, "Hertz, sphere on a flat"):
+Set-up (docs/references.md, "Hertz, sphere on a flat"):
 
 * A rigid sphere of radius ``R`` sits above the block ``0 < x, y < L``,
   ``-L < z < 0`` (a quarter of the half-space; symmetry ``u_x = 0`` on

@@ -3,7 +3,7 @@
 The situation of the thesis' Paper D: constant line pressure 1 MPa, rotor
 speed 55 rad/s (about 60 km/h on a 0.3 m tyre), mu = 0.4, both surfaces
 wearing by Archard's law with their materials' coefficients (resin pad
-5e-15 1/Pa, grey iron rotor 5e-16 1/Pa; REFERENCES.md: orders 1e-15..1e-14
+5e-15 1/Pa, grey iron rotor 5e-16 1/Pa; docs/references.md: orders 1e-15..1e-14
 and 1e-16..1e-15).  Elastic rotor, realistic steel backplate, implicit
 scheme, automatic step control (``dp_tol`` 0.1), gap-offset update.  From first contact (a
 flat pad on a flat rotor) the pressure moves from the stiff regions to a

@@ -1,4 +1,4 @@
-"""Convergence against the thick-walled cylinder (REFERENCES.md), 3D plane strain."""
+"""Convergence against the thick-walled cylinder (docs/references.md), 3D plane strain."""
 import importlib.util
 from pathlib import Path
 

@@ -42,6 +42,16 @@ def test_the_history_patterns_catch_what_they_should():
     assert not any(hit(s) for s in clean)
 
 
+def test_citations_point_to_the_shipped_references():
+    """The closed forms and typical data are cited as docs/references.md, which ships."""
+    assert (ROOT / "docs" / "references.md").is_file()
+    hits = [f"{p.relative_to(ROOT)}:{n}: {line.strip()[:100]}"
+            for p in [*FILES, *sorted((ROOT / "tests").glob("*.py"))]
+            for n, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+            if re.search(r"REFERENCES\.md|shared/", line) and p.name != "test_docs.py"]
+    assert not hits, "cite docs/references.md instead:\n" + "\n".join(hits)
+
+
 @pytest.mark.parametrize("path", [p for p in FILES if p.suffix == ".md"],
                          ids=lambda p: str(p.relative_to(ROOT)))
 def test_relative_links_point_to_files(path):

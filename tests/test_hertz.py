@@ -1,4 +1,4 @@
-"""Hertz sphere on a flat (REFERENCES.md), 3D quarter model: studies/hertz.py."""
+"""Hertz sphere on a flat (docs/references.md), 3D quarter model: studies/hertz.py."""
 import importlib.util
 from pathlib import Path
 

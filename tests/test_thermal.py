@@ -190,7 +190,7 @@ def test_partition_formula():
     e_p, e_r = PAD.thermal.effusivity, MATERIALS["grey_cast_iron"].thermal.effusivity
     g = partition_effusivity(PAD, MATERIALS["grey_cast_iron"])
     assert g == pytest.approx(e_p / (e_p + e_r), rel=1e-14)
-    assert 0.1 < 1 - g < 0.9 and 1 - g > 0.8  # REFERENCES: 0.8-0.9 into a cast-iron rotor
+    assert 0.1 < 1 - g < 0.9 and 1 - g > 0.8  # docs/references.md: 0.8-0.9 into a cast-iron rotor
     ga = partition_effusivity(PAD, MATERIALS["grey_cast_iron"], area_ratio=55 / 360)
     assert ga == pytest.approx(e_p * 55 / 360 / (e_p * 55 / 360 + e_r), rel=1e-14)
 

@@ -27,8 +27,9 @@ def test_default_drag_faces_lie_between_the_bulk_rise_and_the_fade_range(model):
     """90 s at 1 MPa, 55 rad/s, mu 0.4 (6 kW per face): the stored heat is the
     friction work (no convection shortcut), so the faces are at least as hot as the
     bodies' mean, E / sum(m c); with the contact conductance pad and rotor faces
-    agree within a tenth of the rise and stay below 500 C, the top of the range
-    where resin-bonded pads decompose (REFERENCES.md: about 350-450 C)."""
+    agree within a tenth of the rise and stay below 500 C, just beyond the roughly
+    300-450 C over which the phenolic binder of resin-bonded pads decomposes
+    (docs/references.md, Wear)."""
     th = ThermalModel(model)
     steps = list(wear_history(model, 1e6, 55.0, 90.0, WearLaw(5e-15), WearLaw(5e-16),
                               mu=0.4, thermal=th, numerics=Numerics(steps=15)))

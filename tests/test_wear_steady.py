@@ -1,4 +1,4 @@
-"""Uniform-wear steady state (REFERENCES.md, Wear): a pad on a stiff backing runs in to p r = const.
+"""Uniform-wear steady state (docs/references.md, Wear): a pad on a stiff backing runs in to p r = const.
 
 A pad whose backplate is 1000 times stiffer than steel, on a rigid rotor,
 starts flat (first contact, no wear) and wears under constant line pressure

@@ -98,8 +98,9 @@ class ThermalModel:
         Plausibility bound of the face temperatures (K, default
         :data:`T_MAX_DEFAULT`, 900 C): a wear step that leaves a pad or
         rotor face hotter ends the run with
-        :class:`~brakewear.errors.TemperatureLimitError` (a resin-bound pad
-        decomposes from about 350 C and fades far below this; a hotter face
+        :class:`~brakewear.errors.TemperatureLimitError` (the binder of a
+        resin-bonded pad decomposes over about 300-450 C, docs/references.md,
+        and the pad fades far below this; a hotter face
         means a heat partition or a duty the model does not describe).
         None: the default.
     """
