@@ -37,7 +37,7 @@ _GS = "gauss_seidel"
 #: setting name -> (SA_OPTIONS overrides, smoothers or None)
 SETTINGS = {
     "default": ({}, None),
-    # the settings before the "AMG settings" work: Jacobi prolongation, 1000 coarse blocks
+    # pyamg's usual choice: Jacobi prolongation (one step, omega 4/3), 1000 coarse blocks
     "jacobi_P": ({"smooth": ("jacobi", {"omega": 4.0 / 3.0, "degree": 1}), "max_coarse": 1000},
                  None),
     "energy_4": ({"smooth": ("energy", {"degree": 1, "maxiter": 4})}, None),

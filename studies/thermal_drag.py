@@ -352,9 +352,9 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
 
     Returns the results dict (also written to ``out/data/thermal_drag_scene.json``;
     ``out=None`` writes nothing).  ``fresh_process``: also time the thermal=None run in
-    a new interpreter that never imports ``brakewear.thermal``.  ``baseline``: a source
-    tree of brakewear from before the thermal coupling (``git archive e3ebe84``): the
-    same thermal=None run is timed there too and its wear compared with this one's.
+    a new interpreter that never imports ``brakewear.thermal``.  ``baseline``: another
+    brakewear source tree (a ``git archive`` of another version): the same
+    thermal=None run is timed there too and its wear compared with this one's.
     """
     if int(repeats) != repeats or repeats < 1:
         raise ValueError(f"repeats = {repeats!r} is not allowed; need a whole number >= 1")
@@ -522,8 +522,8 @@ if __name__ == "__main__":
     ap.add_argument("--repeats", type=int, default=3, help="timed runs of each")
     ap.add_argument("--no-figures", action="store_true")
     ap.add_argument("--baseline", default=None,
-                    help="brakewear source tree from before the thermal coupling (e.g. "
-                         "git archive e3ebe84 | tar -x -C /tmp/pre): time its thermal=None run")
+                    help="another brakewear source tree (e.g. a git archive of another "
+                         "version): time its thermal=None run and compare its wear")
     ap.add_argument("--fixed-partition", action="store_true",
                     help="only run the 30 s drag with contact_conductance 0 and 1e5 and write "
                          "DIR/data/thermal_drag_fixed_partition.json")
