@@ -166,12 +166,12 @@ def segment_average(mesh: fem.Mesh, facets="friction", level: int = 2) -> sp.csr
     """The segment (weak) average of a nodal field over a surface, as a matrix.
 
     ``A[s, a] = int phi_s phi_a dA / int phi_s dA`` over the facets, integrated
-    exactly as :func:`brakewear.contact.mortar_coupling` integrates the weak
+    exactly as :func:`brakewear.contact.surface.mortar_coupling` integrates the weak
     gap of a ``method="segment"`` pair.  A face worn by the nodal depths
     ``h`` changes that pair's ``g0`` by ``A @ h`` (not by ``h``: the two differ
     where ``h`` is not constant, most at the face's edges), so a gap-offset
     update consistent with the geometry update adds ``A @ h_pad``.  Rows and
-    columns in :func:`brakewear.mesh.surface_nodes` order.
+    columns in :func:`brakewear.mesh.surface.surface_nodes` order.
     """
     nodes = surface_nodes(mesh, facets)
     W, _, _ = mortar_coupling(mesh, facets, nodes, mesh, facets, mesh.nvertices, level)

@@ -67,7 +67,7 @@ def rotor_wear_rate(volume_rate: np.ndarray, coupling: sp.spmatrix, ring: np.nda
         to one: a contact pair's coupling restricted to the rotor's face nodes).
     ring, area
         Ring index and tributary area of each rotor face node (:func:`rotor_rings`,
-        :func:`brakewear.mesh.tributary_areas`).
+        :func:`brakewear.mesh.surface.tributary_areas`).
 
     The volume each pad node takes from the rotor nodes under it is summed
     per ring and spread uniformly (by area) over the whole ring: the rotor

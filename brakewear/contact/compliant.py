@@ -175,7 +175,7 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     The active set follows the penalty rule: a node is active while its
     spring is compressed (``g0 + C u < 0``), within the hysteresis band.  A
     set that still repeats with the wide band raises
-    :class:`~brakewear.contact.ActiveSetError` with its figures.
+    :class:`~brakewear.errors.ActiveSetError` with its figures.
     """
     t0 = time.perf_counter()
     K = K.tocsr()

@@ -89,7 +89,7 @@ def _graded_cells(length: float, h_min: float, ratio: float) -> int:
 
 
 def _two_sided_cells(length: float, h_end: float, h_mid: float, growth: float = 1.3) -> int:
-    """Number of cells of :func:`~brakewear.mesh.brake._two_sided`."""
+    """Number of cells of :func:`~brakewear.mesh.grids._two_sided`."""
     if h_mid <= h_end:
         return max(1, math.ceil(length / h_end))
     ramp, total = 1, h_end * growth
