@@ -244,3 +244,19 @@ def test_geometry_update_and_thermal_coupling_on_both_faces(rim):
     rise = h["T"][0] - 293.15
     for T in f["T"]:
         assert abs(T - h["T"][0]) < 0.02 * rise
+
+
+def test_the_full_rotor_mesh_is_its_own_mirror_image(rim):
+    """Both halves of the full ring are meshed alike: each tetrahedron's mirror
+    image through the mid-plane is a tetrahedron of the mesh (so, with the
+    mirrored pads, a load and its mirror image give mirrored answers)."""
+    m = rotor_mesh(rim, size=8e-3, full=True)
+    t = rim.rotor.thickness
+    key = np.round(m.p / (1e-9 * t)).astype(np.int64)
+    mirrored = key.copy()
+    mirrored[2] = np.round((-t - m.p[2]) / (1e-9 * t)).astype(np.int64)
+    index = {tuple(k): i for i, k in enumerate(key.T)}
+    image = np.array([index[tuple(k)] for k in mirrored.T])      # KeyError: not a node
+    tets = {tuple(sorted(c)) for c in m.t.T}
+    assert {tuple(sorted(image[c])) for c in m.t.T} == tets
+
