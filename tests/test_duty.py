@@ -3,7 +3,7 @@ their inputs (brakewear.duty, brakewear.wear.speed)."""
 import numpy as np
 import pytest
 
-from brakewear import DutyError, Numerics, WearLaw
+from brakewear import DutyError, FEInterface, Numerics, WearLaw
 from brakewear.duty import (Drag, Dwell, Stop, Vehicle, brake_torque, read_schedule_csv,
                             repeated_stops, run_schedule, schedule_from_table)
 from brakewear.model import BrakeModel
@@ -126,6 +126,39 @@ def test_chained_applications_equal_one_history(model):
     # resin pad's) moves the effective radius inwards by ~0.1 % within each drag
     drift = [r.torque_drift for r in drags]
     assert all(-5e-3 < d < 0 for d in drift), drift
+
+
+def test_chained_stops_equal_one_schedule_run(model):
+    """Three stops (with the dwells between them) run as one schedule wear as the
+    same stops run one call at a time, each call started from the worn state of
+    the calls before: its gap is the initial gap plus the pad's wear plus the
+    rotor's carried onto the pad (``W``), which is all the state gap-offset
+    wear has.  Wear, end pressures and line pressures agree to 1e-9 (the
+    contact solves' tolerance is 1e-12; the active set is only a first guess)."""
+    num = Numerics(scheme="implicit", steps=4, tol=1e-12)
+    laws = (WearLaw(K_PAD), WearLaw(K_ROT), 0.4)
+    sched = repeated_stops(3, 50 / 3.6, decel=1.5, interval=60.0)
+    one = [r for r in run_schedule(model, sched, *laws, vehicle=CAR, numerics=num)
+           if r.kind == "stop"]
+    itf = FEInterface(model, 1e6, 0.4, num.tol)
+    pad, rotor, chained = np.zeros(itf.area.size), np.zeros(itf.rotor_area.size), []
+    for k in range(3):
+        part = sched[2 * k:2 * k + 2]                     # a stop and the dwell after it
+        recs = list(run_schedule(model, part, *laws, vehicle=CAR, numerics=num, interface=itf,
+                                 initial_gap=pad + itf.W @ rotor))
+        stop = recs[0]
+        pad, rotor = pad + recs[-1].pad_wear, rotor + recs[-1].rotor_wear
+        chained.append((stop, pad.copy(), rotor.copy()))
+    assert len(one) == 3
+    for a, (b, pad_b, rotor_b) in zip(one, chained):
+        assert b.line_pressure == pytest.approx(a.line_pressure, rel=1e-9)
+        for x, y in ((pad_b, a.pad_wear), (rotor_b, a.rotor_wear), (b.pressure, a.pressure)):
+            assert np.abs(x - y).max() <= 1e-9 * np.abs(y).max()
+        assert b.pad_volume_m3 == pytest.approx(a.pad_volume_m3, rel=1e-9)
+        assert b.friction_face_J == pytest.approx(a.friction_face_J, rel=1e-9)
+    # the state matters: the wear moves the pressure inward, so the last stop needs a
+    # higher line pressure for the same torque (0.8 % here)
+    assert one[-1].line_pressure > 1.002 * one[0].line_pressure
 
 
 # ------------------------------------------------------------------ inputs --
