@@ -55,6 +55,45 @@ def test_deceleration_beyond_the_tyres_is_refused_before_solving():
         next(run_schedule(None, [Stop(10.0, decel=1.0)], WearLaw(K_PAD), mu=0.4))
 
 
+def test_a_bad_schedule_is_refused_whole_before_any_solve(model, monkeypatch):
+    """run_schedule checks every application when called: a third stop beyond the
+    tyres' grip is refused, naming its index and value, before the interface is
+    built or anything solved (a spy on the model's contact system sees no call)."""
+    import brakewear.duty.runner as runner
+
+    built = []
+    monkeypatch.setattr(type(model), "contact_system",
+                        lambda self, *a, **k: built.append(a) or pytest.fail("assembled"))
+    monkeypatch.setattr(runner, "FEInterface",
+                        lambda *a, **k: built.append(a) or pytest.fail("interface built"))
+    laws = (WearLaw(K_PAD), WearLaw(K_ROT), 0.4)
+    ok = Stop(50 / 3.6, decel=1.5)
+    sched = [ok, Dwell(60.0), ok, Dwell(60.0), Stop(50 / 3.6, decel=12.0)]
+    with pytest.raises(DutyError, match=r"^application 4: deceleration = 12\.0 m/s\^2 is not "
+                                        r"allowed; need 0 < deceleration <= tyre_mu g = 9\.81"):
+        run_schedule(model, sched, *laws, vehicle=CAR)
+    # a line pressure whose least deceleration (all of it at the pad's inner radius)
+    # is beyond the grip; a dwell from a stop's start that ends before the stop does
+    r_in, A = model.geometry.pad.inner_radius, model.geometry.clamp_area
+    p_bad = 1.05 * CAR.brake_torque(9.80665) / (2 * 0.4 * A * r_in)
+    drag = Drag(1e6, 5.0, omega=40.0)
+    for sched, car, match in (
+            ([ok, Dwell(60.0), Stop(50 / 3.6, line_pressure=p_bad)], CAR,
+             r"^application 2: line_pressure = .* MPa\) is not allowed; .*at least 10\.3 m/s\^2"),
+            ([drag, ok, Dwell(5.0, from_start=True)], CAR,
+             r"^application 2: dwell\.duration = 5\.0 s is not allowed; .*outlast its 9\.259 s"),
+            ([drag, drag, Drag(1e6, 5.0, speed=10.0)], None,
+             r"^application 2: a drag at a vehicle speed needs a vehicle")):
+        with pytest.raises(DutyError, match=match):
+            run_schedule(model, sched, *laws, vehicle=car)
+    regen = Vehicle(mass=1800.0, regen_share=1.0)
+    with pytest.raises(DutyError, match=r"^application 0: .*the motor takes all the braking"):
+        run_schedule(model, [ok], *laws, vehicle=regen)
+    with pytest.raises(DutyError, match=r"^initial_gap: 3 value\(s\)"):
+        run_schedule(model, [ok], *laws, vehicle=CAR, initial_gap=np.zeros(3))
+    assert built == []
+
+
 # ------------------------------------------------------------------ speed --
 def test_linear_speed_angle_and_inverse():
     s = LinearSpeed(45.0, 0.0, 5.0)

@@ -32,7 +32,8 @@ from ..wear.numerics import Numerics
 from ..wear.records import HeatTally, thermal_state
 from ..wear.speed import ConstantSpeed, LinearSpeed
 from ..wear.stepper import wear_history
-from .schedule import Drag, Dwell, Stop
+from ..mesh.surface import face_nodes
+from .schedule import Drag, Dwell, Stop, check_schedule
 from .vehicle import (FACES, Vehicle, brake_torque, effective_radius,
                       line_pressure_for_torque)
 
@@ -91,11 +92,8 @@ class _Brake:
     def __init__(self, model, itf, mu, initial_gap):
         self.model, self.itf, self.mu = model, itf, mu
         self.piston_area = model.geometry.piston.hydraulic_area
-        n = itf.area.size
+        n = itf.area.size       # the initial gap's size is checked with the schedule
         self.gap0 = np.zeros(n) if initial_gap is None else np.asarray(initial_gap, dtype=float)
-        if self.gap0.shape != (n,):
-            raise DutyError(f"initial_gap has {self.gap0.size} values; the pad has {n} "
-                            "friction nodes")
         self.pad_wear, self.rotor_wear = np.zeros(n), np.zeros(itf.rotor_area.size)
         self.active = None
 
@@ -131,9 +129,6 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
     """(line pressure, speed profile, duration, record) of a braked application."""
     rec = ApplicationRecord(index, "stop" if isinstance(app, Stop) else "drag", 0.0, 0.0)
     if isinstance(app, Drag):
-        if app.speed is not None and vehicle is None:
-            raise DutyError(f"application {index}: a drag at a vehicle speed needs a vehicle "
-                            "(or give the rotor speed omega)")
         w = app.omega if app.omega is not None else vehicle.rotor_speed(app.speed)
         rec.line_pressure, rec.duration, rec.omega0 = app.line_pressure, app.duration, w
         rec.omega1, rec.v0 = w, app.speed
@@ -141,11 +136,7 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
         rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure)
         rec.torque = brake_torque(app.line_pressure, brake.mu, brake.piston_area, rec.r_eff)
         return ConstantSpeed(w), rec
-    if vehicle is None:
-        raise DutyError(f"application {index}: a stop needs a vehicle (mass, tyre radius, "
-                        "brake share)")
-    if app.decel is not None:
-        vehicle.check_deceleration(app.decel, f"application {index}: deceleration")
+    if app.decel is not None:          # checked with the schedule (check_schedule)
         rec.torque = vehicle.brake_torque(app.decel)
         guess = line_pressure_for_torque(rec.torque, brake.mu, brake.piston_area,
                                          float(np.average(brake.itf.r, weights=brake.itf.area)))
@@ -200,10 +191,19 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
         and the wear since the schedule's start (e.g. to update a
         :class:`~brakewear.cleaning.CorrodedRotor`).
 
-    Yields
+    Returns
+    -------
+    iterator of ApplicationRecord
+        One per application, with the cumulative wear and the end pressure;
+        each application runs when its record is asked for.
+
+    Raises
     ------
-    ApplicationRecord
-        One per application, with the cumulative wear and the end pressure.
+    DutyError
+        At the call, before the interface is built or anything is solved: a
+        bad numerics, ``mu`` or initial gap, or any application of the schedule
+        that cannot run (:func:`~brakewear.duty.check_schedule`: its index and
+        value named).
     """
     numerics = Numerics() if numerics is None else numerics
     if numerics.update != "gap":
@@ -213,14 +213,15 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
     if not (isinstance(mu, (int, float)) and np.isfinite(mu) and mu > 0):
         raise DutyError(f"mu = {mu!r} is not allowed; a schedule needs a friction "
                         "coefficient > 0 (the brake's torque)")
-    apps = list(schedule)
-    for i, app in enumerate(apps):
-        if not isinstance(app, (Stop, Drag, Dwell)):
-            raise DutyError(f"application {i}: {app!r} is not a Stop, Drag or Dwell")
-        if isinstance(app, Stop) and vehicle is None:
-            raise DutyError(f"application {i}: a stop needs a vehicle")
-        if isinstance(app, Dwell) and app.speed is not None and vehicle is None:
-            raise DutyError(f"application {i}: a dwell at a vehicle speed needs a vehicle")
+    apps = check_schedule(schedule, vehicle, mu=mu, geometry=getattr(model, "geometry", None))
+    _check_initial_gap(model, interface, initial_gap)
+    return _run(model, apps, pad_law, rotor_law, mu, vehicle, numerics, interface, thermal,
+                initial_gap, on_step)
+
+
+def _run(model, apps, pad_law, rotor_law, mu, vehicle, numerics, interface, thermal,
+         initial_gap, on_step):
+    """The applications of a checked schedule, one record each (:func:`run_schedule`)."""
     first = next((a for a in apps if not isinstance(a, Dwell)), None)
     p_ref = (first.line_pressure if getattr(first, "line_pressure", None) else 1e6)
     itf = FEInterface(model, p_ref, mu, numerics.tol) if interface is None else interface
@@ -240,6 +241,18 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
         logger.info("application %d (%s): %.3g s, %.3g MPa, friction %.4g J per face",
                     i, rec.kind, rec.duration, rec.line_pressure / 1e6, rec.friction_face_J)
         yield rec
+
+
+def _check_initial_gap(model, interface, initial_gap) -> None:
+    """Refuse an initial gap that is not one finite value per pad friction node."""
+    if initial_gap is None:
+        return
+    gap = np.asarray(initial_gap, dtype=float)
+    n = (interface.area.size if interface is not None else
+         face_nodes(model.meshes["pad"], "friction").size)
+    if gap.shape != (n,) or not np.all(np.isfinite(gap)):
+        raise DutyError(f"initial_gap: {gap.size} value(s) of shape {gap.shape}; need {n} "
+                        "finite values (m), one per pad friction node")
 
 
 #: Longest implicit-Euler step of the cooling in a dwell (s).

@@ -298,7 +298,8 @@ class Scene:
             raise fail("interface.gap_file", str(exc)) from None
 
     def _check_duty(self) -> None:
-        from ..duty import Drag, Stop, Vehicle
+        from ..duty import Drag, Stop, Vehicle, check_schedule
+        from ..errors import DutyError
         if not self.schedule:
             if self.vehicle is not None:
                 raise fail("vehicle", "a [vehicle] is used by a [schedule] of stops; add one or "
@@ -328,6 +329,11 @@ class Scene:
         if self.interface.mu <= 0:
             raise fail("interface.mu", f"{self.interface.mu!r}: a [schedule] turns brake "
                                         "torque into line pressure through mu; need mu > 0")
+        try:
+            check_schedule(self.schedule, self.vehicle, mu=self.interface.mu,
+                           geometry=self.geometry)
+        except DutyError as exc:
+            raise fail("schedule", str(exc)) from None
 
     # -------------------------------------------------------------- build --
     def build_model(self):
