@@ -144,6 +144,28 @@ def test_stop_pressure_matches_the_torque_equation_and_energy_balances(model):
     assert g.inner_radius < rec.r_eff < g.outer_radius
 
 
+def test_two_pistons_per_side_clamp_with_their_joint_area():
+    """A fixed caliper with two 40 mm pistons per side clamps with twice one
+    piston's force: the torque equation uses the pistons' joint area
+    (``geometry.clamp_area``), so the model's friction work is the vehicle's
+    demand to 1e-8 (no wear) as with one piston."""
+    from dataclasses import replace
+
+    from brakewear.geometry import CaliperGeometry, load_geometry
+    g = load_geometry("default")
+    p1 = replace(g.piston, diameter=0.040, rim_inner_diameter=0.036, bore_diameter=0.040,
+                 radius=0.119, angle=np.radians(-12.0))
+    fixed = replace(g, caliper=CaliperGeometry("fixed"), piston=p1,
+                    extra_pistons=(replace(p1, angle=np.radians(12.0)),))
+    m = BrakeModel(fixed, size=12e-3, rotor="rigid")
+    (rec,) = run_schedule(m, [Stop(50 / 3.6, decel=1.5)], WearLaw(1e-30), mu=0.4,
+                          vehicle=CAR, numerics=Numerics(steps=2, tol=1e-12))
+    assert fixed.clamp_area == pytest.approx(2 * p1.hydraulic_area, rel=1e-15)
+    assert brake_torque(rec.line_pressure, 0.4, fixed.clamp_area, rec.r_eff) == pytest.approx(
+        CAR.brake_torque(1.5), rel=1e-9)
+    assert abs(rec.torque_drift) < 1e-8, rec.torque_drift
+
+
 def test_chained_applications_equal_one_history(model):
     """Three drags under one line pressure with dwells between, run as a schedule
     (each a history started from the wear before it), wear as one history over

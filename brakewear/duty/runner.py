@@ -8,7 +8,7 @@ given, carries its temperatures from one application to the next and cools
 through the dwells.
 
 Per application: the line pressure and the deceleration (one from the other
-through the vehicle and the brake's torque, ``T = 2 mu p_line A_piston
+through the vehicle and the brake's torque, ``T = 2 mu p_line A_clamp
 r_eff`` with the effective radius of the pressure field at the
 application's start), the rotor speeds, the kinetic energy, the part
 regenerated, the friction work the vehicle asks of each face and the one the
@@ -91,7 +91,7 @@ class _Brake:
 
     def __init__(self, model, itf, mu, initial_gap):
         self.model, self.itf, self.mu = model, itf, mu
-        self.piston_area = model.geometry.piston.hydraulic_area
+        self.clamp_area = model.geometry.clamp_area     # one side's pistons together
         n = itf.area.size       # the initial gap's size is checked with the schedule
         self.gap0 = np.zeros(n) if initial_gap is None else np.asarray(initial_gap, dtype=float)
         self.pad_wear, self.rotor_wear = np.zeros(n), np.zeros(itf.rotor_area.size)
@@ -116,7 +116,7 @@ class _Brake:
         p = guess
         for _ in range(max_iter):
             r = self.r_eff(self.solve(p).pressure)
-            p_new = line_pressure_for_torque(torque, self.mu, self.piston_area, r)
+            p_new = line_pressure_for_torque(torque, self.mu, self.clamp_area, r)
             if abs(p_new - p) <= rtol * p_new:
                 return p_new, r
             p = p_new
@@ -134,18 +134,18 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
         rec.omega1, rec.v0 = w, app.speed
         rec.v1 = app.speed
         rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure)
-        rec.torque = brake_torque(app.line_pressure, brake.mu, brake.piston_area, rec.r_eff)
+        rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
         return ConstantSpeed(w), rec
     if app.decel is not None:          # checked with the schedule (check_schedule)
         rec.torque = vehicle.brake_torque(app.decel)
-        guess = line_pressure_for_torque(rec.torque, brake.mu, brake.piston_area,
+        guess = line_pressure_for_torque(rec.torque, brake.mu, brake.clamp_area,
                                          float(np.average(brake.itf.r, weights=brake.itf.area)))
         rec.line_pressure, rec.r_eff = brake.pressure_for_torque(rec.torque, guess)
         rec.decel = app.decel
     else:
         rec.line_pressure = app.line_pressure
         rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure)
-        rec.torque = brake_torque(app.line_pressure, brake.mu, brake.piston_area, rec.r_eff)
+        rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
         rec.decel = vehicle.deceleration(rec.torque)
         vehicle.check_deceleration(
             rec.decel, f"application {index}: the deceleration of line pressure "
