@@ -166,6 +166,26 @@ def test_two_pistons_per_side_clamp_with_their_joint_area():
     assert abs(rec.torque_drift) < 1e-8, rec.torque_drift
 
 
+def test_the_full_model_dissipates_the_demand_on_each_face():
+    """Both pads modelled (equal pistons both sides): each face carries the clamp
+    force, the torque equation holds with the effective radius of both faces'
+    pressure, and the friction work per face is the vehicle's demand per face
+    to 1e-8 (no wear), as in the half model, at the half model's line pressure
+    (the meshes are mirror images: 1e-9)."""
+    from dataclasses import replace
+
+    from brakewear.geometry import load_geometry
+    g = load_geometry("default")
+    rim = replace(g, piston=replace(g.piston, rim_inner_diameter=0.030))
+    recs = {}
+    for layout in ("half", "full"):
+        m = BrakeModel(rim, size=8e-3, layout=layout)
+        (recs[layout],) = run_schedule(m, [Stop(50 / 3.6, decel=1.5)], WearLaw(1e-30), mu=0.4,
+                                       vehicle=CAR, numerics=Numerics(steps=2, tol=1e-12))
+        assert abs(recs[layout].torque_drift) < 1e-8, (layout, recs[layout].torque_drift)
+    assert recs["full"].line_pressure == pytest.approx(recs["half"].line_pressure, rel=1e-9)
+
+
 def test_chained_applications_equal_one_history(model):
     """Three drags under one line pressure with dwells between, run as a schedule
     (each a history started from the wear before it), wear as one history over

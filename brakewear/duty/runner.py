@@ -12,10 +12,10 @@ through the vehicle and the brake's torque, ``T = 2 mu p_line A_clamp
 r_eff`` with the effective radius of the pressure field at the
 application's start), the rotor speeds, the kinetic energy, the part
 regenerated, the friction work the vehicle asks of each face and the one the
-model dissipated (``mu sum(p A r) Delta theta`` over the steps), the worn
-volumes.  The line pressure is held over an application, so the two
-friction works differ by how much the effective radius moves within it
-(``torque_drift``).
+model dissipated (``mu sum(p A r) Delta theta`` over the steps; in the full
+model the mean of its two faces), the worn volumes (of every modelled pad).
+The line pressure is held over an application, so the two friction works
+differ by how much the effective radius moves within it (``torque_drift``).
 """
 from __future__ import annotations
 
@@ -62,7 +62,7 @@ class ApplicationRecord:
     kinetic_J: float | None = None
     regenerated_J: float | None = None
     target_face_J: float | None = None    # the vehicle's demand on each face
-    friction_face_J: float = 0.0          # the model's dissipation on the face
+    friction_face_J: float = 0.0          # the model's dissipation per face (full model: mean)
     pad_volume_m3: float = 0.0            # worn in this application
     rotor_volume_m3: float = 0.0
     steps: int = 0
@@ -92,6 +92,7 @@ class _Brake:
     def __init__(self, model, itf, mu, initial_gap):
         self.model, self.itf, self.mu = model, itf, mu
         self.clamp_area = model.geometry.clamp_area     # one side's pistons together
+        self.faces = FACES if getattr(model, "full", False) else 1    # friction faces modelled
         n = itf.area.size       # the initial gap's size is checked with the schedule
         self.gap0 = np.zeros(n) if initial_gap is None else np.asarray(initial_gap, dtype=float)
         self.pad_wear, self.rotor_wear = np.zeros(n), np.zeros(itf.rotor_area.size)
@@ -301,7 +302,7 @@ def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numeri
                           initial_gap=brake.offset()):
         d_theta = speed.angle(s.time) - speed.angle(s.time - s.dt)
         p_used = s.pressure_end if implicit else s.pressure
-        rec.friction_face_J += brake.mu * float((p_used * A * r).sum()) * d_theta
+        rec.friction_face_J += brake.mu * float((p_used * A * r).sum()) * d_theta / brake.faces
         tally.add(s, s.dt)
         if on_step is not None:
             on_step(rec, s, brake.pad_wear + s.pad_wear, brake.rotor_wear + s.rotor_wear)
