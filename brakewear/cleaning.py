@@ -29,7 +29,7 @@ from .errors import WearError
 from .laws import WearLaw
 
 __all__ = ["read_gap_map", "map_gap", "GAP_COLUMNS", "LayeredWearLaw", "CorrodedRotor",
-           "coning_gap"]
+           "coning_gap", "nonconformity_gap", "outboard_nodes"]
 
 
 @dataclass(frozen=True)
@@ -58,6 +58,36 @@ def coning_gap(r: np.ndarray, r_in: float, r_out: float, coning: float) -> np.nd
     """
     g = coning * (np.asarray(r, dtype=float) - r_in) / (r_out - r_in)
     return g - g.min()
+
+
+def outboard_nodes(x: np.ndarray, rotor_thickness: float) -> np.ndarray:
+    """Mask of the pad friction nodes at ``x`` (3, n; m) on the rotor's outboard face
+    (``z = -thickness``, full model); the inboard face is ``z = 0``."""
+    return np.asarray(x)[2] < -0.5 * rotor_thickness
+
+
+def nonconformity_gap(x: np.ndarray, r_in: float, r_out: float, rotor_thickness: float,
+                      coning: float | dict = 0.0, pad_taper: float = 0.0) -> np.ndarray:
+    """Initial gap (m) at pad friction nodes ``x`` (3, n; m) of a rotor coning and a
+    radial pad taper, per friction face.
+
+    On each face the gap is :func:`coning_gap` of that face's coning plus
+    ``pad_taper`` (positive: open at the outer radius), zero where the face's
+    pad first touches.  ``coning`` a number ``c``: a coned rotor, ``c`` on the
+    inboard face (``z = 0``) and ``-c`` on the outboard one (``z = -thickness``):
+    the rim dished toward one side opens the gap at the outer radius on one
+    face and at the inner radius on the other.  ``coning`` a dict with keys
+    ``"inboard"`` and ``"outboard"``: each face's own value in its own sense.
+    The pads are mirror images, so a pad taper opens the same way on both.
+    """
+    faces = coning if isinstance(coning, dict) else {"inboard": coning, "outboard": -coning}
+    r = np.hypot(x[0], x[1])
+    out = outboard_nodes(x, rotor_thickness)
+    g = np.zeros(r.size)
+    for face, mask in (("inboard", ~out), ("outboard", out)):
+        if mask.any():
+            g[mask] = coning_gap(r[mask], r_in, r_out, faces[face] + pad_taper)
+    return g
 
 
 #: the columns of an initial-gap map (:func:`read_gap_map`)

@@ -274,7 +274,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
         from .interfaces.condensed import CondensedInterface
         kw["interface"] = CondensedInterface(model, scene.line_pressure or 1e6,
                                              scene.build_mu(), n.tol)
-    if scene.interface.coning or scene.interface.pad_taper or scene.interface.gap_file:
+    if scene.interface.nonconforming:
         if "interface" not in kw:
             kw["interface"] = FEInterface(model, scene.line_pressure, scene.build_mu(), n.tol)
         kw["initial_gap"] = scene.initial_gap(kw["interface"].x)

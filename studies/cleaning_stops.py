@@ -7,7 +7,7 @@ the front axle, 0.32 m tyres, regeneration off for the cleaning stops) makes
 s apart.  Every stop dissipates the same energy in the front brake (the
 vehicle's kinetic energy times the brake's share), whatever the
 deceleration; the deceleration sets the line pressure (through the brake's
-torque, ``T = 2 mu p A_piston r_eff``), and the line pressure sets how much
+torque, ``T = 2 mu p A_clamp r_eff``), and the line pressure sets how much
 of the band the pad touches -- the pad and rotor start non-conformal (a
 coning of ``coning`` um across the band).
 

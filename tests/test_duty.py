@@ -3,7 +3,7 @@ their inputs (brakewear.duty, brakewear.wear.speed)."""
 import numpy as np
 import pytest
 
-from brakewear import DutyError, Numerics, WearLaw
+from brakewear import DutyError, FEInterface, Numerics, WearLaw
 from brakewear.duty import (Drag, Dwell, Stop, Vehicle, brake_torque, read_schedule_csv,
                             repeated_stops, run_schedule, schedule_from_table)
 from brakewear.model import BrakeModel
@@ -53,6 +53,45 @@ def test_deceleration_beyond_the_tyres_is_refused_before_solving():
         CAR.check_deceleration(12.0)
     with pytest.raises(DutyError, match="a stop needs a vehicle"):
         next(run_schedule(None, [Stop(10.0, decel=1.0)], WearLaw(K_PAD), mu=0.4))
+
+
+def test_a_bad_schedule_is_refused_whole_before_any_solve(model, monkeypatch):
+    """run_schedule checks every application when called: a third stop beyond the
+    tyres' grip is refused, naming its index and value, before the interface is
+    built or anything solved (a spy on the model's contact system sees no call)."""
+    import brakewear.duty.runner as runner
+
+    built = []
+    monkeypatch.setattr(type(model), "contact_system",
+                        lambda self, *a, **k: built.append(a) or pytest.fail("assembled"))
+    monkeypatch.setattr(runner, "FEInterface",
+                        lambda *a, **k: built.append(a) or pytest.fail("interface built"))
+    laws = (WearLaw(K_PAD), WearLaw(K_ROT), 0.4)
+    ok = Stop(50 / 3.6, decel=1.5)
+    sched = [ok, Dwell(60.0), ok, Dwell(60.0), Stop(50 / 3.6, decel=12.0)]
+    with pytest.raises(DutyError, match=r"^application 4: deceleration = 12\.0 m/s\^2 is not "
+                                        r"allowed; need 0 < deceleration <= tyre_mu g = 9\.81"):
+        run_schedule(model, sched, *laws, vehicle=CAR)
+    # a line pressure whose least deceleration (all of it at the pad's inner radius)
+    # is beyond the grip; a dwell from a stop's start that ends before the stop does
+    r_in, A = model.geometry.pad.inner_radius, model.geometry.clamp_area
+    p_bad = 1.05 * CAR.brake_torque(9.80665) / (2 * 0.4 * A * r_in)
+    drag = Drag(1e6, 5.0, omega=40.0)
+    for sched, car, match in (
+            ([ok, Dwell(60.0), Stop(50 / 3.6, line_pressure=p_bad)], CAR,
+             r"^application 2: line_pressure = .* MPa\) is not allowed; .*at least 10\.3 m/s\^2"),
+            ([drag, ok, Dwell(5.0, from_start=True)], CAR,
+             r"^application 2: dwell\.duration = 5\.0 s is not allowed; .*outlast its 9\.259 s"),
+            ([drag, drag, Drag(1e6, 5.0, speed=10.0)], None,
+             r"^application 2: a drag at a vehicle speed needs a vehicle")):
+        with pytest.raises(DutyError, match=match):
+            run_schedule(model, sched, *laws, vehicle=car)
+    regen = Vehicle(mass=1800.0, regen_share=1.0)
+    with pytest.raises(DutyError, match=r"^application 0: .*the motor takes all the braking"):
+        run_schedule(model, [ok], *laws, vehicle=regen)
+    with pytest.raises(DutyError, match=r"^initial_gap: 3 value\(s\)"):
+        run_schedule(model, [ok], *laws, vehicle=CAR, initial_gap=np.zeros(3))
+    assert built == []
 
 
 # ------------------------------------------------------------------ speed --
@@ -105,6 +144,48 @@ def test_stop_pressure_matches_the_torque_equation_and_energy_balances(model):
     assert g.inner_radius < rec.r_eff < g.outer_radius
 
 
+def test_two_pistons_per_side_clamp_with_their_joint_area():
+    """A fixed caliper with two 40 mm pistons per side clamps with twice one
+    piston's force: the torque equation uses the pistons' joint area
+    (``geometry.clamp_area``), so the model's friction work is the vehicle's
+    demand to 1e-8 (no wear) as with one piston."""
+    from dataclasses import replace
+
+    from brakewear.geometry import CaliperGeometry, load_geometry
+    g = load_geometry("default")
+    p1 = replace(g.piston, diameter=0.040, rim_inner_diameter=0.036, bore_diameter=0.040,
+                 radius=0.119, angle=np.radians(-12.0))
+    fixed = replace(g, caliper=CaliperGeometry("fixed"), piston=p1,
+                    extra_pistons=(replace(p1, angle=np.radians(12.0)),))
+    m = BrakeModel(fixed, size=12e-3, rotor="rigid")
+    (rec,) = run_schedule(m, [Stop(50 / 3.6, decel=1.5)], WearLaw(1e-30), mu=0.4,
+                          vehicle=CAR, numerics=Numerics(steps=2, tol=1e-12))
+    assert fixed.clamp_area == pytest.approx(2 * p1.hydraulic_area, rel=1e-15)
+    assert brake_torque(rec.line_pressure, 0.4, fixed.clamp_area, rec.r_eff) == pytest.approx(
+        CAR.brake_torque(1.5), rel=1e-9)
+    assert abs(rec.torque_drift) < 1e-8, rec.torque_drift
+
+
+def test_the_full_model_dissipates_the_demand_on_each_face():
+    """Both pads modelled (equal pistons both sides): each face carries the clamp
+    force, the torque equation holds with the effective radius of both faces'
+    pressure, and the friction work per face is the vehicle's demand per face
+    to 1e-8 (no wear), as in the half model, at the half model's line pressure
+    (the meshes are mirror images: 1e-9)."""
+    from dataclasses import replace
+
+    from brakewear.geometry import load_geometry
+    g = load_geometry("default")
+    rim = replace(g, piston=replace(g.piston, rim_inner_diameter=0.030))
+    recs = {}
+    for layout in ("half", "full"):
+        m = BrakeModel(rim, size=8e-3, layout=layout)
+        (recs[layout],) = run_schedule(m, [Stop(50 / 3.6, decel=1.5)], WearLaw(1e-30), mu=0.4,
+                                       vehicle=CAR, numerics=Numerics(steps=2, tol=1e-12))
+        assert abs(recs[layout].torque_drift) < 1e-8, (layout, recs[layout].torque_drift)
+    assert recs["full"].line_pressure == pytest.approx(recs["half"].line_pressure, rel=1e-9)
+
+
 def test_chained_applications_equal_one_history(model):
     """Three drags under one line pressure with dwells between, run as a schedule
     (each a history started from the wear before it), wear as one history over
@@ -126,6 +207,39 @@ def test_chained_applications_equal_one_history(model):
     # resin pad's) moves the effective radius inwards by ~0.1 % within each drag
     drift = [r.torque_drift for r in drags]
     assert all(-5e-3 < d < 0 for d in drift), drift
+
+
+def test_chained_stops_equal_one_schedule_run(model):
+    """Three stops (with the dwells between them) run as one schedule wear as the
+    same stops run one call at a time, each call started from the worn state of
+    the calls before: its gap is the initial gap plus the pad's wear plus the
+    rotor's carried onto the pad (``W``), which is all the state gap-offset
+    wear has.  Wear, end pressures and line pressures agree to 1e-9 (the
+    contact solves' tolerance is 1e-12; the active set is only a first guess)."""
+    num = Numerics(scheme="implicit", steps=4, tol=1e-12)
+    laws = (WearLaw(K_PAD), WearLaw(K_ROT), 0.4)
+    sched = repeated_stops(3, 50 / 3.6, decel=1.5, interval=60.0)
+    one = [r for r in run_schedule(model, sched, *laws, vehicle=CAR, numerics=num)
+           if r.kind == "stop"]
+    itf = FEInterface(model, 1e6, 0.4, num.tol)
+    pad, rotor, chained = np.zeros(itf.area.size), np.zeros(itf.rotor_area.size), []
+    for k in range(3):
+        part = sched[2 * k:2 * k + 2]                     # a stop and the dwell after it
+        recs = list(run_schedule(model, part, *laws, vehicle=CAR, numerics=num, interface=itf,
+                                 initial_gap=pad + itf.W @ rotor))
+        stop = recs[0]
+        pad, rotor = pad + recs[-1].pad_wear, rotor + recs[-1].rotor_wear
+        chained.append((stop, pad.copy(), rotor.copy()))
+    assert len(one) == 3
+    for a, (b, pad_b, rotor_b) in zip(one, chained):
+        assert b.line_pressure == pytest.approx(a.line_pressure, rel=1e-9)
+        for x, y in ((pad_b, a.pad_wear), (rotor_b, a.rotor_wear), (b.pressure, a.pressure)):
+            assert np.abs(x - y).max() <= 1e-9 * np.abs(y).max()
+        assert b.pad_volume_m3 == pytest.approx(a.pad_volume_m3, rel=1e-9)
+        assert b.friction_face_J == pytest.approx(a.friction_face_J, rel=1e-9)
+    # the state matters: the wear moves the pressure inward, so the last stop needs a
+    # higher line pressure for the same torque (0.8 % here)
+    assert one[-1].line_pressure > 1.002 * one[0].line_pressure
 
 
 # ------------------------------------------------------------------ inputs --

@@ -244,3 +244,69 @@ def test_geometry_update_and_thermal_coupling_on_both_faces(rim):
     rise = h["T"][0] - 293.15
     for T in f["T"]:
         assert abs(T - h["T"][0]) < 0.02 * rise
+
+
+def test_the_full_rotor_mesh_is_its_own_mirror_image(rim):
+    """Both halves of the full ring are meshed alike: each tetrahedron's mirror
+    image through the mid-plane is a tetrahedron of the mesh (so, with the
+    mirrored pads, a load and its mirror image give mirrored answers)."""
+    m = rotor_mesh(rim, size=8e-3, full=True)
+    t = rim.rotor.thickness
+    key = np.round(m.p / (1e-9 * t)).astype(np.int64)
+    mirrored = key.copy()
+    mirrored[2] = np.round((-t - m.p[2]) / (1e-9 * t)).astype(np.int64)
+    index = {tuple(k): i for i, k in enumerate(key.T)}
+    image = np.array([index[tuple(k)] for k in mirrored.T])      # KeyError: not a node
+    tets = {tuple(sorted(c)) for c in m.t.T}
+    assert {tuple(sorted(image[c])) for c in m.t.T} == tets
+
+
+def _face_contact(itf, pressure, mask):
+    """(contact fraction by area, radial centre of pressure (m)) of one face."""
+    a, p, r = itf.area[mask], pressure[mask], itf.r[mask]
+    return a[p > 0].sum() / a.sum(), (p * a * r).sum() / (p * a).sum()
+
+
+def test_opposite_coning_mirrors_the_coverage_of_the_two_faces(rim):
+    """A rotor coned by +c (rim dished toward the outboard side: the gap opens at
+    the outer radius on the inboard face, at the inner radius on the outboard
+    face) is the mirror image of one coned by -c: with equal pistons on both
+    sides, the inboard face under +c has the contact of the outboard face
+    under -c, and the other way round.  Pads and rotor are meshed as mirror
+    images, so the two contact problems are the same problem with the nodes
+    numbered differently: the active sets match exactly and the centres of
+    pressure to the contact solve's tolerance."""
+    from brakewear.cleaning import outboard_nodes
+    from brakewear.scene import Scene
+    from brakewear.scene.spec import InterfaceSpec
+
+    c, tol = 30e-6, 1e-10
+    contact = {}
+    for sign in (1, -1):
+        scene = Scene(geometry=rim, layout="full", mesh_size=8e-3,
+                      interface=InterfaceSpec(mu=0.4, coning=sign * c))
+        model = scene.build_model()
+        itf = FEInterface(model, 1e6, 0.4, tol)
+        gap = scene.initial_gap(itf.x)
+        out = outboard_nodes(itf.x, rim.rotor.thickness)
+        p = itf.solve(gap, None).pressure
+        contact[sign] = {"in": _face_contact(itf, p, ~out), "out": _face_contact(itf, p, out)}
+        if sign == 1:     # the number is the per-face table {inboard = c, outboard = -c}
+            table = Scene(geometry=rim, layout="full", mesh_size=8e-3,
+                          interface=InterfaceSpec(mu=0.4, coning={"inboard": c,
+                                                                  "outboard": -c}))
+            assert np.array_equal(table.initial_gap(itf.x), gap)
+            # the inboard gap opens toward the outer radius, the outboard one inward
+            r_in, r_out = itf.r[~out], itf.r[out]
+            assert gap[~out][r_in.argmax()] > 0.9 * c * (r_in.max() - r_in.min()) / (
+                rim.pad.outer_radius - rim.pad.inner_radius)
+            assert gap[out][r_out.argmin()] == pytest.approx(gap[~out][r_in.argmax()],
+                                                             rel=1e-12)
+    band = rim.pad.outer_radius - rim.pad.inner_radius
+    for face, other in (("in", "out"), ("out", "in")):
+        frac, r_cp = contact[1][face]
+        frac_m, r_cp_m = contact[-1][other]
+        assert frac == pytest.approx(frac_m, rel=1e-12)
+        assert r_cp == pytest.approx(r_cp_m, rel=100 * tol)
+    # and the coning matters: the faces of one rotor bear at opposite edges
+    assert contact[1]["out"][1] - contact[1]["in"][1] > 0.3 * band

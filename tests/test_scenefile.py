@@ -181,6 +181,18 @@ BAD = {
                          "-2.5 mm is not allowed; it must be >= -1 mm"),
     "coning as text": (lambda d: d["interface"].update(pad_taper="30 um"),
                        "interface.pad_taper", "expected a number"),
+    "coning per face on the half model": (
+        lambda d: d["interface"].update(coning={"inboard": 0.03, "outboard": -0.03}),
+        "interface.coning", "a table per face needs both faces: components.layout = 'full'"),
+    "coning of an unknown face": (
+        lambda d: (d["components"].update(layout="full"),
+                   d["interface"].update(coning={"inboard": 0.03, "rim": 0.0})),
+        "interface.coning", "unknown key(s) 'rim'; a table per face needs exactly the keys "
+                            "inboard, outboard"),
+    "coning of one face too large": (
+        lambda d: (d["components"].update(layout="full"),
+                   d["interface"].update(coning={"inboard": 0.03, "outboard": -2.5})),
+        "interface.coning.outboard", "-2.5 mm is not allowed; it must be >= -1 mm"),
 }
 
 
@@ -323,6 +335,19 @@ def test_coning_and_taper_give_the_loops_initial_gap(tmp_path, monkeypatch):
     r = np.linspace(pad.inner_radius, pad.outer_radius, 5)
     x = np.vstack([r, np.zeros(5), np.zeros(5)])
     assert s.initial_gap(x) == pytest.approx(np.linspace(0.0, 20e-6, 5), abs=1e-18)
+    # a coned rotor's outboard face (z = -thickness) opens the other way; the pad
+    # taper opens the same way on both pads
+    x_out = x.copy()
+    x_out[2] = -s.geometry.rotor.thickness
+    assert s.initial_gap(np.hstack([x, x_out]))[5:] == pytest.approx(
+        np.linspace(40e-6, 0.0, 5), rel=1e-12)
+    d["components"].update(layout="full")
+    d["interface"].update(coning={"inboard": 0.030, "outboard": 0.010})
+    full = scene_from_dict(d)
+    assert full.interface.face_coning() == pytest.approx({"inboard": 30e-6, "outboard": 10e-6})
+    gap = full.initial_gap(np.hstack([x, x_out]))
+    assert gap[:5] == pytest.approx(np.linspace(0.0, 20e-6, 5), rel=1e-12)
+    assert np.abs(gap[5:]).max() <= 1e-12 * 30e-6        # 10 um coning less 10 um taper
     import brakewear.output as history
     seen = {}
 

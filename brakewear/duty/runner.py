@@ -8,14 +8,14 @@ given, carries its temperatures from one application to the next and cools
 through the dwells.
 
 Per application: the line pressure and the deceleration (one from the other
-through the vehicle and the brake's torque, ``T = 2 mu p_line A_piston
+through the vehicle and the brake's torque, ``T = 2 mu p_line A_clamp
 r_eff`` with the effective radius of the pressure field at the
 application's start), the rotor speeds, the kinetic energy, the part
 regenerated, the friction work the vehicle asks of each face and the one the
-model dissipated (``mu sum(p A r) Delta theta`` over the steps), the worn
-volumes.  The line pressure is held over an application, so the two
-friction works differ by how much the effective radius moves within it
-(``torque_drift``).
+model dissipated (``mu sum(p A r) Delta theta`` over the steps; in the full
+model the mean of its two faces), the worn volumes (of every modelled pad).
+The line pressure is held over an application, so the two friction works
+differ by how much the effective radius moves within it (``torque_drift``).
 """
 from __future__ import annotations
 
@@ -32,7 +32,8 @@ from ..wear.numerics import Numerics
 from ..wear.records import HeatTally, thermal_state
 from ..wear.speed import ConstantSpeed, LinearSpeed
 from ..wear.stepper import wear_history
-from .schedule import Drag, Dwell, Stop
+from ..mesh.surface import face_nodes
+from .schedule import Drag, Dwell, Stop, check_schedule
 from .vehicle import (FACES, Vehicle, brake_torque, effective_radius,
                       line_pressure_for_torque)
 
@@ -61,7 +62,7 @@ class ApplicationRecord:
     kinetic_J: float | None = None
     regenerated_J: float | None = None
     target_face_J: float | None = None    # the vehicle's demand on each face
-    friction_face_J: float = 0.0          # the model's dissipation on the face
+    friction_face_J: float = 0.0          # the model's dissipation per face (full model: mean)
     pad_volume_m3: float = 0.0            # worn in this application
     rotor_volume_m3: float = 0.0
     steps: int = 0
@@ -90,12 +91,10 @@ class _Brake:
 
     def __init__(self, model, itf, mu, initial_gap):
         self.model, self.itf, self.mu = model, itf, mu
-        self.piston_area = model.geometry.piston.hydraulic_area
-        n = itf.area.size
+        self.clamp_area = model.geometry.clamp_area     # one side's pistons together
+        self.faces = FACES if getattr(model, "full", False) else 1    # friction faces modelled
+        n = itf.area.size       # the initial gap's size is checked with the schedule
         self.gap0 = np.zeros(n) if initial_gap is None else np.asarray(initial_gap, dtype=float)
-        if self.gap0.shape != (n,):
-            raise DutyError(f"initial_gap has {self.gap0.size} values; the pad has {n} "
-                            "friction nodes")
         self.pad_wear, self.rotor_wear = np.zeros(n), np.zeros(itf.rotor_area.size)
         self.active = None
 
@@ -118,7 +117,7 @@ class _Brake:
         p = guess
         for _ in range(max_iter):
             r = self.r_eff(self.solve(p).pressure)
-            p_new = line_pressure_for_torque(torque, self.mu, self.piston_area, r)
+            p_new = line_pressure_for_torque(torque, self.mu, self.clamp_area, r)
             if abs(p_new - p) <= rtol * p_new:
                 return p_new, r
             p = p_new
@@ -131,30 +130,23 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
     """(line pressure, speed profile, duration, record) of a braked application."""
     rec = ApplicationRecord(index, "stop" if isinstance(app, Stop) else "drag", 0.0, 0.0)
     if isinstance(app, Drag):
-        if app.speed is not None and vehicle is None:
-            raise DutyError(f"application {index}: a drag at a vehicle speed needs a vehicle "
-                            "(or give the rotor speed omega)")
         w = app.omega if app.omega is not None else vehicle.rotor_speed(app.speed)
         rec.line_pressure, rec.duration, rec.omega0 = app.line_pressure, app.duration, w
         rec.omega1, rec.v0 = w, app.speed
         rec.v1 = app.speed
         rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure)
-        rec.torque = brake_torque(app.line_pressure, brake.mu, brake.piston_area, rec.r_eff)
+        rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
         return ConstantSpeed(w), rec
-    if vehicle is None:
-        raise DutyError(f"application {index}: a stop needs a vehicle (mass, tyre radius, "
-                        "brake share)")
-    if app.decel is not None:
-        vehicle.check_deceleration(app.decel, f"application {index}: deceleration")
+    if app.decel is not None:          # checked with the schedule (check_schedule)
         rec.torque = vehicle.brake_torque(app.decel)
-        guess = line_pressure_for_torque(rec.torque, brake.mu, brake.piston_area,
+        guess = line_pressure_for_torque(rec.torque, brake.mu, brake.clamp_area,
                                          float(np.average(brake.itf.r, weights=brake.itf.area)))
         rec.line_pressure, rec.r_eff = brake.pressure_for_torque(rec.torque, guess)
         rec.decel = app.decel
     else:
         rec.line_pressure = app.line_pressure
         rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure)
-        rec.torque = brake_torque(app.line_pressure, brake.mu, brake.piston_area, rec.r_eff)
+        rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
         rec.decel = vehicle.deceleration(rec.torque)
         vehicle.check_deceleration(
             rec.decel, f"application {index}: the deceleration of line pressure "
@@ -200,10 +192,19 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
         and the wear since the schedule's start (e.g. to update a
         :class:`~brakewear.cleaning.CorrodedRotor`).
 
-    Yields
+    Returns
+    -------
+    iterator of ApplicationRecord
+        One per application, with the cumulative wear and the end pressure;
+        each application runs when its record is asked for.
+
+    Raises
     ------
-    ApplicationRecord
-        One per application, with the cumulative wear and the end pressure.
+    DutyError
+        At the call, before the interface is built or anything is solved: a
+        bad numerics, ``mu`` or initial gap, or any application of the schedule
+        that cannot run (:func:`~brakewear.duty.check_schedule`: its index and
+        value named).
     """
     numerics = Numerics() if numerics is None else numerics
     if numerics.update != "gap":
@@ -213,14 +214,15 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
     if not (isinstance(mu, (int, float)) and np.isfinite(mu) and mu > 0):
         raise DutyError(f"mu = {mu!r} is not allowed; a schedule needs a friction "
                         "coefficient > 0 (the brake's torque)")
-    apps = list(schedule)
-    for i, app in enumerate(apps):
-        if not isinstance(app, (Stop, Drag, Dwell)):
-            raise DutyError(f"application {i}: {app!r} is not a Stop, Drag or Dwell")
-        if isinstance(app, Stop) and vehicle is None:
-            raise DutyError(f"application {i}: a stop needs a vehicle")
-        if isinstance(app, Dwell) and app.speed is not None and vehicle is None:
-            raise DutyError(f"application {i}: a dwell at a vehicle speed needs a vehicle")
+    apps = check_schedule(schedule, vehicle, mu=mu, geometry=getattr(model, "geometry", None))
+    _check_initial_gap(model, interface, initial_gap)
+    return _run(model, apps, pad_law, rotor_law, mu, vehicle, numerics, interface, thermal,
+                initial_gap, on_step)
+
+
+def _run(model, apps, pad_law, rotor_law, mu, vehicle, numerics, interface, thermal,
+         initial_gap, on_step):
+    """The applications of a checked schedule, one record each (:func:`run_schedule`)."""
     first = next((a for a in apps if not isinstance(a, Dwell)), None)
     p_ref = (first.line_pressure if getattr(first, "line_pressure", None) else 1e6)
     itf = FEInterface(model, p_ref, mu, numerics.tol) if interface is None else interface
@@ -240,6 +242,18 @@ def run_schedule(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
         logger.info("application %d (%s): %.3g s, %.3g MPa, friction %.4g J per face",
                     i, rec.kind, rec.duration, rec.line_pressure / 1e6, rec.friction_face_J)
         yield rec
+
+
+def _check_initial_gap(model, interface, initial_gap) -> None:
+    """Refuse an initial gap that is not one finite value per pad friction node."""
+    if initial_gap is None:
+        return
+    gap = np.asarray(initial_gap, dtype=float)
+    n = (interface.area.size if interface is not None else
+         face_nodes(model.meshes["pad"], "friction").size)
+    if gap.shape != (n,) or not np.all(np.isfinite(gap)):
+        raise DutyError(f"initial_gap: {gap.size} value(s) of shape {gap.shape}; need {n} "
+                        "finite values (m), one per pad friction node")
 
 
 #: Longest implicit-Euler step of the cooling in a dwell (s).
@@ -288,7 +302,7 @@ def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numeri
                           initial_gap=brake.offset()):
         d_theta = speed.angle(s.time) - speed.angle(s.time - s.dt)
         p_used = s.pressure_end if implicit else s.pressure
-        rec.friction_face_J += brake.mu * float((p_used * A * r).sum()) * d_theta
+        rec.friction_face_J += brake.mu * float((p_used * A * r).sum()) * d_theta / brake.faces
         tally.add(s, s.dt)
         if on_step is not None:
             on_step(rec, s, brake.pad_wear + s.pad_wear, brake.rotor_wear + s.rotor_wear)

@@ -24,10 +24,10 @@ from os import PathLike
 from pathlib import Path
 
 from ..errors import DutyError
-from .vehicle import _check, _finite
+from .vehicle import G, _check, _finite, brake_torque
 
 __all__ = ["Stop", "Drag", "Dwell", "repeated_stops", "schedule_from_table",
-           "read_schedule_csv", "KMH"]
+           "read_schedule_csv", "check_schedule", "KMH"]
 
 #: One km/h in m/s.
 KMH = 1.0 / 3.6
@@ -102,6 +102,74 @@ class Dwell:
             v = getattr(self, key)
             if v is not None:
                 _check(f"dwell.{key}", v, _finite(v) and v >= 0, "need >= 0", unit)
+
+
+def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
+                   geometry=None) -> list:
+    """Check a whole schedule before anything is computed; returns it as a list.
+
+    Every application must be a :class:`Stop`, :class:`Drag` or :class:`Dwell`;
+    stops, and drags or dwells at a vehicle speed, need ``vehicle``.  A stop
+    at a deceleration must be within the tyres' grip (``tyre_mu g``) and leave
+    the modelled brake some torque (not all regenerated).  A stop under a line
+    pressure whose deceleration exceeds the grip even with the pressure at the
+    pad's inner radius (the least torque ``2 mu p A_clamp r_in`` of any
+    pressure field) is refused; nearer the limit the stop's own pressure field
+    decides, when it is run.  A dwell given from the previous application's
+    start must outlast it where that application's length is known (a drag,
+    or a stop at a deceleration).  Errors name the application's index (from
+    0) and the value in SI units.
+    """
+    apps = list(schedule)
+    since_start = None      # s since the last braked application's start, where known
+    for i, app in enumerate(apps):
+        where = f"application {i}"
+        if not isinstance(app, (Stop, Drag, Dwell)):
+            raise DutyError(f"{where}: {app!r} is not a Stop, Drag or Dwell")
+        if isinstance(app, Dwell):
+            if app.speed is not None and vehicle is None:
+                raise DutyError(f"{where}: a dwell at a vehicle speed needs a vehicle")
+            if app.from_start and since_start is not None:
+                _check(f"{where}: dwell.duration", app.duration, app.duration > since_start,
+                       f"a dwell from the previous application's start must outlast its "
+                       f"{since_start:.4g} s", "s")
+            since_start = None if since_start is None or app.from_start else \
+                since_start + app.duration
+            continue
+        if isinstance(app, Drag):
+            if app.speed is not None and vehicle is None:
+                raise DutyError(f"{where}: a drag at a vehicle speed needs a vehicle (or give "
+                                "the rotor speed omega)")
+            since_start = app.duration
+            continue
+        if vehicle is None:
+            raise DutyError(f"{where}: a stop needs a vehicle (mass, tyre radius, brake share)")
+        since_start = None
+        if app.decel is not None:
+            _check_stop_decel(app, vehicle, where)
+            since_start = (app.v0 - app.v1) / app.decel
+        elif mu is not None and geometry is not None:
+            least = vehicle.deceleration(brake_torque(app.line_pressure, mu,
+                                                      geometry.clamp_area,
+                                                      geometry.pad.inner_radius))
+            limit = vehicle.tyre_mu * G
+            if not least <= limit:
+                p = app.line_pressure
+                raise DutyError(f"{where}: line_pressure = {p:g} Pa ({p / 1e6:g} MPa) is not "
+                                f"allowed; it decelerates the vehicle by at least {least:.3g} "
+                                f"m/s^2 (the least torque it can give: its whole pressure field at "
+                                f"the pad's inner radius, {geometry.pad.inner_radius * 1e3:g} "
+                                f"mm), beyond tyre_mu g = "
+                                f"{limit:.3g} m/s^2 (what the tyres can give)")
+    return apps
+
+
+def _check_stop_decel(app: Stop, vehicle, where: str) -> None:
+    vehicle.check_deceleration(app.decel, f"{where}: deceleration")
+    if not vehicle.brake_torque(app.decel) > 0:
+        raise DutyError(f"{where}: at deceleration = {app.decel!r} m/s^2 the motor takes all "
+                        f"the braking (regen_share = {vehicle.regen_share:g}): the modelled "
+                        "brake gives no torque")
 
 
 def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | None = None,

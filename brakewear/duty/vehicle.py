@@ -10,9 +10,10 @@ brake's axle takes its share (``front_share`` for the front axle) split
 over that axle's brakes.  The modelled brake's torque is
 ``T = F_brake R`` and its rotor turns at ``omega = v / R``.
 
-The brake gives that torque as ``T = n_f mu p_line A_piston r_eff``:
-``n_f = 2`` friction faces (a floating caliper clamps both pads with the
-same force ``p_line A_piston``), and the effective radius of the current
+The brake gives that torque as ``T = n_f mu p_line A_clamp r_eff``:
+``n_f = 2`` friction faces clamped with the same force ``p_line A_clamp``
+(``A_clamp`` the hydraulic area of one side's pistons together,
+``geometry.clamp_area``), and the effective radius of the current
 pressure field, ``r_eff = sum(p A r) / sum(p A)`` over the pad's friction
 nodes.  So a deceleration gives a line pressure and a line pressure a
 deceleration, both through the brake's own pressure field.
@@ -182,16 +183,17 @@ def effective_radius(pressure: np.ndarray, area: np.ndarray, r: np.ndarray) -> f
     return float((load * r).sum() / total)
 
 
-def brake_torque(line_pressure: float, mu: float, piston_area: float, r_eff: float,
+def brake_torque(line_pressure: float, mu: float, clamp_area: float, r_eff: float,
                  faces: int = FACES) -> float:
-    """``T = faces mu p_line A_piston r_eff`` (N m)."""
-    return faces * mu * line_pressure * piston_area * r_eff
+    """``T = faces mu p_line A_clamp r_eff`` (N m); ``A_clamp`` (m^2) the hydraulic
+    area of one side's pistons together."""
+    return faces * mu * line_pressure * clamp_area * r_eff
 
 
-def line_pressure_for_torque(torque: float, mu: float, piston_area: float, r_eff: float,
+def line_pressure_for_torque(torque: float, mu: float, clamp_area: float, r_eff: float,
                              faces: int = FACES) -> float:
     """The line pressure (Pa) that gives ``torque`` (N m): the inverse of :func:`brake_torque`."""
     if not mu > 0:
         raise DutyError(f"mu = {mu!r}: a brake without friction gives no torque; need mu > 0 "
                         "for a stop at a given deceleration")
-    return torque / (faces * mu * piston_area * r_eff)
+    return torque / (faces * mu * clamp_area * r_eff)

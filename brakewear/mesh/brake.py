@@ -84,9 +84,9 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
     th = _ring_theta(geom, h)
     nz = ms.rotor_layers or _n_cells(half, 0.5 * h, ms.rotor_z_ratio)
     z = graded(-half, 0.0, nz, ms.rotor_z_ratio if nz > 1 else 1.0, "b")
-    if full:
+    if full:     # the outboard half the mirror image of the inboard one, node for node
         z = np.concatenate([-2 * half - z[::-1], z[1:]])
-    p, t = structured_tets(r, th, z, periodic_y=True)
+    p, t = structured_tets(r, th, z, periodic_y=True, mirror_below=nz if full else None)
     m = mapped_mesh(p, t, cylindrical, order=order, period=np.array([0.0, 2 * np.pi, 0.0]))
     tol = 1e-9 * ro
     rmid = 0.5 * (ri + ro)

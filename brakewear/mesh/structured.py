@@ -67,12 +67,18 @@ def graded(a: float, b: float, n: int, ratio: float = 1.0, toward: str = "a") ->
 
 
 def structured_tets(x: np.ndarray, y: np.ndarray, z: np.ndarray,
-                    periodic_y: bool = False) -> tuple[np.ndarray, np.ndarray]:
+                    periodic_y: bool = False, mirror_below: int | None = None
+                    ) -> tuple[np.ndarray, np.ndarray]:
     """Kuhn-split tetrahedra on the tensor grid ``x`` x ``y`` x ``z``.
 
     Returns parametric nodes ``p`` (3, N) and tetrahedra ``t`` (4, 6 * nhex).
     With ``periodic_y`` the last ``y`` layer is the first one again (a closed
     ring): ``y[-1]`` must be ``y[0]`` plus the period and is not a node.
+    With ``mirror_below = k`` the hexahedra of the layers below ``z[k]`` are
+    split as the mirror image in z of the Kuhn split: on a grid symmetric
+    about ``z[k]`` the mesh is then its own mirror image through that plane
+    (both splits cut the plane's faces along the same diagonal, so the mesh
+    stays conforming).
     """
     x, y, z = (np.asarray(a, dtype=float) for a in (x, y, z))
     nx, ny, nz = len(x), len(y), len(z)
@@ -88,6 +94,12 @@ def structured_tets(x: np.ndarray, y: np.ndarray, z: np.ndarray,
             for dz in (0, 1):
                 corners[(dx, dy, dz)] = idx[dx:nx - 1 + dx, dy:ny - 1 + dy, dz:nz - 1 + dz].ravel()
     t = np.vstack([np.vstack([corners[c] for c in path]) for path in KUHN]).reshape(6, 4, -1)
+    if mirror_below is not None:
+        below = np.broadcast_to(np.arange(nz - 1) < mirror_below,
+                                (nx - 1, ny - 1, nz - 1)).ravel()
+        flipped = np.vstack([np.vstack([corners[(dx, dy, 1 - dz)] for dx, dy, dz in path])
+                             for path in KUHN]).reshape(6, 4, -1)
+        t = np.where(below, flipped, t)
     t = t.transpose(1, 0, 2).reshape(4, -1)
     return p, t
 

@@ -37,7 +37,8 @@ __all__ = ["load_scene", "scene_from_dict", "scene_dir", "scene_file", "availabl
 
 #: table -> key -> kind.  Kinds: a unit quantity ("length", "pressure", "time",
 #: "angular_speed", "temperature"), or "str", "num", "int", "bool", "surfaces",
-#: "geometry", "k", "h_conv", "partition".
+#: "geometry", "k", "h_conv", "partition", "signed_length" (a length of either
+#: sign), "face_length" (a signed length, or a table of one per friction face).
 _SCHEMA: dict[str, dict[str, str]] = {
     "units": {q: "unit" for q in UNITS},
     "scene": {"name": "str", "description": "str", "geometry": "geometry"},
@@ -49,7 +50,7 @@ _SCHEMA: dict[str, dict[str, str]] = {
                     "ambient": "temperature"},
     "interface": {"model": "str", "surfaces": "surfaces", "mu": "num", "method": "str",
                   "winkler_modulus": "num", "winkler_rotor": "str",
-                  "coning": "signed_length", "pad_taper": "signed_length", "gap_file": "path",
+                  "coning": "face_length", "pad_taper": "signed_length", "gap_file": "path",
                   "mu_map": "path", "map_outside": "str"},
     "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
                  "activation_energy": "num", "limit": "length", "k_map": "path",
@@ -273,7 +274,12 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
             return default
         kind = _SCHEMA[t][k]
         out = _convert(f"{t}.{k}", tab[k], kind, units)
-        if kind == "signed_length":
+        if kind == "face_length" and isinstance(tab[k], Mapping):
+            u = units["length"]
+            shown.update({f"{t}.{k}.{f}": (u, UNITS["length"][u], 0.0, x)
+                          for f, x in tab[k].items()})
+            return out
+        if kind in ("signed_length", "face_length"):
             kind = "length"
         if kind in UNITS:
             u = units[kind]
@@ -403,6 +409,10 @@ def _convert(key: str, v: Any, kind: str, units: Mapping[str, str]) -> Any:
         return v
     if kind == "signed_length":        # a length of either sign (a gap's direction)
         return number() * UNITS["length"][units["length"]]
+    if kind == "face_length":          # one signed length, or a table of one per face
+        if isinstance(v, Mapping):
+            return {f: _convert(f"{key}.{f}", x, "signed_length", units) for f, x in v.items()}
+        return _convert(key, v, "signed_length", units)
     if kind in UNITS:
         x = number()
         u = units[kind]

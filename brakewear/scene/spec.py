@@ -19,8 +19,6 @@ from dataclasses import asdict, dataclass, field, fields, replace
 from os import PathLike
 from typing import Any, Mapping
 
-import numpy as np
-
 from ..checks import (
     check_choice,
     check_int,
@@ -251,6 +249,13 @@ class Scene:
                 raise fail("interface.surfaces", f"{s!r}: the {body} has no surface {surf!r}; "
                                                   f"{body} surfaces: "
                                                   f"{', '.join(SURFACES[body])}")
+        if self.interface.per_face:
+            from ..loadpath import resolve_layout
+            if resolve_layout(self.geometry, self.layout, self.rotor) == "half":
+                raise fail("interface.coning", "a table per face needs both faces: "
+                                               "components.layout = 'full' (the half model "
+                                               "has the inboard face only; give a number, "
+                                               "that face's coning)")
         if tuple(sorted(self.interface.surfaces)) != _WEAR_INTERFACE:
             raise fail("interface.surfaces",
                         f"{list(self.interface.surfaces)!r}: the wear loop's sliding interface is "
@@ -293,7 +298,8 @@ class Scene:
             raise fail("interface.gap_file", str(exc)) from None
 
     def _check_duty(self) -> None:
-        from ..duty import Drag, Stop, Vehicle
+        from ..duty import Drag, Stop, Vehicle, check_schedule
+        from ..errors import DutyError
         if not self.schedule:
             if self.vehicle is not None:
                 raise fail("vehicle", "a [vehicle] is used by a [schedule] of stops; add one or "
@@ -323,6 +329,11 @@ class Scene:
         if self.interface.mu <= 0:
             raise fail("interface.mu", f"{self.interface.mu!r}: a [schedule] turns brake "
                                         "torque into line pressure through mu; need mu > 0")
+        try:
+            check_schedule(self.schedule, self.vehicle, mu=self.interface.mu,
+                           geometry=self.geometry)
+        except DutyError as exc:
+            raise fail("schedule", str(exc)) from None
 
     # -------------------------------------------------------------- build --
     def build_model(self):
@@ -334,14 +345,16 @@ class Scene:
 
     def initial_gap(self, x):
         """The initial gap (m) at pad friction nodes at ``x`` (3, n; m) from the
-        interface's coning, pad taper and gap map; None if there is none."""
-        from ..cleaning import coning_gap, map_gap
+        interface's coning and pad taper on each face
+        (:func:`~brakewear.cleaning.nonconformity_gap`) and its gap map; None if
+        there is none."""
+        from ..cleaning import map_gap, nonconformity_gap
         itf = self.interface
-        total = itf.coning + itf.pad_taper
-        if total == 0.0 and itf.gap_file is None:
+        if not itf.nonconforming:
             return None
-        pad = self.geometry.pad
-        g = coning_gap(np.hypot(x[0], x[1]), pad.inner_radius, pad.outer_radius, total)
+        geo = self.geometry
+        g = nonconformity_gap(x, geo.pad.inner_radius, geo.pad.outer_radius,
+                              geo.rotor.thickness, itf.face_coning(), itf.pad_taper)
         if itf.gap_file is not None:
             g = g + map_gap(self._gap_points, x, f"interface.gap_file = {itf.gap_file!r}")
         return g

@@ -13,7 +13,7 @@ from ..checks import check_bool, check_choice, check_int, check_number, check_pl
 logger = logging.getLogger(__name__)
 
 __all__ = ["InterfaceSpec", "WearSpec", "ThermalSpec", "OutputSpec", "SURFACES", "UNITS",
-           "MAX_NONCONFORMITY"]
+           "MAX_NONCONFORMITY", "FACES"]
 
 
 #: Units a scene file may state, per quantity: name -> factor to SI (temperatures: offset).
@@ -39,6 +39,10 @@ SURFACES: dict[str, tuple[str, ...]] = {
 
 #: Largest rotor coning or pad taper a scene accepts (m, either sign).
 MAX_NONCONFORMITY = 1e-3
+
+#: The friction faces a per-face value names: the inboard face (the pistons' side, z = 0)
+#: and the outboard face (z = -thickness; the full model only).
+FACES = ("inboard", "outboard")
 
 # the one sliding interface the wear loop integrates
 _WEAR_INTERFACE = ("pad.friction", "rotor.friction")
@@ -80,14 +84,21 @@ class InterfaceSpec:
     winkler_rotor
         ``"rigid"`` or ``"foundation"`` (rotor half thickness in series; Winkler only).
     coning, pad_taper
-        The initial non-conformity (m): a rotor coning and a radial pad taper,
-        each the gap it opens across the pad's radial extent, linear in radius;
-        positive opens it at the outer radius, negative at the inner.  They add
-        into one initial gap (:meth:`Scene.initial_gap`).
+        The initial non-conformity (m), each the gap it opens across the pad's
+        radial extent, linear in radius (:func:`brakewear.cleaning.nonconformity_gap`).
+        On a face, positive opens the gap at the outer radius, negative at the
+        inner.  ``coning`` a number ``c``: a coned rotor, whose dishing opens the
+        gap at the outer radius on one face and at the inner radius on the
+        other -- ``c`` on the inboard face and ``-c`` on the outboard face
+        (``c > 0``: the rim dished toward the outboard side).  ``coning`` a
+        table ``{inboard = a, outboard = b}`` (or a pair ``(a, b)``): each face's
+        own value (full model only).  ``pad_taper``: the same radial taper on
+        every pad.  Coning and taper add on each face (:meth:`Scene.initial_gap`).
     gap_file
         An initial-gap map, a CSV with columns ``r_mm``, ``theta_deg``,
         ``gap_um`` (:func:`brakewear.cleaning.read_gap_map`), added to the
-        coning and taper; read and checked when the scene is made.
+        coning and taper on every face at the node's (r, theta) (a tangential
+        taper is given this way); read and checked when the scene is made.
     mu_map, map_outside
         A friction map ``mu(p, v, T)`` (CSV, :func:`brakewear.maps.read_map`)
         used at each pad node instead of ``mu``; outside its grid ``"clamp"``
@@ -100,7 +111,7 @@ class InterfaceSpec:
     method: str = "segment"
     winkler_modulus: float | None = None
     winkler_rotor: str = "rigid"
-    coning: float = 0.0
+    coning: float | Mapping[str, float] = 0.0
     pad_taper: float = 0.0
     gap_file: str | None = None
     mu_map: str | None = None
@@ -121,10 +132,53 @@ class InterfaceSpec:
         check_number("interface.winkler_modulus", self.winkler_modulus, 0.0, unit="Pa/m",
                       allow_none=True)
         check_choice("interface.winkler_rotor", self.winkler_rotor, ("rigid", "foundation"))
-        for key in ("coning", "pad_taper"):
-            # tens of um in service; a millimetre is a pad that bears on one edge
-            check_number(f"interface.{key}", getattr(self, key), -MAX_NONCONFORMITY,
-                         MAX_NONCONFORMITY, lo_open=False, unit="m")
+        object.__setattr__(self, "coning", _face_lengths("interface.coning", self.coning))
+        _check_nonconformity("interface.pad_taper", self.pad_taper)
+
+    @property
+    def per_face(self) -> bool:
+        """Whether ``coning`` gives each face its own value (a table)."""
+        return isinstance(self.coning, Mapping)
+
+    def face_coning(self) -> dict[str, float]:
+        """The coning on each face (m), in that face's own sense (positive opens
+        the gap at the outer radius): a number ``c`` is ``c`` inboard, ``-c`` outboard."""
+        if self.per_face:
+            return dict(self.coning)
+        return {"inboard": self.coning, "outboard": -self.coning}
+
+    @property
+    def nonconforming(self) -> bool:
+        """Whether the faces start with an initial gap (coning, taper or a gap map)."""
+        return (any(self.face_coning().values()) or self.pad_taper != 0.0
+                or self.gap_file is not None)
+
+
+def _check_nonconformity(key: str, value) -> None:
+    # tens of um in service; a millimetre is a pad that bears on one edge
+    check_number(key, value, -MAX_NONCONFORMITY, MAX_NONCONFORMITY, lo_open=False, unit="m")
+
+
+def _face_lengths(key: str, value):
+    """A checked signed length, or a dict face -> signed length of a table or pair."""
+    if isinstance(value, (tuple, list)):
+        if len(value) != len(FACES):
+            raise fail(key, f"{value!r} is not allowed; expected a number or a pair "
+                            "(inboard, outboard)")
+        value = dict(zip(FACES, value))
+    if not isinstance(value, Mapping):
+        _check_nonconformity(key, value)
+        return value
+    unknown = sorted(set(value) - set(FACES))
+    missing = [f for f in FACES if f not in value]
+    if unknown or missing:
+        what = (f"unknown key(s) {', '.join(map(repr, unknown))}" if unknown else
+                f"missing key(s) {', '.join(map(repr, missing))}")
+        raise fail(key, f"{what}; a table per face needs exactly the keys "
+                        f"{', '.join(FACES)} (a length each, in the file's length unit)")
+    for f in FACES:
+        _check_nonconformity(f"{key}.{f}", value[f])
+    return {f: value[f] for f in FACES}
 
 
 @dataclass(frozen=True)
