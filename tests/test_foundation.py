@@ -277,3 +277,19 @@ def test_study_runs_on_a_coarse_mesh(tmp_path):
             < abs(sh["winkler"]["cop_shift_deg"] - sh["fe"]["cop_shift_deg"]))
     assert (tmp_path / "foundation_pressure.png").stat().st_size > 10_000
     assert (tmp_path / "foundation_profile.csv").read_text().startswith("theta_deg,")
+
+
+def test_a_fixed_caliper_presses_the_foundation_with_all_its_pistons():
+    """Two pistons on one side: the line pressure acts on the sum of their
+    hydraulic areas (``geometry.clamp_area``), as in the FE model."""
+    from brakewear.geometry import CaliperGeometry, load_geometry
+    g = load_geometry("default")
+    p1 = replace(g.piston, diameter=0.040, rim_inner_diameter=0.036, bore_diameter=0.040,
+                 radius=0.119, angle=np.radians(-12.0))
+    fixed = replace(g, caliper=CaliperGeometry("fixed"), piston=p1,
+                    extra_pistons=(replace(p1, angle=np.radians(12.0)),))
+    itf = WinklerInterface.from_model(BrakeModel(fixed, size=12e-3, rotor="rigid"))
+    assert itf.hydraulic_area == pytest.approx(2 * p1.hydraulic_area, rel=1e-15)
+    res = itf.solve(1e6)
+    assert float((res.pressure * itf.area).sum()) == pytest.approx(
+        1e6 * fixed.clamp_area, rel=1e-9)

@@ -61,7 +61,7 @@ def fe_lever_arm(model, fe) -> float:
     from ..fem.boundary import boundary_dofs
 
     pad, off = model.meshes["pad"], model.offsets["pad"]
-    f = model.loads(fe.clamp_force / model.geometry.piston.hydraulic_area)
+    f = model.loads(fe.clamp_force / model.geometry.clamp_area)
     f = f[3 * off:3 * (off + pad.nvertices)]
     r = (model.stiffness("pad") @ np.asarray(fe.u["pad"]) - f).reshape(-1, 3)
     nodes = np.unique(boundary_dofs(pad, "abutment", [0, 1]) // 3)

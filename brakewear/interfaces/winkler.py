@@ -263,7 +263,7 @@ class WinklerInterface:
         if lever_arm is None:
             lever_arm = g.pad.friction_thickness + 0.5 * g.pad.backplate_thickness
         return cls(xy, area, k, load_point, drag=drag, lever_arm=float(lever_arm),
-                   hydraulic_area=g.piston.hydraulic_area, nodes=nodes, load_nodes=lnodes,
+                   hydraulic_area=g.clamp_area, nodes=nodes, load_nodes=lnodes,
                    load_weights=lw / lw.sum(),
                    info={"modulus_source": source, "rotor": rotor,
                          "pad_modulus_mean": float(k_pad.mean()),

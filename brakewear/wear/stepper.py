@@ -228,7 +228,7 @@ class _WearLoop:
         self.v = self.omega * self.itf.r                    # sliding speed at each pad node
         # the uniform pressure of the clamp force: a friction law's state before any solve
         self.p_nominal = np.full(self.A_pad.size, line_pressure
-                                 * model.geometry.piston.hydraulic_area / self.A_pad.sum())
+                                 * model.geometry.clamp_area / self.A_pad.sum())
         g = model.geometry
         self.r_mean = 0.5 * (g.pad.inner_radius + g.pad.outer_radius)
         self.applied = (np.zeros(self.A_pad.size), np.zeros(self.A_rot.size))  # in the meshes
