@@ -80,7 +80,10 @@ def test_half_model_within_a_percent_where_it_holds_and_not_with_fingers(floatin
     d_fingers = lp.half_differences(lp.solve_case(ring, "full", [1.0], [0.4]),
                                     lp.solve_case(ring, "half", [1.0], [0.4]))
     worst = lambda d: max(v for row in d for f in ("in", "out") for v in row[f].values())  # noqa: E731
-    assert worst(d_fixed) < 0.01
+    # (floor: 1 %) the full ring is its own mirror image through the
+    # mid-plane, so each half is the half model's mesh and the two agree to the
+    # solver's tolerance
+    assert worst(d_fixed) < 1e-7
     assert worst(d_fingers) > 0.05
 
 
