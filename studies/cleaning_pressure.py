@@ -28,6 +28,11 @@ Model (stated choices, see docs/cleaning.md):
   falling to 0 in 5 s) -- with Archard wear and a speed-independent pressure
   it wears exactly as a 2.5 s drag at 45 rad/s, which is what is simulated.
 
+The contact solves run on the FE model condensed onto the pad's contact
+nodes (:class:`brakewear.CondensedInterface`, the FE answer), condensed once
+before the sweep starts and read from the cache by every task;
+``--interface fe`` runs FE contact solves instead.
+
 Run ``python studies/cleaning_pressure.py --help``.  The sweep runs one
 pressure per task on any ``concurrent.futures.Executor``: a process pool by
 default; ``--dask ADDRESS`` (or ``main(executor=Client(...).get_executor())``)
@@ -39,6 +44,7 @@ import argparse
 import csv
 import json
 import logging
+import sys
 import time
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass
@@ -48,10 +54,13 @@ import numpy as np
 
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
-from brakewear.interfaces import FEInterface
+from brakewear.interfaces import CondensedInterface, FEInterface
 from brakewear.wear import wear_history
 from brakewear.laws import WearLaw
 from brakewear import Numerics
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from sweep_executor import add_executor_options, study_executor  # noqa: E402  (a sibling script)
 
 logger = logging.getLogger("cleaning_pressure")
 
@@ -64,7 +73,7 @@ K_CORROSION = 1e-12
 DEFAULTS = dict(pressures=(0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0), corrosion=25.0, coning=30.0,
                 applications=20, running_in=None, running_in_seconds=3000.0,
                 k_corrosion=K_CORROSION, omega=45.0, app_seconds=2.5, mu=0.4, size=4.0,
-                rotor="rigid", dp_tol=0.05)
+                rotor="rigid", dp_tol=0.05, interface="condensed", contact_tol=1e-9)
 
 
 class CleaningError(ValueError):
@@ -138,11 +147,24 @@ def _model(task: dict) -> BrakeModel:
     return BrakeModel("default", rotor=task["rotor"], size=task["size"] * 1e-3)
 
 
-def running_in_gap(task: dict) -> np.ndarray:
-    """Worn state (m, per pad friction node) after running in at ``task['running_in']`` MPa."""
+def _interface(task: dict, line_pressure: float):
+    """The task's model and its contact interface at ``line_pressure`` (Pa): FE
+    contact solves, or their condensation (the same answer; read from the cache
+    when a run of this model made it)."""
     model = _model(task)
+    tol = task.get("contact_tol", DEFAULTS["contact_tol"])
+    if task.get("interface", "fe") == "condensed":
+        return model, CondensedInterface(model, line_pressure, task["mu"], tol)
+    return model, FEInterface(model, line_pressure, task["mu"], tol)
+
+
+def running_in_gap(task: dict, model: BrakeModel | None = None, itf=None) -> np.ndarray:
+    """Worn state (m, per pad friction node) after running in at ``task['running_in']``
+    MPa; on ``model`` and its interface ``itf`` when given (any line pressure)."""
     p_run = task["running_in"] * 1e6
-    itf = FEInterface(model, p_run, task["mu"])
+    if itf is None:
+        model, itf = _interface(task, p_run)
+    itf = itf.at_line_pressure(p_run)
     last = None
     for last in wear_history(model, p_run, task["omega"], task["running_in_seconds"],
                              WearLaw(K_PAD), WearLaw(K_IRON), task["mu"],
@@ -160,11 +182,15 @@ def run_pressure(task: dict) -> dict:
     a contact or step-control failure returns ``{"pressure_MPa", "error"}``
     (the sweep reports it and leaves the pressure out of the answer).
     """
+    from threadpoolctl import threadpool_limits
+
     from brakewear.errors import ActiveSetError
     from brakewear.errors import StepSizeError
 
     try:
-        return _run_pressure(task)
+        # one BLAS thread: the condensed runs are small dense problems run side by side
+        with threadpool_limits(limits=1, user_api="blas"):
+            return _run_pressure(task)
     except (ActiveSetError, StepSizeError) as e:
         logger.warning("%g MPa failed: %s", task["pressure"], e)
         return {"pressure_MPa": task["pressure"], "error": f"{type(e).__name__}: {e}"}
@@ -172,11 +198,10 @@ def run_pressure(task: dict) -> dict:
 
 def _run_pressure(task: dict) -> dict:
     t0 = time.perf_counter()
-    model = _model(task)
+    p_line = task["pressure"] * 1e6
+    model, itf = _interface(task, p_line)
     g = model.geometry
     r_in, r_out = g.pad.inner_radius, g.pad.outer_radius
-    p_line = task["pressure"] * 1e6
-    itf = FEInterface(model, p_line, task["mu"])
     gap0 = (coning_gap(itf.r, r_in, r_out, task["coning"] * 1e-6) if task["initial_gap"] is None
             else np.asarray(task["initial_gap"], dtype=float))
     h_c = task["corrosion"] * 1e-6
@@ -266,7 +291,8 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
          k_corrosion: float = K_CORROSION, omega: float = DEFAULTS["omega"],
          app_seconds: float = DEFAULTS["app_seconds"], mu: float = DEFAULTS["mu"],
          rotor: str = "rigid", dp_tol: float = DEFAULTS["dp_tol"], name: str = "cleaning",
-         figures: bool = True) -> dict:
+         figures: bool = True, interface: str = DEFAULTS["interface"],
+         contact_tol: float = DEFAULTS["contact_tol"]) -> dict:
     """Sweep line pressures; report coverage, applications to clean, lowest cleaning pressure.
 
     Parameters
@@ -299,6 +325,12 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
         ``"elastic"`` rotor.
     dp_tol
         Step control of the wear loop: largest relative pressure change per step.
+    interface
+        ``"condensed"``: the FE model condensed onto the pad's contact nodes,
+        once, here, before any task runs (the tasks read it from the cache);
+        ``"fe"``: FE contact solves.  The same answer.
+    contact_tol
+        Relative tolerance of the contact solves (the FE solves' iterations).
 
     Returns
     -------
@@ -329,7 +361,11 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
            "need an application duration > 0 s")
     _check("mu", mu, np.isfinite(mu) and mu >= 0, "need a friction coefficient >= 0")
     _check("dp_tol", dp_tol, np.isfinite(dp_tol) and dp_tol > 0, "need > 0")
+    _check("contact_tol", contact_tol, np.isfinite(contact_tol) and 0 < contact_tol < 1,
+           "need 0 < contact_tol < 1")
     _check("rotor", rotor, rotor in ("rigid", "elastic"), "allowed: 'rigid', 'elastic'")
+    _check("interface", interface, interface in ("fe", "condensed"),
+           "allowed: 'fe', 'condensed'")
     _check("running_in", running_in, running_in is None or (np.isfinite(running_in)
                                                             and running_in > 0),
            "need None or a line pressure > 0 MPa")
@@ -341,17 +377,19 @@ def main(pressures=DEFAULTS["pressures"], corrosion: float = DEFAULTS["corrosion
                     running_in_seconds=float(running_in_seconds), k_corrosion=float(k_corrosion),
                     omega=float(omega), app_seconds=float(app_seconds), mu=float(mu),
                     size=float(size), rotor=rotor, dp_tol=float(dp_tol), k_pad=K_PAD,
-                    k_iron=K_IRON)
+                    k_iron=K_IRON, interface=interface, contact_tol=float(contact_tol))
     base = {k: settings[k] for k in ("corrosion", "coning", "applications", "k_corrosion",
                                      "omega", "app_seconds", "mu", "size", "rotor", "dp_tol",
-                                     "running_in", "running_in_seconds")}
+                                     "running_in", "running_in_seconds", "interface",
+                                     "contact_tol")}
     gap0 = None
+    if running_in is not None or interface == "condensed":
+        # a condensation is made here, once: the tasks read it from the cache
+        model, itf = _interface(base, 1e6)
     if running_in is not None:
-        model = _model(base)
-        gi = FEInterface(model, 1e6, mu)
         g = model.geometry
-        gap0 = running_in_gap(base) + coning_gap(gi.r, g.pad.inner_radius, g.pad.outer_radius,
-                                                 coning * 1e-6)
+        gap0 = running_in_gap(base, model, itf) + coning_gap(
+            itf.r, g.pad.inner_radius, g.pad.outer_radius, coning * 1e-6)
     tasks = [dict(base, pressure=p, initial_gap=None if gap0 is None else gap0.tolist())
              for p in settings["pressures"]]
     own = executor is None
@@ -623,11 +661,13 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--size", type=float, default=d["size"], help="mesh size, mm")
     ap.add_argument("--dp-tol", type=float, default=d["dp_tol"],
                     help="largest relative pressure change per wear step (default %(default)s)")
+    ap.add_argument("--contact-tol", type=float, default=d["contact_tol"],
+                    help="relative tolerance of the contact solves (default %(default)s)")
     ap.add_argument("--rotor", choices=("rigid", "elastic"), default="rigid")
-    ap.add_argument("--workers", type=int, default=2, help="process-pool workers")
-    ap.add_argument("--dask", default=None, metavar="ADDRESS",
-                    help="run on a dask.distributed scheduler at ADDRESS ('local': a local "
-                         "cluster) instead of the process pool")
+    ap.add_argument("--interface", choices=("fe", "condensed"), default=d["interface"],
+                    help="FE contact solves, or the FE model condensed onto the pad's contact "
+                         "nodes once (the same answer, much faster; the default)")
+    add_executor_options(ap)
     ap.add_argument("--name", default="cleaning", help="prefix of the output files")
     ap.add_argument("--out", default="docs", help="writes OUT/data and OUT/figures")
     ap.add_argument("--no-figures", action="store_true")
@@ -645,23 +685,12 @@ def cli(argv=None) -> dict:
         res = load_result(a.out, a.name)
         write_outputs(res, Path(a.out), a.name, figures=not a.no_figures)
         return res
-    client = None
-    if a.dask:
-        from dask.distributed import Client   # optional dependency
-        client = Client() if a.dask == "local" else Client(a.dask)
-        executor = client.get_executor()
-    else:
-        executor = ProcessPoolExecutor(max_workers=a.workers)
-    try:
+    with study_executor(a.dask, a.workers) as executor:
         res = main(a.pressures, a.corrosion, a.coning, a.applications, executor, a.size, a.out,
                    running_in=a.running_in, running_in_seconds=a.running_in_seconds,
                    k_corrosion=a.k_corrosion, omega=a.omega, app_seconds=a.app_seconds,
-                   mu=a.mu, rotor=a.rotor, dp_tol=a.dp_tol, name=a.name, figures=not a.no_figures)
-    finally:
-        if client is not None:
-            client.close()
-        else:
-            executor.shutdown()
+                   mu=a.mu, rotor=a.rotor, dp_tol=a.dp_tol, name=a.name, figures=not a.no_figures,
+                   interface=a.interface, contact_tol=a.contact_tol)
     for r in res["runs"]:
         n = r["applications_to_clean"]
         logger.info("%5.2f MPa: touched %.2f -> %.2f of the band, worn through %.2f, %s "

@@ -33,7 +33,9 @@ FE solves), condensed once per model and read from the cache by every run.
 Run ``python studies/cleaning_stops.py [--decels 0.5 1 2 3] [--stops 20] [--out docs]``;
 the sensitivity sweeps with ``--name cleaning_stops_<case>`` (:data:`SENSITIVITY`) and
 their tornado chart with ``--tornado``; the probability of clean under uncertain
-inputs (:data:`UNCERTAIN`) with ``--monte-carlo N``.
+inputs (:data:`UNCERTAIN`) with ``--monte-carlo N``.  The runs go to a process pool
+(``--workers``, default 2) or, with ``--dask ADDRESS`` (``local``: a local cluster),
+to a dask.distributed cluster.
 """
 from __future__ import annotations
 
@@ -41,6 +43,7 @@ import argparse
 import csv
 import json
 import logging
+import sys
 import time
 from concurrent.futures import Executor, ProcessPoolExecutor
 from pathlib import Path
@@ -51,6 +54,9 @@ from brakewear import (MATERIALS, BrakeModel, CondensedInterface, FEInterface, N
                        SolverError, Vehicle, WearLaw)
 from brakewear.cleaning import CorrodedRotor, coning_gap
 from brakewear.duty import KMH, repeated_stops, run_schedule
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from sweep_executor import add_executor_options, study_executor  # noqa: E402  (a sibling script)
 
 logger = logging.getLogger("cleaning_stops")
 
@@ -513,10 +519,22 @@ def _cli(argv=None) -> dict:
     ap.add_argument("--monte-carlo", type=int, default=0, metavar="N",
                     help="only the probability of clean at the first of --decels, N samples "
                          "of the inputs in UNCERTAIN")
+    add_executor_options(ap)
     a = vars(ap.parse_args(argv))
-    mc = a.pop("monte_carlo")
+    mc, where = a.pop("monte_carlo"), (a.pop("dask"), a.pop("workers"))
+    if a.pop("tornado"):
+        for r in write_sensitivity(Path(a["out"])):
+            print(r)
+        return {}
+    with study_executor(*where) as executor:
+        return _run_cli(a, mc, executor)
+
+
+def _run_cli(a: dict, mc: int, executor: Executor) -> dict:
+    """The command line's Monte Carlo (``mc`` samples) or sweep on ``executor``; prints."""
     if mc:
         r = probability_of_clean(a["decels"][0], mc, stops=a["stops"], out=a["out"],
+                                 executor=executor,
                                  **{k: a[k] for k in DEFAULTS if k in a and k not in UNCERTAIN
                                     and k not in ("decels", "stops")})
         lo, hi = r["interval_95"]
@@ -525,11 +543,7 @@ def _cli(argv=None) -> dict:
               f"{hi:.2f}); {r['failed']} failed; {r['cost_per_sample_s']:.0f} s per sample, "
               f"{r['wall_s']:.0f} s")
         return r
-    if a.pop("tornado"):
-        for r in write_sensitivity(Path(a["out"])):
-            print(r)
-        return {}
-    res = main(a.pop("decels"), a.pop("stops"), a.pop("out"), **a)
+    res = main(a.pop("decels"), a.pop("stops"), a.pop("out"), executor=executor, **a)
     for r in res["runs"]:
         last = r["rows"][-1]
         print(f"{r['decel']:4.2f} m/s^2  {r['line_pressure_MPa']:5.2f} MPa  stops to clean "

@@ -13,6 +13,14 @@ beside the times.
 
 Run ``python studies/condensed_cost.py [--sizes 1e4 3e4 1e5] [--steps 200] [--out docs]``;
 writes ``data/condensed_cost.json`` and ``figures/condensed_cost.png``.
+
+``--amg-columns N`` times the alternative to the condensation's sparse LU
+instead: ``N`` of its columns (contact nodes spread over the friction face),
+each by CG preconditioned with the wear loop's AMG hierarchy
+(:func:`brakewear.contact.compliant_preconditioner`) built on the same
+supported stiffness, against the LU condensation of the same model (its
+seconds per column, the factorisations included); the AMG columns are checked
+against the LU's.  Writes ``data/condensed_amg.json``.
 """
 from __future__ import annotations
 
@@ -86,6 +94,65 @@ def run_size(target: float, steps: int = 200, pressures: int = 10) -> dict:
                                        / np.abs(a.pressure_end).max())}
 
 
+def amg_columns(target: float, columns: int = 8, tol: float = 1e-12) -> dict:
+    """One mesh size: seconds per condensation column by the sparse LU (the whole
+    condensation over its columns) and by AMG-preconditioned CG to ``tol`` (over the
+    columns that reach it; the others are counted, with the residual they stalled at)."""
+    from brakewear import ConvergenceError
+    from brakewear.contact import compliant_preconditioner, constraint_rows
+    from brakewear.interfaces import Supported
+
+    size, model = brake_resolution(target)
+    fe = FEInterface(model, 1e6, 0.4)
+    cs = fe.cs
+    t0 = time.perf_counter()
+    cd = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
+    condense_s = time.perf_counter() - t0
+    Hn, n = cd.cond.Hn, cd.cond.n
+    sup = Supported(cs)         # the DOFs the condensation holds
+    t0 = time.perf_counter()
+    amg = compliant_preconditioner(cs.K, np.flatnonzero(sup.held), cs.coords, tol=tol)
+    setup_s = time.perf_counter() - t0
+    C = constraint_rows(cs.pair, cs.K.shape[0]).tocsr()
+    CT = C.T.tocsc()
+    nodes = np.unique(np.linspace(0, n - 1, columns).round().astype(int))
+    seconds, iterations, diff, stalled = [], [], [], []
+    for i in nodes:
+        b = np.where(sup.held, 0.0, CT[:, i].toarray().ravel())
+        t0 = time.perf_counter()
+        try:
+            y = amg.solve(b)
+        except ConvergenceError:
+            stalled.append(amg.info.relative_residual)
+            continue
+        seconds.append(time.perf_counter() - t0)
+        iterations.append(amg.info.iterations)
+        diff.append(float(np.abs(C @ y - Hn[:, i]).max() / np.abs(Hn[:, i]).max()))
+    if not seconds:
+        raise ConvergenceError(f"no AMG-CG column reached {tol:g}: stalled at {stalled}")
+    bodies = cd.cond.info["bodies"]
+    return {"target_dofs": target, "size_mm": size * 1e3, "dofs": int(model.dofs),
+            "contact_nodes": n, "tol": tol, "lu_condense_s": condense_s,
+            "lu_factor_s": sum(b_["factor_s"] for b_ in bodies),
+            "lu_column_solves_s": sum(b_["solve_s"] for b_ in bodies),
+            "lu_s_per_column": condense_s / n,
+            "amg_setup_s": setup_s, "amg_columns": int(nodes.size),
+            "amg_s_per_column": float(np.mean(seconds)),
+            "amg_s_per_column_range": [min(seconds), max(seconds)],
+            "amg_iterations": iterations, "amg_stalled_residuals": stalled,
+            "amg_all_columns_s": setup_s + n * float(np.mean(seconds)),
+            "amg_column_rel_diff": max(diff)}
+
+
+def amg_main(sizes=(1e5,), columns: int = 8, out=None) -> list:
+    """:func:`amg_columns` at each size; writes ``data/condensed_amg.json`` to ``out``."""
+    rows = [amg_columns(target, columns) for target in sizes]
+    if out is not None:
+        (Path(out) / "data").mkdir(parents=True, exist_ok=True)
+        (Path(out) / "data" / "condensed_amg.json").write_text(json.dumps(rows, indent=1))
+    return rows
+
+
 def main(sizes=(1e4, 3e4, 1e5), steps: int = 200, pressures: int = 10, out=None) -> list:
     rows = []
     for target in sizes:
@@ -137,12 +204,28 @@ if __name__ == "__main__":
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--pressures", type=int, default=10)
     ap.add_argument("--out", default="docs")
+    ap.add_argument("--amg-columns", type=int, default=0, metavar="N",
+                    help="only time N condensation columns by AMG-preconditioned CG against "
+                         "the sparse LU, at each of --sizes (writes data/condensed_amg.json)")
     a = ap.parse_args()
-    for r in main(a.sizes, a.steps, a.pressures, a.out):
-        print(f"{r['dofs']:>7} DOFs {r['contact_nodes']:>5} nodes: condense {r['condense_s']:.1f} s "
-              f"({r['condense_over_contact']:.1f} contact solves, {r['compliance_MB']:.0f} MB); "
-              f"step FE {r['fe_step_s'] * 1e3:.0f} ms, condensed "
-              f"{r['condensed_step_s'] * 1e3:.2f} ms ({r['step_ratio']:.0f}x; median "
-              f"{r['condensed_step_median_s'] * 1e3:.2f} ms, settled "
-              f"{r['condensed_settled_step_median_s'] * 1e3:.2f} ms); sweep "
-              f"{r['sweep_ratio']:.1f}x; pad wear diff {r['pad_wear_rel_diff']:.1e}")
+    if a.amg_columns:
+        for r in amg_main(a.sizes, a.amg_columns, a.out):
+            print(f"{r['dofs']:>7} DOFs {r['contact_nodes']:>5} nodes: per column, sparse LU "
+                  f"{r['lu_s_per_column'] * 1e3:.0f} ms ({r['lu_condense_s']:.1f} s for all), "
+                  f"AMG-CG {r['amg_s_per_column'] * 1e3:.0f} ms ({len(r['amg_iterations'])} of "
+                  f"{r['amg_columns']} columns, {min(r['amg_iterations'])}-"
+                  f"{max(r['amg_iterations'])} iterations to {r['tol']:g}, "
+                  f"{len(r['amg_stalled_residuals'])} stalled; "
+                  f"{r['amg_all_columns_s'] / 60:.1f} min for all, its "
+                  f"{r['amg_setup_s']:.1f} s setup included); columns agree to "
+                  f"{r['amg_column_rel_diff']:.1e}")
+    else:
+        for r in main(a.sizes, a.steps, a.pressures, a.out):
+            print(f"{r['dofs']:>7} DOFs {r['contact_nodes']:>5} nodes: condense "
+                  f"{r['condense_s']:.1f} s ({r['condense_over_contact']:.1f} contact solves, "
+                  f"{r['compliance_MB']:.0f} MB); "
+                  f"step FE {r['fe_step_s'] * 1e3:.0f} ms, condensed "
+                  f"{r['condensed_step_s'] * 1e3:.2f} ms ({r['step_ratio']:.0f}x; median "
+                  f"{r['condensed_step_median_s'] * 1e3:.2f} ms, settled "
+                  f"{r['condensed_settled_step_median_s'] * 1e3:.2f} ms); sweep "
+                  f"{r['sweep_ratio']:.1f}x; pad wear diff {r['pad_wear_rel_diff']:.1e}")

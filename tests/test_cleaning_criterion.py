@@ -172,3 +172,50 @@ def test_the_floating_brake_cleans_with_its_energy_and_refuses_the_condensed_int
                                          "'floating' has a 'push' one"):
         study.main(decels=(1.0,), stops=1, geometry="floating", interface="condensed",
                    executor=_Serial())
+
+
+@pytest.mark.parametrize("argv, where", [
+    (["--dask", "tcp://scheduler:8786"], ("tcp://scheduler:8786", 2)),
+    (["--dask", "local", "--monte-carlo", "3"], ("local", 2)),
+    (["--workers", "3", "--monte-carlo", "3"], (None, 3)),
+])
+def test_the_command_line_runs_where_it_is_told(argv, where, monkeypatch, tmp_path, capsys):
+    """``--dask ADDRESS|local`` and ``--workers`` choose the executor that the sweep's and
+    the Monte Carlo's runs go to (here a stand-in that runs them in this process)."""
+    from contextlib import contextmanager
+
+    asked, ran = [], []
+
+    class Recording(_Serial):
+        def map(self, fn, items):
+            ran.extend(items)
+            return super().map(fn, items)
+
+    @contextmanager
+    def executor(dask, workers):
+        asked.append((dask, workers))
+        yield Recording()
+
+    def fake(task):
+        return {"decel": task["decel"], "line_pressure_MPa": task["decel"], "stops_to_clean": 3,
+                "rows": [{"stop": 3, "cleaned_fraction": 1.0, "touched_fraction": 1.0}],
+                "run_s": 0.5}
+    monkeypatch.setattr(study, "study_executor", executor)
+    monkeypatch.setattr(study, "run_decel", fake)
+    res = study._cli(["--decels", "1.0", "2.0", "--stops", "3", "--interface", "fe",
+                      "--no-figures", "--out", str(tmp_path), *argv])
+    assert asked == [where]
+    mc = "--monte-carlo" in argv
+    assert len(ran) == (3 if mc else 2) and ran[0]["interface"] == "fe"
+    assert (res["samples"] == 3) if mc else (res["lowest_cleaning_decel"] == 1.0)
+    assert ("P = 1.00" if mc else "lowest cleaning deceleration: 1.0") in capsys.readouterr().out
+
+
+def test_the_default_executor_is_a_process_pool_of_the_workers_asked_for():
+    from concurrent.futures import ProcessPoolExecutor
+
+    from sweep_executor import study_executor
+
+    with study_executor(None, 1) as ex:
+        assert isinstance(ex, ProcessPoolExecutor)
+        assert ex.submit(abs, -2).result() == 2

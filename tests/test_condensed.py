@@ -161,6 +161,18 @@ def test_the_cost_study_measures_both_interfaces(tmp_path):
     assert (tmp_path / "data" / "condensed_cost.json").exists()
 
 
+def test_the_cost_study_times_amg_columns_against_the_lu():
+    from studyload import load_study
+
+    study = load_study("condensed_cost")
+    row = study.amg_columns(3000, columns=3)
+    # the columns that reach 1e-12 are the LU's columns
+    assert row["amg_column_rel_diff"] < TOL
+    assert len(row["amg_iterations"]) + len(row["amg_stalled_residuals"]) == 3
+    assert row["lu_s_per_column"] > 0 and row["amg_s_per_column"] > 0
+    assert row["amg_all_columns_s"] > row["amg_setup_s"]
+
+
 def test_the_monte_carlo_runs_on_a_dask_cluster_as_in_one_process():
     from dask.distributed import Client, LocalCluster
     from studyload import load_study

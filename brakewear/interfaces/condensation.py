@@ -23,9 +23,10 @@ computes, once per geometry and materials,
 fill-reducing ordering of ``K + K^T``), ``K^+ C^T`` in blocks of columns:
 with ``K`` symmetric, ``Y = K^+ C^T`` gives every product above as ``Y^T B``
 for the sparse ``B``, from ``n`` solves.  An AMG-preconditioned CG solve per
-column measured 1.25 s at 105k DOFs (30 iterations to 1e-12; 20 minutes for
-its 980 columns); the factorisations and their multi-column solves took 71 s
-(docs/condensed.md has the figures).
+column (the wear loop's hierarchy) measured 0.49 s at 105k DOFs (28-31
+iterations to 1e-12; 8 minutes for its 980 columns), and stalled on some
+columns at 30k DOFs; the factorisations and their multi-column solves took
+48.5 s in the same run (docs/condensed.md has the figures and the command).
 
 The result is cached on disk (:func:`cache_dir`), keyed by a hash of every
 array it is computed from, so sweeps of line pressure or wear law and resumed
@@ -48,7 +49,8 @@ from ..errors import SolverError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Condensation", "condense", "cache_dir", "condensation_memory", "CACHE_ENV"]
+__all__ = ["Condensation", "condense", "cache_dir", "condensation_memory", "CACHE_ENV",
+           "Supported"]
 
 #: environment variable naming the cache directory of condensed compliances
 CACHE_ENV = "BRAKEWEAR_CACHE"
@@ -192,10 +194,29 @@ def _pinned(Z: np.ndarray, avoid: np.ndarray | None = None) -> np.ndarray:
 
 
 class Supported:
-    """The supported stiffness of a contact system with its free rigid-body
-    modes held at one DOF each (:func:`free_modes`, :func:`_pinned`): a
-    generalised inverse ``K^+`` for loads in equilibrium, applied by one
-    sparse LU per body (factorised on first use)."""
+    """The supported stiffness of a contact system, its free rigid-body modes held.
+
+    The supports' DOFs and one DOF per rigid-body mode they leave free (chosen
+    away from the contact nodes) are held: the result is a generalised inverse
+    ``K^+`` for loads in equilibrium, the operator the condensation applies,
+    by one sparse LU per body (factorised on first use).
+
+    Parameters
+    ----------
+    cs : ContactSystem
+        The contact system (:meth:`brakewear.BrakeModel.contact_system`).
+
+    Attributes
+    ----------
+    K : scipy.sparse.csr_matrix
+        The stiffness.
+    Z : ndarray
+        (N, m) the free rigid-body modes, orthonormal columns.
+    held : ndarray
+        (N,) True on the held DOFs.
+    keep : list of ndarray
+        Each body's DOFs that are not held.
+    """
 
     def __init__(self, cs):
         from ..contact.elimination import body_labels
