@@ -500,6 +500,9 @@ def test_a_thermal_schedule_writes_temperatures_per_application(tmp_path):
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
     rows = list(csv.DictReader(open(out / "applications.csv")))
     assert [r["kind"] for r in rows] == ["stop", "dwell", "stop"]
+    # the energy, pressure, wear and temperature per application, as a figure
+    assert json.loads((out / "summary.json").read_text())["files"]["figure"].endswith(
+        "applications.png") and (out / "applications.png").stat().st_size > 0
     f = [{k: float(v) for k, v in r.items()
           if "_T_" in k or k.startswith(("heat_", "convected_"))} for r in rows]
     for r in f:

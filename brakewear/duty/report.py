@@ -16,6 +16,9 @@ scene with a ``[schedule]`` and writes, into the run's folder,
   coupling, ``temperature_C``, also after each dwell (its cooling; no contact);
 * ``rotor.pvd`` / ``rotor_NNNNN.vtu`` (elastic rotor): ``rotor_wear`` and
   ``temperature_C`` at the same times;
+* ``applications.png`` (when the scene's ``output.figures`` is on): the
+  energy bookkeeping, line pressure, worn volumes and face temperatures per
+  application (:func:`application_figure`);
 * ``summary.json``: the totals (energy demanded and dissipated per face,
   their largest relative difference, worn volumes, the largest wear), the
   rotor's wear profile and, with thermal coupling, ``thermal``: the settings
@@ -86,6 +89,9 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
                   "rotor": "rotor.pvd" if write.rotor is not None else None},
         "thermal": None if thermal is None else thermal_record(thermal, final),
     }
+    if getattr(scene.output, "figures", False):
+        summary["files"]["figure"] = str(application_figure(rows, out / "applications.png",
+                                                            scene.name))
     logger.info("schedule: %d applications, %.4g J demanded and %.4g J dissipated per face",
                 len(rows), demand, dissipated)
     return summary
@@ -117,6 +123,52 @@ class _Frames:
             a[self.itf.rotor_nodes] = rec.rotor_wear
             self.rotor.write(self.n, t, {"rotor_wear": a,
                                          **temperature_field(th, "rotor", self.n_rotor)})
+
+
+def application_figure(rows: list[dict], path: Path, title: str = "") -> Path:
+    """``applications.png``: per braked application the energy bookkeeping (the
+    vehicle's kinetic and regenerated energy, the demand on each friction face
+    and the work the model dissipated there), the line pressure and the
+    cumulative worn volumes, and with thermal coupling the face temperatures'
+    peaks."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    braked = [r for r in rows if r["kind"] != "dwell"]
+    n = np.array([r["index"] for r in braked])
+    hot = "pad_T_max_peak_C" in braked[0]
+    fig, ax = plt.subplots(1, 3 if hot else 2, figsize=(15 if hot else 10, 4))
+    kJ = lambda key: [1e-3 * (r[key] or 0.0) for r in braked]  # noqa: E731
+    ax[0].plot(n, kJ("kinetic_J"), "s-", label="vehicle: kinetic energy")
+    ax[0].plot(n, kJ("regenerated_J"), "v-", label="vehicle: regenerated")
+    ax[0].plot(n, kJ("target_face_J"), "o-", label="demand on each friction face")
+    ax[0].plot(n, kJ("friction_face_J"), "x", ms=9, label="model: friction work per face")
+    ax[0].set(xlabel="application", ylabel="energy (kJ)", title="energy per application")
+    ax[0].legend(fontsize=8)
+    ax[1].plot(n, [1e-6 * r["line_pressure"] for r in braked], "o-", color="C0")
+    ax[1].set(xlabel="application", ylabel="line pressure (MPa)",
+              title="line pressure and worn volume")
+    tw = ax[1].twinx()
+    tw.plot(n, 1e9 * np.cumsum([r["pad_volume_m3"] for r in braked]), "C1--", label="pad")
+    tw.plot(n, 1e9 * np.cumsum([r["rotor_volume_m3"] for r in braked]), "C2--",
+            label="rotor face")
+    tw.set_ylabel("worn volume, cumulative (mm^3), dashed")
+    tw.legend(fontsize=8, loc="lower right")
+    if hot:
+        for key, label in (("pad_T_max_peak_C", "pad face"), ("rotor_T_max_peak_C", "rotor face")):
+            ax[2].plot(n, [r[key] for r in braked], "o-", label=label)
+        ax[2].set(xlabel="application", ylabel="temperature (C)",
+                  title="hottest face temperature in each application")
+        ax[2].legend(fontsize=8)
+    from matplotlib.ticker import MaxNLocator
+    for a in ax:
+        a.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax[1].ticklabel_format(axis="y", useOffset=False)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def _write_csv(path: Path, rows: list) -> None:
