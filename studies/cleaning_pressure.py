@@ -47,7 +47,6 @@ import logging
 import sys
 import time
 from concurrent.futures import Executor, ProcessPoolExecutor
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +56,7 @@ from brakewear.model import BrakeModel
 from brakewear.interfaces import CondensedInterface, FEInterface
 from brakewear.wear import wear_history
 from brakewear.laws import WearLaw
+from brakewear.cleaning import LayeredWearLaw
 from brakewear import Numerics
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -78,22 +78,6 @@ DEFAULTS = dict(pressures=(0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0), corrosion=25.0, 
 
 class CleaningError(ValueError):
     """Invalid input to the cleaning study (names the parameter, value and what is allowed)."""
-
-
-@dataclass(frozen=True)
-class LayerWearLaw(WearLaw):
-    """Archard law of a layered rotor: ``k`` times a per-pad-node ``factor``.
-
-    ``factor`` (an array, updated in place between steps) is 1 where the ring
-    under the pad node still carries corrosion and ``k_iron / k`` where it is
-    worn through.
-    """
-
-    factor: np.ndarray | None = None
-
-    def rate(self, p, v, T=None):
-        r = super().rate(p, v, T)
-        return r if self.factor is None else r * self.factor
 
 
 # ------------------------------------------------------------------ geometry of the band --
@@ -210,7 +194,7 @@ def _run_pressure(task: dict) -> dict:
     span = width.sum()
     k_c = task["k_corrosion"]
     factor_rot = np.ones(itf.rotor_area.size)
-    rotor_law = LayerWearLaw(k_c, factor=np.asarray(itf.W @ factor_rot, dtype=float).copy())
+    rotor_law = LayeredWearLaw(k_c, factor=np.asarray(itf.W @ factor_rot, dtype=float).copy())
     t_app = task["app_seconds"]
     duration = task["applications"] * t_app
     hist = {"applications": [0.0], "coverage": [], "cleaned": [0.0],

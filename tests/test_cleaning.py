@@ -72,6 +72,9 @@ def test_sweep_coverage_and_answer_are_consistent(sweep):
     assert high["cleaned"] and high["applications_to_clean"] <= TINY["applications"]
     band = np.array(high["ring_width_m"]) > 0
     assert np.all(np.array(high["rotor_wear_m"])[band] >= TINY["corrosion"] * 1e-6 * (1 - 1e-9))
+    # ... and no deeper than the layer plus a step's wear (at most a tenth of the layer):
+    # bare iron wears 2000x slower than the rust, so a ring stops where its layer ends
+    assert np.all(np.array(high["rotor_wear_m"])[band] <= 1.15 * TINY["corrosion"] * 1e-6)
     # the low pressure does not: some ring still carries corrosion after N applications
     assert not low["cleaned"] and low["applications_run"] == pytest.approx(TINY["applications"])
     assert low["cleaned_fraction_end"] < 1.0
