@@ -39,10 +39,6 @@ class LayeredWearLaw(WearLaw):
 
     factor: np.ndarray | None = None
 
-    def rate(self, p, v, T=None):
-        r = super().rate(p, v, T)
-        return r if self.factor is None else r * self.factor
-
     def coefficient_at(self, p, v, T=None) -> np.ndarray:
         """``k(T)`` times ``factor`` per pad node (the coefficient :meth:`rate` uses)."""
         k = super().coefficient_at(p, v, T)

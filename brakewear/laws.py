@@ -129,7 +129,9 @@ class WearLaw:
         if np.any(v < 0):
             raise WearError(f"sliding speed {v.min()!r} m/s is not allowed; need v >= 0 "
                             "(a speed, not a velocity component)")
-        return self.coefficient(T) * np.clip(p, 0.0, None) ** self.a * v ** self.b
+        # through coefficient_at, which the wear loop reads: a law that changes k per
+        # node changes both
+        return self.coefficient_at(p, v, T) * np.clip(p, 0.0, None) ** self.a * v ** self.b
 
     @property
     def needs_temperature(self) -> bool:

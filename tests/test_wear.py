@@ -62,3 +62,16 @@ def test_rotor_wear_conserves_volume_on_the_default_brake():
     # rings outside the pad's radial band do not wear
     outside = (radii < g.pad.inner_radius - 6e-3) | (radii > g.pad.outer_radius + 6e-3)
     assert np.all(dh[np.isin(ring, np.nonzero(outside)[0])] == 0)
+
+
+def test_a_law_that_sets_k_per_node_sets_its_rate_too():
+    """The wear loop reads ``coefficient_at``; ``rate`` goes through it, so a law that
+    changes k per node (a corroded ring's layer) changes both alike."""
+    import numpy as np
+
+    from brakewear.cleaning import LayeredWearLaw
+    factor = np.array([1.0, 5e-4, 1.0])
+    law = LayeredWearLaw(1e-12, factor=factor)
+    p, v = np.array([1e6, 1e6, 2e6]), np.array([10.0, 10.0, 5.0])
+    assert np.allclose(law.rate(p, v), law.coefficient_at(p, v) * p * v, rtol=1e-15, atol=0)
+    assert np.allclose(law.rate(p, v), 1e-12 * factor * p * v, rtol=1e-15, atol=0)
