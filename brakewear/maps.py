@@ -31,7 +31,7 @@ from scipy.special import expit
 
 from .errors import LawError, MapError
 from .laws import node_inputs
-from .mapfile import AXES, AXIS_UNITS, BOUNDS, check_range, parse_table, read_table
+from .map_csv import AXES, AXIS_UNITS, BOUNDS, check_range, parse_table, read_table
 
 logger = logging.getLogger(__name__)
 
@@ -198,7 +198,7 @@ class TableMap:
 
 
 def read_map(path: str | os.PathLike, quantity: str, outside: str = "clamp") -> TableMap:
-    """A map from a CSV file (the format: :mod:`brakewear.mapfile`).
+    """A map from a CSV file (the format: :mod:`brakewear.map_csv`).
 
     Parameters
     ----------

@@ -3,7 +3,7 @@
 :class:`BrakeModel` builds only what it is asked for: the half model (one pad,
 the rotor's inboard half) or the full one (both pads, the whole rotor), the
 piston as a body tied to the backplate or as the caliper's footprint loads
-(:mod:`brakewear.loadpath`); stiffness matrices are assembled once and kept.
+(:mod:`brakewear.caliper_loads`); stiffness matrices are assembled once and kept.
 Global numbering: the scalar DOFs of the bodies are stacked in the order of
 ``bodies``; vector DOF ``3 s + i``.  With quadratic meshes (``order=2``) a
 body's nodes are its vertices, then its mid-edge nodes; the pad's friction
@@ -34,7 +34,7 @@ from .fem.assembly import BlockPattern, assemble_stiffness
 from .fem.boundary import apply_dirichlet, boundary_dofs
 from .geometry.files import load_geometry
 from .geometry.parts import BrakeGeometry
-from .loadpath import (
+from .caliper_loads import (
     clamp_loads,
     pad_support_dofs,
     resolve_layout,
@@ -49,7 +49,7 @@ from .mesh.brake import (
 )
 from .mesh.estimate import check_model_size
 from .mesh.io import read_body_mesh
-from .mesh.pads import mirrored_pads, whole_thickness_meshes
+from .mesh.mirror import mirrored_pads, whole_thickness_meshes
 from .mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from .solvers.amg import amg_solver
 from .static import body_stresses, static_summary
@@ -125,7 +125,7 @@ class BrakeModel:
         exact where both pads get the same load (a fixed caliper with equal
         opposed pistons) and the rotor is symmetric about its mid-plane;
         ``"full"``: both pads (one mesh, the outboard pad the mirror image of
-        the inboard one, :func:`~brakewear.mesh.pads.mirrored_pads`) and the
+        the inboard one, :func:`~brakewear.mesh.mirror.mirrored_pads`) and the
         whole rotor thickness, both friction faces in contact; ``"auto"``
         (default): ``"half"`` where its assumption holds, else ``"full"``.
     meshes
@@ -268,7 +268,7 @@ class BrakeModel:
 
     def loads(self, line_pressure: float) -> np.ndarray:
         """Global load vector for a line pressure (Pa): the clamp force
-        ``p x clamp_area`` on each pad's back (:func:`~brakewear.loadpath.clamp_loads`);
+        ``p x clamp_area`` on each pad's back (:func:`~brakewear.caliper_loads.clamp_loads`);
         with a meshed piston its inboard share on the piston's back face."""
         f = np.zeros(self.dofs)
         g = self.geometry

@@ -265,7 +265,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
                                   update=n.update))
     if scene.interface.model == "winkler":
         from .interfaces.foundation import FoundationInterface
-        from .interfaces.winkler import WinklerInterface
+        from .interfaces.winkler_bed import WinklerInterface
         winkler = WinklerInterface.from_model(model, modulus=scene.interface.winkler_modulus,
                                               rotor=scene.interface.winkler_rotor)
         kw["interface"] = FoundationInterface(model, winkler, scene.line_pressure,

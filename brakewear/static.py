@@ -151,7 +151,7 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
         {"inboard_force_N": ..., "outboard_force_N": ..., "force": rel,
         "pin_moment_Nm": [mx, my, mz]}}``.
     """
-    from .loadpath import pad_support_dofs      # loadpath sits beside model, above static
+    from .caliper_loads import pad_support_dofs      # caliper_loads sits beside model, above static
 
     _traction_only(model)
     pad, off = model.meshes["pad"], model.offsets["pad"]

@@ -36,7 +36,7 @@ FACE_COLOURS = {"friction": (0.75, 0.75, 0.72), "leading_chamfer": (0.12, 0.47, 
 
 def closed_forms(pad) -> dict:
     """Lining and backplate volumes (m^3) and friction-face area (m^2) of the pad,
-    chamfers and slot included (the shapes of :mod:`brakewear.mesh.pad`)."""
+    chamfers and slot included (the shapes of :mod:`brakewear.mesh.pad_block`)."""
     ri, ro = pad.inner_radius, pad.outer_radius
     dr2, r_mean = ro ** 2 - ri ** 2, 0.5 * (ri + ro)
     a = 0.5 * pad.slot_width

@@ -73,7 +73,7 @@ def test_heat_references():
 
 
 # ======================================================================
-# Elastic foundation (Winkler) closed forms -- brakewear.interfaces.winkler, issue 7
+# Elastic foundation (Winkler) closed forms -- brakewear.interfaces.winkler_bed, issue 7
 # ======================================================================
 
 def test_johnson_modulus_formulas_and_bad_input():

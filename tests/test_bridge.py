@@ -14,9 +14,9 @@ import pytest
 
 from brakewear.errors import SceneError
 from brakewear.geometry import load_geometry
-from brakewear.loadpath import clamp_loads, jaw_pressure
+from brakewear.caliper_loads import clamp_loads, jaw_pressure
 from brakewear.mesh.brake import pad_mesh
-from brakewear.mesh.pads import mirrored_pads
+from brakewear.mesh.mirror import mirrored_pads
 from brakewear.model import BrakeModel
 from brakewear.static import pad_balance
 

@@ -8,7 +8,7 @@ import pytest
 
 from brakewear import (BrakeModel, CondensedInterface, CondensedRangeError, FEInterface,
                        Numerics, SolverError, ThermalModel, WearError, WearLaw, wear_history)
-from brakewear.interfaces.condensation import condense, free_modes
+from brakewear.interfaces.compliance import condense, free_modes
 
 TOL = 1e-8      # relative agreement with the FE solves (which run to 1e-12)
 

@@ -17,7 +17,7 @@ from brakewear.fem.triangle import subdivided_rule, tri6
 from brakewear.geometry import CaliperGeometry, FingerGeometry, load_geometry
 from brakewear.interfaces import FEInterface
 from brakewear.mesh.brake import pad_mesh, rotor_mesh
-from brakewear.mesh.pads import mirrored_pads
+from brakewear.mesh.mirror import mirrored_pads
 from brakewear.mesh.surface import face_nodes
 from brakewear.model import BrakeModel
 from brakewear.static import pad_balance

@@ -35,7 +35,7 @@ def _loop_interface(kind: str, model, itf):
         out = CondensedInterface(model, 1e6, 0.4, fe=itf, cache=False)
     elif kind == "winkler":
         from ..interfaces.foundation import FoundationInterface
-        from ..interfaces.winkler import WinklerInterface
+        from ..interfaces.winkler_bed import WinklerInterface
         out = FoundationInterface(model, WinklerInterface.from_model(model), 1e6, 0.4)
     else:
         return itf, 0.0

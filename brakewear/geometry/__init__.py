@@ -3,13 +3,13 @@
 :mod:`~brakewear.geometry.parts` holds the dataclasses (rotor, pad, piston,
 mesh settings), :mod:`~brakewear.geometry.caliper` the load path (caliper,
 fingers, pad support, rotor hat and vents), :mod:`~brakewear.geometry.files` reads and checks geometry
-files (docs: reference/geometry) and :mod:`~brakewear.geometry.loadpath` their load-path keys.
+files (docs: reference/geometry) and :mod:`~brakewear.geometry.sections` their load-path keys.
 """
 
-from . import caliper, files, loadpath, parts
+from . import caliper, files, parts, sections
 from .caliper import *  # noqa: F403
 from .files import *  # noqa: F403
-from .loadpath import *  # noqa: F403
+from .sections import *  # noqa: F403
 from .parts import *  # noqa: F403
 
-__all__ = [*files.__all__, *parts.__all__, *caliper.__all__, *loadpath.__all__]
+__all__ = [*files.__all__, *parts.__all__, *caliper.__all__, *sections.__all__]

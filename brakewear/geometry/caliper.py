@@ -99,7 +99,7 @@ class CaliperGeometry:
         Normal stiffness per unit area (Pa/m) of the layer between the jaw and
         the backplate (a shim, the local compliance of finger and plate): with
         a tilted jaw the finger pressure is ``finger_stiffness x`` the jaw's
-        local approach (:func:`brakewear.loadpath.jaw_pressure`).
+        local approach (:func:`brakewear.caliper_loads.jaw_pressure`).
     """
 
     type: str = "fixed"

@@ -2,7 +2,7 @@
 
 A geometry file describes one brake -- rotor ring, pad (friction layer on a
 steel backplate), piston and, optionally, the caliper, the pads' support and
-the rotor's mount (read by :mod:`brakewear.geometry.loadpath`) -- in the
+the rotor's mount (read by :mod:`brakewear.geometry.sections`) -- in the
 units named in its ``[units]`` table.
 :func:`load_geometry` and :func:`geometry_from_dict` check *everything*
 (unknown keys, missing fields, types, ranges, the pad on the rotor ring, the
@@ -27,10 +27,10 @@ from typing import Any, Mapping
 
 from ..errors import GeometryError, MaterialError
 from ..materials import MATERIALS, Isotropic, Material, Thermal, TransverselyIsotropic
-from .loadpath import EXTRA_FIELDS, SECTIONS, check_footprint, pad_shape, rim_inner_diameter
-from .loadpath import caliper as _caliper
-from .loadpath import rotor_mount, stiffness_unit
-from .loadpath import support as _support
+from .sections import EXTRA_FIELDS, SECTIONS, check_footprint, pad_shape, rim_inner_diameter
+from .sections import caliper as _caliper
+from .sections import rotor_mount, stiffness_unit
+from .sections import support as _support
 from .parts import (
     _BASE_DEFAULT,
     ANGLE_UNITS,
@@ -234,7 +234,7 @@ def geometry_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> BrakeGeo
     d
         Tables ``units``, ``rotor``, ``pad``, ``piston``, ``mesh`` and optional
         ``materials``, ``caliper`` and ``support`` (the load-path keys are read
-        by :mod:`brakewear.geometry.loadpath`); see docs/geometry.md.
+        by :mod:`brakewear.geometry.sections`); see docs/geometry.md.
     source
         Name used in error messages (the file path when loading a file).
 

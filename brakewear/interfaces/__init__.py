@@ -12,14 +12,14 @@ behind the :class:`Interface` protocol of the wear loop
 (:mod:`~brakewear.interfaces.protocol`).
 """
 
-from . import calibration, condensation, condensed, fe, foundation, protocol, winkler
+from . import calibration, compliance, condensed, fe, foundation, protocol, winkler_bed
 from .calibration import *  # noqa: F403
-from .condensation import *  # noqa: F403
+from .compliance import *  # noqa: F403
 from .condensed import *  # noqa: F403
 from .fe import *  # noqa: F403
 from .foundation import *  # noqa: F403
 from .protocol import *  # noqa: F403
-from .winkler import *  # noqa: F403
+from .winkler_bed import *  # noqa: F403
 
-__all__ = [*calibration.__all__, *condensation.__all__, *condensed.__all__, *fe.__all__,
-           *foundation.__all__, *protocol.__all__, *winkler.__all__]
+__all__ = [*calibration.__all__, *compliance.__all__, *condensed.__all__, *fe.__all__,
+           *foundation.__all__, *protocol.__all__, *winkler_bed.__all__]

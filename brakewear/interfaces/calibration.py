@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import FoundationError
-from .winkler import WinklerInterface
+from .winkler_bed import WinklerInterface
 
 logger = logging.getLogger(__name__)
 

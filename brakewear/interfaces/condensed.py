@@ -2,7 +2,7 @@
 
 :class:`CondensedInterface` answers the wear loop's question (the pressure at
 the pad's friction nodes for a gap offset) from the FE model condensed onto
-those nodes (:mod:`brakewear.interfaces.condensation`).  Each contact solve is an
+those nodes (:mod:`brakewear.interfaces.compliance`).  Each contact solve is an
 active-set iteration on a dense system of the active nodes,
 
     [Hn + mu Ht + diag(c)]_AA lam_A + E_A alpha = -q_A,
@@ -33,7 +33,7 @@ from scipy.linalg import lu_factor, lu_solve
 
 from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver, Margins
 from ..errors import CondensedRangeError, WearError
-from .condensation import condense
+from .compliance import condense
 from .fe import FEInterface
 from .protocol import InterfaceSolution
 
@@ -57,7 +57,7 @@ class CondensedInterface:
         or takes as ``fe``, for the contact geometry and the thermal load).
     cache
         Where the condensed compliance is kept (a directory; None: the default
-        of :func:`~brakewear.interfaces.condensation.cache_dir`; False: nowhere).
+        of :func:`~brakewear.interfaces.compliance.cache_dir`; False: nowhere).
     valid_fraction
         The largest gap offset (worn depths and initial gap) allowed, as a
         share of the height of the pad's elements at its friction face.
@@ -223,7 +223,7 @@ class CondensedInterface:
     def thermal_gap(self, load: np.ndarray):
         """``(gap change per contact node, the free modes' share)`` of a nodal load."""
         if self._thermal is None:
-            from .condensation import LoadGap
+            from .compliance import LoadGap
 
             self._thermal = LoadGap(self.fe.cs)
         return self._thermal(self.fe.cs.P.T @ load)

@@ -16,7 +16,7 @@ import numpy as np
 import skfem as fem
 
 from .grids import _body_size, _check_size_order, _n_cells, _ring_theta
-from .pad import sector_pad_mesh
+from .pad_block import sector_pad_mesh
 from .rotor import full_rotor_mesh
 from .structured import _oriented, cylindrical, graded, mapped_mesh, structured_tets
 from .topology import _with_boundaries, _with_subdomains
@@ -120,7 +120,7 @@ def pad_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None =
     (``pad.backplate_radii``); the lining may have leading/trailing chamfers
     (its friction face rises linearly to the chamfer depth at the pad end)
     and a radial slot of constant width on the centre line
-    (:mod:`brakewear.mesh.pad`).  The rotor turns in +theta, so a rotor point
+    (:mod:`brakewear.mesh.pad_block`).  The rotor turns in +theta, so a rotor point
     enters under the pad at the smaller angle: ``leading`` is the end face at
     ``center - arc/2`` and ``trailing`` the one at ``center + arc/2``.
 

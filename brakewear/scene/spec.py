@@ -156,7 +156,7 @@ class Scene:
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
         from ..mesh.estimate import check_model_size
-        from ..loadpath import resolve_layout
+        from ..caliper_loads import resolve_layout
         check_model_size(self.meshed_geometry, self.mesh_size, self.rotor, self.piston,
                          nodes=nodes,
                          full=resolve_layout(self.geometry, self.layout, self.rotor) == "full",
@@ -250,7 +250,7 @@ class Scene:
                                                   f"{body} surfaces: "
                                                   f"{', '.join(SURFACES[body])}")
         if self.interface.per_face:
-            from ..loadpath import resolve_layout
+            from ..caliper_loads import resolve_layout
             if resolve_layout(self.geometry, self.layout, self.rotor) == "half":
                 raise fail("interface.coning", "a table per face needs both faces: "
                                                "components.layout = 'full' (the half model "

@@ -157,7 +157,7 @@ _LENGTHS = ("radius", "thickness", "diameter", "length", "size", "clearance", "w
 
 def _file_unit(key: str, units: dict | None) -> tuple[str, float] | None:
     """``(unit, SI value of one unit)`` the geometry file gives ``key`` in, or None."""
-    from ..geometry.loadpath import STIFFNESS_UNITS
+    from ..geometry.sections import STIFFNESS_UNITS
     from ..geometry.parts import ANGLE_UNITS, LENGTH_UNITS, MODULUS_UNITS
 
     if not units or not key.startswith("geometry."):
