@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import FoundationError
+from .errors import FoundationError, ThermalError
 
 __all__ = [
     "effective_modulus",
@@ -158,7 +158,7 @@ def winkler_sphere(R: float, k: float, delta: float | None = None, F: float | No
     lateral coupling to pull the surface down around the contact.
     """
     if (delta is None) == (F is None):
-        raise ValueError("winkler_sphere: give exactly one of delta and F")
+        raise FoundationError("winkler_sphere: give exactly one of delta and F")
     if delta is None:
         delta = winkler_sphere_approach(F, R, k)
     return {"a": np.sqrt(2.0 * R * delta), "p0": k * delta, "delta": delta,
@@ -212,7 +212,7 @@ def inerfc(n: int, z):
     from scipy.special import erfc
 
     if not (isinstance(n, (int, np.integer)) and n >= 0):
-        raise ValueError(f"inerfc: n = {n!r} is not allowed; need a whole number >= 0")
+        raise ThermalError(f"inerfc: n = {n!r} is not allowed; need a whole number >= 0")
     z = np.asarray(z, dtype=float)
     prev, cur = 2.0 * np.exp(-z ** 2) / np.sqrt(np.pi), erfc(z)
     for k in range(1, n + 1):
@@ -222,7 +222,7 @@ def inerfc(n: int, z):
 
 def _check_stop(t_stop: float) -> None:
     if not (np.isfinite(t_stop) and t_stop > 0):
-        raise ValueError(f"t_stop = {t_stop!r} s is not allowed; need a stop time > 0")
+        raise ThermalError(f"t_stop = {t_stop!r} s is not allowed; need a stop time > 0")
 
 
 def stop_flux(t, q0: float, t_stop: float):
@@ -322,6 +322,6 @@ def bulk_temperature_rise(energy: float, mass, c) -> float:
     """
     mc = float(np.sum(np.asarray(mass, dtype=float) * np.asarray(c, dtype=float)))
     if not (np.isfinite(mc) and mc > 0):
-        raise ValueError(f"bulk_temperature_rise: sum(m c) = {mc!r} J/K is not allowed; "
-                         "need > 0")
+        raise ThermalError(f"bulk_temperature_rise: sum(m c) = {mc!r} J/K is not allowed; "
+                           "need > 0")
     return float(energy) / mc

@@ -44,6 +44,11 @@ __all__ = [
     "FoundationError",
     "LawError",
     "MapError",
+    "MeshError",
+    "ContactError",
+    "MotionError",
+    "SolverSettingsError",
+    "BenchError",
     "ConvergenceError",
     "CondensedRangeError",
     "ActiveSetError",
@@ -118,6 +123,31 @@ class MapError(LawError):
     """A friction or wear map that cannot be used: a bad CSV names the file, the row (its
     line number) and the column; a look-up outside the grid of a map that refuses it names
     the quantity, the value in the map's units and the grid's range."""
+
+
+class MeshError(InputError):
+    """A mesh, or a setting of one, that cannot be used: an element size or order, a
+    grading, subdomains without a material, a field that does not fit the mesh's nodes or
+    elements, a named facet set the mesh does not have."""
+
+
+class ContactError(InputError):
+    """A contact pair, support or contact-solve setting that cannot be used (names the
+    pair, the argument, its value and what is allowed)."""
+
+
+class MotionError(InputError):
+    """Bad input to the geometry update: a band depth, a quality bound or worn depths that
+    cannot be used (names the argument, the value in m and what is allowed)."""
+
+
+class SolverSettingsError(InputError):
+    """A setting or operand of a linear solver that cannot be used (a matrix of the wrong
+    shape, an unknown Krylov method, a direct solve beyond its size bound)."""
+
+
+class BenchError(InputError):
+    """A benchmark option that is not allowed (names the option and the allowed values)."""
 
 
 # ----------------------------------------------------------------- solver --

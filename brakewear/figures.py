@@ -16,6 +16,8 @@ from typing import Mapping, Sequence
 import numpy as np
 import skfem as fem
 
+from .errors import MeshError
+
 logger = logging.getLogger(__name__)
 
 __all__ = [
@@ -167,7 +169,7 @@ def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
             colour = _PALETTE[len(pieces) % len(_PALETTE)]
             pieces.append((body, name, facets_to_pyvista(mesh, labels[name], shift), colour))
     if not pieces:
-        raise ValueError("plot_named_surfaces: none of the meshes has named facets")
+        raise MeshError("plot_named_surfaces: none of the meshes has named facets")
 
     def box(items):
         b = np.array([pd.bounds for _, _, pd, _ in items])
@@ -262,13 +264,13 @@ def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: 
     nv = int(mesh.t.max()) + 1
     values = np.asarray(values, dtype=float)
     if values.shape[0] < nv:
-        raise ValueError(f"plot_field: values has {values.shape[0]} entries; need one per "
-                         f"vertex ({nv})")
+        raise MeshError(f"plot_field: values has {values.shape[0]} entries; need one per "
+                        f"vertex ({nv})")
     values = values[:nv]
     if isinstance(facets, str):
         if facets not in (mesh.boundaries or {}):
-            raise ValueError(f"plot_field: mesh has no boundary {facets!r}; its boundaries: "
-                             f"{sorted(mesh.boundaries or {})}")
+            raise MeshError(f"plot_field: mesh has no boundary {facets!r}; its boundaries: "
+                            f"{sorted(mesh.boundaries or {})}")
         facets = mesh.boundaries[facets]
     if facets is None:
         facets = mesh.boundary_facets()

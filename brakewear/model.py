@@ -29,7 +29,7 @@ from .contact.pairs import ContactPair, merge_pairs, pair_to_rigid, pair_to_surf
 from .contact.supports import support_forces, with_supports
 from .contact.quadratic import face_values, quadratic_face_areas, slave_basis
 from .contact.surface import project_nodes, tie_prolongation
-from .errors import SceneError
+from .errors import MotionError, SceneError
 from .fem.assembly import BlockPattern, assemble_stiffness
 from .fem.boundary import apply_dirichlet, boundary_dofs
 from .geometry.files import load_geometry
@@ -228,8 +228,8 @@ class BrakeModel:
         for b, m in meshes.items():
             old = self.meshes.get(b)
             if old is None or m.t.shape != old.t.shape or m.p.shape != old.p.shape:
-                raise ValueError(f"{b}: a moved mesh must have the topology of the model's "
-                                 "mesh (same nodes and elements)")
+                raise MotionError(f"{b}: a moved mesh must have the topology of the model's "
+                                  "mesh (same nodes and elements)")
         new = copy.copy(self)
         new.meshes = {**self.meshes, **meshes}
         new._K = {b: K for b, K in self._K.items() if b not in meshes}

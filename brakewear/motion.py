@@ -29,7 +29,7 @@ import scipy.sparse as sp
 import skfem as fem
 
 from .contact.surface import mortar_coupling, project_nodes
-from .errors import MeshQualityError
+from .errors import MeshError, MeshQualityError, MotionError
 from .fem.assembly import assemble_stiffness, stiffness_update
 from .mesh.surface import (facet_normals, is_quadratic, quadratic_faces, surface_nodes,
                            tributary_areas)
@@ -58,7 +58,7 @@ DEFAULT_MIN_QUALITY = 0.02
 
 def _corners(mesh: fem.Mesh) -> np.ndarray:
     if mesh.t.shape[0] < 4 or mesh.p.shape[0] != 3:
-        raise TypeError(f"need a tetrahedral mesh in 3D; got {type(mesh).__name__} with "
+        raise MeshError(f"need a tetrahedral mesh in 3D; got {type(mesh).__name__} with "
                         f"t of shape {mesh.t.shape}")
     return mesh.p[:, mesh.t[:4]]  # (3, 4, ne)
 
@@ -117,7 +117,7 @@ def check_quality(mesh: fem.Mesh, body: str = "mesh", step=None,
         The smallest quality found (1.0 if no element is checked).
     """
     if not (np.isfinite(min_quality) and 0.0 < min_quality < 1.0):
-        raise ValueError(f"min_quality = {min_quality!r} is not allowed; need 0 < min_quality < 1")
+        raise MotionError(f"min_quality = {min_quality!r} is not allowed; need 0 < min_quality < 1")
     q = element_quality(mesh)
     idx = np.arange(mesh.nelements) if elements is None else np.asarray(elements, dtype=np.int64)
     if idx.size == 0:
@@ -204,10 +204,10 @@ class SurfaceFollower:
 
     def __init__(self, mesh: fem.Mesh, facets, depth: float, snap: bool = True):
         if not isinstance(mesh, fem.MeshTet1):
-            raise TypeError(f"SurfaceFollower needs a P1 MeshTet; got {type(mesh).__name__}")
+            raise MotionError(f"SurfaceFollower needs a P1 MeshTet; got {type(mesh).__name__}")
         depth = float(depth)
         if not (np.isfinite(depth) and depth > 0):
-            raise ValueError(f"depth = {depth!r} m is not allowed; need a finite band depth > 0")
+            raise MotionError(f"depth = {depth!r} m is not allowed; need a finite band depth > 0")
         fac = mesh.boundaries[facets] if isinstance(facets, str) else np.asarray(facets)
         self.nodes = surface_nodes(mesh, fac)
         ns = self.nodes.size
@@ -238,8 +238,8 @@ class SurfaceFollower:
         if snap:
             deeper = depths[depths >= depth - tol]
             if deeper.size == 0:
-                raise ValueError(f"depth = {depth:.6g} m is not allowed: the body is only "
-                                 f"{depths.max():.6g} m deep under this surface")
+                raise MotionError(f"depth = {depth:.6g} m is not allowed: the body is only "
+                                  f"{depths.max():.6g} m deep under this surface")
             depth = float(d[under][np.argmin(np.abs(d[under] - deeper[0]))])
         self.depth = depth
         inband = np.nonzero(under & (d < depth - tol))[0]
@@ -273,20 +273,21 @@ def _check_wear(name: str, h, n: int, body: str) -> np.ndarray:
     try:
         arr = np.asarray(h, dtype=float)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of worn depths (m); got {type(h).__name__}") \
+        raise MotionError(f"{name} must be an array of worn depths (m); got {type(h).__name__}") \
             from None
     if arr.shape != (n,):
-        raise ValueError(f"{name} has shape {arr.shape}; need ({n},): one worn depth per node of "
-                         f"the {body}'s friction face, in the order of surface_nodes(mesh, "
-                         "'friction')")
+        raise MotionError(f"{name} has shape {arr.shape}; need ({n},): one worn depth per node of "
+                          f"the {body}'s friction face, in the order of surface_nodes(mesh, "
+                          "'friction')")
     bad = np.nonzero(~np.isfinite(arr))[0]
     if bad.size:
-        raise ValueError(f"{name}[{bad[0]}] = {float(arr[bad[0]])!r} is not allowed; worn "
-                         f"depths must be finite ({bad.size} are not)")
+        raise MotionError(f"{name}[{bad[0]}] = {float(arr[bad[0]])!r} is not allowed; worn "
+                          f"depths must be finite ({bad.size} are not)")
     neg = np.nonzero(arr < 0)[0]
     if neg.size:
-        raise ValueError(f"{name}[{neg[0]}] = {float(arr[neg[0]])!r} m is not allowed; worn depths "
-                         f"must be >= 0 (wear removes material; {neg.size} are negative)")
+        raise MotionError(f"{name}[{neg[0]}] = {float(arr[neg[0]])!r} m is not allowed; worn "
+                          f"depths must be >= 0 (wear removes material; {neg.size} are "
+                          "negative)")
     return arr
 
 
@@ -326,28 +327,29 @@ class BrakeMotion:
     def __init__(self, model, pad_depth: float | None = None, rotor_depth: float | None = None,
                  min_quality: float = DEFAULT_MIN_QUALITY):
         if not (np.isfinite(min_quality) and 0.0 < min_quality < 1.0):
-            raise ValueError(f"min_quality = {min_quality!r} is not allowed; "
-                             "need 0 < min_quality < 1")
+            raise MotionError(f"min_quality = {min_quality!r} is not allowed; "
+                              "need 0 < min_quality < 1")
         if getattr(model, "order", 1) != 1:
-            raise ValueError(f"BrakeMotion: the model has quadratic meshes (order = "
-                             f"{model.order}); moving worn geometry supports P1 meshes only "
-                             "(wear in gap-offset mode, update = 'gap', works on P2)")
+            raise MotionError(f"BrakeMotion: the model has quadratic meshes (order = "
+                              f"{model.order}); moving worn geometry supports P1 meshes only "
+                              "(wear in gap-offset mode, update = 'gap', works on P2)")
         self.model = model
         self.min_quality = float(min_quality)
         g = model.geometry
         tf = g.pad.friction_thickness
         pad_depth = tf if pad_depth is None else float(pad_depth)
         if not (np.isfinite(pad_depth) and 0 < pad_depth <= tf * (1 + 1e-9)):
-            raise ValueError(f"pad_depth = {pad_depth!r} m is not allowed; need 0 < pad_depth <= "
-                             f"the friction layer thickness {tf:g} m (the backplate must not move)")
+            raise MotionError(f"pad_depth = {pad_depth!r} m is not allowed; need 0 < pad_depth "
+                              f"<= the friction layer thickness {tf:g} m (the backplate must "
+                              "not move)")
         self.followers: dict[str, SurfaceFollower] = {
             "pad": SurfaceFollower(model.meshes["pad"], "friction", pad_depth)}
         if "rotor" in model.bodies:
             half = 0.5 * g.rotor.thickness
             rotor_depth = 0.2 * half if rotor_depth is None else float(rotor_depth)
             if not (np.isfinite(rotor_depth) and 0 < rotor_depth <= half * (1 + 1e-9)):
-                raise ValueError(f"rotor_depth = {rotor_depth!r} m is not allowed; need 0 < "
-                                 f"rotor_depth <= the meshed half thickness {half:g} m")
+                raise MotionError(f"rotor_depth = {rotor_depth!r} m is not allowed; need 0 < "
+                                  f"rotor_depth <= the meshed half thickness {half:g} m")
             self.followers["rotor"] = SurfaceFollower(model.meshes["rotor"], "friction",
                                                       rotor_depth)
         self.reference = {b: model.meshes[b].p.copy() for b in self.followers}
@@ -396,14 +398,14 @@ class BrakeMotion:
 
         Raises
         ------
-        ValueError
+        MotionError
             Wrong length, negative or non-finite depths (nothing changed).
         MeshQualityError
             A moved element would be inverted or degenerate (nothing changed).
         """
         if reassembly not in ("partial", "full"):
-            raise ValueError(f"reassembly = {reassembly!r} is not allowed; "
-                             "allowed: 'partial', 'full'")
+            raise MotionError(f"reassembly = {reassembly!r} is not allowed; "
+                              "allowed: 'partial', 'full'")
         t0 = time.perf_counter()
         wear = {"pad": _check_wear("pad_wear", pad_wear, self.followers["pad"].nodes.size, "pad")}
         if "rotor" in self.followers:
@@ -411,8 +413,8 @@ class BrakeMotion:
             wear["rotor"] = np.zeros(n) if rotor_wear is None else _check_wear(
                 "rotor_wear", rotor_wear, n, "rotor")
         elif rotor_wear is not None and np.any(np.asarray(rotor_wear, dtype=float) != 0):
-            raise ValueError("rotor_wear is not allowed with a rigid rotor (the plane z = 0 does "
-                             "not move); pass None")
+            raise MotionError("rotor_wear is not allowed with a rigid rotor (the plane z = 0 does "
+                              "not move); pass None")
         model = self.model
         new_meshes, moved_elems, stats = {}, {}, {"step": step}
         for b, fol in self.followers.items():

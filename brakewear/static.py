@@ -11,6 +11,7 @@ import logging
 
 import numpy as np
 
+from .errors import SceneError
 from .fem.stress import element_stress, nodal_stress, von_mises
 from .mesh.surface import face_nodes
 
@@ -98,7 +99,7 @@ def _pad_sides(model) -> dict[str, np.ndarray]:
 
 def _traction_only(model) -> None:
     if model.piston != "traction":
-        raise ValueError("pad and caliper balances need piston = 'traction' (a meshed "
+        raise SceneError("pad and caliper balances need piston = 'traction' (a meshed "
                          "piston is tied to the pad)")
 
 
@@ -123,7 +124,7 @@ def caliper_balance(model, line_pressure: float) -> dict:
     """
     _traction_only(model)
     if not model.full:
-        raise ValueError("caliper_balance needs the full model: the half model has one pad")
+        raise SceneError("caliper_balance needs the full model: the half model has one pad")
     pad, off = model.meshes["pad"], model.offsets["pad"]
     n = pad.p.shape[1]
     fa = -model.loads(line_pressure)[3 * off:3 * (off + n)].reshape(-1, 3)

@@ -63,6 +63,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import ContactError, GeometryError, MeshError
 from .analytic import effective_modulus, hertz_sphere, hertz_sphere_pressure
 from .contact.lagrange import solve_contact
 from .contact.pairs import pair_to_rigid
@@ -172,7 +173,7 @@ def sphere_height(delta: float, profile: str = "sphere"):
         return lambda x, y: R - np.sqrt(R ** 2 - (x ** 2 + y ** 2)) - delta
     if profile == "paraboloid":
         return lambda x, y: (x ** 2 + y ** 2) / (2.0 * R) - delta
-    raise ValueError(f"profile = {profile!r}; allowed: 'sphere', 'paraboloid'")
+    raise GeometryError(f"profile = {profile!r}; allowed: 'sphere', 'paraboloid'")
 
 
 def axis(h: float, fine: float, length: float, growth: float | None = None) -> np.ndarray:
@@ -220,14 +221,14 @@ def block_mesh(h: float, a: float = A0, split: str = "mirrored", model: str = "q
     if model == "full":
         xs = np.concatenate([-xs[::-1], xs[1:]])
     elif model != "quarter":
-        raise ValueError(f"model = {model!r}; allowed: 'quarter', 'full'")
+        raise MeshError(f"model = {model!r}; allowed: 'quarter', 'full'")
     zs = -axis(h, FINE_Z * a, L)[::-1]
     if split == "mirrored":
         p, t = mirrored_tets(xs, xs, zs)
     elif split == "kuhn":
         p, t = structured_tets(xs, xs, zs)
     else:
-        raise ValueError(f"split = {split!r}; allowed: 'mirrored', 'kuhn'")
+        raise MeshError(f"split = {split!r}; allowed: 'mirrored', 'kuhn'")
     m = mapped_mesh(p, t, lambda q: q, order=order)
     tol = 1e-9 * L
     return m.with_boundaries({
@@ -407,10 +408,10 @@ def recovered_pressure(x: np.ndarray, y: np.ndarray, force: np.ndarray, area: np
     force, area = np.asarray(force, float), np.asarray(area, float)
     active = np.asarray(active, bool)
     if not width > 0.0:
-        raise ValueError(f"recovered_pressure: width = {width!r}; need a positive length")
+        raise ContactError(f"recovered_pressure: width = {width!r}; need a positive length")
     for name, v in (("y", y), ("force", force), ("area", area), ("active", active)):
         if v.shape != x.shape:
-            raise ValueError(f"recovered_pressure: {name} has shape {v.shape}, x has {x.shape}")
+            raise ContactError(f"recovered_pressure: {name} has shape {v.shape}, x has {x.shape}")
     out = np.zeros(x.shape)
     ia = np.flatnonzero(active)
     if ia.size == 0:
@@ -441,7 +442,8 @@ def measure(m, pair, res, F: float, h: float | None = None) -> dict:
     A = pair.area
     origin = int(np.argmin(r))
     if r[origin] > 1e-12 * A0:
-        raise ValueError(f"measure: no slave node at the origin (nearest at r = {r[origin]:.3g} m)")
+        raise ContactError(f"measure: no slave node at the origin (nearest at r = "
+                           f"{r[origin]:.3g} m)")
     if h is None:
         h = float(np.sort(r)[1])
     # a quadratic face: the dual multiplier's nodal values as they are (a window

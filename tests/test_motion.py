@@ -5,6 +5,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem as fem
 
+from brakewear.errors import MeshError
 from brakewear.contact.surface import mortar_coupling
 from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.fem import assemble_stiffness, stiffness_update
@@ -76,7 +77,7 @@ def test_surface_element_height_is_first_layer_thickness():
     assert h.shape == surface_nodes(pad, "friction").shape
     # Kuhn tetrahedra on the face reach exactly one layer up
     np.testing.assert_allclose(h, z[1], rtol=1e-9)
-    with pytest.raises(KeyError, match="nope"):
+    with pytest.raises(MeshError, match="nope"):
         surface_element_height(pad, "nope")
 
 

@@ -13,6 +13,7 @@ from typing import Sequence
 
 import numpy as np
 
+from ..errors import BenchError
 from .common import fmt, peak_rss_mb
 from .kkt import direct_active_set_row, kkt_solves, kkt_system
 
@@ -273,7 +274,7 @@ def run_contact_case(case: str, target_dofs: float, direct_max_dofs: int = CONTA
     elif case == "brake":
         row = _run_brake(target_dofs, direct_max_dofs, superlu_max_dofs)
     else:
-        raise ValueError(f"case = {case!r}; allowed: {', '.join(CONTACT_CASES)}")
+        raise BenchError(f"case = {case!r}; allowed: {', '.join(CONTACT_CASES)}")
     _ratios(row)
     return row
 
@@ -329,7 +330,7 @@ def bench_contact(sizes: Sequence[float] = CONTACT_SIZES, cases: Sequence[str] =
     (medians over ``repeats``).  A case that fails gives a row with ``error``."""
     for case in cases:
         if case not in CONTACT_CASES:
-            raise ValueError(f"case = {case!r}; allowed: {', '.join(CONTACT_CASES)}")
+            raise BenchError(f"case = {case!r}; allowed: {', '.join(CONTACT_CASES)}")
     rows = []
     for case in cases:
         for target in sizes:

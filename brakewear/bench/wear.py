@@ -8,6 +8,7 @@ from typing import Sequence
 
 import numpy as np
 
+from ..errors import BenchError
 from .common import peak_rss_mb
 from .contact import brake_resolution
 
@@ -44,12 +45,12 @@ def _loop_interface(kind: str, model, itf):
 
 def _check_case(steps, update: str, interface: str) -> None:
     if interface not in INTERFACES or (interface != "fe" and update != "gap"):
-        raise ValueError(f"interface = {interface!r} with update = {update!r} is not allowed; "
+        raise BenchError(f"interface = {interface!r} with update = {update!r} is not allowed; "
                          f"allowed: {', '.join(INTERFACES)}, the last two with update 'gap'")
     if update not in ("gap", "geometry"):
-        raise ValueError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")
+        raise BenchError(f"update = {update!r} is not allowed; allowed: 'gap', 'geometry'")
     if int(steps) != steps or steps < 1:
-        raise ValueError(f"steps = {steps!r} is not allowed; need a whole number >= 1")
+        raise BenchError(f"steps = {steps!r} is not allowed; need a whole number >= 1")
 
 
 def _bench_model(target_dofs: float, size: float | None, layout: str):
@@ -58,7 +59,7 @@ def _bench_model(target_dofs: float, size: float | None, layout: str):
     from ..model import BrakeModel
 
     if layout not in LAYOUTS:
-        raise ValueError(f"layout = {layout!r} is not allowed; allowed: {', '.join(LAYOUTS)}")
+        raise BenchError(f"layout = {layout!r} is not allowed; allowed: {', '.join(LAYOUTS)}")
     if size is None:
         size, model = brake_resolution(target_dofs)
         if layout == "half":

@@ -33,7 +33,7 @@ from typing import Literal, NamedTuple, Protocol
 
 import numpy as np
 
-from ..errors import ActiveSetError, ContactLostError
+from ..errors import ActiveSetError, ContactError, ContactLostError
 
 logger = logging.getLogger(__name__)
 
@@ -110,17 +110,17 @@ class ActiveSetOptions:
 
     def __post_init__(self):
         if self.on_cycle not in ("conservative", "widen"):
-            raise ValueError(f"on_cycle = {self.on_cycle!r}; allowed: 'conservative', 'widen'")
+            raise ContactError(f"on_cycle = {self.on_cycle!r}; allowed: 'conservative', 'widen'")
         if int(self.max_iter) < 1:
-            raise ValueError(f"max_iter = {self.max_iter!r}; need >= 1")
+            raise ContactError(f"max_iter = {self.max_iter!r}; need >= 1")
         for name in ("loose_tol", "inexact", "medium_tol"):
             v = getattr(self, name)
             if v is not None and not (np.isfinite(v) and 0 < v < 1):
-                raise ValueError(f"{name} = {v!r} is not allowed; need 0 < {name} < 1 or None")
+                raise ContactError(f"{name} = {v!r} is not allowed; need 0 < {name} < 1 or None")
         for name in ("release_tol", "cycle_band"):
             v = getattr(self, name)
             if not (np.isfinite(v) and 0 <= v < 1):
-                raise ValueError(f"{name} = {v!r} is not allowed; need 0 <= {name} < 1")
+                raise ContactError(f"{name} = {v!r} is not allowed; need 0 <= {name} < 1")
 
 
 #: rigid (Lagrange) contact: loose first solve to 1e-2, then warm starts cut by 10x,

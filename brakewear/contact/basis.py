@@ -32,6 +32,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ContactError
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["ALPHA", "SlaveBasis", "check_supports", "in_slave_basis"]
@@ -61,16 +63,16 @@ class SlaveBasis:
 
     def __post_init__(self):
         if not 0.0 < self.alpha < 0.5:
-            raise ValueError(f"alpha = {self.alpha!r}; need 0 < alpha < 1/2")
+            raise ContactError(f"alpha = {self.alpha!r}; need 0 < alpha < 1/2")
         if self.ends.shape != (2, self.edge.size):
-            raise ValueError(f"ends has shape {self.ends.shape}; need (2, {self.edge.size})")
+            raise ContactError(f"ends has shape {self.ends.shape}; need (2, {self.edge.size})")
 
     def renumbered(self, col: np.ndarray) -> "SlaveBasis":
         """The same basis in another node numbering (``col[old] = new``, all kept)."""
         new = replace(self, edge=col[self.edge], ends=col[self.ends])
         if np.any(new.edge < 0) or np.any(new.ends < 0):
-            raise ValueError("a node of a quadratic slave face was eliminated (tied or "
-                             "removed); the face needs all its nodes")
+            raise ContactError("a node of a quadratic slave face was eliminated (tied or "
+                               "removed); the face needs all its nodes")
         return new
 
     def node_matrix(self, n_nodes: int, inverse: bool = False) -> sp.csr_matrix:
@@ -78,8 +80,8 @@ class SlaveBasis:
         a = self.alpha
         d, o = (1.0 / (1.0 - 2.0 * a), -a / (1.0 - 2.0 * a)) if inverse else (1.0 - 2.0 * a, a)
         if self.edge.size and max(self.edge.max(), self.ends.max()) >= n_nodes:
-            raise ValueError(f"the face's nodes reach {max(self.edge.max(), self.ends.max())}; "
-                             f"the system has {n_nodes} nodes")
+            raise ContactError(f"the face's nodes reach {max(self.edge.max(), self.ends.max())}; "
+                               f"the system has {n_nodes} nodes")
         keep = np.ones(n_nodes, dtype=bool)
         keep[self.edge] = False
         ident = np.flatnonzero(keep)
@@ -102,15 +104,15 @@ def _combined(pairs, n_dofs: int):
         return None
     edges = np.concatenate([b.edge for b in bases])
     if np.unique(edges).size != edges.size:
-        raise ValueError("two contact pairs transform the same quadratic face node; a face "
-                         "may be the slave of one pair only")
+        raise ContactError("two contact pairs transform the same quadratic face node; a face "
+                           "may be the slave of one pair only")
     moved = np.zeros(n_dofs // 3, dtype=bool)
     moved[edges] = True
     for pr in pairs:
         if pr.coupling is not None and np.any(moved[pr.coupling.indices]):
-            raise ValueError(f"{pr.name}: a master node is a mid-edge node of a quadratic "
-                             "slave face; a quadratic face can be the slave of a pair but "
-                             "not the master of another")
+            raise ContactError(f"{pr.name}: a master node is a mid-edge node of a quadratic "
+                               "slave face; a quadratic face can be the slave of a pair but "
+                               "not the master of another")
     eye = sp.identity(n_dofs, format="csr")
     T, Ti = eye.copy(), eye.copy()
     for b in bases:
@@ -127,9 +129,9 @@ def check_supports(Ti: sp.csr_matrix, fixed: np.ndarray) -> None:
     rows = Ti[np.asarray(fixed)]
     loose = rows.indices[~is_fixed[rows.indices]]
     if loose.size:
-        raise ValueError(f"supported DOF(s) on a mid-edge node of a quadratic contact face "
-                         f"whose vertex is free in that direction (first free vertex DOF "
-                         f"{loose[0]}): support the whole edge or none of it")
+        raise ContactError(f"supported DOF(s) on a mid-edge node of a quadratic contact face "
+                           f"whose vertex is free in that direction (first free vertex DOF "
+                           f"{loose[0]}): support the whole edge or none of it")
 
 
 def in_slave_basis(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, fixed_values: np.ndarray,

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ContactError
 from .active_set import COMPLIANT, ActiveSetDriver, ActiveSetOptions
 from .basis import in_slave_basis
 from .compliant_sets import CompliantSets, SupportedSets
@@ -93,8 +94,8 @@ def drag_loads(pair: ContactPair, n_dofs: int, mu: float | None = None) -> sp.cs
     mu = pair.mu if mu is None else mu
     if pair.drag is None:
         if np.any(np.asarray(mu) > 0):
-            raise ValueError(f"{pair.name}: mu = {mu!r} needs a sliding direction; the pair "
-                             "was built without friction (build it with mu > 0)")
+            raise ContactError(f"{pair.name}: mu = {mu!r} needs a sliding direction; the pair "
+                               "was built without friction (build it with mu > 0)")
         return sp.csr_matrix((n_dofs, ns))
     t = np.asarray(mu, dtype=float) * pair.drag
     rows = [(3 * s[:, None] + np.arange(3)).ravel()]
@@ -183,10 +184,10 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     eps = np.asarray(compliance, dtype=float)
     ns = pair.slave.size
     if eps.shape != (ns,) or not np.all(np.isfinite(eps)) or np.any(eps <= 0):
-        raise ValueError(f"{pair.name}: compliance must be ({ns},) finite and > 0 m/Pa; got "
-                         f"shape {eps.shape}, min {np.min(eps) if eps.size else None!r}")
+        raise ContactError(f"{pair.name}: compliance must be ({ns},) finite and > 0 m/Pa; got "
+                           f"shape {eps.shape}, min {np.min(eps) if eps.size else None!r}")
     if x0 is not None and np.shape(x0) != (N,):
-        raise ValueError(f"x0 has shape {np.shape(x0)}; the system has {N} DOFs")
+        raise ContactError(f"x0 has shape {np.shape(x0)}; the system has {N} DOFs")
     fixed = np.unique(np.asarray(fixed, dtype=np.int64))
     supports = list(supports or [])
     _check_supports(pair, supports)
@@ -209,8 +210,8 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     base = solver
     if base is not None:
         if base.A.shape != (N, N):
-            raise ValueError(f"solver is a hierarchy of size {base.A.shape[0]}; the system has "
-                             f"{N}")
+            raise ContactError(f"solver is a hierarchy of size {base.A.shape[0]}; the system has "
+                               f"{N}")
         Kd = base.ml.levels[0].A
     else:
         base = compliant_preconditioner(K, fixed, coords, tol)   # K is already transformed
@@ -271,9 +272,9 @@ def _check_supports(pair: ContactPair, supports: list) -> None:
 
     for s in supports:
         if not isinstance(s, ContactPair):
-            raise ValueError(f"supports: {type(s).__name__} is not a ContactPair")
+            raise ContactError(f"supports: {type(s).__name__} is not a ContactPair")
         if s.frictional:
-            raise ValueError(f"{s.name}: a support pair has no friction (mu = {s.mu!r})")
+            raise ContactError(f"{s.name}: a support pair has no friction (mu = {s.mu!r})")
     if supports:
         check_disjoint([pair, *supports])
 

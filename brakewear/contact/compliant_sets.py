@@ -28,6 +28,7 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ContactError
 from .active_set import Margins
 from .elimination import _mask_fixed, _prolongation, _reduced_start, _set_delta
 
@@ -124,8 +125,8 @@ class SupportedSets(CompliantSets):
         P, c, elim = _prolongation(N, self.supports, a_s)
         clash = np.flatnonzero(self.is_fixed[elim])
         if clash.size:
-            raise ValueError(f"DOF {elim[clash[0]]} is supported and the normal DOF of an "
-                             "abutment (stop) node; a node cannot be both")
+            raise ContactError(f"DOF {elim[clash[0]]} is supported and the normal DOF of an "
+                               "abutment (stop) node; a node cannot be both")
         g0 = self.pair.g0[a_c]
         Ca, ka = self.C[a_c], self.kappa[a_c]
         D = (Ca.T @ sp.diags(ka) @ Ca).tocsr()

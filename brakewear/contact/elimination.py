@@ -13,6 +13,7 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ContactError
 from ..solvers.patched import PatchedMatrix
 
 logger = logging.getLogger(__name__)
@@ -90,8 +91,8 @@ def check_disjoint(pairs) -> None:
     if np.any(counts > 1):
         n = int(uniq[counts > 1][0])
         names = [pr.name for pr in pairs if np.isin(n, pr.slave)]
-        raise ValueError(f"node {n} is a slave node of more than one contact pair "
-                         f"({', '.join(names)}); a node may be constrained by one pair only")
+        raise ContactError(f"node {n} is a slave node of more than one contact pair "
+                           f"({', '.join(names)}); a node may be constrained by one pair only")
 
 
 def friction_operators(N: int, pairs, active):

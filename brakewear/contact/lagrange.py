@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..errors import ActiveSetError
+from ..errors import ActiveSetError, ContactError
 from .active_set import LAGRANGE, ActiveSetDriver, ActiveSetOptions, Margins
 from .basis import in_slave_basis
 from .elimination import (
@@ -147,7 +147,7 @@ def solve_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray, coords: np.n
     size = float(np.linalg.norm(coords.max(axis=1) - coords.min(axis=1)))
     gap_tol = 1e-10 * size if gap_tol is None else gap_tol
     if linear not in ("amg", "direct"):
-        raise ValueError(f"linear = {linear!r}; allowed: 'amg', 'direct'")
+        raise ContactError(f"linear = {linear!r}; allowed: 'amg', 'direct'")
     if initial_active is None:
         active = [pr.g0 <= gap_tol for pr in pairs]
         if not active[0].any():
@@ -281,9 +281,9 @@ class _LagrangeSets:
         P, c, elim = _prolongation(N, self.pairs, active)
         clash = np.intersect1d(elim, self.fixed)
         if clash.size:
-            raise ValueError(f"{clash.size} supported DOF(s) are the normal DOF of a contact "
-                             f"node (first: DOF {clash[0]}); a node cannot be both supported "
-                             "and in contact along the normal")
+            raise ContactError(f"{clash.size} supported DOF(s) are the normal DOF of a contact "
+                               f"node (first: DOF {clash[0]}); a node cannot be both supported "
+                               "and in contact along the normal")
         if self.fine is None and self.set_key is not None and self.linear == "amg":
             # a second set in this solve: from now on each set's operator is formed
             # in place (one pass over K to set up, none per set)
@@ -340,8 +340,8 @@ def _check_base(solver, N: int) -> None:
 
     if not isinstance(solver, AMGSolver) or solver.A.shape != (N, N):
         shape = getattr(getattr(solver, "A", None), "shape", None)
-        raise ValueError(f"solver = {type(solver).__name__} (matrix shape {shape}); need the "
-                         f"AMGSolver of contact_preconditioner() for this {N}-DOF system")
+        raise ContactError(f"solver = {type(solver).__name__} (matrix shape {shape}); need the "
+                           f"AMGSolver of contact_preconditioner() for this {N}-DOF system")
 
 
 def contact_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray, pairs: list,
@@ -367,7 +367,7 @@ def contact_preconditioner(K: sp.spmatrix, fixed: np.ndarray, coords: np.ndarray
         active = [np.asarray(a, dtype=bool) for a in active]
         for pr, a in zip(pairs, active):
             if a.shape != pr.slave.shape:
-                raise ValueError(f"{pr.name}: active has shape {a.shape}; need {pr.slave.shape}")
+                raise ContactError(f"{pr.name}: active has shape {a.shape}; need {pr.slave.shape}")
     is_fixed = np.zeros(N, dtype=bool)
     is_fixed[fixed] = True
     K, _, _, pairs, _ = in_slave_basis(K, np.zeros(N), fixed, np.zeros(fixed.size), pairs)

@@ -8,6 +8,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
+from ..errors import ContactError
 from ..mesh.surface import surface_nodes, tributary_areas
 from .basis import SlaveBasis
 from .quadratic import dual_rigid_pair, dual_surface_pair, is_quadratic, slave_basis
@@ -57,7 +58,7 @@ class ContactPair:
         self.set_mu(self.mu)
         for key in ("area", "g0"):
             if getattr(self, key).shape != (n,):
-                raise ValueError(f"{self.name}: {key} must have shape ({n},)")
+                raise ContactError(f"{self.name}: {key} must have shape ({n},)")
         if self.coupling is not None:
             self.coupling = sp.csr_matrix(self.coupling)
 
@@ -70,14 +71,14 @@ class ContactPair:
         else:
             mu = np.array(mu, dtype=float)
             if mu.shape != (n,):
-                raise ValueError(f"{self.name}: mu has shape {mu.shape}; need a number or ({n},),"
-                                 " one per slave node")
+                raise ContactError(f"{self.name}: mu has shape {mu.shape}; need a number or ({n},),"
+                                   " one per slave node")
         if np.any(np.asarray(mu) < 0) or not np.all(np.isfinite(mu)):
             shown = mu if np.ndim(mu) == 0 else f"min {np.min(mu)!r}"
-            raise ValueError(f"{self.name}: friction coefficient mu = {shown}; need mu >= 0")
+            raise ContactError(f"{self.name}: friction coefficient mu = {shown}; need mu >= 0")
         if np.any(np.asarray(mu) > 0) and (self.drag is None or self.drag.shape != (3, n)):
-            raise ValueError(f"{self.name}: mu > 0 needs a drag direction (3, {n}) per slave "
-                             "node; the pair was built without friction (build it with mu > 0)")
+            raise ContactError(f"{self.name}: mu > 0 needs a drag direction (3, {n}) per slave "
+                               "node; the pair was built without friction (build it with mu > 0)")
         self.mu = mu
 
     @property
@@ -132,7 +133,7 @@ def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
     face against a quadratic master is refused.
     """
     if method not in ("node", "segment"):
-        raise ValueError(f"{name}: method = {method!r}; allowed: 'node', 'segment'")
+        raise ContactError(f"{name}: method = {method!r}; allowed: 'node', 'segment'")
     N = (max(master_offset + master_mesh.p.shape[1], slave_offset + slave_mesh.p.shape[1])
          if n_nodes is None else n_nodes)
     if is_quadratic(slave_mesh):
@@ -143,8 +144,8 @@ def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
                           shape=(q["slave"].size, N))
         return _quadratic_pair(slave_mesh, q, slave_offset, W, exclude, mu, drag, name)
     if is_quadratic(master_mesh):
-        raise ValueError(f"{name}: a linear slave face against a quadratic master is not "
-                         "supported; make the quadratic body the slave or use one order")
+        raise ContactError(f"{name}: a linear slave face against a quadratic master is not "
+                           "supported; make the quadratic body the slave or use one order")
     slave = surface_nodes(slave_mesh, slave_facets)
     x = slave_mesh.p[:, slave]
     pr = project_nodes(x, master_mesh, master_facets, search_radius=search_radius)
@@ -181,7 +182,7 @@ def pair_to_rigid(slave_mesh: fem.Mesh, slave_facets, slave_offset: int, height,
     (weak gaps integrated on ``4**level`` sub-triangles per facet).
     """
     if side not in (1, -1):
-        raise ValueError(f"{name}: side = {side!r}; allowed: +1 (rigid below), -1 (rigid above)")
+        raise ContactError(f"{name}: side = {side!r}; allowed: +1 (rigid below), -1 (rigid above)")
     if is_quadratic(slave_mesh):
         q = dual_rigid_pair(slave_mesh, slave_facets, height, side, level)
         return _quadratic_pair(slave_mesh, q, slave_offset, None, exclude, mu, drag, name)
@@ -216,8 +217,8 @@ def _unit_tangential(v: np.ndarray, n: np.ndarray) -> np.ndarray:
     v = v - n * np.einsum("ij,ij->j", v, n)
     norm = np.linalg.norm(v, axis=0)
     if np.any(norm == 0):
-        raise ValueError("drag direction is zero or normal to the surface at some slave node "
-                         "(e.g. a node on the rotor axis)")
+        raise ContactError("drag direction is zero or normal to the surface at some slave node "
+                           "(e.g. a node on the rotor axis)")
     return v / norm
 
 
@@ -231,10 +232,10 @@ def merge_pairs(pairs: list[ContactPair], name: str = "contact") -> ContactPair:
         return pairs[0]
     rigid = {p.rigid for p in pairs}
     if len(rigid) > 1:
-        raise ValueError(f"{name}: cannot merge rigid and deformable masters into one pair")
+        raise ContactError(f"{name}: cannot merge rigid and deformable masters into one pair")
     slave = np.concatenate([p.slave for p in pairs])
     if np.unique(slave).size != slave.size:
-        raise ValueError(f"{name}: the pairs share slave nodes; merged pairs need disjoint ones")
+        raise ContactError(f"{name}: the pairs share slave nodes; merged pairs need disjoint ones")
     cat = lambda key: np.concatenate([getattr(p, key) for p in pairs], axis=-1)  # noqa: E731
     coupling = None if rigid.pop() else sp.vstack([p.coupling for p in pairs], format="csr")
     fr = [p.frictional for p in pairs]
@@ -247,7 +248,7 @@ def merge_pairs(pairs: list[ContactPair], name: str = "contact") -> ContactPair:
     basis = None
     if any(b is not None for b in bases):
         if any(b is None for b in bases):
-            raise ValueError(f"{name}: cannot merge linear and quadratic slave faces")
+            raise ContactError(f"{name}: cannot merge linear and quadratic slave faces")
         basis = SlaveBasis(np.concatenate([b.edge for b in bases]),
                            np.hstack([b.ends for b in bases]), bases[0].alpha)
     # in ascending slave order, the order of the face's node list (face_nodes)

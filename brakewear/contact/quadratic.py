@@ -45,6 +45,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
+from ..errors import MeshError
 from ..mesh.surface import FACE_EDGES as _EDGES
 from ..mesh.surface import is_quadratic, quadratic_faces
 from ..fem.triangle import subdivided_rule as _subdivided_rule
@@ -97,8 +98,8 @@ def face_quadrature(mesh: fem.Mesh, facets, level: int = 1, alpha: float = ALPHA
     M = np.einsum("iq,jq,fq->fij", phi, phi, w)
     D = M.sum(axis=2)                                             # (nf, 6)
     if np.any(D <= 0):
-        raise ValueError(f"a quadratic facet has a non-positive basis integral "
-                         f"({D.min():.3g}): the face is too distorted for alpha = {alpha}")
+        raise MeshError(f"a quadratic facet has a non-positive basis integral "
+                        f"({D.min():.3g}): the face is too distorted for alpha = {alpha}")
     A = D[:, :, None] * np.linalg.inv(M)                          # psi = A phi~ per facet
     psi = np.einsum("fij,jq->ifq", A, phi)
     return {"nodes": nodes, "x": x, "w": w, "lam": lam, "phi": phi, "psi": psi, "D": D.T}

@@ -47,6 +47,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
+from ..errors import ContactError, GeometryError, MeshError
 from ..mesh.surface import is_quadratic, quadratic_faces, surface_nodes, tributary_areas
 from .pairs import ContactPair
 
@@ -65,20 +66,20 @@ SUPPORT_ENDS = ("leading", "trailing")
 
 def _check_support(support: SupportGeometry) -> None:
     if support.type not in ("bilateral", "push", "pull"):
-        raise ValueError(f"support.type = {support.type!r}; allowed: 'bilateral', 'push', "
-                         "'pull'")
+        raise GeometryError(f"support.type = {support.type!r}; allowed: 'bilateral', 'push', "
+                            "'pull'")
     for key in ("clearance", "rail_stiffness", "spring_stiffness"):
         v = getattr(support, key)
         if not (np.isfinite(v) and v >= 0):
             unit = "m" if key == "clearance" else "N/m"
-            raise ValueError(f"support.{key} = {v!r} {unit}; need a finite value >= 0")
+            raise GeometryError(f"support.{key} = {v!r} {unit}; need a finite value >= 0")
 
 
 def end_normal(pad_geometry: PadGeometry, end: str) -> np.ndarray:
     """The tangential unit vector (3,) normal to the pad's ``end`` face (a radial
     plane), pointing in +theta (toward the trailing end)."""
     if end not in SUPPORT_ENDS:
-        raise ValueError(f"end = {end!r}; allowed: {', '.join(SUPPORT_ENDS)}")
+        raise ContactError(f"end = {end!r}; allowed: {', '.join(SUPPORT_ENDS)}")
     a = pad_geometry.leading_angle if end == "leading" else pad_geometry.trailing_angle
     return np.array([-np.sin(a), np.cos(a), 0.0])
 
@@ -88,7 +89,7 @@ def abutment_faces(mesh: fem.Mesh, end: str) -> dict:
     ``{"inboard": facets, "outboard": facets}`` (only the pads the mesh holds;
     a facet belongs to the inboard pad when its centroid lies at ``z > 0``)."""
     if end not in SUPPORT_ENDS:
-        raise ValueError(f"end = {end!r}; allowed: {', '.join(SUPPORT_ENDS)}")
+        raise ContactError(f"end = {end!r}; allowed: {', '.join(SUPPORT_ENDS)}")
     b = mesh.boundaries or {}
     name = f"abutment_{end}"
     if name in b:
@@ -96,10 +97,10 @@ def abutment_faces(mesh: fem.Mesh, end: str) -> dict:
     elif "abutment" in b and end in b:
         facets = np.intersect1d(b["abutment"], b[end])
     else:
-        raise ValueError(f"the pad mesh names no facets {name!r} (nor 'abutment' and {end!r}); "
-                         f"its facets: {', '.join(sorted(b))}")
+        raise MeshError(f"the pad mesh names no facets {name!r} (nor 'abutment' and {end!r}); "
+                        f"its facets: {', '.join(sorted(b))}")
     if facets.size == 0:
-        raise ValueError(f"the pad mesh's {name} facets are empty: no backplate end face")
+        raise MeshError(f"the pad mesh's {name} facets are empty: no backplate end face")
     zc = mesh.p[2, mesh.facets[:, facets]].mean(axis=0)
     out = {"inboard": facets[zc > 0], "outboard": facets[zc < 0]}
     return {k: v for k, v in out.items() if v.size}
@@ -182,8 +183,8 @@ def support_springs(mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry,
     """
     _check_support(support)
     if n_dofs < 3 * (offset + mesh.p.shape[1]):
-        raise ValueError(f"n_dofs = {n_dofs}; the pad mesh's nodes reach DOF "
-                         f"{3 * (offset + mesh.p.shape[1]) - 1}")
+        raise ContactError(f"n_dofs = {n_dofs}; the pad mesh's nodes reach DOF "
+                           f"{3 * (offset + mesh.p.shape[1]) - 1}")
     if support.type == "bilateral":
         return sp.csr_matrix((n_dofs, n_dofs))
     c = pad_geometry.center_angle
@@ -237,8 +238,8 @@ def with_supports(system, mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry
     pairs = []
     for pr in abutment_pairs(mesh, offset, pad_geometry, support):
         if np.any(col[pr.slave] < 0):
-            raise ValueError(f"{pr.name}: an abutment node is tied (eliminated); the pad's "
-                             "end faces must keep their nodes")
+            raise ContactError(f"{pr.name}: an abutment node is tied (eliminated); the pad's "
+                               "end faces must keep their nodes")
         basis = None if pr.basis is None else pr.basis.renumbered(col)
         pairs.append(dataclasses.replace(pr, slave=col[pr.slave], basis=basis))
     ends = [f for end in SUPPORT_ENDS for f in abutment_faces(mesh, end).values()]

@@ -17,7 +17,7 @@ import scipy.sparse as sp
 import skfem as fem
 from scipy.spatial import cKDTree
 
-from ..errors import ContactSearchError
+from ..errors import ContactError, ContactSearchError
 from ..mesh.surface import facet_normals
 
 logger = logging.getLogger(__name__)
@@ -117,8 +117,8 @@ def tie_prolongation(n_nodes: int, slave: np.ndarray, master_nodes: np.ndarray,
     is_slave = np.zeros(n_nodes, dtype=bool)
     is_slave[slave] = True
     if np.any(is_slave[master_nodes]):
-        raise ValueError("tie_prolongation: a master node is also a slave node; "
-                         "ties must not be chained")
+        raise ContactError("tie_prolongation: a master node is also a slave node; "
+                           "ties must not be chained")
     retained = np.nonzero(~is_slave)[0]
     col = -np.ones(n_nodes, dtype=np.int64)
     col[retained] = np.arange(retained.size)

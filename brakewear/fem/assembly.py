@@ -26,6 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
+from ..errors import MeshError
 from .forms import _VOIGT, _intorder, scalar_element
 
 logger = logging.getLogger(__name__)
@@ -265,8 +266,8 @@ def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None =
             while pending:
                 add(*pending.popleft().result())
     if covered != mesh.nelements:
-        raise ValueError(f"assemble_stiffness: the material groups cover {covered} elements, "
-                         f"the mesh has {mesh.nelements}; every element needs one material")
+        raise MeshError(f"assemble_stiffness: the material groups cover {covered} elements, "
+                        f"the mesh has {mesh.nelements}; every element needs one material")
     N = 3 * pattern.n
     K = sp.bsr_matrix((data, pattern.indices, pattern.indptr), shape=(N, N))
     return K, pattern
@@ -276,11 +277,11 @@ def _element_subset(mesh: fem.Mesh, elements, who: str) -> np.ndarray:
     """Boolean mask over ``mesh``'s elements from an index array (checked)."""
     idx = np.asarray(elements)
     if idx.ndim != 1 or not (idx.size == 0 or np.issubdtype(idx.dtype, np.integer)):
-        raise ValueError(f"{who}: elements must be a 1-D array of element indices; "
-                         f"got shape {idx.shape}, dtype {idx.dtype}")
+        raise MeshError(f"{who}: elements must be a 1-D array of element indices; "
+                        f"got shape {idx.shape}, dtype {idx.dtype}")
     if idx.size and (idx.min() < 0 or idx.max() >= mesh.nelements):
-        raise ValueError(f"{who}: element index {int(idx.min() if idx.min() < 0 else idx.max())} "
-                         f"is out of range; the mesh has {mesh.nelements} elements")
+        raise MeshError(f"{who}: element index {int(idx.min() if idx.min() < 0 else idx.max())} "
+                        f"is out of range; the mesh has {mesh.nelements} elements")
     mask = np.zeros(mesh.nelements, dtype=bool)
     mask[idx] = True
     return mask
@@ -318,17 +319,17 @@ def stiffness_update(K: sp.bsr_matrix, pattern: BlockPattern, old_mesh: fem.Mesh
     """
     if old_mesh.t.shape != new_mesh.t.shape or not (
             old_mesh.t is new_mesh.t or np.array_equal(old_mesh.t, new_mesh.t)):
-        raise ValueError("stiffness_update: old_mesh and new_mesh must have the same elements "
-                         f"(t of shape {old_mesh.t.shape} vs {new_mesh.t.shape} or different "
-                         "connectivity); a remeshed body needs a full assemble_stiffness")
+        raise MeshError("stiffness_update: old_mesh and new_mesh must have the same elements "
+                        f"(t of shape {old_mesh.t.shape} vs {new_mesh.t.shape} or different "
+                        "connectivity); a remeshed body needs a full assemble_stiffness")
     if type(old_mesh) is not type(new_mesh):
-        raise ValueError(f"stiffness_update: mesh types differ ({type(old_mesh).__name__} vs "
-                         f"{type(new_mesh).__name__})")
+        raise MeshError(f"stiffness_update: mesh types differ ({type(old_mesh).__name__} vs "
+                        f"{type(new_mesh).__name__})")
     N = 3 * pattern.n
     if K.shape != (N, N) or not (sp.isspmatrix_bsr(K) or isinstance(K, sp.bsr_array)) \
             or K.blocksize != (3, 3) or K.data.shape[0] != pattern.nnzb:
-        raise ValueError(f"stiffness_update: K (shape {K.shape}, format {K.format}) is not the "
-                         f"3x3-block matrix of this pattern ({N} x {N}, {pattern.nnzb} blocks)")
+        raise MeshError(f"stiffness_update: K (shape {K.shape}, format {K.format}) is not the "
+                        f"3x3-block matrix of this pattern ({N} x {N}, {pattern.nnzb} blocks)")
     mask = _element_subset(new_mesh, elements, "stiffness_update")
     elem = scalar_element(new_mesh)
     q = _intorder(elem) if intorder is None else intorder

@@ -19,6 +19,7 @@ from typing import Callable
 import numpy as np
 import skfem as fem
 
+from ..errors import GeometryError
 from ..mesh.surface import is_quadratic, quadratic_faces
 from ..mesh.topology import ensure_topology, facet_indices
 from .triangle import subdivided_rule, tri6
@@ -60,7 +61,7 @@ def footprint_load(mesh: fem.Mesh, facets, inside: Callable, force: float,
 
     Raises
     ------
-    ValueError
+    GeometryError
         The footprint misses every facet (nothing to load).
     """
     ensure_topology(mesh)
@@ -76,8 +77,8 @@ def footprint_load(mesh: fem.Mesh, facets, inside: Callable, force: float,
     w = inside(X.reshape(3, -1)).reshape(X.shape[1:]) * wq[:, None] * area[None, :]  # (q, nf)
     total = w.sum()
     if total <= 0.0:
-        raise ValueError("footprint_load: the footprint does not overlap the facets "
-                         f"{facets if isinstance(facets, str) else '(given)'}; nothing to load")
+        raise GeometryError("footprint_load: the footprint does not overlap the facets "
+                            f"{facets if isinstance(facets, str) else '(given)'}; nothing to load")
     nodal = (N @ w) / total                                     # (k, nf), sums to 1
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)

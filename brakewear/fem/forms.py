@@ -14,6 +14,8 @@ import numpy as np
 import skfem as fem
 from skfem.helpers import dot, sym_grad
 
+from ..errors import MeshError
+
 logger = logging.getLogger(__name__)
 
 __all__ = [
@@ -38,7 +40,7 @@ def scalar_element(mesh: fem.Mesh) -> fem.Element:
         return fem.ElementTetP2()
     if isinstance(mesh, fem.MeshTet1):
         return fem.ElementTetP1()
-    raise TypeError(f"unsupported mesh type {type(mesh).__name__}; need MeshTet or MeshTet2")
+    raise MeshError(f"unsupported mesh type {type(mesh).__name__}; need MeshTet or MeshTet2")
 
 
 def _intorder(elem: fem.Element) -> int:

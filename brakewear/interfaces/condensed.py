@@ -32,7 +32,7 @@ import numpy as np
 from scipy.linalg import lu_factor, lu_solve
 
 from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver, Margins
-from ..errors import CondensedRangeError, WearError
+from ..errors import CondensedRangeError, ContactError, WearError
 from .compliance import condense
 from .fe import FEInterface
 from .protocol import InterfaceSolution
@@ -141,7 +141,7 @@ class CondensedInterface:
         H, D = self._operators(self.mu)
         c = None if compliance is None else np.asarray(compliance, dtype=float) / self.area
         if c is not None and (c.shape != q.shape or not np.all(np.isfinite(c)) or np.any(c <= 0)):
-            raise ValueError(f"compliance must be ({q.size},) finite and > 0 m/Pa")
+            raise ContactError(f"compliance must be ({q.size},) finite and > 0 m/Pa")
         problem = _DenseSets(self, H, D, q, rhs, c)
         g = self.g0 + offset
         if active is not None:

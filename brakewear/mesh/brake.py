@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import skfem as fem
 
+from ..errors import MeshError
 from .grids import _body_size, _check_size_order, _n_cells, _ring_theta
 from .pad_block import sector_pad_mesh
 from .rotor import full_rotor_mesh
@@ -76,8 +77,8 @@ def rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None
                                  ms.order if order is None else order)
     if ro_.mount == "hat" or ro_.vents is not None:
         if not full and ro_.mount == "hat":
-            raise ValueError("rotor_mesh: a rotor with mount = 'hat' is meshed whole; "
-                             "call with full=True")
+            raise MeshError("rotor_mesh: a rotor with mount = 'hat' is meshed whole; "
+                            "call with full=True")
         return full_rotor_mesh(geom, size, order, half=not full)
     ri, ro, half = ro_.inner_radius, ro_.outer_radius, 0.5 * ro_.thickness
     r = np.linspace(ri, ro, max(2, int(np.ceil((ro - ri) / h))) + 1)
@@ -309,21 +310,21 @@ def element_materials(mesh: fem.Mesh, mapping: dict) -> list[tuple[np.ndarray, M
 
     Raises
     ------
-    ValueError
+    MeshError
         A subdomain is missing from the mesh, or the subdomains do not cover
         every element exactly once.
     """
     subs = mesh.subdomains or {}
     missing = [k for k in mapping if k not in subs]
     if missing:
-        raise ValueError(f"element_materials: mesh has no subdomain {missing[0]!r}; "
-                         f"its subdomains: {sorted(subs) or 'none'}")
+        raise MeshError(f"element_materials: mesh has no subdomain {missing[0]!r}; "
+                        f"its subdomains: {sorted(subs) or 'none'}")
     out = [(np.asarray(subs[k], dtype=np.int64), mat) for k, mat in mapping.items()]
     count = np.zeros(mesh.t.shape[1], dtype=np.int64)
     for idx, _ in out:
         np.add.at(count, idx, 1)
     if (count != 1).any():
-        raise ValueError(
+        raise MeshError(
             f"element_materials: subdomains {sorted(mapping)} leave {(count == 0).sum()} "
             f"elements without a material and give {(count > 1).sum()} elements two or more")
     return out

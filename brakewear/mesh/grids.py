@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import MeshError
 from .structured import graded
 
 if TYPE_CHECKING:  # imported for annotations only: geometry sits above mesh
@@ -26,7 +27,7 @@ def _n_cells(length: float, h_min: float, ratio: float) -> int:
         if x[1] - x[0] <= 1.05 * h_min:
             return n
         n += 1
-    raise ValueError(f"cannot grade {length} with smallest cell {h_min}")  # pragma: no cover
+    raise MeshError(f"cannot grade {length} with smallest cell {h_min}")  # pragma: no cover
 
 
 
@@ -56,9 +57,9 @@ def _two_sided(length: float, h_end: float, h_mid: float, growth: float = 1.3) -
 def _check_size_order(size: float, order: int) -> tuple[float, int]:
     size = float(size)
     if not np.isfinite(size) or size <= 0.0:
-        raise ValueError(f"mesh size = {size!r} is not allowed; it must be a finite number > 0 (m)")
+        raise MeshError(f"mesh size = {size!r} is not allowed; it must be a finite number > 0 (m)")
     if isinstance(order, bool) or order not in (1, 2):
-        raise ValueError(f"mesh order = {order!r} is not allowed; allowed: 1, 2")
+        raise MeshError(f"mesh order = {order!r} is not allowed; allowed: 1, 2")
     return size, int(order)
 
 

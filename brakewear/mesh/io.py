@@ -17,7 +17,7 @@ from typing import Sequence
 import numpy as np
 import skfem as fem
 
-from ..errors import MeshFileError
+from ..errors import MeshError, MeshFileError
 from .structured import _oriented
 from .topology import _with_boundaries, _with_subdomains, ensure_topology
 
@@ -256,22 +256,22 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
     for k, v in (point_data or {}).items():
         v = np.asarray(v)
         if v.shape[0] < nv:
-            raise ValueError(f"write_mesh: point_data[{k!r}] has {v.shape[0]} values; "
-                             f"need {nv} (one per vertex)")
+            raise MeshError(f"write_mesh: point_data[{k!r}] has {v.shape[0]} values; "
+                            f"need {nv} (one per vertex)")
         pdata[k] = v[:nv]
     cdata = {}
     for k, v in (cell_data or {}).items():
         v = np.asarray(v)
         if v.shape[0] != mesh.t.shape[1]:
-            raise ValueError(f"write_mesh: cell_data[{k!r}] has {v.shape[0]} values; "
-                             f"need {mesh.t.shape[1]} (one per element)")
+            raise MeshError(f"write_mesh: cell_data[{k!r}] has {v.shape[0]} values; "
+                            f"need {mesh.t.shape[1]} (one per element)")
         cdata[k] = [v]
     m1 = fem.MeshTet(p, mesh.t, mesh._boundaries, mesh._subdomains, validate=False)
     if path.suffix.lower() == ".msh":
         if cdata:
             # meshio cannot read back element data of a gmsh file with groups
-            raise ValueError(f"write_mesh: {path}: cell_data cannot go into a gmsh .msh file "
-                             "(physical groups only); write it to a .vtu file")
+            raise MeshFileError(f"write_mesh: {path}: cell_data cannot go into a gmsh .msh file "
+                                "(physical groups only); write it to a .vtu file")
         cells, data, names = _gmsh_blocks(m1)
         meshio.write(path, meshio.Mesh(p.T, cells, point_data=pdata, cell_data=data,
                                        field_data=names), file_format="gmsh22", binary=True)

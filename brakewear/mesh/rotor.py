@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import skfem as fem
 
+from ..errors import GeometryError, MeshError
 from .grids import _body_size, _check_size_order, _n_cells, _ring_theta
 from .structured import graded, mapped_mesh, structured_tets
 from .topology import _with_boundaries, _with_subdomains, ensure_topology
@@ -47,47 +48,47 @@ def _check_hat(geom: BrakeGeometry) -> None:
     """Refuse a hat that does not make one connected rotor, naming the field."""
     ro_, hat = geom.rotor, geom.rotor.hat
     if hat is None:
-        raise ValueError("rotor.hat is missing: rotor.mount = 'hat' needs a [rotor.hat] table "
-                         "(height, wall_radius, wall_thickness, flange_thickness, bore_radius, "
-                         "bolt_circle_radius)")
+        raise GeometryError("rotor.hat is missing: rotor.mount = 'hat' needs a [rotor.hat] table "
+                            "(height, wall_radius, wall_thickness, flange_thickness, bore_radius, "
+                            "bolt_circle_radius)")
     for k in ("height", "wall_radius", "wall_thickness", "flange_thickness", "bore_radius",
               "bolt_circle_radius"):
         v = getattr(hat, k)
         if not np.isfinite(v) or v <= 0.0:
-            raise ValueError(f"rotor.hat.{k} = {_mm(v)} is not allowed; it must be > 0")
+            raise GeometryError(f"rotor.hat.{k} = {_mm(v)} is not allowed; it must be > 0")
     wi, wo = hat.wall_radius - 0.5 * hat.wall_thickness, hat.wall_radius + 0.5 * hat.wall_thickness
     if not ro_.inner_radius <= wo < ro_.outer_radius:
-        raise ValueError(
+        raise GeometryError(
             f"rotor.hat.wall_radius = {_mm(hat.wall_radius)} with wall_thickness = "
             f"{_mm(hat.wall_thickness)} puts the wall's outer surface at {_mm(wo)}: the hat does "
             f"not meet the ring; allowed: {_mm(ro_.inner_radius)} <= wall_radius + "
             f"wall_thickness/2 < {_mm(ro_.outer_radius)} (rotor inner and outer radius)")
     if not 0.0 < hat.bore_radius < wi:
-        raise ValueError(f"rotor.hat.bore_radius = {_mm(hat.bore_radius)} is not allowed; it "
-                         f"must lie inside the wall's inner surface, < {_mm(wi)}")
+        raise GeometryError(f"rotor.hat.bore_radius = {_mm(hat.bore_radius)} is not allowed; it "
+                            f"must lie inside the wall's inner surface, < {_mm(wi)}")
     if not hat.bore_radius < hat.bolt_circle_radius <= wo:
-        raise ValueError(f"rotor.hat.bolt_circle_radius = {_mm(hat.bolt_circle_radius)} is not "
-                         f"allowed; allowed: {_mm(hat.bore_radius)} (bore) < bolt_circle_radius "
-                         f"<= {_mm(wo)} (wall outer surface)")
+        raise GeometryError(f"rotor.hat.bolt_circle_radius = {_mm(hat.bolt_circle_radius)} is not "
+                            f"allowed; allowed: {_mm(hat.bore_radius)} (bore) < bolt_circle_radius "
+                            f"<= {_mm(wo)} (wall outer surface)")
     if not hat.flange_thickness < hat.height:
-        raise ValueError(f"rotor.hat.flange_thickness = {_mm(hat.flange_thickness)} is not "
-                         f"allowed; it must be less than rotor.hat.height = {_mm(hat.height)}")
+        raise GeometryError(f"rotor.hat.flange_thickness = {_mm(hat.flange_thickness)} is not "
+                            f"allowed; it must be less than rotor.hat.height = {_mm(hat.height)}")
 
 
 def _check_vents(geom: BrakeGeometry) -> None:
     ro_, v = geom.rotor, geom.rotor.vents
     if not 0.0 < v.cheek_thickness < 0.5 * ro_.thickness:
-        raise ValueError(f"rotor.vents.cheek_thickness = {_mm(v.cheek_thickness)} is not "
-                         f"allowed; allowed: 0 < cheek_thickness < thickness / 2 = "
-                         f"{_mm(0.5 * ro_.thickness)}")
+        raise GeometryError(f"rotor.vents.cheek_thickness = {_mm(v.cheek_thickness)} is not "
+                            f"allowed; allowed: 0 < cheek_thickness < thickness / 2 = "
+                            f"{_mm(0.5 * ro_.thickness)}")
     if isinstance(v.vane_count, bool) or int(v.vane_count) != v.vane_count or v.vane_count < 1:
-        raise ValueError(f"rotor.vents.vane_count = {v.vane_count!r} is not allowed; it must be "
-                         "a whole number >= 1")
+        raise GeometryError(f"rotor.vents.vane_count = {v.vane_count!r} is not allowed; it must be "
+                            "a whole number >= 1")
     w_max = 2.0 * ro_.inner_radius * np.sin(np.pi / v.vane_count)
     if not 0.0 < v.vane_width < w_max:
-        raise ValueError(f"rotor.vents.vane_width = {_mm(v.vane_width)} is not allowed; "
-                         f"{v.vane_count} vanes must leave channels at the inner radius: "
-                         f"0 < vane_width < {_mm(w_max)}")
+        raise GeometryError(f"rotor.vents.vane_width = {_mm(v.vane_width)} is not allowed; "
+                            f"{v.vane_count} vanes must leave channels at the inner radius: "
+                            f"0 < vane_width < {_mm(w_max)}")
 
 
 def _section(geom: BrakeGeometry) -> dict:
@@ -314,14 +315,14 @@ def full_rotor_mesh(geom: BrakeGeometry, size: float | None = None, order: int |
                                  geom.mesh.order if order is None else order)
     if ro_.mount == "hat":
         if half:
-            raise ValueError("a rotor with mount = 'hat' has no mid-plane of symmetry; "
-                             "it is meshed whole (half=False)")
+            raise MeshError("a rotor with mount = 'hat' has no mid-plane of symmetry; "
+                            "it is meshed whole (half=False)")
         _check_hat(geom)
     if ro_.vents is not None:
         _check_vents(geom)
     h_hat = geom.mesh.rotor_coarse_factor * h if hat_size is None else float(hat_size)
     if not np.isfinite(h_hat) or h_hat <= 0.0:
-        raise ValueError(f"hat_size = {hat_size!r} is not allowed; it must be a number > 0 (m)")
+        raise MeshError(f"hat_size = {hat_size!r} is not allowed; it must be a number > 0 (m)")
     s = _section(geom)
     r, th, z = _radii(s, h, h_hat), _theta(geom, h), _heights(geom, s, h, h_hat)
     if half:

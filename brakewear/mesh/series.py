@@ -8,6 +8,8 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from ..errors import MeshError
+
 __all__ = ["SeriesWriter", "face_fields", "cell_nodes"]
 
 #: meshio's cell type by the number of nodes of a tetrahedron
@@ -33,7 +35,7 @@ class SeriesWriter:
         self.dir, self.name = Path(directory), name
         self.points, self.tets = np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T)
         if tets.shape[0] not in CELL_TYPES:
-            raise ValueError(f"cells of {tets.shape[0]} nodes: allowed 4 (tetra), 10 (tetra10)")
+            raise MeshError(f"cells of {tets.shape[0]} nodes: allowed 4 (tetra), 10 (tetra10)")
         self.cell_type = CELL_TYPES[tets.shape[0]]
         self.entries: list[tuple[float, int]] = []
         pvd = self.dir / f"{name}.pvd"

@@ -13,6 +13,7 @@ from typing import Callable
 import numpy as np
 import skfem as fem
 
+from ..errors import MeshError
 from .topology import _with_boundaries
 
 logger = logging.getLogger(__name__)
@@ -42,9 +43,9 @@ def graded(a: float, b: float, n: int, ratio: float = 1.0, toward: str = "a") ->
     grading with the coarsest cells in the middle).
     """
     if n < 1:
-        raise ValueError(f"graded: n = {n} cells is not allowed; need n >= 1")
+        raise MeshError(f"graded: n = {n} cells is not allowed; need n >= 1")
     if ratio < 1.0:
-        raise ValueError(f"graded: ratio = {ratio} is not allowed; need ratio >= 1")
+        raise MeshError(f"graded: ratio = {ratio} is not allowed; need ratio >= 1")
     if toward == "both":
         n1 = n // 2
         mid = 0.5 * (a + b)
@@ -54,7 +55,7 @@ def graded(a: float, b: float, n: int, ratio: float = 1.0, toward: str = "a") ->
         right = graded(mid, b, n - n1, ratio, "b")
         return np.concatenate([left, right[1:]])
     if toward not in ("a", "b"):
-        raise ValueError(f"graded: toward = {toward!r}; allowed: 'a', 'b', 'both'")
+        raise MeshError(f"graded: toward = {toward!r}; allowed: 'a', 'b', 'both'")
     if n == 1 or ratio == 1.0:
         s = np.linspace(0.0, 1.0, n + 1)
     else:
@@ -137,7 +138,7 @@ def mapped_mesh(p_param: np.ndarray, t: np.ndarray,
     if order == 1:
         return fem.MeshTet(x, t)
     if order != 2:
-        raise ValueError(f"mesh order = {order!r} is not supported; allowed: 1, 2")
+        raise MeshError(f"mesh order = {order!r} is not supported; allowed: 1, 2")
     m1 = fem.MeshTet(p_param, t, validate=False)
     a, b = p_param[:, m1.edges[0]], p_param[:, m1.edges[1]]
     d = b - a
@@ -158,7 +159,7 @@ def annulus_mesh(ri: float, ro: float, height: float, nr: int, ntheta: int, nz: 
     sector, ``theta0`` and ``theta1`` (the two cut faces).
     """
     if not (0 < ri < ro):
-        raise ValueError(f"annulus_mesh: need 0 < ri < ro, got ri={ri}, ro={ro}")
+        raise MeshError(f"annulus_mesh: need 0 < ri < ro, got ri={ri}, ro={ro}")
     full = np.isclose(angle, 2 * np.pi)
     r = graded(ri, ro, nr, r_ratio, "a")
     th = theta0 + np.linspace(0.0, angle, ntheta + 1)

@@ -11,6 +11,8 @@ import logging
 import numpy as np
 import skfem as fem
 
+from ..errors import MeshError
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["facet_indices", "ensure_topology", "keep_topology"]
@@ -19,12 +21,13 @@ __all__ = ["facet_indices", "ensure_topology", "keep_topology"]
 def facet_indices(mesh: fem.Mesh, facets) -> np.ndarray:
     """Facet indices of a named facet set, or the given indices.
 
-    A name the mesh does not have raises ``KeyError`` listing the names it has.
+    A name the mesh does not have raises :class:`~brakewear.errors.MeshError` listing the
+    names it has.
     """
     if isinstance(facets, str):
         if facets not in (mesh.boundaries or {}):
-            raise KeyError(f"mesh has no facets named {facets!r}; named facets: "
-                           f"{sorted(mesh.boundaries or {})}")
+            raise MeshError(f"mesh has no facets named {facets!r}; named facets: "
+                            f"{sorted(mesh.boundaries or {})}")
         facets = mesh.boundaries[facets]
     return np.asarray(facets)
 

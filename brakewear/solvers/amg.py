@@ -26,7 +26,7 @@ import pyamg
 import scipy.sparse as sp
 from pyamg.relaxation.smoothing import change_smoothers
 
-from ..errors import ConvergenceError
+from ..errors import ConvergenceError, SolverSettingsError
 from .cycle import _BackwardSweeps, _one_backward_sweep, _v_cycle
 from .krylov import _fgmres
 from .patched import LevelBuffers, PatchedMatrix
@@ -155,10 +155,10 @@ class AMGSolver:
                  bodies: np.ndarray | None = None, fine_csr: sp.csr_matrix | None = None,
                  **sa_options):
         if A.shape[0] != A.shape[1]:
-            raise ValueError(f"AMGSolver: matrix must be square, got shape {A.shape}")
+            raise SolverSettingsError(f"AMGSolver: matrix must be square, got shape {A.shape}")
         if fine_csr is not None and (fine_csr.format != "csr" or fine_csr.shape != A.shape):
-            raise ValueError(f"fine_csr must be A in CSR: got {fine_csr.format} of shape "
-                             f"{fine_csr.shape} for A of shape {A.shape}")
+            raise SolverSettingsError(f"fine_csr must be A in CSR: got {fine_csr.format} of "
+                                      f"shape {fine_csr.shape} for A of shape {A.shape}")
         self.A = A
         self._fine_csr = fine_csr
         self.B = B
@@ -166,8 +166,8 @@ class AMGSolver:
         if self.bodies is not None:
             rows = A.shape[0] // (A.blocksize[0] if sp.issparse(A) and A.format == "bsr" else 1)
             if self.bodies.shape != (rows,):
-                raise ValueError(f"bodies has shape {self.bodies.shape}; need one label per "
-                                 f"node: ({rows},)")
+                raise SolverSettingsError(f"bodies has shape {self.bodies.shape}; need one "
+                                          f"label per node: ({rows},)")
         self.tol = float(tol)
         self.maxiter = int(maxiter)
         self.options = copy.deepcopy(SA_OPTIONS)
@@ -178,8 +178,8 @@ class AMGSolver:
                      self.options.get("aggregate", "standard"))
             kinds = tuple(k[0] if isinstance(k, tuple) else k for k in kinds)
             if kinds != ("symmetric", "standard"):
-                raise ValueError(f"bodies needs strength 'symmetric' and aggregate 'standard' "
-                                 f"(pyamg's defaults); got {kinds}")
+                raise SolverSettingsError(f"bodies needs strength 'symmetric' and aggregate "
+                                          f"'standard' (pyamg's defaults); got {kinds}")
         self.info = SolveInfo()
         self.builds = 0
         self._krylov_work = {}  # FGMRES basis arrays, shared with refreshed copies
@@ -263,13 +263,14 @@ class AMGSolver:
         t0 = time.perf_counter()
         base = self.ml.levels
         if buffers is not None and buffers.ml is not self.ml:
-            raise ValueError("buffers belong to another hierarchy (level_buffers() of this one)")
+            raise SolverSettingsError("buffers belong to another hierarchy (level_buffers() of "
+                                      "this one)")
         A = A.tocsr()
         if dA is None:
             dA = (A - base[0].A).tocsr()
         else:
             if dA.shape != A.shape:
-                raise ValueError(f"dA has shape {dA.shape}; A has {A.shape}")
+                raise SolverSettingsError(f"dA has shape {dA.shape}; A has {A.shape}")
             dA = sp.csr_matrix(dA)
         dA.eliminate_zeros()
         levels = []
@@ -348,7 +349,7 @@ class AMGSolver:
                                       self._krylov_work, rtol0)
                 rel = res[-1] / normb
             else:
-                raise ValueError(f"krylov = {krylov!r}; allowed: 'cg', 'gmres'")
+                raise SolverSettingsError(f"krylov = {krylov!r}; allowed: 'cg', 'gmres'")
         notes = " ".join(str(w.message).strip() for w in caught)
         dt = time.perf_counter() - t0
         self.info = SolveInfo(len(res) - 1, res, bool(rel <= 10 * tol), self.setup_s, dt)

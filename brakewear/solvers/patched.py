@@ -6,6 +6,8 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import SolverSettingsError
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["PatchedMatrix"]
@@ -28,7 +30,7 @@ def _find_entries(indptr, indices, rows, cols) -> np.ndarray:
     want = inv.astype(np.int64) * span + cols
     i = np.minimum(np.searchsorted(keys, want), max(keys.size - 1, 0))
     if keys.size == 0 or not np.array_equal(keys[i], want):
-        raise ValueError("an entry is missing from the pattern")
+        raise SolverSettingsError("an entry is missing from the pattern")
     return pos[i]
 
 
@@ -53,7 +55,7 @@ class PatchedMatrix:
         Z = sp.csr_matrix(Z, copy=True)
         Z.sum_duplicates()
         if M.shape != Z.shape:
-            raise ValueError(f"Z has shape {Z.shape}; M has {M.shape}")
+            raise SolverSettingsError(f"Z has shape {Z.shape}; M has {M.shape}")
         n = M.shape[0]
         # the pattern changes only in Z's rows: their union is formed apart (small)
         # and spliced into M's arrays -- no sum over all of M
@@ -111,7 +113,7 @@ class PatchedMatrix:
         keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(D.indptr)) * n + D.indices
         i = np.minimum(np.searchsorted(self.zkeys, keys), max(self.zkeys.size - 1, 0))
         if keys.size and not np.array_equal(self.zkeys[i], keys):
-            raise ValueError("a difference outside the pattern given to PatchedMatrix")
+            raise SolverSettingsError("a difference outside the pattern given to PatchedMatrix")
         self.data[self.zpos[self.current]] = self.m_z[self.current]
         self.data[self.zpos[i]] = self.m_z[i] + D.data
         self.current = i

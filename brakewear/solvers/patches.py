@@ -19,6 +19,8 @@ import pyamg.aggregation.smooth as _pyamg_smooth
 import pyamg.util.linalg as _pyamg_linalg
 import scipy.sparse as sp
 
+from ..errors import SolverSettingsError
+
 logger = logging.getLogger(__name__)
 
 __all__ = []
@@ -189,8 +191,9 @@ def _split_strength(bodies: np.ndarray):
         C = strength(A, **kwargs).tocsr()
         lab = labels[0]
         if lab.shape != (C.shape[0],):
-            raise ValueError(f"bodies has {lab.size} labels; the strength graph of this level "
-                             f"has {C.shape[0]} nodes (one label per 3x3 block row)")
+            raise SolverSettingsError(f"bodies has {lab.size} labels; the strength graph of "
+                                      f"this level has {C.shape[0]} nodes (one label per 3x3 "
+                                      "block row)")
         row = np.repeat(np.arange(C.shape[0]), np.diff(C.indptr))
         C = sp.csr_matrix((np.where(lab[row] == lab[C.indices], C.data, 0.0), C.indices,
                            C.indptr), shape=C.shape)
