@@ -1,4 +1,10 @@
-"""Checks of scene values: each raises a :class:`~brakewear.errors.SceneError` naming the key."""
+"""Checks of input values: each raises an :class:`~brakewear.errors.InputError` kind
+(a :class:`~brakewear.errors.SceneError` unless told) naming the key and the value.
+
+A value read from a file is shown as the file wrote it: the reader registers each
+such key with its unit (:func:`user_units`), and every check here shows the value
+and its bounds in that unit; a value given from Python is shown in SI.
+"""
 from __future__ import annotations
 
 import logging
@@ -7,7 +13,7 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import Any, Iterator, Mapping
 
-from .errors import SceneError
+from .errors import InputError, SceneError
 
 logger = logging.getLogger(__name__)
 
@@ -35,6 +41,13 @@ def user_unit(key: str) -> str | None:
     return None if m is None else m[0]
 
 
+def user_scale(key: str) -> tuple[str, float, float] | None:
+    """``(unit, factor, offset)`` of the unit the user gave ``key`` in (SI = value *
+    factor + offset), or None (SI, or not from a scene file)."""
+    m = _USER_UNITS.get().get(key)
+    return None if m is None else (m[0], m[1], m[2])
+
+
 def shown_value(key: str, value: Any, unit: str) -> str:
     """``value`` (SI, in ``unit``) as the user wrote it for ``key``: ``"30.0 mm"``."""
     return _shown(key, value, unit)[0]
@@ -48,34 +61,71 @@ def _shown(key: str, value: Any, unit: str, bounds: tuple = ()) -> tuple[str, li
         return f"{value!r}{u}", [f"{b:g}{u}" for b in bounds]
     name, factor, offset, raw = m
     back = (value - offset) / factor
-    v = raw if math.isclose(back, raw, rel_tol=1e-9, abs_tol=1e-12 * abs(offset)) else back
+    v = raw if isinstance(raw, (int, float)) and math.isclose(
+        back, raw, rel_tol=1e-9, abs_tol=1e-12 * abs(offset)) else float(f"{back:.12g}")
     return f"{v!r} {name}", [f"{(b - offset) / factor:.6g} {name}" for b in bounds]
 
 
-def fail(key: str, msg: str) -> SceneError:
-    return SceneError(f"{key}: {msg}")
+def _compact(v: float) -> str:
+    """A number as written (``60.0``), or to 6 digits where that is long."""
+    r = repr(v)
+    return r if len(r) <= 12 else f"{v:.6g}"
 
 
-def check_choice(key: str, value: Any, allowed: tuple) -> None:
+def fail(key: str, msg: str, kind: type[InputError] = SceneError) -> InputError:
+    """The error (``kind``, a SceneError unless told) ``"key: msg"``."""
+    return kind(f"{key}: {msg}")
+
+
+def check_choice(key: str, value: Any, allowed: tuple,
+                 kind: type[InputError] = SceneError) -> None:
     if value not in allowed:
         raise fail(key, f"{value!r} is not allowed; allowed: "
-                         f"{', '.join(repr(a) for a in allowed)}")
+                        f"{', '.join(repr(a) for a in allowed)}", kind)
 
 
 def check_number(key: str, value: Any, lo: float | None = None, hi: float | None = None,
-                  lo_open: bool = True, unit: str = "", allow_none: bool = False) -> None:
+                  lo_open: bool = True, unit: str = "", allow_none: bool = False,
+                  kind: type[InputError] = SceneError, hi_open: bool = False) -> None:
+    """Refuse ``value`` unless a finite number within ``lo`` .. ``hi`` (open or closed
+    at each end), naming ``key`` and showing the value and the bound it passed in the
+    user's unit."""
     if value is None and allow_none:
         return
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise fail(key, f"{value!r} is a {type(value).__name__}; expected a number")
+        raise fail(key, f"{value!r} is a {type(value).__name__}; expected a number", kind)
     if not math.isfinite(value):
-        raise fail(key, f"{value!r} is not allowed; it must be a finite number")
+        raise fail(key, f"{value!r} is not allowed; it must be a finite number", kind)
     if lo is not None and (value <= lo if lo_open else value < lo):
         v, (b,) = _shown(key, value, unit, (lo,))
-        raise fail(key, f"{v} is not allowed; it must be {'>' if lo_open else '>='} {b}")
-    if hi is not None and value > hi:
+        raise fail(key, f"{v} is not allowed; it must be {'>' if lo_open else '>='} {b}", kind)
+    if hi is not None and (value >= hi if hi_open else value > hi):
         v, (b,) = _shown(key, value, unit, (hi,))
-        raise fail(key, f"{v} is not allowed; it must be <= {b}")
+        raise fail(key, f"{v} is not allowed; it must be {'<' if hi_open else '<='} {b}", kind)
+
+
+def check_order(low_key: str, low: float, high_key: str, high: float, unit: str = "", *,
+                blame: str | None = None, strict: bool = True, why: str = "",
+                kind: type[InputError] = SceneError) -> None:
+    """Refuse unless ``low < high`` (``<=`` when not ``strict``): a bound checked against
+    another key or the start state.  The message is about ``blame`` (default
+    ``high_key``) and names the other key, both values in the user's units."""
+    if (low < high) if strict else (low <= high):
+        return
+    blame = high_key if blame is None else blame
+    # a key the user did not write (a default, a geometry value) speaks the other's unit
+    scale = user_scale(low_key) or user_scale(high_key)
+    lo_txt, hi_txt = (shown_value(k, v, unit) if user_scale(k) else
+                      f"{_compact(v)}{' ' + unit if unit else ''}" if scale is None else
+                      f"{(v - scale[2]) / scale[1]:.6g} {scale[0]}"
+                      for k, v in ((low_key, low), (high_key, high)))
+    if blame == high_key:
+        what = f"{hi_txt} is not allowed; it must be {'above' if strict else 'at least'} " \
+               f"{low_key} = {lo_txt}"
+    else:
+        what = f"{lo_txt} is not allowed; it must be {'below' if strict else 'at most'} " \
+               f"{high_key} = {hi_txt}"
+    raise fail(blame, what + (f" ({why})" if why else ""), kind)
 
 
 #: Plausible ranges (SI): key -> (unit, error below, warn below, warn above, error above,
@@ -99,7 +149,8 @@ PLAUSIBLE: dict[str, tuple] = {
 }
 
 
-def check_plausible(key: str, value: Any, table: str | None = None) -> None:
+def check_plausible(key: str, value: Any, table: str | None = None,
+                    kind: type[InputError] = SceneError) -> None:
     """Refuse a value outside the error bounds of :data:`PLAUSIBLE`, warn outside the
     warning bounds (``table``: the entry, default ``key``; None values pass)."""
     if value is None or isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -110,22 +161,26 @@ def check_plausible(key: str, value: Any, table: str | None = None) -> None:
     if (e_lo is not None and value < e_lo) or (e_hi is not None and value > e_hi):
         allowed = (f"{el} to {eh}" if e_lo is not None and e_hi is not None
                    else f"at most {eh}" if e_hi is not None else f"at least {el}")
-        raise fail(key, f"{v} is implausible; {why}; allowed: {allowed}")
+        raise fail(key, f"{v} is implausible; {why}; allowed: {allowed}", kind)
     if (w_lo is not None and value < w_lo) or (w_hi is not None and value > w_hi):
         bound = f"below {wl}" if w_lo is not None and value < w_lo else f"above {wh}"
         logger.warning("%s = %s is unusual (%s; %s); check the value and its unit", key, v,
                        bound, why)
 
 
-def check_int(key: str, value: Any, lo: int, allow_none: bool = False) -> None:
+def check_int(key: str, value: Any, lo: int, allow_none: bool = False,
+              kind: type[InputError] = SceneError, hi: int | None = None) -> None:
     if value is None and allow_none:
         return
     if isinstance(value, bool) or not isinstance(value, int):
-        raise fail(key, f"{value!r} is a {type(value).__name__}; expected a whole number")
-    if value < lo:
-        raise fail(key, f"{value!r} is not allowed; it must be >= {lo}")
+        raise fail(key, f"{value!r} is a {type(value).__name__}; expected a whole number",
+                   kind)
+    if value < lo or (hi is not None and value > hi):
+        allowed = f">= {lo}" if hi is None else f"a whole number {lo} to {hi}"
+        raise fail(key, f"{value!r} is not allowed; it must be {allowed}", kind)
 
 
-def check_bool(key: str, value: Any) -> None:
+def check_bool(key: str, value: Any, kind: type[InputError] = SceneError) -> None:
     if not isinstance(value, bool):
-        raise fail(key, f"{value!r} is a {type(value).__name__}; expected true or false")
+        raise fail(key, f"{value!r} is a {type(value).__name__}; expected true or false",
+                   kind)

@@ -179,6 +179,23 @@ class TableMap:
             self._check_inside(xs, np.broadcast_to(p, shape).ravel() > 0)
         return _multilinear(self.grid, self.values, xs).reshape(shape)
 
+    def outside(self, axis: str, values) -> str | None:
+        """Text naming the value of ``values`` (SI) farthest beyond the grid along
+        ``axis``, in the map's units, or None if all lie on the grid (or the map does
+        not vary along ``axis``)."""
+        if axis not in self.axes:
+            return None
+        k = self.axes.index(axis)
+        g, unit = self.grid[k], self.units[k]
+        x = np.asarray(values, dtype=float).ravel()
+        beyond = np.maximum(g[0] - x, x - g[-1])
+        if not beyond.size or beyond.max() <= 1e-9 * max(abs(g[0]), abs(g[-1])):
+            return None
+        f, o = _SHOWN[unit]
+        shown = [f"{(b - o) / f:.6g}" for b in (x[np.argmax(beyond)], g[0], g[-1])]
+        return (f"{axis} = {shown[0]} {unit} is outside the map's range {shown[1]} to "
+                f"{shown[2]} {unit}")
+
     def _check_inside(self, xs: list[np.ndarray], loaded: np.ndarray) -> None:
         """Raise naming the farthest loaded node beyond the grid, if any."""
         for a, unit, g, x in zip(self.axes, self.units, self.grid, xs):

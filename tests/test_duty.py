@@ -37,10 +37,10 @@ def test_torque_and_deceleration_are_inverse_and_energy_adds_up(regen):
 
 
 @pytest.mark.parametrize("kw, match", [
-    (dict(mass=-5.0), r"vehicle\.mass = -5\.0 kg is not allowed"),
-    (dict(mass=1800.0, regen_share=1.5), r"vehicle\.regen_share = 1\.5 .*0\.\.1"),
-    (dict(mass=1800.0, tyre_radius=3.2), r"vehicle\.tyre_radius = 3\.2 m"),
-    (dict(mass=1800.0, axle="middle"), r"vehicle\.axle = 'middle'"),
+    (dict(mass=-5.0), r"vehicle\.mass: -5\.0 kg is not allowed; it must be >= 50 kg"),
+    (dict(mass=1800.0, regen_share=1.5), r"vehicle\.regen_share: 1\.5 .*it must be <= 1"),
+    (dict(mass=1800.0, tyre_radius=3.2), r"vehicle\.tyre_radius: 3\.2 m is not allowed"),
+    (dict(mass=1800.0, axle="middle"), r"vehicle\.axle: 'middle' is not allowed"),
     (dict(mass=1800.0, front_share=1.0, axle="rear"), r"takes no braking force"),
 ])
 def test_bad_vehicle_is_refused_by_key(kw, match):
@@ -79,7 +79,7 @@ def test_a_bad_schedule_is_refused_whole_before_any_solve(model, monkeypatch):
     drag = Drag(1e6, 5.0, omega=40.0)
     for sched, car, match in (
             ([ok, Dwell(60.0), Stop(50 / 3.6, line_pressure=p_bad)], CAR,
-             r"^application 2: line_pressure = .* MPa\) is not allowed; .*at least 10\.3 m/s\^2"),
+             r"^application 2: line_pressure = .* MPa is not allowed; .*at least 10\.3 m/s\^2"),
             ([drag, ok, Dwell(5.0, from_start=True)], CAR,
              r"^application 2: dwell\.duration = 5\.0 s is not allowed; .*outlast its 9\.259 s"),
             ([drag, drag, Drag(1e6, 5.0, speed=10.0)], None,
@@ -249,9 +249,10 @@ def test_schedule_table_in_scene_units():
     assert [type(a).__name__ for a in sched] == ["Stop", "Dwell", "Stop", "Dwell", "Stop"]
     assert sched[0].v0 == pytest.approx(50 / 3.6, rel=1e-15)
     assert sched[1].duration == pytest.approx(120.0 - (50 / 3.6) / 1.5, rel=1e-14)
-    with pytest.raises(DutyError, match=r"s\.toml \[schedule\]: unknown key\(s\) speed"):
+    with pytest.raises(DutyError, match=r"s\.toml: schedule\.speed: unknown key"):
         schedule_from_table({"stops": 3, "speed": 50.0}, "s.toml")
-    with pytest.raises(DutyError, match=r"interval = 5\.0 s is not allowed; need more than"):
+    with pytest.raises(DutyError, match=r"s\.toml: schedule\.interval: 5\.0 s is not allowed; "
+                                        r"it must be above the stop's duration"):
         schedule_from_table({"stops": 3, "speed_from": 50.0, "deceleration": 1.5,
                              "interval": 5.0}, "s.toml")
     with pytest.raises(DutyError, match="exactly one of decel"):

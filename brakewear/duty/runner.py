@@ -33,7 +33,7 @@ from ..wear.records import HeatTally, thermal_state
 from ..wear.speed import ConstantSpeed, LinearSpeed
 from ..wear.stepper import wear_history
 from ..mesh.surface import face_nodes
-from .schedule import Drag, Dwell, Stop, check_schedule
+from .schedule import Drag, Dwell, Stop, application_name, check_schedule
 from .vehicle import (FACES, Vehicle, brake_torque, effective_radius,
                       line_pressure_for_torque)
 
@@ -149,7 +149,7 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
         rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
         rec.decel = vehicle.deceleration(rec.torque)
         vehicle.check_deceleration(
-            rec.decel, f"application {index}: the deceleration of line pressure "
+            rec.decel, f"{application_name(app, index)}: the deceleration of line pressure "
                        f"{app.line_pressure / 1e6:g} MPa")
     rec.v0, rec.v1 = app.v0, app.v1
     rec.duration = (app.v0 - app.v1) / rec.decel
@@ -264,8 +264,8 @@ def _dwell(app: Dwell, i: int, t: float, last_start: float, thermal,
            n_pad: int, vehicle) -> ApplicationRecord:
     duration = app.duration - (t - last_start) if app.from_start else app.duration
     if duration <= 0:
-        raise DutyError(f"application {i}: the interval of {app.duration:g} s is shorter than "
-                        f"the application before it ({t - last_start:.4g} s)")
+        raise DutyError(f"{application_name(app, i)}: the interval of {app.duration:g} s is "
+                        f"shorter than the application before it ({t - last_start:.4g} s)")
     rec = ApplicationRecord(i, "dwell", t, duration)
     if thermal is not None:
         omega = (app.omega if app.omega is not None else

@@ -19,15 +19,17 @@ from __future__ import annotations
 
 import csv
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from os import PathLike
 from pathlib import Path
 
+from ..checks import check_int, check_number, check_order, check_plausible, fail, user_units
 from ..errors import DutyError
 from .vehicle import G, _check, _finite, brake_torque
 
 __all__ = ["Stop", "Drag", "Dwell", "repeated_stops", "schedule_from_table",
-           "read_schedule_csv", "check_schedule", "KMH"]
+           "read_schedule_csv", "check_schedule", "application_name", "stop_decelerations",
+           "KMH"]
 
 #: One km/h in m/s.
 KMH = 1.0 / 3.6
@@ -41,6 +43,9 @@ class Stop:
     v1: float = 0.0
     decel: float | None = None
     line_pressure: float | None = None
+    #: where the application comes from in the user's words (a scene's ``[schedule]``,
+    #: a drive cycle's rows), named in messages; not compared
+    source: str = field(default="", compare=False)
 
     def __post_init__(self):
         _check("stop.v0", self.v0, _finite(self.v0) and 0 < self.v0 <= 100,
@@ -66,6 +71,7 @@ class Drag:
     duration: float
     speed: float | None = None
     omega: float | None = None
+    source: str = field(default="", compare=False)
 
     def __post_init__(self):
         _check("drag.line_pressure", self.line_pressure,
@@ -92,6 +98,7 @@ class Dwell:
     from_start: bool = False
     speed: float | None = None
     omega: float | None = None
+    source: str = field(default="", compare=False)
 
     def __post_init__(self):
         _check("dwell.duration", self.duration, _finite(self.duration) and self.duration > 0,
@@ -104,26 +111,36 @@ class Dwell:
                 _check(f"dwell.{key}", v, _finite(v) and v >= 0, "need >= 0", unit)
 
 
+def application_name(app, index: int) -> str:
+    """How messages name application ``index``: its index from 0 and, when it came from
+    a file, where (``"application 3 (cycle.csv, rows 5-6)"``)."""
+    src = getattr(app, "source", "")
+    return f"application {index}" + (f" ({src})" if src else "")
+
+
 def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
                    geometry=None) -> list:
     """Check a whole schedule before anything is computed; returns it as a list.
 
     Every application must be a :class:`Stop`, :class:`Drag` or :class:`Dwell`;
-    stops, and drags or dwells at a vehicle speed, need ``vehicle``.  A stop
-    at a deceleration must be within the tyres' grip (``tyre_mu g``) and leave
-    the modelled brake some torque (not all regenerated).  A stop under a line
+    stops, and drags or dwells at a vehicle speed, need ``vehicle``.  A line
+    pressure must be plausible (at most 100 MPa).  A stop at a deceleration must be
+    within the tyres' grip (``tyre_mu g``) and leave the modelled brake some torque
+    (not all regenerated).  With ``mu`` and ``geometry``, a stop under a line
     pressure whose deceleration exceeds the grip even with the pressure at the
-    pad's inner radius (the least torque ``2 mu p A_clamp r_in`` of any
-    pressure field) is refused; nearer the limit the stop's own pressure field
-    decides, when it is run.  A dwell given from the previous application's
-    start must outlast it where that application's length is known (a drag,
-    or a stop at a deceleration).  Errors name the application's index (from
-    0) and the value in SI units.
+    pad's inner radius (the least torque ``2 mu p A_clamp r_in`` of any pressure
+    field) is refused; nearer the limit the stop's own pressure field decides,
+    when it is run.  A dwell given from the previous application's start must
+    outlast it where that application's length is known (a drag, or a stop at a
+    deceleration), and outlast the shortest a stop under a line pressure can be
+    (its pressure field at the pad's outer radius, with ``mu`` and ``geometry``).
+    Errors name the application (:func:`application_name`) and its values, line
+    pressures in MPa (a schedule's unit).
     """
     apps = list(schedule)
     since_start = None      # s since the last braked application's start, where known
     for i, app in enumerate(apps):
-        where = f"application {i}"
+        where = application_name(app, i)
         if not isinstance(app, (Stop, Drag, Dwell)):
             raise DutyError(f"{where}: {app!r} is not a Stop, Drag or Dwell")
         if isinstance(app, Dwell):
@@ -136,6 +153,9 @@ def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
             since_start = None if since_start is None or app.from_start else \
                 since_start + app.duration
             continue
+        with user_units({f"{where}: line_pressure": ("MPa", 1e6, 0.0, None)}):
+            check_plausible(f"{where}: line_pressure", app.line_pressure,
+                            "environment.line_pressure", kind=DutyError)
         if isinstance(app, Drag):
             if app.speed is not None and vehicle is None:
                 raise DutyError(f"{where}: a drag at a vehicle speed needs a vehicle (or give "
@@ -149,19 +169,45 @@ def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
             _check_stop_decel(app, vehicle, where)
             since_start = (app.v0 - app.v1) / app.decel
         elif mu is not None and geometry is not None:
-            least = vehicle.deceleration(brake_torque(app.line_pressure, mu,
-                                                      geometry.clamp_area,
-                                                      geometry.pad.inner_radius))
-            limit = vehicle.tyre_mu * G
-            if not least <= limit:
-                p = app.line_pressure
-                raise DutyError(f"{where}: line_pressure = {p:g} Pa ({p / 1e6:g} MPa) is not "
-                                f"allowed; it decelerates the vehicle by at least {least:.3g} "
-                                f"m/s^2 (the least torque it can give: its whole pressure field at "
-                                f"the pad's inner radius, {geometry.pad.inner_radius * 1e3:g} "
-                                f"mm), beyond tyre_mu g = "
-                                f"{limit:.3g} m/s^2 (what the tyres can give)")
+            _check_stop_pressure(app, vehicle, mu, geometry, where)
+            nxt = apps[i + 1] if i + 1 < len(apps) else None
+            if isinstance(nxt, Dwell) and nxt.from_start:
+                _check_interval(app, nxt, vehicle, mu, geometry, i + 1)
     return apps
+
+
+def stop_decelerations(app: Stop, vehicle, mu: float, geometry) -> tuple[float, float]:
+    """The least and the largest deceleration (m/s^2) a stop under a line pressure can
+    give: its whole pressure field at the pad's inner, then outer radius."""
+    pad = geometry.pad
+    return tuple(vehicle.deceleration(brake_torque(app.line_pressure, mu, geometry.clamp_area,
+                                                   r))
+                 for r in (pad.inner_radius, pad.outer_radius))
+
+
+def _check_stop_pressure(app: Stop, vehicle, mu: float, geometry, where: str) -> None:
+    least = stop_decelerations(app, vehicle, mu, geometry)[0]
+    limit = vehicle.tyre_mu * G
+    if not least <= limit:
+        raise DutyError(f"{where}: line_pressure = {app.line_pressure / 1e6:g} MPa is not "
+                        f"allowed; it decelerates the vehicle by at least {least:.3g} m/s^2 "
+                        f"(the least torque it can give: its whole pressure field at the pad's "
+                        f"inner radius, {geometry.pad.inner_radius * 1e3:g} mm), beyond "
+                        f"tyre_mu g = {limit:.3g} m/s^2 (what the tyres can give)")
+
+
+def _check_interval(stop: Stop, dwell: Dwell, vehicle, mu: float, geometry,
+                    index: int) -> None:
+    """A dwell from the start of a stop under a line pressure outlasts the shortest
+    that stop can be (the run checks it against the stop's own pressure field)."""
+    shortest = (stop.v0 - stop.v1) / stop_decelerations(stop, vehicle, mu, geometry)[1]
+    if not dwell.duration > shortest:
+        raise DutyError(f"{application_name(dwell, index)}: the interval of "
+                        f"{dwell.duration:g} s from the start of the stop before it is not "
+                        f"allowed; that stop ({stop.v0 / KMH:.4g} to {stop.v1 / KMH:.4g} km/h "
+                        f"under {stop.line_pressure / 1e6:g} MPa) lasts at least "
+                        f"{shortest:.4g} s (its pressure field at the pad's outer radius, "
+                        f"{geometry.pad.outer_radius * 1e3:g} mm); give a longer interval")
 
 
 def _check_stop_decel(app: Stop, vehicle, where: str) -> None:
@@ -208,37 +254,72 @@ def schedule_from_table(table: dict, source: str = "scene", base: Path | None = 
     (default 0), one of ``deceleration`` and ``line_pressure``, and
     optionally ``interval`` (start to start) and ``dwell_speed`` (the speed the
     car drives on at between the stops: the rotor's convection follows it).
+    Every key is checked in the table's units, against the others too (a stop's
+    end speed below its start, an interval longer than a stop at a deceleration,
+    a dwell speed only with an interval); messages name ``schedule.<key>``.
     """
-    where = f"{source} [schedule]"
     unknown = sorted(set(table) - set(_TABLE_KEYS))
     if unknown:
-        raise DutyError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: "
+        raise DutyError(f"{source}: schedule.{unknown[0]}: unknown key; allowed: "
                         f"{', '.join(f'{k} ({u})' for k, u in _TABLE_KEYS.items())}")
     if "file" in table:
         if len(table) > 1:
-            raise DutyError(f"{where}: 'file' replaces the other keys; give either a file or "
-                            "stops")
+            raise DutyError(f"{source}: schedule.file: replaces the other keys; give either "
+                            "a file or stops")
+        if not isinstance(table["file"], str):
+            raise DutyError(f"{source}: schedule.file: {table['file']!r} is not a file name")
         path = Path(table["file"])
         return read_schedule_csv(path if base is None or path.is_absolute() else base / path)
+    try:
+        _check_table(table)
+    except DutyError as e:
+        raise DutyError(f"{source}: {e}") from None
+    decel, p, ds = (table.get(k) for k in ("deceleration", "line_pressure", "dwell_speed"))
+    apps = repeated_stops(table["stops"], table["speed_from"] * KMH,
+                          table.get("speed_to", 0.0) * KMH, decel=decel,
+                          line_pressure=None if p is None else p * 1e6,
+                          interval=table.get("interval"),
+                          dwell_speed=None if ds is None else ds * KMH)
+    return [replace(a, source="[schedule]") for a in apps]
+
+
+def _check_table(table: dict) -> None:
+    """The keys of a ``[schedule]`` table of stops, in its units, and against each other."""
     for key in ("stops", "speed_from"):
         if key not in table:
-            raise DutyError(f"{where}: missing key {key!r} ({_TABLE_KEYS[key]})")
-    try:
-        decel = table.get("deceleration")
-        p = table.get("line_pressure")
-        ds = table.get("dwell_speed")
-        return repeated_stops(table["stops"], table["speed_from"] * KMH,
-                              table.get("speed_to", 0.0) * KMH, decel=decel,
-                              line_pressure=None if p is None else p * 1e6,
-                              interval=table.get("interval"),
-                              dwell_speed=None if ds is None else ds * KMH)
-    except TypeError:
-        raise DutyError(f"{where}: every value must be a number ({table!r})") from None
-    except DutyError as e:
-        raise DutyError(f"{where}: {e} (the table's units: km/h, m/s^2, MPa, s)") from None
+            raise fail(f"schedule.{key}", f"missing ({_TABLE_KEYS[key]})", DutyError)
+    k = {name: f"schedule.{name}" for name in _TABLE_KEYS}
+    check_int(k["stops"], table["stops"], 1, kind=DutyError, hi=100_000)
+    v0, v1 = table["speed_from"], table.get("speed_to", 0.0)
+    check_number(k["speed_from"], v0, 0.0, 360.0, unit="km/h", kind=DutyError)
+    check_number(k["speed_to"], v1, 0.0, lo_open=False, unit="km/h", kind=DutyError)
+    check_order(k["speed_to"], v1, k["speed_from"], v0, "km/h", blame=k["speed_to"],
+                kind=DutyError, why="a stop slows the vehicle; at a constant speed it is a "
+                                    "drag")
+    decel, p = table.get("deceleration"), table.get("line_pressure")
+    if (decel is None) == (p is None):
+        raise fail("schedule.deceleration", "give exactly one of deceleration (m/s^2) and "
+                                            "line_pressure (MPa)", DutyError)
+    check_number(k["deceleration"], decel, 0.0, unit="m/s^2", allow_none=True, kind=DutyError)
+    check_number(k["line_pressure"], p, 0.0, unit="MPa", allow_none=True, kind=DutyError)
+    interval, ds = table.get("interval"), table.get("dwell_speed")
+    check_number(k["interval"], interval, 0.0, unit="s", allow_none=True, kind=DutyError)
+    if interval is not None and decel is not None:
+        check_order(f"the stop's duration ({v0:g} to {v1:g} km/h at {decel:g} m/s^2)",
+                    (v0 - v1) * KMH / decel, k["interval"], interval, "s",
+                    kind=DutyError, why="the interval runs from one stop's start to the next")
+    check_number(k["dwell_speed"], ds, 0.0, lo_open=False, unit="km/h", allow_none=True,
+                 kind=DutyError)
+    if ds is not None and interval is None:
+        raise fail(k["dwell_speed"], f"{ds!r} km/h: the speed between the stops needs "
+                                     "schedule.interval (without one the stops run back to "
+                                     "back)", DutyError)
 
 
 _CSV_SPEED = {"speed_kmh": KMH, "speed_m_s": 1.0}
+#: Largest vehicle speed (m/s, 360 km/h) and line pressure (Pa) of a drive cycle's rows:
+#: a stop's and the plausible bound of a brake line
+V_MAX, P_MAX = 100.0, 100e6
 
 
 def read_schedule_csv(path: str | PathLike) -> list:
@@ -276,31 +357,40 @@ def read_schedule_csv(path: str | PathLike) -> list:
             p.append(float(row["line_pressure_MPa"] or 0.0) * 1e6)
         except (TypeError, ValueError):
             raise DutyError(f"{path}, row {i}: not a number in {dict(row)!r}") from None
-        for key, x, ok in (("time_s", t[-1], math.isfinite(t[-1])),
-                           (speed_col, row[speed_col], math.isfinite(v[-1]) and v[-1] >= 0),
-                           ("line_pressure_MPa", row["line_pressure_MPa"],
-                            math.isfinite(p[-1]) and p[-1] >= 0)):
+        v_max = f"{V_MAX / _CSV_SPEED[speed_col]:g}"
+        for key, x, ok, need in (
+                ("time_s", t[-1], math.isfinite(t[-1]), "a finite value"),
+                (speed_col, row[speed_col], math.isfinite(v[-1]) and 0 <= v[-1] <= V_MAX,
+                 f"a value from 0 to {v_max}"),
+                ("line_pressure_MPa", row["line_pressure_MPa"],
+                 math.isfinite(p[-1]) and 0 <= p[-1] <= P_MAX,
+                 f"a value from 0 to {P_MAX / 1e6:g} (MPa)")):
             if not ok:
-                raise DutyError(f"{path}, row {i}: {key} = {x!r} is not allowed; need a "
-                                "finite value >= 0")
+                raise DutyError(f"{path}, row {i}: {key} = {x!r} is not allowed; need {need}")
         if len(t) > 1 and not t[-1] > t[-2]:
             raise DutyError(f"{path}, row {i}: time_s = {t[-1]:g} does not increase (the row "
                             f"before has {t[-2]:g}); the rows must be in time order")
-    return _applications(t, v, p)
+    return _applications(t, v, p, str(path))
 
 
-def _applications(t, v, p) -> list:
+def _applications(t, v, p, path: str) -> list:
     out: list = []
+    first = 0                     # the first interval of the dwell being merged
     for k in range(len(t) - 1):
         dt = t[k + 1] - t[k]
         if p[k] > 0 and v[k + 1] < v[k]:
-            app = Stop(v[k], v[k + 1], line_pressure=p[k])
+            app = Stop(v[k], v[k + 1], line_pressure=p[k], source=_rows(path, k, k))
         elif p[k] > 0 and v[k + 1] == v[k] and v[k] > 0:
-            app = Drag(p[k], dt, speed=v[k])
+            app = Drag(p[k], dt, speed=v[k], source=_rows(path, k, k))
         else:
             if out and isinstance(out[-1], Dwell):
-                out[-1] = Dwell(out[-1].duration + dt)
+                out[-1] = Dwell(out[-1].duration + dt, source=_rows(path, first, k))
                 continue
-            app = Dwell(dt)
+            first, app = k, Dwell(dt, source=_rows(path, k, k))
         out.append(app)
     return out
+
+
+def _rows(path: str, first: int, last: int) -> str:
+    """The file's rows of intervals ``first`` to ``last`` (row 1 is the header)."""
+    return f"{path}, rows {first + 2}-{last + 3}"

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import check_choice, check_int, check_number
 from ..errors import DutyError
 
 __all__ = ["Vehicle", "effective_radius", "brake_torque", "line_pressure_for_torque",
@@ -89,30 +90,31 @@ class Vehicle:
     source: str = ""
 
     def __post_init__(self):
-        src = self.source
-        _check("vehicle.mass", self.mass, _finite(self.mass) and 50 <= self.mass <= 1e5,
-               "need 50..1e5 kg", "kg", src)
-        _check("vehicle.front_share", self.front_share,
-               _finite(self.front_share) and 0 <= self.front_share <= 1, "need 0..1", "", src)
-        _check("vehicle.tyre_radius", self.tyre_radius,
-               _finite(self.tyre_radius) and 0.1 <= self.tyre_radius <= 1.0,
-               "need 0.1..1.0 m", "m", src)
-        _check("vehicle.brakes_per_axle", self.brakes_per_axle,
-               isinstance(self.brakes_per_axle, int) and not isinstance(self.brakes_per_axle, bool)
-               and 1 <= self.brakes_per_axle <= 8, "need a whole number 1..8", "", src)
-        _check("vehicle.regen_share", self.regen_share,
-               _finite(self.regen_share) and 0 <= self.regen_share <= 1, "need 0..1", "", src)
-        if self.regen_torque_limit is not None:
-            _check("vehicle.regen_torque_limit", self.regen_torque_limit,
-                   _finite(self.regen_torque_limit) and self.regen_torque_limit >= 0,
-                   "need >= 0 N m (or leave it out: no limit)", "N m", src)
-        _check("vehicle.axle", self.axle, self.axle in ("front", "rear"),
-               "allowed: 'front', 'rear'", "", src)
-        _check("vehicle.tyre_mu", self.tyre_mu, _finite(self.tyre_mu) and 0 < self.tyre_mu <= 2,
-               "need 0 < tyre_mu <= 2", "", src)
+        try:
+            self._check()
+        except DutyError as e:
+            raise DutyError(f"{self.source}: {e}" if self.source else str(e)) from None
+
+    def _check(self) -> None:
+        """Each value in its range, shown in the user's units (a scene file's
+        ``[units]`` length for ``tyre_radius``)."""
+        key = "vehicle."
+        check_number(key + "mass", self.mass, 50.0, 1e5, lo_open=False, unit="kg",
+                     kind=DutyError)
+        check_number(key + "front_share", self.front_share, 0.0, 1.0, lo_open=False,
+                     kind=DutyError)
+        check_number(key + "tyre_radius", self.tyre_radius, 0.1, 1.0, lo_open=False,
+                     unit="m", kind=DutyError)
+        check_int(key + "brakes_per_axle", self.brakes_per_axle, 1, kind=DutyError, hi=8)
+        check_number(key + "regen_share", self.regen_share, 0.0, 1.0, lo_open=False,
+                     kind=DutyError)
+        check_number(key + "regen_torque_limit", self.regen_torque_limit, 0.0, lo_open=False,
+                     unit="N m", allow_none=True, kind=DutyError)
+        check_choice(key + "axle", self.axle, ("front", "rear"), kind=DutyError)
+        check_number(key + "tyre_mu", self.tyre_mu, 0.0, 2.0, kind=DutyError)
         share = self.front_share if self.axle == "front" else 1.0 - self.front_share
         _check("vehicle.front_share", self.front_share, share > 0,
-               f"the modelled brake's axle ({self.axle}) takes no braking force", "", src)
+               f"the modelled brake's axle ({self.axle}) takes no braking force")
 
     # ------------------------------------------------------------------ forces --
     @property

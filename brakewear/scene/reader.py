@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..checks import fail, user_units
-from ..errors import GeometryError, SceneError
+from ..errors import GeometryError, InputError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
 from ..geometry.parts import MESH_BODY_KEYS
 from ..wear.numerics import Numerics
@@ -175,8 +175,10 @@ def scene_from_dict(d: Mapping[str, Any], source: str = "<dict>",
     """
     try:
         return _parse(d, source, None if base is None else Path(base))
-    except SceneError as exc:
-        raise SceneError(f"{source}: {exc}") from None
+    except InputError as exc:       # every message about the file names it
+        if str(exc).startswith(source):
+            raise
+        raise type(exc)(f"{source}: {exc}") from None
 
 
 def _tables(d: Any) -> dict[str, dict]:
@@ -343,7 +345,7 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
                      interface=interface, pad_wear=pad_wear, rotor_wear=rotor_wear,
                      thermal=thermal, numerics=numerics, output=output, name=name,
                      description=val("scene", "description", ""), source=source,
-                     **duty, **env)
+                     user_units=shown, **duty, **env)
 
 
 def _duty(tables: dict, val, source: str, base: Path | None) -> dict:

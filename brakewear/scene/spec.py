@@ -31,6 +31,7 @@ from ..checks import (
 from ..geometry.files import load_geometry
 from ..geometry.parts import MAX_LAYERS, MESH_BODY_KEYS, BrakeGeometry
 from ..wear.numerics import Numerics
+from .bounds import check_bounds
 from .tables import (
     _WEAR_INTERFACE,
     SURFACES,
@@ -84,6 +85,10 @@ class Scene:
         ``line_pressure`` and ``omega`` for ``duration``.
     name, description, source
         For messages and the summary (not compared).
+    user_units
+        Key -> ``(unit, factor, offset, value as written)`` of the values a scene
+        file gave in its own units (set by the reader, not compared): messages
+        about them, at a resume too, show them in those units.
     """
 
     geometry: BrakeGeometry | str = "default"
@@ -109,6 +114,7 @@ class Scene:
     name: str = field(default="scene", compare=False)
     description: str = field(default="", compare=False)
     source: str = field(default="<python>", compare=False)
+    user_units: Mapping[str, tuple] = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self):
         g = self.geometry
@@ -153,6 +159,7 @@ class Scene:
         self._check_gap_file()
         self._check_consistency()
         self._check_laws()
+        check_bounds(self)
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
         from ..mesh.estimate import check_model_size
@@ -356,7 +363,8 @@ class Scene:
         g = nonconformity_gap(x, geo.pad.inner_radius, geo.pad.outer_radius,
                               geo.rotor.thickness, itf.face_coning(), itf.pad_taper)
         if itf.gap_file is not None:
-            g = g + map_gap(self._gap_points, x, f"interface.gap_file = {itf.gap_file!r}")
+            g = g + map_gap(self._gap_points, x,
+                            f"{self.source}: interface.gap_file = {itf.gap_file!r}")
         return g
 
     def friction(self):
@@ -405,11 +413,12 @@ class Scene:
     def to_dict(self) -> dict:
         """A JSON-ready record of the scene in SI units (written to ``scene.json``)."""
         d = {f.name: getattr(self, f.name) for f in fields(self)
-             if f.name not in ("geometry", "vehicle", "schedule")}
+             if f.name not in ("geometry", "vehicle", "schedule", "user_units")}
         if self.schedule:
             d["vehicle"] = None if self.vehicle is None else {
                 k: v for k, v in asdict(self.vehicle).items() if k != "source"}
-            d["schedule"] = [{"kind": type(a).__name__.lower(), **asdict(a)}
+            d["schedule"] = [{"kind": type(a).__name__.lower(),
+                              **{k: v for k, v in asdict(a).items() if k != "source"}}
                              for a in self.schedule]
         for k in ("interface", "pad_wear", "rotor_wear", "thermal", "numerics", "output"):
             d[k] = None if d[k] is None else asdict(d[k])
