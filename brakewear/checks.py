@@ -35,6 +35,20 @@ def user_units(mapping: Mapping[str, tuple]) -> Iterator[None]:
         _USER_UNITS.reset(token)
 
 
+@contextmanager
+def file_messages(source: str, mapping: Mapping[str, tuple]) -> Iterator[None]:
+    """Within: checks speak the file's units (``mapping``, as for :func:`user_units`) and
+    every :class:`~brakewear.errors.InputError` raised names the file ``source`` (a
+    ``"<...>"`` source, Python's, is not named)."""
+    with user_units(mapping):
+        try:
+            yield
+        except InputError as exc:
+            if not source or source.startswith("<") or str(exc).startswith(source):
+                raise
+            raise type(exc)(f"{source}: {exc}") from None
+
+
 def user_unit(key: str) -> str | None:
     """The unit the user gave ``key`` in (None: SI, or not from a scene file)."""
     m = _USER_UNITS.get().get(key)

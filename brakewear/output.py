@@ -30,6 +30,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .checks import file_messages, shown_value
 from .errors import SceneError, WearError, WornThroughError
 from .interfaces.fe import FEInterface
 from .mesh.series import SeriesWriter, cell_nodes, face_fields
@@ -244,8 +245,14 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     refuses a folder written by a different scene or with other inputs
     (geometry and material data, laws, numerics, package version: the
     checkpoint's fingerprint), also when that run has already finished.  ``progress`` is
-    called with each :class:`~brakewear.wear.WearStep`.
+    called with each :class:`~brakewear.wear.WearStep`.  Every bad-input error names
+    the scene file and shows its values in the file's units.
     """
+    with file_messages(scene.source, scene.user_units):
+        return _run_scene(scene, out, resume, progress)
+
+
+def _run_scene(scene, out, resume: bool, progress) -> dict:
     out = check_out(out)
     record = scene.to_dict()
     rec_path = out / "scene.json"
@@ -351,9 +358,11 @@ def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
                              "--out")
     step_done, t_done = checkpoint_progress(ck)
     if t_done > scene.duration * (1 + 1e-12):
-        raise SceneError(f"--resume: the run in {out} has already reached t = "
-                         f"{t_done:.6g} s, beyond environment.duration = "
-                         f"{scene.duration:.6g} s; allowed: a duration >= {t_done:.6g} s")
+        reached = shown_value("environment.duration", t_done, "s")
+        raise SceneError(f"--resume: the run in {out} has already reached t = {reached}, "
+                         f"beyond environment.duration = "
+                         f"{shown_value('environment.duration', scene.duration, 's')}; "
+                         f"allowed: a duration >= {reached}")
     if t_done >= scene.duration * (1 - 1e-12):
         summ = out / "summary.json"
         if not summ.exists():

@@ -180,7 +180,7 @@ def test_resume_with_a_longer_duration_extends_the_run(tmp_path, capsys):
     assert s["final"]["pad_wear_max_m"] > first["final"]["pad_wear_max_m"]
     shorter = _tiny(tmp_path, **{**auto, "duration = 3600.0": "duration = 50.0"})
     assert main(["run", str(shorter), "--out", str(out), "--resume", "--quiet"]) == 2
-    assert "beyond environment.duration = 50 s" in capsys.readouterr().err
+    assert "beyond environment.duration = 50.0 s" in capsys.readouterr().err
 
 
 def test_interrupt_before_the_first_checkpoint_says_start_again(tmp_path, capsys, monkeypatch):

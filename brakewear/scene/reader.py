@@ -17,8 +17,8 @@ from os import PathLike
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..checks import fail, user_units
-from ..errors import GeometryError, InputError, SceneError
+from ..checks import fail, file_messages, user_units
+from ..errors import GeometryError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
 from ..geometry.parts import MESH_BODY_KEYS
 from ..wear.numerics import Numerics
@@ -173,12 +173,8 @@ def scene_from_dict(d: Mapping[str, Any], source: str = "<dict>",
         Folder that relative geometry paths are relative to (the scene
         file's folder); default the working directory.
     """
-    try:
+    with file_messages(source, {}):         # every message about the file names it
         return _parse(d, source, None if base is None else Path(base))
-    except InputError as exc:       # every message about the file names it
-        if str(exc).startswith(source):
-            raise
-        raise type(exc)(f"{source}: {exc}") from None
 
 
 def _tables(d: Any) -> dict[str, dict]:

@@ -26,6 +26,7 @@ from ..checks import (
     check_plausible,
     fail,
     shown_value,
+    user_scale,
     user_unit,
 )
 from ..geometry.files import load_geometry
@@ -455,7 +456,9 @@ def _first_difference(a: Any, b: Any, path: str = "") -> str | None:
         return None
     top, _, rest = path.partition(".")
     key = _RECORD_KEYS.get(top, top) + (f".{rest}" if rest else "")
-    return f"{key}: {a!r} then, {b!r} now"
+    a, b = ((shown_value(key, v, "") if user_scale(key) and isinstance(v, (int, float))
+             else repr(v)) for v in (a, b))
+    return f"{key}: {a} then, {b} now"
 
 
 # Scene field -> scene-file key, for messages about scene.json records

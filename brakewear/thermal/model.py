@@ -19,6 +19,7 @@ from typing import Mapping, Sequence
 import numpy as np
 import scipy.sparse as sp
 
+from ..checks import check_order
 from ..errors import ThermalError
 from ..fem.heat import THERMAL_FIELDS, HeatConduction, body_label, check_thermal
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
@@ -165,6 +166,10 @@ class ThermalModel:
         facets = {"pad": self.PAD_FACETS, "rotor": self.ROTOR_FACETS}
         facets.update(dict(convection_facets or {}))
         self.T_ambient = float(T_ambient)
+        for key, T in (("T_ambient", self.T_ambient), ("T_initial", T_initial)):
+            if T is not None:       # a face may not start beyond its bound
+                check_order(key, float(T), "T_max", self.T_max, "K", kind=ThermalError,
+                            why="the plausibility bound of the face temperatures")
         self.T_ref = self.T_ambient if T_ref is None else float(T_ref)
         if not (np.isfinite(self.T_ref) and self.T_ref > 0):
             raise ThermalError(f"T_ref = {T_ref!r} K is not allowed; need > 0 K")

@@ -7,7 +7,8 @@ speed, numerics, interface, thermal settings, package version).  A run
 resumed from it repeats the uninterrupted run exactly, because every step is
 solved from the stored state alone; a resume whose inputs differ from the
 fingerprint is refused with what changed: each changed value in the unit of
-the geometry file for its keys (lengths, angles, moduli, stiffnesses), in SI
+the geometry file for its keys (lengths, angles, moduli, stiffnesses), a key a
+scene file gave in its units under the file's name for it and in its unit, in SI
 with the unit named for the others (:func:`check_fingerprint`).
 """
 from __future__ import annotations
@@ -23,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..checks import user_scale
 from ..errors import WearError
 
 logger = logging.getLogger(__name__)
@@ -179,9 +181,31 @@ def _file_unit(key: str, units: dict | None) -> tuple[str, float] | None:
     return (name, table[name]) if table is not None and name in table else None
 
 
+#: fingerprint key -> the scene file's key: a run of a scene file names the key as the
+#: file wrote it and shows its values in the file's unit (:func:`brakewear.checks.user_units`)
+_SCENE_KEYS = {"line_pressure": "environment.line_pressure", "omega": "environment.omega",
+               "duration": "environment.duration", "thermal.T_ambient": "environment.ambient",
+               "thermal.T_initial": "thermal.T_initial", "thermal.T_ref": "thermal.T_ref",
+               "pad_law.T_threshold": "wear.pad.T_threshold",
+               "rotor_law.T_threshold": "wear.rotor.T_threshold",
+               "numerics.max_dh": "numerics.max_dh", "numerics.wear_tol": "numerics.wear_tol",
+               "limits.pad": "wear.pad.limit", "limits.rotor": "wear.rotor.limit"}
+
+
+def _scene_unit(key: str) -> tuple[str, tuple[str, float, float]] | None:
+    """(the scene file's key, its unit) of fingerprint ``key`` in a run of a scene file
+    that gave it in its own units, else None."""
+    scene_key = _SCENE_KEYS.get(key)
+    scale = None if scene_key is None else user_scale(scene_key)
+    return None if scale is None else (scene_key, scale)
+
+
 def _shown_pair(key: str, old, new, units: dict | None) -> tuple[str, str]:
     """``old`` and ``new`` (fingerprint values) as text in the unit of ``key``."""
     unit = _file_unit(key, units)
+    scene = _scene_unit(key)
+    if scene is not None:
+        unit = scene[1]
     if unit is None:
         si = _SI_UNITS.get(key) or _SI_UNITS.get(key.rsplit(".", 1)[-1])
         unit = None if si is None else (si, 1.0)
@@ -211,15 +235,17 @@ def _number(v) -> float | list | None:
         return None
 
 
-def _in_unit(v, unit: tuple[str, float] | None, digits: int) -> str:
+def _in_unit(v, unit: tuple | None, digits: int) -> str:
+    """``v`` (SI) in ``unit``: ``(name, factor)`` or ``(name, factor, offset)``."""
     if isinstance(v, list):
         return "[" + ", ".join(_in_unit(x, unit, digits) for x in v) + "]"
     if isinstance(v, int) and unit is None:
         return str(v)
     if unit is None:
         return f"{v:.{digits}g}"
-    name, factor = unit
-    return f"{v / factor:.{digits}g} {name}" if math.isfinite(v) else f"{v} {name}"
+    name, factor, offset = (*unit, 0.0)[:3]
+    return (f"{(v - offset) / factor:.{digits}g} {name}" if math.isfinite(v)
+            else f"{v} {name}")
 
 
 def _text(v) -> str:
@@ -232,8 +258,10 @@ _ABSENT = object()
 def _compare(path: Path, old: dict, new: dict, units: dict | None = None) -> None:
     changed = sorted(k for k in set(old) | set(new) if old.get(k) != new.get(k))
     if changed:
-        shown = "; ".join("{}: {} -> {}".format(k, *_shown_pair(
-            k, old.get(k, _ABSENT), new.get(k, _ABSENT), units)) for k in changed[:5])
+        shown = "; ".join("{}: {} -> {}".format(
+            (_scene_unit(k) or (k,))[0], *_shown_pair(k, old.get(k, _ABSENT),
+                                                     new.get(k, _ABSENT), units))
+            for k in changed[:5])
         more = f" (and {len(changed) - 5} more)" if len(changed) > 5 else ""
         raise WearError(f"checkpoint {path} was written by a run with other inputs: {shown}"
                         f"{more}. Resume with the same inputs, or run again without resume")
