@@ -179,7 +179,7 @@ class TableMap:
             self._check_inside(xs, np.broadcast_to(p, shape).ravel() > 0)
         return _multilinear(self.grid, self.values, xs).reshape(shape)
 
-    def outside(self, axis: str, values) -> str | None:
+    def beyond(self, axis: str, values) -> str | None:
         """Text naming the value of ``values`` (SI) farthest beyond the grid along
         ``axis``, in the map's units, or None if all lie on the grid (or the map does
         not vary along ``axis``)."""

@@ -548,7 +548,7 @@ def test_a_thermal_schedule_writes_temperatures_per_application(tmp_path):
 @pytest.mark.parametrize("edits,key,words", [
     ({"vehicle": None}, "vehicle", "the [schedule]'s stops need a [vehicle]"),
     ({"environment": {"duration": 10.0}}, "environment.duration", "set by the [schedule]"),
-    ({"schedule": {"deceleration": 15.0}}, "schedule.deceleration (application 0)",
+    ({"schedule": {"deceleration": 15.0}}, "schedule.deceleration = 15.0 m/s^2",
      "what the tyres can give"),
     ({"vehicle": {"mass": -5.0}}, "vehicle.mass", "it must be >= 50 kg"),
     ({"schedule": {"speed_form": 50.0}}, "schedule.speed_form", "unknown key"),

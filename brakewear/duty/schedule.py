@@ -29,7 +29,7 @@ from .vehicle import G, _check, _finite, brake_torque
 
 __all__ = ["Stop", "Drag", "Dwell", "repeated_stops", "schedule_from_table",
            "read_schedule_csv", "check_schedule", "application_name", "stop_decelerations",
-           "KMH"]
+           "KMH", "TABLE_SOURCE"]
 
 #: One km/h in m/s.
 KMH = 1.0 / 3.6
@@ -113,9 +113,11 @@ class Dwell:
 
 def application_name(app, index: int) -> str:
     """How messages name application ``index``: its index from 0 and, when it came from
-    a file, where (``"application 3 (cycle.csv, rows 5-6)"``)."""
+    a file, where (``"application 3 (cycle.csv, rows 5-6)"``, ``"application 1 of the
+    [schedule]"``)."""
     src = getattr(app, "source", "")
-    return f"application {index}" + (f" ({src})" if src else "")
+    return f"application {index}" + (f" of {src}" if src.startswith("the [") else
+                                      f" ({src})" if src else "")
 
 
 def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
@@ -202,9 +204,9 @@ def _check_interval(stop: Stop, dwell: Dwell, vehicle, mu: float, geometry,
     that stop can be (the run checks it against the stop's own pressure field)."""
     shortest = (stop.v0 - stop.v1) / stop_decelerations(stop, vehicle, mu, geometry)[1]
     if not dwell.duration > shortest:
-        raise DutyError(f"{application_name(dwell, index)}: the interval of "
-                        f"{dwell.duration:g} s from the start of the stop before it is not "
-                        f"allowed; that stop ({stop.v0 / KMH:.4g} to {stop.v1 / KMH:.4g} km/h "
+        raise DutyError(f"{application_name(dwell, index)}: an interval of "
+                        f"{dwell.duration:g} s (start to start) is not allowed; the stop "
+                        f"before it ({stop.v0 / KMH:.4g} to {stop.v1 / KMH:.4g} km/h "
                         f"under {stop.line_pressure / 1e6:g} MPa) lasts at least "
                         f"{shortest:.4g} s (its pressure field at the pad's outer radius, "
                         f"{geometry.pad.outer_radius * 1e3:g} mm); give a longer interval")
@@ -280,7 +282,7 @@ def schedule_from_table(table: dict, source: str = "scene", base: Path | None = 
                           line_pressure=None if p is None else p * 1e6,
                           interval=table.get("interval"),
                           dwell_speed=None if ds is None else ds * KMH)
-    return [replace(a, source="[schedule]") for a in apps]
+    return [replace(a, source=TABLE_SOURCE) for a in apps]
 
 
 def _check_table(table: dict) -> None:
@@ -302,6 +304,9 @@ def _check_table(table: dict) -> None:
                                             "line_pressure (MPa)", DutyError)
     check_number(k["deceleration"], decel, 0.0, unit="m/s^2", allow_none=True, kind=DutyError)
     check_number(k["line_pressure"], p, 0.0, unit="MPa", allow_none=True, kind=DutyError)
+    with user_units({k["line_pressure"]: ("MPa", 1e6, 0.0, p)}):
+        check_plausible(k["line_pressure"], None if p is None else p * 1e6,
+                        "environment.line_pressure", kind=DutyError)
     interval, ds = table.get("interval"), table.get("dwell_speed")
     check_number(k["interval"], interval, 0.0, unit="s", allow_none=True, kind=DutyError)
     if interval is not None and decel is not None:
@@ -316,7 +321,11 @@ def _check_table(table: dict) -> None:
                                      "back)", DutyError)
 
 
+#: the ``source`` of the applications of a scene's ``[schedule]`` table of stops
+TABLE_SOURCE = "the [schedule]"
+
 _CSV_SPEED = {"speed_kmh": KMH, "speed_m_s": 1.0}
+_CSV_UNIT = {"speed_kmh": "km/h", "speed_m_s": "m/s"}
 #: Largest vehicle speed (m/s, 360 km/h) and line pressure (Pa) of a drive cycle's rows:
 #: a stop's and the plausible bound of a brake line
 V_MAX, P_MAX = 100.0, 100e6
@@ -357,7 +366,7 @@ def read_schedule_csv(path: str | PathLike) -> list:
             p.append(float(row["line_pressure_MPa"] or 0.0) * 1e6)
         except (TypeError, ValueError):
             raise DutyError(f"{path}, row {i}: not a number in {dict(row)!r}") from None
-        v_max = f"{V_MAX / _CSV_SPEED[speed_col]:g}"
+        v_max = f"{V_MAX / _CSV_SPEED[speed_col]:g} {_CSV_UNIT[speed_col]}"
         for key, x, ok, need in (
                 ("time_s", t[-1], math.isfinite(t[-1]), "a finite value"),
                 (speed_col, row[speed_col], math.isfinite(v[-1]) and 0 <= v[-1] <= V_MAX,

@@ -139,7 +139,7 @@ def check_map_ranges(scene) -> None:
             v = [scene.omega * pad.inner_radius, scene.omega * pad.outer_radius]
             starts["v"] = (v, "environment.omega", "rad/s")
         for axis, (values, start_key, unit) in starts.items():
-            what = table.outside(axis, values)
+            what = table.beyond(axis, values)
             if what is None:
                 continue
             given = shown_value(start_key, scene.omega if axis == "v" else T0, unit)

@@ -85,6 +85,7 @@ _REQUIRED_KEYS = {
     "units": set(UNITS),
     "components": {"rotor", "pad"},
     "environment": {"line_pressure", "omega", "duration"},
+    "vehicle": {"mass"},
 }
 
 

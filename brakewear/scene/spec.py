@@ -306,8 +306,8 @@ class Scene:
             raise fail("interface.gap_file", str(exc)) from None
 
     def _check_duty(self) -> None:
-        from ..duty import Drag, Stop, Vehicle, check_schedule
-        from ..errors import DutyError
+        from ..duty import Drag, Stop, Vehicle, application_name, check_schedule
+        from ..duty.schedule import TABLE_SOURCE
         if not self.schedule:
             if self.vehicle is not None:
                 raise fail("vehicle", "a [vehicle] is used by a [schedule] of stops; add one or "
@@ -332,16 +332,14 @@ class Scene:
                                   "(mass, front_share, tyre_radius, ...)")
         for i, a in enumerate(self.schedule):
             if isinstance(a, Stop) and a.decel is not None:
-                self.vehicle.check_deceleration(a.decel, key=f"schedule.deceleration "
-                                                              f"(application {i})")
+                self.vehicle.check_deceleration(a.decel, key="schedule.deceleration"
+                                                if a.source == TABLE_SOURCE else
+                                                f"{application_name(a, i)}: deceleration")
         if self.interface.mu <= 0:
             raise fail("interface.mu", f"{self.interface.mu!r}: a [schedule] turns brake "
                                         "torque into line pressure through mu; need mu > 0")
-        try:
-            check_schedule(self.schedule, self.vehicle, mu=self.interface.mu,
-                           geometry=self.geometry)
-        except DutyError as exc:
-            raise fail("schedule", str(exc)) from None
+        check_schedule(self.schedule, self.vehicle, mu=self.interface.mu,
+                       geometry=self.geometry)
 
     # -------------------------------------------------------------- build --
     def build_model(self):

@@ -166,10 +166,7 @@ class ThermalModel:
         facets = {"pad": self.PAD_FACETS, "rotor": self.ROTOR_FACETS}
         facets.update(dict(convection_facets or {}))
         self.T_ambient = float(T_ambient)
-        for key, T in (("T_ambient", self.T_ambient), ("T_initial", T_initial)):
-            if T is not None:       # a face may not start beyond its bound
-                check_order(key, float(T), "T_max", self.T_max, "K", kind=ThermalError,
-                            why="the plausibility bound of the face temperatures")
+        _check_start(self.T_max, self.T_ambient, T_initial)
         self.T_ref = self.T_ambient if T_ref is None else float(T_ref)
         if not (np.isfinite(self.T_ref) and self.T_ref > 0):
             raise ThermalError(f"T_ref = {T_ref!r} K is not allowed; need > 0 K")
@@ -461,6 +458,14 @@ def _resolve_defaults(meshed: bool, partition, contact_conductance):
     if contact_conductance is None:
         contact_conductance = H_CONTACT_DEFAULT if meshed else 0.0
     return partition, contact_conductance
+
+
+def _check_start(T_max: float, T_ambient: float, T_initial: float | None) -> None:
+    """A face may not start beyond its plausibility bound ``T_max``."""
+    for key, T in (("T_ambient", T_ambient), ("T_initial", T_initial)):
+        if T is not None:
+            check_order(key, float(T), "T_max", T_max, "K", kind=ThermalError,
+                        why="the plausibility bound of the face temperatures")
 
 
 def _resolve_partition(partition, pad_mat, rotor_mat, arc_angle: float) -> float:
