@@ -216,3 +216,22 @@ def test_input_errors_of_a_scene_run_name_the_scene_file(tmp_path, monkeypatch):
     monkeypatch.setattr(output, "_run_scene", boom)
     with pytest.raises(SceneError, match=r"^brakewear scene 'default': interface\.gap_file"):
         output.run_scene(scene, tmp_path / "o")
+
+
+def test_a_drive_cycle_that_never_brakes_is_refused(tmp_path, caplog):
+    """Braking while the speed rises is taken as no braking, with a warning naming the
+    rows; a cycle with no braked interval at all is refused."""
+    f = tmp_path / "cycle.csv"
+    f.write_text("time_s,speed_kmh,line_pressure_MPa\n0,0,2\n10,50,0\n20,50,0\n")
+    with caplog.at_level("WARNING", logger="brakewear.duty.schedule"):
+        with pytest.raises(DutyError, match=r"cycle\.csv: no interval brakes"):
+            read_schedule_csv(f)
+    assert "rows 2-3: line_pressure_MPa = 2 while the speed rises" in caplog.text
+
+
+def test_thermal_keys_without_heat_are_named(caplog):
+    with caplog.at_level("WARNING", logger="brakewear.scene.bounds"):
+        _scene(thermal=ThermalSpec(enabled=False))
+        assert caplog.text == ""
+        _scene(thermal=ThermalSpec(enabled=False, T_max=600.0))
+    assert "thermal.T_max is given but thermal.enabled = false" in caplog.text

@@ -18,6 +18,7 @@ deceleration per row).
 from __future__ import annotations
 
 import csv
+import logging
 import math
 from dataclasses import dataclass, field, replace
 from os import PathLike
@@ -26,6 +27,8 @@ from pathlib import Path
 from ..checks import check_int, check_number, check_order, check_plausible, fail, user_units
 from ..errors import DutyError
 from .vehicle import G, _check, _finite, brake_torque
+
+logger = logging.getLogger(__name__)
 
 __all__ = ["Stop", "Drag", "Dwell", "repeated_stops", "schedule_from_table",
            "read_schedule_csv", "check_schedule", "application_name", "stop_decelerations",
@@ -379,7 +382,11 @@ def read_schedule_csv(path: str | PathLike) -> list:
         if len(t) > 1 and not t[-1] > t[-2]:
             raise DutyError(f"{path}, row {i}: time_s = {t[-1]:g} does not increase (the row "
                             f"before has {t[-2]:g}); the rows must be in time order")
-    return _applications(t, v, p, str(path))
+    apps = _applications(t, v, p, str(path))
+    if all(isinstance(a, Dwell) for a in apps):
+        raise DutyError(f"{path}: no interval brakes (line_pressure_MPa > 0 at a speed that "
+                        "falls or holds); the drive cycle gives the brake nothing to do")
+    return apps
 
 
 def _applications(t, v, p, path: str) -> list:
@@ -387,6 +394,9 @@ def _applications(t, v, p, path: str) -> list:
     first = 0                     # the first interval of the dwell being merged
     for k in range(len(t) - 1):
         dt = t[k + 1] - t[k]
+        if p[k] > 0 and v[k + 1] > v[k]:
+            logger.warning("%s: line_pressure_MPa = %g while the speed rises: taken as no "
+                           "braking (a dwell)", _rows(path, k, k), p[k] / 1e6)
         if p[k] > 0 and v[k + 1] < v[k]:
             app = Stop(v[k], v[k + 1], line_pressure=p[k], source=_rows(path, k, k))
         elif p[k] > 0 and v[k + 1] == v[k] and v[k] > 0:

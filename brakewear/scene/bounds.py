@@ -15,16 +15,23 @@ itself makes the run absurd or stop at its first step:
   (``map_outside = "error"``) covers the sliding speeds of the pad face at
   ``environment.omega`` and the starting temperature.
 
-Every message names the keys and shows the values in the scene file's units.
+Every message names the keys and shows the values in the scene file's units.  A
+``[thermal]`` value given while ``thermal.enabled = false`` is not used; it is logged
+as a warning.
 The schedule's own bounds (a stop's end speed below its start, dwell speeds, an
 interval longer than the stop) are checked where it is read
 (:func:`brakewear.duty.schedule_from_table`, :func:`brakewear.duty.check_schedule`).
 """
 from __future__ import annotations
 
+import logging
+from dataclasses import fields
+
 import numpy as np
 
 from ..checks import check_order, fail, shown_value
+
+logger = logging.getLogger(__name__)
 
 __all__ = ["check_bounds", "check_thermal_bounds", "check_wear_limits", "check_gap_map",
            "check_map_ranges"]
@@ -43,6 +50,11 @@ def check_thermal_bounds(scene) -> None:
     from ..thermal.model import T_MAX_DEFAULT
     th = scene.thermal
     if not th.enabled:
+        unused = [f.name for f in fields(th) if f.name != "enabled"
+                  and getattr(th, f.name) != f.default]
+        if unused:
+            logger.warning("thermal.%s is given but thermal.enabled = false: no temperature "
+                           "field is computed and it is not used", unused[0])
         return
     t_max = T_MAX_DEFAULT if th.T_max is None else th.T_max
     why = ("the plausibility bound of the face temperatures: the run would stop at its "
