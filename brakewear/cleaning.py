@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import WearError
+from .errors import GeometryError, WearError
 from .laws import WearLaw
 
 __all__ = ["read_gap_map", "map_gap", "GAP_COLUMNS", "LayeredWearLaw", "CorrodedRotor",
@@ -97,32 +97,31 @@ def read_gap_map(path) -> np.ndarray:
     import csv
     from pathlib import Path
 
-    from .errors import InputError
     path = Path(path)
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:
             rows = list(csv.DictReader(fh))
     except OSError as e:
-        raise InputError(f"{path}: cannot read the gap map ({e.strerror})") from None
+        raise GeometryError(f"{path}: cannot read the gap map ({e.strerror})") from None
     header = list(rows[0]) if rows else []
     missing = [c for c in GAP_COLUMNS if c not in header]
     if missing:
-        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; need "
-                         f"{', '.join(GAP_COLUMNS)} (the header is "
-                         f"{', '.join(header) or '(empty file)'})")
+        raise GeometryError(f"{path}: missing column(s) {', '.join(missing)}; need "
+                            f"{', '.join(GAP_COLUMNS)} (the header is "
+                            f"{', '.join(header) or '(empty file)'})")
     out = []
     for i, row in enumerate(rows, start=2):                 # row 1 is the header
         try:
             r, th, g = (float(row[c]) for c in GAP_COLUMNS)
         except (TypeError, ValueError):
-            raise InputError(f"{path}, row {i}: not a number in {dict(row)!r}") from None
+            raise GeometryError(f"{path}, row {i}: not a number in {dict(row)!r}") from None
         if not (np.isfinite([r, th, g]).all() and r > 0 and abs(g) <= 1000.0):
-            raise InputError(f"{path}, row {i}: r_mm = {row['r_mm']}, gap_um = "
-                             f"{row['gap_um']} is not allowed; need r_mm > 0 and "
-                             "|gap_um| <= 1000")
+            raise GeometryError(f"{path}, row {i}: r_mm = {row['r_mm']}, gap_um = "
+                                f"{row['gap_um']} is not allowed; need r_mm > 0 and "
+                                "|gap_um| <= 1000")
         out.append((r * 1e-3, np.radians(th), g * 1e-6))
     if len(out) < 3:
-        raise InputError(f"{path}: a gap map needs at least three points")
+        raise GeometryError(f"{path}: a gap map needs at least three points")
     return np.array(out)
 
 
@@ -130,10 +129,9 @@ def map_gap(points: np.ndarray, x: np.ndarray, source: str = "gap map") -> np.nd
     """The gap of a map ``(n, 3)`` (r, theta, gap) at pad nodes ``x`` (3, m):
     linear between the points (triangulated in radius and arc length at the
     map's mean radius), shifted so that its smallest value is zero.  Raises
-    :class:`~brakewear.errors.InputError` if a node lies outside the map."""
+    :class:`~brakewear.errors.GeometryError` if a node lies outside the map."""
     from scipy.interpolate import LinearNDInterpolator
 
-    from .errors import InputError
     r_m = float(points[:, 0].mean())
     f = LinearNDInterpolator(np.c_[points[:, 0], r_m * points[:, 1]], points[:, 2])
     r, th = np.hypot(x[0], x[1]), np.arctan2(x[1], x[0])
@@ -141,10 +139,10 @@ def map_gap(points: np.ndarray, x: np.ndarray, source: str = "gap map") -> np.nd
     out = ~np.isfinite(g)
     if out.any():
         i = int(np.flatnonzero(out)[0])
-        raise InputError(f"{source}: {int(out.sum())} pad node(s) lie outside the map, e.g. "
-                         f"r = {r[i] * 1e3:.2f} mm, theta = {np.degrees(th[i]):.2f} deg; the "
-                         f"pad face spans r {r.min() * 1e3:.1f}..{r.max() * 1e3:.1f} mm, theta "
-                         f"{np.degrees(th.min()):.1f}..{np.degrees(th.max()):.1f} deg")
+        raise GeometryError(f"{source}: {int(out.sum())} pad node(s) lie outside the map, e.g. "
+                            f"r = {r[i] * 1e3:.2f} mm, theta = {np.degrees(th[i]):.2f} deg; the "
+                            f"pad face spans r {r.min() * 1e3:.1f}..{r.max() * 1e3:.1f} mm, theta "
+                            f"{np.degrees(th.min()):.1f}..{np.degrees(th.max()):.1f} deg")
     return g - g.min()
 
 

@@ -235,3 +235,20 @@ def test_thermal_keys_without_heat_are_named(caplog):
         assert caplog.text == ""
         _scene(thermal=ThermalSpec(enabled=False, T_max=600.0))
     assert "thermal.T_max is given but thermal.enabled = false" in caplog.text
+
+
+def test_a_condensed_interface_beyond_the_memory_budget_is_refused_before_meshing(no_meshing):
+    """The condensation's dense compliances (16 n^2 bytes for n pad contact nodes, plus the
+    factor) are estimated from the geometry like the model's size: the default scene's
+    2280 contact nodes need about 2.6 GB, refused under a 2 GB budget, run under 3 GB."""
+    from dataclasses import replace
+
+    from brakewear import Numerics
+    from brakewear.scene import InterfaceSpec
+    s = load_scene("default")
+    condensed = InterfaceSpec(model="condensed", mu=0.4)
+    with pytest.raises(SceneError, match=r"interface\.model: 'condensed' condenses about 2280 "
+                                         r"pad contact nodes .* about 2\.6 GB, beyond the "
+                                         r"memory budget you set \(2\.0 GB\)"):
+        replace(s, interface=condensed, numerics=Numerics(memory_budget=2.0))
+    replace(s, interface=condensed, numerics=Numerics(memory_budget=3.0))

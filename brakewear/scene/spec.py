@@ -32,7 +32,7 @@ from ..checks import (
 from ..geometry.files import load_geometry
 from ..geometry.parts import MAX_LAYERS, MESH_BODY_KEYS, BrakeGeometry
 from ..wear.numerics import Numerics
-from .bounds import check_bounds
+from .bounds import check_bounds, check_condensed_size
 from .tables import (
     _WEAR_INTERFACE,
     SURFACES,
@@ -174,6 +174,7 @@ class Scene:
                          user_value=shown_value("mesh.size", self.mesh_size, "m")
                          if user_unit("mesh.size") else None,
                          budget_gb=self.numerics.memory_budget)
+        check_condensed_size(self)
 
     # ------------------------------------------------------------ checks --
     @property
