@@ -100,9 +100,9 @@ def check_choice(key: str, value: Any, allowed: tuple,
 
 def check_number(key: str, value: Any, lo: float | None = None, hi: float | None = None,
                   lo_open: bool = True, unit: str = "", allow_none: bool = False,
-                  kind: type[InputError] = SceneError, hi_open: bool = False) -> None:
-    """Refuse ``value`` unless a finite number within ``lo`` .. ``hi`` (open or closed
-    at each end), naming ``key`` and showing the value and the bound it passed in the
+                  kind: type[InputError] = SceneError) -> None:
+    """Refuse ``value`` unless a finite number within ``lo`` (open or closed) .. ``hi``
+    (closed), naming ``key`` and showing the value and the bound it passed in the
     user's unit."""
     if value is None and allow_none:
         return
@@ -113,9 +113,9 @@ def check_number(key: str, value: Any, lo: float | None = None, hi: float | None
     if lo is not None and (value <= lo if lo_open else value < lo):
         v, (b,) = _shown(key, value, unit, (lo,))
         raise fail(key, f"{v} is not allowed; it must be {'>' if lo_open else '>='} {b}", kind)
-    if hi is not None and (value >= hi if hi_open else value > hi):
+    if hi is not None and value > hi:
         v, (b,) = _shown(key, value, unit, (hi,))
-        raise fail(key, f"{v} is not allowed; it must be {'<' if hi_open else '<='} {b}", kind)
+        raise fail(key, f"{v} is not allowed; it must be <= {b}", kind)
 
 
 def check_order(low_key: str, low: float, high_key: str, high: float, unit: str = "", *,

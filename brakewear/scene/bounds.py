@@ -106,7 +106,7 @@ def _pad_corners(pad) -> tuple[np.ndarray, np.ndarray]:
 def check_gap_map(scene) -> None:
     """The initial-gap map (``interface.gap_file``) covers the whole pad face (a scene
     with its own pad mesh file is checked on its nodes when the run starts)."""
-    points = getattr(scene, "_gap_points", None)
+    points = scene.gap_points
     if points is None or "pad" in scene.mesh_files:
         return
     from scipy.interpolate import LinearNDInterpolator

@@ -367,6 +367,12 @@ class Scene:
                             f"{self.source}: interface.gap_file = {itf.gap_file!r}")
         return g
 
+    @property
+    def gap_points(self):
+        """The points ``(n, 3)`` (r, theta, gap; m, rad, m) of ``interface.gap_file``, read
+        when the scene was made; None without a gap map."""
+        return getattr(self, "_gap_points", None)
+
     def friction(self):
         """The friction of the interface: ``interface.mu``, or the map of
         ``interface.mu_map`` (a :class:`~brakewear.maps.FrictionMap`, read once)."""
