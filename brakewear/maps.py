@@ -211,7 +211,8 @@ class TableMap:
                     f"the {self.quantity} map {self.source or ''}: {a} = {shown[0]} {unit} "
                     f"(node {i}, the farthest of {n} loaded node(s) outside) is outside the "
                     f"map's range {shown[1]} to {shown[2]} {unit}; extend the map or use "
-                    "outside='clamp' to take the edge value")
+                    "outside='clamp' (a scene's map_outside = 'clamp') to take the edge "
+                    "value")
 
 
 def read_map(path: str | os.PathLike, quantity: str, outside: str = "clamp") -> TableMap:
