@@ -75,9 +75,36 @@ class InputError(BrakewearError, ValueError):
 
 
 class SolverError(BrakewearError, RuntimeError):
-    """A computation did not succeed; the message gives its figures (exit code 3)."""
+    """A computation did not succeed; the message gives its figures (exit code 3).
+
+    ``figures`` holds them as data (iterations, residual, the active-set sizes
+    seen, ...), and :meth:`within` adds where it happened (the wear step, the
+    application of a schedule) as the error passes up through the loops; the
+    message names that place too.
+    """
 
     exit_code = 3
+
+    def __init__(self, message: str = "", *, figures: dict | None = None):
+        super().__init__(message)
+        self.figures = dict(figures or {})
+        self.where: dict = {}
+
+    def within(self, **where) -> "SolverError":
+        """Add where the error happened (keys already set by an inner loop are kept);
+        returns the error itself, to re-raise."""
+        if not hasattr(self, "where"):      # a subclass that set up its own state
+            self.where, self.figures = {}, getattr(self, "figures", {})
+        for k, v in where.items():
+            self.where.setdefault(k, v)
+        return self
+
+    def __str__(self) -> str:
+        msg = super().__str__()
+        where = getattr(self, "where", None)
+        if not where:
+            return msg
+        return f"{msg} [{', '.join(f'{k} {v}' for k, v in where.items())}]"
 
 
 # ------------------------------------------------------------------ input --
@@ -155,8 +182,11 @@ class BenchError(InputError):
 class ConvergenceError(SolverError):
     """An iterative solve stopped without reaching its tolerance (``info``: its figures)."""
 
-    def __init__(self, message: str, info=None):
-        super().__init__(message)
+    def __init__(self, message: str, info=None, *, figures: dict | None = None):
+        if figures is None and info is not None and hasattr(info, "iterations"):
+            figures = {"iterations": info.iterations,
+                       "relative_residual": getattr(info, "relative_residual", None)}
+        super().__init__(message, figures=figures)
         self.info = info
 
 

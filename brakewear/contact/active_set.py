@@ -137,6 +137,10 @@ COMPLIANT = ActiveSetOptions(loose_tol=1e-4, inexact=None, medium_tol=None, flip
 EXACT = ActiveSetOptions(loose_tol=None, inexact=None, medium_tol=None, flip_limit=None)
 
 
+def _fmt(x) -> str:
+    return "n/a" if x is None else f"{x:.2e}"
+
+
 class Margins(NamedTuple):
     """The state a solution leaves, per slave node (flat over all pairs).
 
@@ -249,7 +253,8 @@ class ActiveSetDriver:
             if not active.any():
                 raise ContactLostError(
                     f"{self.name}: no node is in contact after {it - 1} active-set "
-                    f"iteration(s): the load separates the bodies{self.hint}")
+                    f"iteration(s): the load separates the bodies{self.hint}",
+                    figures=self.figures(problem))
             problem.solve(active, *self.solve_tolerance())
             self.solves += 1
             m = problem.margins(active, o.release_tol)
@@ -278,8 +283,10 @@ class ActiveSetDriver:
             seen.add(np.packbits(active).tobytes())
             active = new
         raise ActiveSetError(
-            f"{self.name}: active set did not settle in {o.max_iter} iterations (active "
-            f"counts {self.counts[-6:]}, conservative={self.conservative})")
+            f"{self.name}: active set did not settle in {o.max_iter} iterations (the budget "
+            f"max_iter; active counts {self.counts[-6:]}, conservative={self.conservative}, "
+            f"last relative residual {_fmt(self.figures(problem)['relative_residual'])})",
+            figures=self.figures(problem))
 
     def _rescue_empty(self, active, new, m: Margins, it: int) -> np.ndarray:
         """The primal-dual rule released every node at once (an overshoot on a
@@ -352,7 +359,15 @@ class ActiveSetDriver:
         raise ActiveSetError(
             f"{self.name}: active set cycles after {it} iterations ({int(active.sum())} -> "
             f"{int(new.sum())} active) under tight solves, with a band of {self.band:.0e} "
-            "of the largest force")
+            "of the largest force", figures=self.figures(problem))
+
+    def figures(self, problem) -> dict:
+        """The figures of an error: solves, the active-set sizes seen, the budget and
+        the last linear solve's relative residual (None where the problem has none)."""
+        res = getattr(problem, "last_residual", None)
+        return {"iterations": self.solves, "max_iter": self.options.max_iter,
+                "active_counts": list(self.counts), "conservative": self.conservative,
+                "relative_residual": None if res is None else float(res)}
 
     def report(self) -> dict:
         """The driver's figures for a solver's ``info``."""

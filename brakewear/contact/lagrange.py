@@ -235,6 +235,13 @@ class _LagrangeSets:
         self.x = self.u = self.lam = None
         self.lin_its = self.builds = self.refreshes = 0
 
+    @property
+    def last_residual(self) -> float | None:
+        """The relative residual of the last linear solve (0 for a direct one)."""
+        if self.linear == "direct":
+            return 0.0 if self.x is not None else None
+        return None if self.work is None else self.work.info.relative_residual
+
     def split(self, flat: np.ndarray) -> list:
         """A flat per-node array as one array per pair."""
         return [flat[a:b] for a, b in zip(self.offsets[:-1], self.offsets[1:])]

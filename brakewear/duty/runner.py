@@ -26,7 +26,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..errors import ConvergenceError, DutyError
+from ..errors import ConvergenceError, DutyError, SolverError
 from ..interfaces.fe import FEInterface
 from ..wear.numerics import Numerics
 from ..wear.records import HeatTally, thermal_state
@@ -118,12 +118,16 @@ class _Brake:
         for _ in range(max_iter):
             r = self.r_eff(self.solve(p).pressure)
             p_new = line_pressure_for_torque(torque, self.mu, self.clamp_area, r)
-            if abs(p_new - p) <= rtol * p_new:
+            change = abs(p_new - p) / p_new
+            if change <= rtol:
                 return p_new, r
             p = p_new
         raise ConvergenceError(f"the line pressure for a brake torque of {torque:.4g} N m did "
                                f"not settle in {max_iter} contact solves (last {p:.6g} Pa, "
-                               f"r_eff {r:.6g} m)")
+                               f"r_eff {r:.6g} m, last change {change:.2e} of it, tolerance "
+                               f"{rtol:.0e})",
+                               figures={"iterations": max_iter, "line_pressure": p,
+                                        "relative_change": change, "r_eff": r})
 
 
 def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
@@ -230,12 +234,16 @@ def _run(model, apps, pad_law, rotor_law, mu, vehicle, numerics, interface, ther
     t, last_start = 0.0, 0.0
     for i, app in enumerate(apps):
         t0 = _time.perf_counter()
-        if isinstance(app, Dwell):
-            rec = _dwell(app, i, t, last_start, thermal, brake.itf.area.size, vehicle)
-        else:
-            last_start = t
-            rec = _braked(app, i, t, model, brake, vehicle, pad_law, rotor_law, numerics,
-                          thermal, on_step)
+        try:
+            if isinstance(app, Dwell):
+                rec = _dwell(app, i, t, last_start, thermal, brake.itf.area.size, vehicle)
+            else:
+                last_start = t
+                rec = _braked(app, i, t, model, brake, vehicle, pad_law, rotor_law, numerics,
+                              thermal, on_step)
+        except SolverError as e:
+            e.within(application=f"{i} ({type(app).__name__.lower()})")
+            raise
         rec.t_start, rec.run_s = t, _time.perf_counter() - t0
         rec.pad_wear, rec.rotor_wear = brake.pad_wear.copy(), brake.rotor_wear.copy()
         t += rec.duration

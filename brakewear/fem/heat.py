@@ -20,7 +20,7 @@ import scipy.sparse.linalg as spla
 import skfem as fem
 from skfem.helpers import dot, grad
 
-from ..errors import ThermalError
+from ..errors import ConvergenceError, ThermalError
 from ..materials import T_AMBIENT_DEFAULT, Material, Thermal
 from ..mesh.surface import surface_nodes, tributary_areas
 from ..mesh.topology import ensure_topology
@@ -319,7 +319,7 @@ class HeatConduction:
         rz = r @ z
         nb = np.linalg.norm(b)
         it = 0
-        while np.linalg.norm(r) > self.cg_tol * nb and it < 100:
+        while np.linalg.norm(r) > self.cg_tol * nb and it < _CG_MAXITER:
             Ad = Aff @ d
             a = rz / (d @ Ad)
             x += a * d
@@ -330,9 +330,12 @@ class HeatConduction:
             it += 1
         res = np.linalg.norm(b - Aff @ x) / max(nb, 1e-300)
         if not np.isfinite(res) or res > 10 * self.cg_tol:
-            raise ThermalError(f"body {self.name!r}: CG with the factorisation of dt = {dt0} "
-                               f"did not reach {self.cg_tol:.0e} for dt = {dt} (relative "
-                               f"residual {res:.2e} after {it} iterations)")
+            raise ConvergenceError(
+                f"body {self.name!r}: CG with the factorisation of dt = {dt0} did not reach "
+                f"{self.cg_tol:.0e} for dt = {dt} (relative residual {res:.2e} after {it} "
+                f"iterations; budget {_CG_MAXITER})",
+                figures={"iterations": it, "relative_residual": float(res),
+                         "maxiter": _CG_MAXITER, "tol": self.cg_tol})
         self.cg_iterations = it
         T[f] = x
         return T
@@ -445,3 +448,9 @@ def _check_boundaries(name, mesh, flux_facets, convection, fixed, contact_conduc
     if contact_conductance > 0 and flux_facets is None:
         raise ThermalError(f"body {name!r}: contact_conductance needs flux_facets")
     return convection, fixed
+
+
+#: iterations of the heat solve's CG preconditioned by another step's factorisation
+#: before :class:`~brakewear.errors.ConvergenceError` (it needs a few when the step is
+#: near the factorised one)
+_CG_MAXITER = 100

@@ -360,7 +360,8 @@ class AMGSolver:
                 f"mean reduction per iteration {self.info.convergence_factor:.3f}). "
                 + (f"pyamg: {notes} " if notes else "")
                 + "Is the body constrained against rigid motion? Is the matrix SPD?",
-                self.info,
+                self.info, figures={"iterations": self.info.iterations, "relative_residual": rel,
+                                    "tol": tol, "maxiter": self.maxiter},
             )
         logger.debug("AMG-CG: %d iterations, relative residual %.2e, %.2f s",
                      self.info.iterations, rel, dt)

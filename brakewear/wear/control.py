@@ -85,11 +85,13 @@ class StepControl:
         profile the time to the next of ``steps`` equal angles."""
         n = self.numerics.steps
         sp = self.speed
-        if sp is None or not hasattr(sp, "omega0"):
-            return self.duration / n
-        total = sp.angle(self.duration)
-        k = round(sp.angle(now) / total * n)
-        return sp.time_at_angle(total * min(k + 1, n) / n) - now
+        profile = sp is not None and hasattr(sp, "omega0")
+        total = sp.angle(self.duration) if profile else self.duration
+        k = round((sp.angle(now) if profile else now) / total * n)
+        if k + 1 >= n:      # the last step ends at the end, whatever the rounding
+            return self.duration - now
+        return (sp.time_at_angle(total * (k + 1) / n) if profile
+                else self.duration * (k + 1) / n) - now
 
     def propose(self, dt_next: float | None, remaining: float, seen_rate: np.ndarray,
                 worst: Callable[[], float],
@@ -143,11 +145,33 @@ class StepControl:
                     else f"wear error estimate {est:.3e} m > wear_tol {n.wear_tol:.3e} m")
             raise StepSizeError(
                 f"step {step}: no acceptable wear step after {rejected} "
-                f"{'halvings' if n.wear_tol is None else 'retries'} (last dt {dt:.3e} s, "
-                f"{what})")
+                f"{'halvings' if n.wear_tol is None else 'retries'} (the budget "
+                f"numerics.max_halvings = {n.max_halvings}; last dt {dt:.3e} s, {what})",
+                figures={"step": step, "retries": rejected, "max_halvings": n.max_halvings,
+                         "dt": dt, "pressure_change": change, "wear_error": est})
         if n.wear_tol is not None and np.isfinite(est):
             return dt * max(0.2, 0.9 * np.sqrt(n.wear_tol / est)), "wear_tol"
         return dt * 0.5, None       # contact lost, or the dp_tol control: halve
+
+    def check_progress(self, step: int, t_before: float, t_after: float) -> None:
+        """The loop's budget: raise :class:`StepSizeError` if accepted step ``step``
+        did not advance the time, or if the history has used its budget of steps
+        (``steps``, or ``max_steps`` under automatic control) short of its end."""
+        n = self.numerics
+        budget, key = (n.steps, "numerics.steps") if self.fixed else (n.max_steps,
+                                                                       "numerics.max_steps")
+        figures = {"step": step, "time": t_after, "duration": self.duration,
+                   "dt": t_after - t_before, "budget": budget}
+        if not t_after > t_before:
+            raise StepSizeError(
+                f"step {step}: the step from t = {t_before:.9g} s did not advance the time "
+                f"(dt = {t_after - t_before:.3e} s of a {self.duration:.6g} s history); the "
+                "loop stops here rather than repeat it", figures=figures)
+        if step >= budget and t_after < self.duration * (1 - 1e-12):
+            raise StepSizeError(
+                f"step {step}: the history used its budget of {budget} steps ({key}) at "
+                f"t = {t_after:.6g} s of {self.duration:.6g} s (last dt "
+                f"{t_after - t_before:.3e} s)", figures=figures)
 
     def next_dt(self, dt: float, change: float, est: float, now: float = 0.0) -> float:
         """The next step's target: aim at 0.7 dp_tol (first-order change), never

@@ -68,6 +68,10 @@ class Numerics:
         Relative residual of the contact solves.
     max_halvings : int
         Retries of a step before :class:`~brakewear.errors.StepSizeError`.
+    max_steps : int
+        Accepted steps a history under automatic control may take before
+        :class:`~brakewear.errors.StepSizeError` (the loop's budget; with
+        ``steps`` the budget is ``steps``).
     memory_budget : float or None
         Largest model a scene may ask for (GB; None: ``BRAKEWEAR_MEMORY_GB`` or
         the machine's available memory).
@@ -91,6 +95,7 @@ class Numerics:
     implicit_floor: float = 1e-3
     tol: float = 1e-9
     max_halvings: int = 12
+    max_steps: int = 20_000
     memory_budget: float | None = None
 
     def __post_init__(self):
@@ -111,5 +116,6 @@ class Numerics:
         check_number("numerics.implicit_floor", self.implicit_floor, 0.0, 1.0, lo_open=False)
         check_number("numerics.tol", self.tol, 0.0, 1e-3)
         check_int("numerics.max_halvings", self.max_halvings, 0)
+        check_int("numerics.max_steps", self.max_steps, 1)
         check_number("numerics.memory_budget", self.memory_budget, 0.0, unit="GB",
                      allow_none=True)

@@ -88,6 +88,22 @@ class LinearSpeed:
         return self.omega0 + self._slope * (t + 0.5 * dt)
 
     def time_at_angle(self, theta: float) -> float:
+        """When the rotor has turned ``theta`` (s); the end of the profile for the whole
+        angle, exactly.
+
+        The root of ``theta = omega0 t + slope t^2 / 2`` taken from the nearer end:
+        near the end of a stop to rest the speed goes to zero, and the root from the
+        start would lose half the digits (``b^2 - 4ac`` cancels: the last of ``N``
+        equal angles ended ``1e-8`` of the stop short of its end, where the next fixed
+        step was zero long).  From the end, ``phi = theta(T) - theta`` is the angle
+        left and ``tau = T - t`` solves ``omega1 tau - slope tau^2 / 2 = phi``
+        without cancellation.
+        """
+        total = self.angle(self.duration)
+        if self._slope < 0 and theta > 0.5 * total:
+            phi = max(total - theta, 0.0)
+            c = self.omega1 + math.sqrt(self.omega1 ** 2 - 2.0 * self._slope * phi)
+            return self.duration - (2.0 * phi / c if c > 0 else 0.0)
         a, b = 0.5 * self._slope, self.omega0
         disc = max(b * b + 4.0 * a * theta, 0.0)
         return 2.0 * theta / (b + math.sqrt(disc)) if b + math.sqrt(disc) > 0 else 0.0

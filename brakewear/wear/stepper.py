@@ -26,8 +26,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, StepSizeError,
-                      WearError)
+from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, SolverError,
+                      StepSizeError, WearError)
 from ..interfaces.fe import FEInterface
 from ..laws import WearLaw
 from ..rings import rotor_wear_rate
@@ -158,7 +158,13 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
         state = WearState.fresh(n_pad, n_rot, control.initial_dt())
     first_s = loop.start(state, extra)
     while state.time < duration * (1 - 1e-12):
-        record = loop.step(state, control)
+        t_before, step_no = state.time, state.step + 1
+        try:
+            record = loop.step(state, control)
+            control.check_progress(state.step, t_before, state.time)
+        except SolverError as e:
+            e.within(step=step_no, t=f"{t_before:.6g} s")
+            raise
         if first_s is not None:       # the first solve of a fresh run counts in step 1
             record.contact_solves += 1
             record.solve_s += first_s
