@@ -24,8 +24,11 @@ import argparse
 import json
 import logging
 import sys
+import threading
 import time
 from pathlib import Path
+
+from .heartbeat import listening
 
 logger = logging.getLogger(__name__)
 
@@ -98,39 +101,82 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
 
 
 class _Progress:
-    """A progress bar in simulated time (tqdm on stderr), fed by the wear loop's steps."""
+    """A progress bar (tqdm on stderr): a wear history's in simulated time, fed by
+    its steps; a schedule's in applications, fed by their records.  Between them
+    it shows that the run is alive: the solvers' beats (:mod:`brakewear.heartbeat`:
+    the contact solve's active-set iteration and set size) in its postfix, and a
+    clock that ticks every :data:`TICK_S` seconds while one solve runs."""
 
     def __init__(self, scene, quiet: bool):
-        self.total, self.done = scene.duration, 0.0
-        self.bar = None
-        if not quiet:
-            from tqdm import tqdm
-            self.bar = tqdm(total=scene.duration, unit="s", unit_scale=False, file=sys.stderr,
-                            desc=f"{scene.name}", dynamic_ncols=True,
-                            bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} s "
-                                       "simulated [{elapsed}<{remaining}{postfix}]")
-        self.step = 0
+        self.schedule = bool(scene.schedule)
+        self.total = len(scene.schedule) if self.schedule else scene.duration
+        self.done, self.step, self.where, self.alive = 0.0, 0, "", ""
+        self.bar, self._shown, self._stop = None, 0.0, threading.Event()
+        if quiet:
+            return
+        from tqdm import tqdm
+        counted = ("{n:.0f}/{total:.0f} applications" if self.schedule else
+                   "{n:.4g}/{total:.4g} s simulated")
+        self.bar = tqdm(total=self.total, unit="s", unit_scale=False, file=sys.stderr,
+                        desc=f"{scene.name}", dynamic_ncols=True,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| " + counted
+                                   + " [{elapsed}<{remaining}{postfix}]")
+        self._ticker = threading.Thread(target=self._tick, daemon=True)
+        self._ticker.start()
+
+    def _tick(self) -> None:
+        while not self._stop.wait(TICK_S):
+            bar = self.bar
+            if bar is not None:
+                bar.refresh()
+
+    def beat(self, what: str, figures: dict) -> None:
+        """A solver's sign of life (a :func:`brakewear.heartbeat.listening` listener)."""
+        if "iteration" in figures:
+            self.alive = (f"{what} iteration {figures['iteration']}"
+                          + (f" ({figures['active']} active)" if "active" in figures else ""))
+            self._postfix(time.monotonic() - self._shown > TICK_S)
+
+    def _postfix(self, refresh: bool) -> None:
+        if self.bar is not None:
+            self.bar.set_postfix_str(", ".join(x for x in (self.where, self.alive) if x),
+                                     refresh=refresh)
+            if refresh:
+                self._shown = time.monotonic()
 
     def __call__(self, s) -> None:
+        if self.schedule:           # an ApplicationRecord
+            self.where = f"application {s.index + 1} ({s.kind}) done"
+            self._advance(s.index + 1)
+            return
         self.step = s.step
         logger.info("step %d: t = %.6g s, dt = %.3g s (%s), %d rejected; pad wear max %.4g um, "
                     "pressure max %.4g MPa", s.step, s.time, s.dt, s.limit, s.rejected,
                     s.pad_wear.max() * 1e6, s.pressure.max() / 1e6)
+        if self.bar is not None and s.step and self.done == 0.0 and s.time - s.dt > 0:
+            self.done = s.time - s.dt          # resumed: start where the checkpoint was
+            self.bar.update(self.done)
+        self.where = f"step {s.step}, pad wear {s.pad_wear.max() * 1e6:.3g} um"
+        self._advance(min(s.time, self.total))
+
+    def _advance(self, to: float) -> None:
+        self.alive = ""
         if self.bar is not None:
-            if s.step and self.done == 0.0 and s.time - s.dt > 0:
-                self.done = s.time - s.dt          # resumed: start where the checkpoint was
-                self.bar.update(self.done)
-            self.bar.set_postfix_str(f"step {s.step}, pad wear {s.pad_wear.max() * 1e6:.3g} um",
-                                     refresh=False)
-            self.bar.update(min(s.time, self.total) - self.done)
-            if s.time >= self.total * (1 - 1e-12):
+            self._postfix(False)
+            self.bar.update(to - self.done)
+            if to >= self.total * (1 - 1e-12):
                 self.close()          # before the figures are drawn
-        self.done = min(s.time, self.total)
+        self.done = to
 
     def close(self) -> None:
+        self._stop.set()
         if self.bar is not None:
-            self.bar.close()
-            self.bar = None
+            bar, self.bar = self.bar, None
+            bar.close()
+
+
+#: seconds between two redraws of the progress bar while a solve runs
+TICK_S = 1.0
 
 
 def _print_schedule(scene: str, s: dict) -> None:
@@ -166,9 +212,10 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
         check_out(out, "--out")
     sc = load_scene(scene)
     out = Path(out) if out is not None else Path(f"brakewear-{sc.name}")
-    bar = _Progress(sc, quiet or bool(sc.schedule))   # a schedule logs per application
+    bar = _Progress(sc, quiet)
     try:
-        summary = run_scene(sc, out, resume=resume, progress=bar)
+        with listening(bar.beat):
+            summary = run_scene(sc, out, resume=resume, progress=bar)
     except KeyboardInterrupt:
         bar.close()
         raise _Interrupted(sc, out, bar.step) from None
@@ -194,9 +241,10 @@ def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = 
         sc = dataclasses.replace(sc, duration=float(duration))
     if not figures:
         sc = dataclasses.replace(sc, output=dataclasses.replace(sc.output, figures=False))
-    bar = _Progress(sc, quiet or bool(sc.schedule))   # a schedule logs per application
+    bar = _Progress(sc, quiet)
     try:
-        summary = run_scene(sc, out, progress=bar)
+        with listening(bar.beat):
+            summary = run_scene(sc, out, progress=bar)
     finally:
         bar.close()
     summary["out"] = str(out)

@@ -215,7 +215,8 @@ class MeshQualityError(SolverError):
 
     def __init__(self, message: str, *, step=None, body: str = "", element: int = -1,
                  quality: float = float("nan"), min_quality: float = float("nan")):
-        super().__init__(message)
+        super().__init__(message, figures={"step": step, "body": body, "element": element,
+                                           "quality": quality, "min_quality": min_quality})
         self.step, self.body, self.element = step, body, element
         self.quality, self.min_quality = quality, min_quality
 
@@ -228,7 +229,8 @@ class TemperatureLimitError(SolverError):
 
     def __init__(self, message: str, *, body: str = "", temperature: float = float("nan"),
                  T_max: float = float("nan"), step: int = -1, time: float = float("nan")):
-        super().__init__(message)
+        super().__init__(message, figures={"body": body, "temperature_K": temperature,
+                                           "T_max_K": T_max, "step": step, "time_s": time})
         self.body, self.temperature, self.T_max = body, temperature, T_max
         self.step, self.time = step, time
 

@@ -31,20 +31,20 @@ from typing import Any, Callable
 import numpy as np
 
 from .checks import file_messages, shown_value
-from .errors import SceneError, WearError, WornThroughError
+from .errors import SceneError, SolverError, WearError, WornThroughError
 from .interfaces.fe import FEInterface
 from .mesh.series import SeriesWriter, cell_nodes, face_fields
 from .rings import ring_profile
 from .scene.spec import _first_difference
 from .wear.numerics import Numerics
-from .wear.records import step_figures, temperature_field, thermal_record
+from .wear.records import end_record, step_figures, temperature_field, thermal_record
 from .wear.state import checkpoint_progress
 from .wear.stepper import WearStep, check_resume, wear_history
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["run_wear", "run_scene", "check_out", "step_figures", "temperature_field",
-           "thermal_record"]
+__all__ = ["run_wear", "run_scene", "ended_early", "check_out", "step_figures",
+           "temperature_field", "thermal_record"]
 
 
 def _figures(model, out: Path, scene) -> list[str]:
@@ -180,7 +180,7 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
             rot_series.write(s.step, s.time,
                              {"rotor_wear": a, **temperature_field(thermal, "rotor", a.size)})
 
-    worn = None
+    worn = None     # what ended the run before its end (None: it finished)
     try:
         for s in wear_history(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
                               numerics=numerics, checkpoint=ck, resume=resume,
@@ -190,21 +190,26 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
             if s.step % vtu_every == 0 or s.step == 1 or final:
                 write_vtu(s)
             _write_csv(csv_path, rows)
+            last = s
             if progress is not None:
                 progress(s)
-            last = s
-    except WornThroughError as exc:     # the end of the run: its last step is written
+    except (WornThroughError, SolverError, KeyboardInterrupt) as exc:
+        # the end of the run (a worn-through surface, a face past T_max, a solver
+        # error, Ctrl-C): its last step is written, and the summary says why
         worn = exc
         if last is not None and not (last.step % vtu_every == 0 or last.step == 1
                                      or last.time >= duration * (1 - 1e-12)):
             write_vtu(last)
+    if last is None and worn is not None:
+        raise ended_early(out, worn, {"steps": start or 0, "line_pressure_Pa": line_pressure,
+                                      "duration_s": duration, "dofs": int(model.dofs)})
     if last is None:
         raise WearError(f"{out}: the checkpoint holds a finished run (t = {duration:g} s); "
                          "nothing to resume. Run without resume, or into another folder")
     total_s = time.perf_counter() - t0
     summary = {
-        "status": "finished" if worn is None else "worn_through",
-        "worn_through": None if worn is None else worn.record(),
+        **end_record(worn),
+        "worn_through": worn.record() if isinstance(worn, WornThroughError) else None,
         "line_pressure_Pa": line_pressure, "omega_rad_s": omega, "duration_s": duration,
         "mu": law_record(mu), "rotor": model.rotor, "dofs": int(model.dofs),
         "pad_law": law_record(pad_law), "rotor_law": law_record(rotor_law),
@@ -224,6 +229,17 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         worn.summary = summary
         raise worn
     return summary
+
+
+def ended_early(out: Path, exc: BaseException, summary: dict):
+    """Write ``out/summary.json`` of a run that ``exc`` ended early: ``summary`` (what
+    is known so far) with its status and the reason (:func:`~brakewear.wear.records.end_record`).
+    Returns ``exc``, the summary as its ``summary`` attribute, to re-raise."""
+    summary = {**summary, **end_record(exc)}
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    exc.summary = summary
+    return exc
 
 
 def _write_csv(path: Path, rows: list) -> None:
@@ -301,20 +317,22 @@ def _run_scene(scene, out, resume: bool, progress) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     rec_path.write_text(json.dumps(record, indent=2))
     if scene.schedule:
-        return _run_schedule_scene(scene, model, out, pad_law, rotor_law, kw)
+        return _run_schedule_scene(scene, model, out, pad_law, rotor_law, kw, progress)
     worn = None
     try:
         summary = run_wear(model, out, scene.line_pressure, scene.omega, scene.duration,
                            pad_law, rotor_law, scene.friction(),
                            vtu_every=scene.output.vtu_every, resume=resume, progress=progress,
                            **kw)
-    except WornThroughError as exc:
+    except (WornThroughError, SolverError, KeyboardInterrupt) as exc:
+        if getattr(exc, "summary", None) is None:
+            raise
         worn, summary = exc, exc.summary
     summary["scene"] = {"name": scene.name, "source": scene.source,
                         "interface": scene.interface.model, "scheme": n.scheme,
                         "update": n.update, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}
-    if scene.output.figures:
+    if scene.output.figures and "final" in summary and not isinstance(worn, KeyboardInterrupt):
         summary["figures"] = _figures(model, out, scene)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
     if worn is not None:
@@ -322,17 +340,28 @@ def _run_scene(scene, out, resume: bool, progress) -> dict:
     return summary
 
 
-def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict) -> dict:
-    """A scene's [schedule]: applications.csv, the pad per application, summary.json."""
+def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict,
+                        progress=None) -> dict:
+    """A scene's [schedule]: applications.csv, the pad per application, summary.json
+    (also when the schedule ends early: its status and the reason)."""
     from .duty.report import run_schedule_files
     itf = kw.get("interface") or FEInterface(model, 1e6, scene.interface.mu,
                                              scene.numerics.tol)
-    summary = run_schedule_files(scene, model, out, pad_law, rotor_law, interface=itf,
-                                 thermal=kw.get("thermal"), initial_gap=kw.get("initial_gap"))
+    ended = None
+    try:
+        summary = run_schedule_files(scene, model, out, pad_law, rotor_law, interface=itf,
+                                     thermal=kw.get("thermal"),
+                                     initial_gap=kw.get("initial_gap"), progress=progress)
+    except (WornThroughError, SolverError, KeyboardInterrupt) as exc:
+        if getattr(exc, "summary", None) is None:
+            raise
+        ended, summary = exc, exc.summary
     summary["scene"] = {"name": scene.name, "source": scene.source, "scheme":
                         scene.numerics.scheme, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    if ended is not None:
+        raise ended
     return summary
 
 

@@ -177,3 +177,32 @@ def test_a_solver_error_keeps_the_innermost_place():
     e.within(step=2).within(step=9, application="1 (drag)")
     assert e.where == {"step": 2, "application": "1 (drag)"}
     assert str(e) == "x [step 2, application 1 (drag)]"
+
+
+# ------------------------------------------------------------- the progress bar --
+def test_the_cli_runs_the_three_step_drive_cycle_and_shows_it_is_alive(tmp_path, capsys):
+    """The drive cycle of the hang (a stop from 60 km/h to rest at 1 MPa, three
+    fixed steps) through `brakewear run`: it finishes, and its progress bar counts
+    the applications and shows the contact solve's iterations while they run."""
+    import json
+    import re
+
+    from brakewear.cli import main
+    from brakewear.scene import scene_file
+
+    text = scene_file("default").read_text()
+    for key, value in (("size", "8.0"), ("rotor", '"rigid"'), ("figures", "false")):
+        text = re.sub(rf"(?m)^{key} = .*$", f"{key} = {value}", text)
+    text = re.sub(r"(?m)^(line_pressure|omega|duration) = .*$", "", text)
+    text = re.sub(r"(?m)^dp_tol = .*$", "steps = 3", text)
+    text += ('\n[vehicle]\nmass = 1800.0\nfront_share = 0.7\ntyre_radius = 320.0\n'
+             '\n[schedule]\nfile = "cycle.csv"\n')
+    (tmp_path / "cycle.csv").write_text("time_s,speed_kmh,line_pressure_MPa\n0,60,1\n"
+                                        "20,0,0\n30,0,0\n")
+    (tmp_path / "hang.toml").write_text(text)
+    out = tmp_path / "run"
+    assert main(["run", str(tmp_path / "hang.toml"), "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "/2 applications" in err and re.search(r"contact iteration \d+ \(\d+ active\)", err)
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "finished" and s["braked_applications"] == 1

@@ -34,6 +34,7 @@ from typing import Literal, NamedTuple, Protocol
 import numpy as np
 
 from ..errors import ActiveSetError, ContactError, ContactLostError
+from ..heartbeat import beat
 
 logger = logging.getLogger(__name__)
 
@@ -257,6 +258,7 @@ class ActiveSetDriver:
                     figures=self.figures(problem))
             problem.solve(active, *self.solve_tolerance())
             self.solves += 1
+            beat(self.name, iteration=it, active=int(active.sum()), max_iter=o.max_iter)
             m = problem.margins(active, o.release_tol)
             new = (conservative_update if self.conservative else pdas_update)(active, m)
             self.counts.append(int(active.sum()))

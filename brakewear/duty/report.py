@@ -27,15 +27,17 @@ scene with a ``[schedule]`` and writes, into the run's folder,
 from __future__ import annotations
 
 import csv
+import json
 import logging
 import time
 from pathlib import Path
 
 import numpy as np
 
+from ..errors import BrakewearError, InputError
 from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..rings import ring_profile
-from ..wear.records import temperature_field, thermal_record
+from ..wear.records import end_record, temperature_field, thermal_record
 from .runner import run_schedule
 
 logger = logging.getLogger(__name__)
@@ -51,50 +53,73 @@ APPLICATION_COLUMNS = ("index", "kind", "t_start", "duration", "line_pressure", 
 
 def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface,
                        thermal=None, initial_gap=None, progress=None) -> dict:
-    """Run ``scene.schedule`` on ``model`` and write the files above; the summary."""
+    """Run ``scene.schedule`` on ``model`` and write the files above; the summary.
+
+    A schedule that ends early (a worn-through surface, a face past ``T_max``,
+    a solver error, Ctrl-C) writes the summary of the applications it finished,
+    with its ``status`` and the reason (``ended``:
+    :func:`~brakewear.wear.records.end_record`), then raises the error with that
+    summary as its ``summary`` attribute."""
     t0 = time.perf_counter()
     write = _Frames(model, out, interface, thermal)
-    rows, last, final = [], None, None
-    for rec in run_schedule(model, list(scene.schedule), pad_law, rotor_law, scene.interface.mu,
-                            vehicle=scene.vehicle, numerics=scene.numerics, interface=interface,
-                            thermal=thermal, initial_gap=initial_gap):
-        rows.append({**{k: getattr(rec, k) for k in APPLICATION_COLUMNS}, **(rec.heat or {})})
-        _write_csv(out / "applications.csv", rows)
-        if rec.kind != "dwell":
-            last = rec
-        if rec.kind != "dwell" or thermal is not None:    # a dwell changes temperatures only
-            write(rec)
-        final = rec
-        if progress is not None:
-            progress(rec)
-    braked = [r for r in rows if r["kind"] != "dwell"]
-    demand = sum(r["target_face_J"] for r in braked)
-    dissipated = sum(r["friction_face_J"] for r in braked)
-    summary = {
-        "status": "finished", "applications": len(rows), "braked_applications": len(braked),
-        "schedule_s": rows[-1]["t_start"] + rows[-1]["duration"],
-        "energy": {"demanded_per_face_J": demand, "dissipated_per_face_J": dissipated,
-                   "largest_relative_difference": max(
-                       abs(r["friction_face_J"] / r["target_face_J"] - 1.0) for r in braked)},
-        "pad_volume_m3": sum(r["pad_volume_m3"] for r in braked),
-        "rotor_volume_m3": sum(r["rotor_volume_m3"] for r in braked),
-        "pad_wear_max_m": float(last.pad_wear.max()),
-        "rotor_wear_max_m": float(last.rotor_wear.max()),
-        "line_pressure_range_Pa": [min(r["line_pressure"] for r in braked),
-                                   max(r["line_pressure"] for r in braked)],
-        "rotor_wear_profile": dict(zip(("r_m", "wear_m"), (
-            a.tolist() for a in ring_profile(interface, last.rotor_wear)))),
-        "run_s": time.perf_counter() - t0,
-        "files": {"applications": "applications.csv", "pad": "pad.pvd",
-                  "rotor": "rotor.pvd" if write.rotor is not None else None},
-        "thermal": None if thermal is None else thermal_record(thermal, final),
-    }
+    rows, final = [], None
+    try:
+        for rec in run_schedule(model, list(scene.schedule), pad_law, rotor_law,
+                                scene.interface.mu, vehicle=scene.vehicle,
+                                numerics=scene.numerics, interface=interface, thermal=thermal,
+                                initial_gap=initial_gap):
+            rows.append({**{k: getattr(rec, k) for k in APPLICATION_COLUMNS},
+                         **(rec.heat or {})})
+            _write_csv(out / "applications.csv", rows)
+            if rec.kind != "dwell" or thermal is not None:  # a dwell changes temperatures only
+                write(rec)
+            final = rec
+            if progress is not None:
+                progress(rec)
+    except (BrakewearError, KeyboardInterrupt) as exc:
+        if isinstance(exc, InputError) and not rows:    # refused before it ran
+            raise
+        summary = {**_summary(rows, final, interface, thermal, write, t0), **end_record(exc)}
+        (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+        exc.summary = summary
+        raise
+    summary = _summary(rows, final, interface, thermal, write, t0)
     if getattr(scene.output, "figures", False):
         summary["files"]["figure"] = str(application_figure(rows, out / "applications.png",
                                                             scene.name))
     logger.info("schedule: %d applications, %.4g J demanded and %.4g J dissipated per face",
-                len(rows), demand, dissipated)
+                len(rows), summary["energy"]["demanded_per_face_J"],
+                summary["energy"]["dissipated_per_face_J"])
     return summary
+
+
+def _summary(rows: list, final, interface, thermal, write, t0: float) -> dict:
+    """The summary of the applications in ``rows`` (``final``: the last one's record)."""
+    braked = [r for r in rows if r["kind"] != "dwell"]
+    demand = sum(r["target_face_J"] for r in braked)
+    dissipated = sum(r["friction_face_J"] for r in braked)
+    wear = (final.pad_wear, final.rotor_wear) if final is not None else None
+    return {
+        **end_record(None), "applications": len(rows), "braked_applications": len(braked),
+        "schedule_s": rows[-1]["t_start"] + rows[-1]["duration"] if rows else 0.0,
+        "energy": {"demanded_per_face_J": demand, "dissipated_per_face_J": dissipated,
+                   "largest_relative_difference": max(
+                       (abs(r["friction_face_J"] / r["target_face_J"] - 1.0) for r in braked),
+                       default=None)},
+        "pad_volume_m3": sum(r["pad_volume_m3"] for r in braked),
+        "rotor_volume_m3": sum(r["rotor_volume_m3"] for r in braked),
+        "pad_wear_max_m": float(wear[0].max()) if wear else 0.0,
+        "rotor_wear_max_m": float(wear[1].max()) if wear else 0.0,
+        "line_pressure_range_Pa": [min(r["line_pressure"] for r in braked),
+                                   max(r["line_pressure"] for r in braked)] if braked else None,
+        "rotor_wear_profile": dict(zip(("r_m", "wear_m"), (
+            a.tolist() for a in ring_profile(interface, wear[1])))) if wear else None,
+        "run_s": time.perf_counter() - t0,
+        "files": {"applications": "applications.csv", "pad": "pad.pvd",
+                  "rotor": "rotor.pvd" if write.rotor is not None else None},
+        "thermal": None if thermal is None or final is None else
+        thermal_record(thermal, final),
+    }
 
 
 class _Frames:

@@ -8,7 +8,9 @@
 * :class:`HeatTally` -- the thermal columns of one application of a schedule
   (``applications.csv``) from its steps;
 * :func:`temperature_field` -- a body's ``temperature_C`` for its VTU;
-* :func:`thermal_record` -- the summary's ``thermal`` entry.
+* :func:`thermal_record` -- the summary's ``thermal`` entry;
+* :func:`end_record` -- the summary's ``status`` and ``ended`` entries: how
+  the run ended and, when it ended early, why.
 """
 from __future__ import annotations
 
@@ -19,7 +21,7 @@ import numpy as np
 logger = logging.getLogger(__name__)
 
 __all__ = ["thermal_state", "step_figures", "thermal_columns", "HeatTally",
-           "temperature_field", "thermal_record"]
+           "temperature_field", "thermal_record", "end_record"]
 
 C0 = 273.15         # K at 0 C
 
@@ -145,3 +147,37 @@ def thermal_record(thermal, last) -> dict:
                       "rotor_T_max_C": last.rotor_temperature_max - C0,
                       "heat_balance": {k: v for k, v in thermal.heat_balance().items()
                                        if k != "bodies"}}}
+
+
+def end_record(exc: BaseException | None) -> dict:
+    """``status`` and ``ended`` of a summary: how the run ended.
+
+    ``status`` is ``"finished"`` (``exc`` None), ``"worn_through"`` (a surface
+    reached its limit), ``"temperature_limit"`` (a face passed ``T_max``),
+    ``"solver_error"`` (any other solver error), ``"input_error"`` (an input
+    found wrong only when the run reached it) or ``"interrupted"``
+    (``KeyboardInterrupt``, Ctrl-C).  ``ended`` is None for a finished run,
+    else the reason: the error's kind, its message, its figures and where it
+    happened (the step, the application), as far as the error holds them.
+    """
+    from ..errors import InputError, TemperatureLimitError, WornThroughError
+
+    if exc is None:
+        return {"status": "finished", "ended": None}
+    status = ("worn_through" if isinstance(exc, WornThroughError) else
+              "temperature_limit" if isinstance(exc, TemperatureLimitError) else
+              "interrupted" if isinstance(exc, KeyboardInterrupt) else
+              "input_error" if isinstance(exc, InputError) else "solver_error")
+    reason = str(exc) or ("interrupted by the user (Ctrl-C)" if status == "interrupted"
+                          else type(exc).__name__)
+    return {"status": status, "ended": {
+        "error": type(exc).__name__, "reason": reason,
+        "figures": _plain(exc.record() if isinstance(exc, WornThroughError) else
+                          getattr(exc, "figures", None) or {}),
+        "where": dict(getattr(exc, "where", None) or {})}}
+
+
+def _plain(d: dict) -> dict:
+    """JSON-ready values: numpy scalars and arrays as numbers and lists."""
+    return {k: (v.tolist() if isinstance(v, (np.ndarray, np.generic)) else v)
+            for k, v in d.items()}

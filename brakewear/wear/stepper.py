@@ -156,7 +156,11 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                                       model.geometry.units)
     else:
         state = WearState.fresh(n_pad, n_rot, control.initial_dt())
-    first_s = loop.start(state, extra)
+    try:
+        first_s = loop.start(state, extra)
+    except SolverError as e:
+        e.within(step=f"{state.step} (the contact solve of the start)")
+        raise
     while state.time < duration * (1 - 1e-12):
         t_before, step_no = state.time, state.step + 1
         try:
