@@ -30,7 +30,10 @@ branch to handle all of its kinds::
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 __all__ = [
+    "located",
     "BrakewearError",
     "InputError",
     "SolverError",
@@ -269,3 +272,14 @@ class WornThroughError(BrakewearError):
         return {"body": self.body, "time_s": self.time, "step": self.step, "r_m": self.r,
                 "theta_deg": self.theta, "depth_m": self.depth, "limit_m": self.limit,
                 "message": str(self)}
+
+
+@contextmanager
+def located(**where):
+    """Name where a :class:`SolverError` raised inside the block happened
+    (:meth:`SolverError.within`: a loop's step, a schedule's application)."""
+    try:
+        yield
+    except SolverError as exc:
+        exc.within(**where)
+        raise

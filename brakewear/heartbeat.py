@@ -5,7 +5,7 @@ progress bar fed by accepted steps would then stand still.  The iterative
 solvers call :func:`beat` once per iteration (an active-set iteration, a wear
 step's retry); a display registers a listener with :func:`listening` and
 shows the latest beat.  With no listener a beat costs one check of an empty
-list.  The library never prints: what a beat shows is the listener's choice.
+list.  The library never prints: what a beat shows is the listener's choice::
 
     from brakewear.heartbeat import listening
 

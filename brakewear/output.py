@@ -136,10 +136,11 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     ``numerics`` and ``kwargs`` go to :func:`~brakewear.wear.wear_history`
     (``interface``, ``thermal``, ``initial_gap``, ``every``, ``limits``).
     ``progress`` is called with each :class:`WearStep` (e.g. to advance a
-    progress bar).  Returns the summary.  A surface worn to its limit ends
-    the run: the files and ``summary.json`` (``"status": "worn_through"``)
-    are written, then the :class:`~brakewear.errors.WornThroughError` is
-    raised with the summary as its ``summary`` attribute.
+    progress bar).  Returns the summary.  A surface worn to its limit, a face
+    past ``T_max``, a solver error or Ctrl-C ends the run: the files and
+    ``summary.json`` (its ``status`` and the reason, ``ended``:
+    :func:`~brakewear.wear.records.end_record`) are written, then the error
+    is raised with the summary as its ``summary`` attribute.
     """
     out = Path(out)
     numerics = Numerics() if numerics is None else numerics
@@ -156,8 +157,7 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     itf = kwargs.pop("interface", None) or FEInterface(
         model, line_pressure, mu if np.ndim(mu) == 0 and not hasattr(mu, "mu_at") else 1.0,
         numerics.tol)
-    pad = model.meshes["pad"]
-    rotor = model.meshes.get("rotor")
+    pad, rotor = model.meshes["pad"], model.meshes.get("rotor")
     pad_series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad), start)
     rot_series = (SeriesWriter(out, "rotor", rotor.p, cell_nodes(rotor), start)
                   if model.rotor == "elastic" and itf.rotor_nodes is not None else None)
@@ -194,15 +194,13 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
             if progress is not None:
                 progress(s)
     except (WornThroughError, SolverError, KeyboardInterrupt) as exc:
-        # the end of the run (a worn-through surface, a face past T_max, a solver
-        # error, Ctrl-C): its last step is written, and the summary says why
-        worn = exc
-        if last is not None and not (last.step % vtu_every == 0 or last.step == 1
-                                     or last.time >= duration * (1 - 1e-12)):
+        worn = exc      # the run's end: its last step is written, the summary says why
+        if last is None:
+            raise ended_early(out, exc, {"steps": start or 0, "duration_s": duration,
+                                         "line_pressure_Pa": line_pressure}) from None
+        if not (last.step % vtu_every == 0 or last.step == 1
+                or last.time >= duration * (1 - 1e-12)):
             write_vtu(last)
-    if last is None and worn is not None:
-        raise ended_early(out, worn, {"steps": start or 0, "line_pressure_Pa": line_pressure,
-                                      "duration_s": duration, "dofs": int(model.dofs)})
     if last is None:
         raise WearError(f"{out}: the checkpoint holds a finished run (t = {duration:g} s); "
                          "nothing to resume. Run without resume, or into another folder")

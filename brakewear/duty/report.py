@@ -4,7 +4,8 @@
 scene with a ``[schedule]`` and writes, into the run's folder,
 
 * ``applications.csv``: per application its kind, start, duration, line
-  pressure, deceleration, speeds, effective radius, torque, the vehicle's
+  pressure, deceleration, speeds, effective radius (at its start and its mean
+  over the rotor angle), torque, the vehicle's
   kinetic and regenerated energy and the demand on each face, the model's
   friction work per face, worn volumes, steps and the pad face temperature
   (K); with thermal coupling also the thermal columns of
@@ -46,8 +47,8 @@ __all__ = ["run_schedule_files", "APPLICATION_COLUMNS"]
 
 #: the columns of applications.csv (SI units, energies per friction face)
 APPLICATION_COLUMNS = ("index", "kind", "t_start", "duration", "line_pressure", "decel", "v0",
-                       "v1", "omega0", "omega1", "rotor_angle", "r_eff", "torque", "kinetic_J",
-                       "regenerated_J", "target_face_J", "friction_face_J", "pad_volume_m3",
+                       "v1", "omega0", "omega1", "rotor_angle", "r_eff", "r_eff_mean", "torque",
+                       "kinetic_J", "regenerated_J", "target_face_J", "friction_face_J", "pad_volume_m3",
                        "rotor_volume_m3", "steps", "pad_temperature_max", "run_s")
 
 

@@ -10,12 +10,15 @@ through the dwells.
 Per application: the line pressure and the deceleration (one from the other
 through the vehicle and the brake's torque, ``T = 2 mu p_line A_clamp
 r_eff`` with the effective radius of the pressure field at the
-application's start), the rotor speeds, the kinetic energy, the part
-regenerated, the friction work the vehicle asks of each face and the one the
-model dissipated (``mu sum(p A r) Delta theta`` over the steps; in the full
+application's start, solved with the thermal load of the temperatures it
+starts from), the rotor speeds, the kinetic energy, the part regenerated,
+the friction work the vehicle asks of each face and the one the model
+dissipated (the steps' ``friction_work``: ``mu sum(p A r) Delta theta`` at
+each step's start pressure, the heat the thermal model takes in; in the full
 model the mean of its two faces), the worn volumes (of every modelled pad).
 The line pressure is held over an application, so the two friction works
-differ by how much the effective radius moves within it (``torque_drift``).
+differ by how much the effective radius moves within it: ``torque_drift`` is
+``r_eff_mean / r_eff - 1`` (docs/duty.md).
 """
 from __future__ import annotations
 
@@ -26,7 +29,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..errors import ConvergenceError, DutyError, SolverError
+from ..errors import ConvergenceError, DutyError, located
 from ..interfaces.fe import FEInterface
 from ..wear.numerics import Numerics
 from ..wear.records import HeatTally, thermal_state
@@ -58,6 +61,7 @@ class ApplicationRecord:
     omega1: float = 0.0
     rotor_angle: float = 0.0       # rad
     r_eff: float | None = None     # m, at the start
+    r_eff_mean: float | None = None  # m, over the rotor angle (the steps' start pressures)
     torque: float | None = None    # N m, at the start
     kinetic_J: float | None = None
     regenerated_J: float | None = None
@@ -89,8 +93,8 @@ class ApplicationRecord:
 class _Brake:
     """The brake's contact state between applications."""
 
-    def __init__(self, model, itf, mu, initial_gap):
-        self.model, self.itf, self.mu = model, itf, mu
+    def __init__(self, model, itf, mu, initial_gap, thermal=None):
+        self.model, self.itf, self.mu, self.thermal = model, itf, mu, thermal
         self.clamp_area = model.geometry.clamp_area     # one side's pistons together
         self.faces = FACES if getattr(model, "full", False) else 1    # friction faces modelled
         n = itf.area.size       # the initial gap's size is checked with the schedule
@@ -102,8 +106,11 @@ class _Brake:
         return self.gap0 + self.pad_wear + self.itf.W @ self.rotor_wear
 
     def solve(self, line_pressure):
+        # with the thermal load of the current temperatures, as the application's
+        # first step solves it: the torque equation's r_eff is that of its start
+        load = None if self.thermal is None else self.thermal.thermal_load()
         sol = self.itf.at_line_pressure(line_pressure).solve(self.offset(), self.active,
-                                                              mu=self.mu)
+                                                              mu=self.mu, load=load)
         self.active = sol.active
         return sol
 
@@ -230,20 +237,17 @@ def _run(model, apps, pad_law, rotor_law, mu, vehicle, numerics, interface, ther
     first = next((a for a in apps if not isinstance(a, Dwell)), None)
     p_ref = (first.line_pressure if getattr(first, "line_pressure", None) else 1e6)
     itf = FEInterface(model, p_ref, mu, numerics.tol) if interface is None else interface
-    brake = _Brake(model, itf, mu, initial_gap)
+    brake = _Brake(model, itf, mu, initial_gap, thermal)
     t, last_start = 0.0, 0.0
     for i, app in enumerate(apps):
         t0 = _time.perf_counter()
-        try:
+        with located(application=f"{i} ({type(app).__name__.lower()})"):
             if isinstance(app, Dwell):
                 rec = _dwell(app, i, t, last_start, thermal, brake.itf.area.size, vehicle)
             else:
                 last_start = t
                 rec = _braked(app, i, t, model, brake, vehicle, pad_law, rotor_law, numerics,
                               thermal, on_step)
-        except SolverError as e:
-            e.within(application=f"{i} ({type(app).__name__.lower()})")
-            raise
         rec.t_start, rec.run_s = t, _time.perf_counter() - t0
         rec.pad_wear, rec.rotor_wear = brake.pad_wear.copy(), brake.rotor_wear.copy()
         t += rec.duration
@@ -302,15 +306,12 @@ def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numeri
     speed, rec = _resolve(app, vehicle, brake, i)
     rec.rotor_angle = speed.angle(rec.duration)
     itf = brake.itf.at_line_pressure(rec.line_pressure)
-    A, r = itf.area, itf.r
-    implicit = numerics.scheme == "implicit"
-    last, tally = None, HeatTally()
+    last, tally, r_sum = None, HeatTally(), 0.0
     for s in wear_history(model, rec.line_pressure, speed, rec.duration, pad_law, rotor_law,
                           brake.mu, numerics=numerics, interface=itf, thermal=thermal,
                           initial_gap=brake.offset()):
-        d_theta = speed.angle(s.time) - speed.angle(s.time - s.dt)
-        p_used = s.pressure_end if implicit else s.pressure
-        rec.friction_face_J += brake.mu * float((p_used * A * r).sum()) * d_theta / brake.faces
+        rec.friction_face_J += s.friction_work / brake.faces
+        r_sum += brake.r_eff(s.pressure) * (speed.angle(s.time) - speed.angle(s.time - s.dt))
         tally.add(s, s.dt)
         if on_step is not None:
             on_step(rec, s, brake.pad_wear + s.pad_wear, brake.rotor_wear + s.rotor_wear)
@@ -320,6 +321,7 @@ def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numeri
     brake.active = last.active_end
     rec.pad_volume_m3, rec.rotor_volume_m3 = last.pad_volume, last.rotor_volume
     rec.steps = last.step
+    rec.r_eff_mean = r_sum / rec.rotor_angle
     rec.pressure, rec.active = last.pressure_end, last.active_end
     if thermal is not None:
         _heat(rec, last, tally)

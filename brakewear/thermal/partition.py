@@ -10,7 +10,7 @@ from ..fem.heat import check_thermal
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["partition_effusivity", "heat_flux"]
+__all__ = ["partition_effusivity", "heat_flux", "friction_power"]
 
 
 
@@ -63,3 +63,15 @@ def heat_flux(p: np.ndarray, v: np.ndarray, mu) -> np.ndarray:
     if np.any(mu < 0) or not np.all(np.isfinite(mu)):
         raise ThermalError(f"friction coefficient min {mu.min()!r} is not allowed; need mu >= 0")
     return mu * np.clip(p, 0.0, None) * v
+
+
+def friction_power(p: np.ndarray, v: np.ndarray, mu, area: np.ndarray) -> float:
+    """Frictional power of a face (W): ``sum mu p v A`` over its nodes (the
+    :func:`heat_flux` times the nodes' areas).
+
+    The one definition of friction work in brakewear: a wear step's is this
+    power at its start pressure and its mean speed times its length (the heat
+    the thermal model takes in over the step, the ``friction_work`` of a
+    :class:`~brakewear.wear.WearStep`), and an application's the sum of its steps'.
+    """
+    return float(heat_flux(p, v, mu) @ np.asarray(area, dtype=float))

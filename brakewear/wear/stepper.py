@@ -26,11 +26,12 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, SolverError,
-                      StepSizeError, WearError)
+from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, StepSizeError,
+                      WearError, located)
 from ..interfaces.fe import FEInterface
 from ..laws import WearLaw
 from ..rings import rotor_wear_rate
+from ..thermal.partition import friction_power
 from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .inputs import at_pressure, check_inputs
@@ -77,6 +78,8 @@ class WearStep:
     mu_nodes: np.ndarray | None = None   # mu per pad node in this step (a friction law's)
     heat: dict | None = None    # thermal only: mean face temperatures (K) and the step's
                                 # heat into pad and rotor and convected from each body (W)
+    friction_work: float = 0.0  # J on the modelled faces: friction_power at the start
+                                # pressure and the mean speed, times dt (the heat put in)
 
 
 def wear_history(model, line_pressure: float, omega: float, duration: float,
@@ -156,19 +159,13 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                                       model.geometry.units)
     else:
         state = WearState.fresh(n_pad, n_rot, control.initial_dt())
-    try:
+    with located(step=f"{state.step} (the contact solve of the start)"):
         first_s = loop.start(state, extra)
-    except SolverError as e:
-        e.within(step=f"{state.step} (the contact solve of the start)")
-        raise
     while state.time < duration * (1 - 1e-12):
-        t_before, step_no = state.time, state.step + 1
-        try:
+        t_before = state.time
+        with located(step=state.step + 1, t=f"{t_before:.6g} s"):
             record = loop.step(state, control)
             control.check_progress(state.step, t_before, state.time)
-        except SolverError as e:
-            e.within(step=step_no, t=f"{t_before:.6g} s")
-            raise
         if first_s is not None:       # the first solve of a fresh run counts in step 1
             record.contact_solves += 1
             record.solve_s += first_s
@@ -436,6 +433,7 @@ class _WearLoop:
                              NodalLaws.effective(mu_step, p, self.A_pad), T_rot)
         record.explicit = self.took_explicit
         record.mu_nodes = None if np.ndim(mu_step) == 0 else mu_step
+        record.friction_work = friction_power(p, self.v, mu_step, self.A_pad) * dt
         self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
         if self.thermal is not None:
             check_temperature(record, self.thermal)     # a TemperatureLimitError
