@@ -204,7 +204,7 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     ``out`` defaults to ``brakewear-<scene name>``.  A progress bar (stderr)
     advances in simulated time unless ``quiet``.
     """
-    from .errors import WornThroughError
+    from .errors import SolverError, WornThroughError
     from .output import check_out, run_scene
     from .scene import load_scene
 
@@ -219,8 +219,9 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     except KeyboardInterrupt:
         bar.close()
         raise _Interrupted(sc, out, bar.step) from None
-    except WornThroughError as exc:
-        exc.summary["out"] = str(out)
+    except (WornThroughError, SolverError) as exc:
+        if getattr(exc, "summary", None) is not None:
+            exc.summary["out"] = str(out)
         raise
     finally:
         bar.close()
@@ -363,7 +364,10 @@ def main(argv: list[str] | None = None) -> int:
         print("brakewear: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except SolverError as e:
-        print(f"brakewear: solver failed ({type(e).__name__}): {e}", file=sys.stderr)
+        out = getattr(e, "summary", None) or {}
+        print(f"brakewear: solver failed ({type(e).__name__}): {e}"
+              + (f"; summary.json (status {out['status']!r}) and the steps up to it are in "
+                 f"{out['out']}" if "out" in out else ""), file=sys.stderr)
         return EXIT_SOLVER
     except WornThroughError as e:
         out = getattr(e, "summary", {}).get("out") or (args.out or "the output folder")

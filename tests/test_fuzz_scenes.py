@@ -78,6 +78,7 @@ def test_random_scene_files_run_or_end_with_a_named_error(scene, tmp_path_factor
     assert s["status"] in status[code], (s["status"], err, scene)
     if code:
         event(f"ended by {s['ended']['error']}")
+        assert "summary.json" in err, err
         assert s["ended"]["reason"] and s["ended"]["error"].endswith("Error"), s["ended"]
     else:
         assert s["final"]["time_s"] == pytest.approx(s["duration_s"], rel=1e-9)
