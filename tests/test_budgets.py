@@ -206,3 +206,25 @@ def test_the_cli_runs_the_three_step_drive_cycle_and_shows_it_is_alive(tmp_path,
     assert "/2 applications" in err and re.search(r"contact iteration \d+ \(\d+ active\)", err)
     s = json.loads((out / "summary.json").read_text())
     assert s["status"] == "finished" and s["braked_applications"] == 1
+
+
+def test_the_heat_solves_cg_budget_raises_a_solver_error(monkeypatch):
+    """A heat step whose length is not a power of two is solved by CG preconditioned
+    with its octave's factorisation; with no iteration allowed it raises a
+    ConvergenceError (a solver error, not an input error) with its figures."""
+    import skfem as fem
+
+    from brakewear.fem import HeatConduction, heat
+    from brakewear.materials import MATERIALS
+
+    m = fem.MeshTet.init_tensor(*(np.linspace(0, 4e-3, 4),) * 3).with_boundaries(
+        {"x0": lambda x: np.isclose(x[0], 0.0), "x1": lambda x: np.isclose(x[0], 4e-3)})
+    body = HeatConduction(m, MATERIALS["pad_resin"], flux_facets="x0", fixed={"x1": 293.15})
+    T0 = np.full(body.n, 293.15)
+    F = body.flux_load(np.full(body.face.shape, 1e5))
+    body.step(T0, F, 0.3)                             # CG converges within its budget
+    monkeypatch.setattr(heat, "_CG_MAXITER", 0)
+    with pytest.raises(ConvergenceError, match="budget 0") as exc:
+        body.step(T0, F, 0.3)
+    f = exc.value.figures
+    assert f["iterations"] == 0 and f["maxiter"] == 0 and f["relative_residual"] > f["tol"]
