@@ -18,6 +18,8 @@ import logging
 
 import numpy as np
 
+from ..errors import InputError, TemperatureLimitError, WornThroughError
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["thermal_state", "step_figures", "thermal_columns", "HeatTally",
@@ -160,8 +162,6 @@ def end_record(exc: BaseException | None) -> dict:
     else the reason: the error's kind, its message, its figures and where it
     happened (the step, the application), as far as the error holds them.
     """
-    from ..errors import InputError, TemperatureLimitError, WornThroughError
-
     if exc is None:
         return {"status": "finished", "ended": None}
     status = ("worn_through" if isinstance(exc, WornThroughError) else
