@@ -24,7 +24,7 @@ from .materials import T_AMBIENT_DEFAULT
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearLaw", "FrictionLaw", "node_inputs"]
+__all__ = ["WearLaw", "FrictionLaw", "node_inputs", "friction_flux", "friction_power"]
 
 
 #: Universal gas constant (J/mol K) for the Arrhenius temperature law.
@@ -182,3 +182,23 @@ class FrictionLaw:
         """:meth:`mu` ``mu(T)`` per node, like :meth:`WearLaw.coefficient_at`."""
         _, _, T, shape = node_inputs(p, v, T, ThermalError)
         return _per_node(self.mu(T), shape)
+
+
+def friction_flux(p: np.ndarray, v: np.ndarray, mu) -> np.ndarray:
+    """Frictional power per area ``q = mu p v`` (W/m^2) at the contact nodes (``p`` in
+    Pa, tension counting as zero; ``v`` the sliding speed, m/s; ``mu`` a number or one
+    per node)."""
+    return np.asarray(mu, dtype=float) * np.clip(np.asarray(p, dtype=float), 0.0, None) \
+        * np.asarray(v, dtype=float)
+
+
+def friction_power(p: np.ndarray, v: np.ndarray, mu, area: np.ndarray) -> float:
+    """Frictional power of a face (W): :func:`friction_flux` times the nodes' areas.
+
+    The one definition of friction work in brakewear: a wear step's is this
+    power at its start pressure and its mean speed times its length (the
+    ``friction_work`` of a :class:`~brakewear.wear.WearStep`, and the heat the
+    thermal model takes in over the step, whose flux is :func:`friction_flux`);
+    an application's is the sum of its steps'.
+    """
+    return float(friction_flux(p, v, mu) @ np.asarray(area, dtype=float))

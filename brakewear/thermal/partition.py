@@ -7,10 +7,11 @@ import numpy as np
 
 from ..errors import ThermalError
 from ..fem.heat import check_thermal
+from ..laws import friction_flux
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["partition_effusivity", "heat_flux", "friction_power"]
+__all__ = ["partition_effusivity", "heat_flux"]
 
 
 
@@ -49,7 +50,8 @@ def partition_effusivity(mat_pad, mat_rotor, area_ratio: float | None = None) ->
 
 
 def heat_flux(p: np.ndarray, v: np.ndarray, mu) -> np.ndarray:
-    """Frictional heat flux ``q = mu p v`` (W/m^2) at the contact nodes.
+    """Frictional heat flux ``q = mu p v`` (W/m^2) at the contact nodes
+    (:func:`brakewear.laws.friction_flux`, with its inputs checked).
 
     ``p`` (Pa; tension counts as zero), ``v`` sliding speed (m/s, >= 0),
     ``mu`` a number or an array per node (e.g. :meth:`FrictionLaw.mu` of the
@@ -62,16 +64,5 @@ def heat_flux(p: np.ndarray, v: np.ndarray, mu) -> np.ndarray:
         raise ThermalError(f"sliding speed min {v.min()!r} m/s is not allowed; need finite v >= 0")
     if np.any(mu < 0) or not np.all(np.isfinite(mu)):
         raise ThermalError(f"friction coefficient min {mu.min()!r} is not allowed; need mu >= 0")
-    return mu * np.clip(p, 0.0, None) * v
+    return friction_flux(p, v, mu)
 
-
-def friction_power(p: np.ndarray, v: np.ndarray, mu, area: np.ndarray) -> float:
-    """Frictional power of a face (W): ``sum mu p v A`` over its nodes (the
-    :func:`heat_flux` times the nodes' areas).
-
-    The one definition of friction work in brakewear: a wear step's is this
-    power at its start pressure and its mean speed times its length (the heat
-    the thermal model takes in over the step, the ``friction_work`` of a
-    :class:`~brakewear.wear.WearStep`), and an application's the sum of its steps'.
-    """
-    return float(heat_flux(p, v, mu) @ np.asarray(area, dtype=float))

@@ -29,9 +29,8 @@ import numpy as np
 from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, StepSizeError,
                       WearError, located)
 from ..interfaces.fe import FEInterface
-from ..laws import WearLaw
+from ..laws import WearLaw, friction_power
 from ..rings import rotor_wear_rate
-from ..thermal.partition import friction_power
 from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .inputs import at_pressure, check_inputs
