@@ -33,7 +33,6 @@ from __future__ import annotations
 from contextlib import contextmanager
 
 __all__ = [
-    "located",
     "BrakewearError",
     "InputError",
     "SolverError",
@@ -101,6 +100,17 @@ class SolverError(BrakewearError, RuntimeError):
         for k, v in where.items():
             self.where.setdefault(k, v)
         return self
+
+    @staticmethod
+    @contextmanager
+    def located(**where):
+        """Name where a solver error raised inside the block happened (:meth:`within`:
+        a loop's step, a schedule's application)."""
+        try:
+            yield
+        except SolverError as exc:
+            exc.within(**where)
+            raise
 
     def __str__(self) -> str:
         msg = super().__str__()
@@ -273,13 +283,3 @@ class WornThroughError(BrakewearError):
                 "theta_deg": self.theta, "depth_m": self.depth, "limit_m": self.limit,
                 "message": str(self)}
 
-
-@contextmanager
-def located(**where):
-    """Name where a :class:`SolverError` raised inside the block happened
-    (:meth:`SolverError.within`: a loop's step, a schedule's application)."""
-    try:
-        yield
-    except SolverError as exc:
-        exc.within(**where)
-        raise

@@ -29,7 +29,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..errors import ConvergenceError, DutyError, located
+from ..errors import ConvergenceError, DutyError, SolverError
 from ..interfaces.fe import FEInterface
 from ..wear.numerics import Numerics
 from ..wear.records import HeatTally, thermal_state
@@ -241,7 +241,7 @@ def _run(model, apps, pad_law, rotor_law, mu, vehicle, numerics, interface, ther
     t, last_start = 0.0, 0.0
     for i, app in enumerate(apps):
         t0 = _time.perf_counter()
-        with located(application=f"{i} ({type(app).__name__.lower()})"):
+        with SolverError.located(application=f"{i} ({type(app).__name__.lower()})"):
             if isinstance(app, Dwell):
                 rec = _dwell(app, i, t, last_start, thermal, brake.itf.area.size, vehicle)
             else:

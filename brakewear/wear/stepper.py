@@ -26,8 +26,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, StepSizeError,
-                      WearError, located)
+from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, SolverError,
+                      StepSizeError, WearError)
 from ..interfaces.fe import FEInterface
 from ..laws import WearLaw, friction_power
 from ..rings import rotor_wear_rate
@@ -158,11 +158,11 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                                       model.geometry.units)
     else:
         state = WearState.fresh(n_pad, n_rot, control.initial_dt())
-    with located(step=f"{state.step} (the contact solve of the start)"):
+    with SolverError.located(step=f"{state.step} (the contact solve of the start)"):
         first_s = loop.start(state, extra)
     while state.time < duration * (1 - 1e-12):
         t_before = state.time
-        with located(step=state.step + 1, t=f"{t_before:.6g} s"):
+        with SolverError.located(step=state.step + 1, t=f"{t_before:.6g} s"):
             record = loop.step(state, control)
             control.check_progress(state.step, t_before, state.time)
         if first_s is not None:       # the first solve of a fresh run counts in step 1
