@@ -242,3 +242,61 @@ def test_a_bad_validity_fraction_is_refused_before_condensing(fraction, tmp_path
     with pytest.raises(WearError, match=r"valid_fraction = .* is not allowed; need 0 <"):
         CondensedInterface(model, 1e6, 0.4, cache=tmp_path, valid_fraction=fraction)
     assert not list(tmp_path.glob("*.npz"))
+
+
+def test_a_set_is_solved_the_same_whatever_was_solved_before(pair):
+    """The set solves depend on the set alone (a resumed run repeats the
+    uninterrupted one): a fresh interface gives the same bits."""
+    model, fe, cd = pair
+    eps = 2e-12 * np.ones(cd.area.size)
+    near = _offset(cd) * 0.05                   # most nodes closed: solved from the base
+    first = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
+    first.solve(_offset(cd), None, compliance=eps, mu=0.4)
+    first.solve(near * 0.7, None, compliance=eps, mu=0.4)
+    a = first.solve(near, None, compliance=eps, mu=0.4)
+    fresh = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
+    b = fresh.solve(near, None, compliance=eps, mu=0.4)
+    assert a.info["updates"] >= 1 and 0 < (~a.active).sum()
+    assert np.array_equal(a.active, b.active)
+    assert np.array_equal(a.pressure, b.pressure)
+    ref = fe.solve(near, None, compliance=eps, mu=0.4)
+    assert _rel(ref.pressure, a.pressure) < TOL
+
+
+def test_a_settled_contact_is_solved_without_factorising(pair):
+    """The same compliance step after step (fixed steps): the base is
+    factorised once, and each later solve of a set near it takes its Schur
+    system (kept per set), no factorisation."""
+    model, fe, _ = pair
+    cd = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
+    eps = 2e-12 * np.ones(cd.area.size)
+    off = _offset(cd) * 0.05
+    infos = [cd.solve(off * s, None, compliance=eps, mu=0.4).info for s in (1.0, 1.0, 1.0)]
+    assert infos[0]["factorisations"] >= 1
+    assert [i["factorisations"] for i in infos[1:]] == [0, 0]
+    assert all(i["updates"] >= 1 for i in infos)
+
+
+def test_the_condensation_and_the_set_solves_run_on_one_blas_thread(monkeypatch):
+    """Beside another busy process, OpenBLAS's threads spin against it: the
+    sparse LU of the condensation and the dense set solves take one thread."""
+    from threadpoolctl import threadpool_info
+
+    import brakewear.interfaces.compliance as compliance
+    import brakewear.interfaces.condensed as condensed
+
+    seen = []
+
+    def spy(fn):
+        def wrapped(*a, **kw):
+            seen.append({d["num_threads"] for d in threadpool_info() if d["user_api"] == "blas"})
+            return fn(*a, **kw)
+        return wrapped
+    monkeypatch.setattr(condensed, "lu_factor", spy(condensed.lu_factor))
+    monkeypatch.setattr(compliance, "_body_solves", spy(compliance._body_solves))
+    model = BrakeModel(size=12e-3, rotor="rigid")
+    cd = CondensedInterface(model, 1e6, 0.4, cache=False)
+    cd.solve(np.zeros(cd.area.size), None, compliance=1e-12 * np.ones(cd.area.size))
+    if not any(seen):
+        pytest.skip("no BLAS library found in this process")
+    assert len(seen) >= 2 and all(s == {1} for s in seen)

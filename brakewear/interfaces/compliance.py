@@ -46,6 +46,7 @@ import scipy.sparse as sp
 
 from ..contact.compliant import constraint_rows, drag_loads
 from ..errors import SolverError
+from ..solvers.threads import blas_threads
 
 logger = logging.getLogger(__name__)
 
@@ -55,7 +56,7 @@ __all__ = ["Condensation", "condense", "cache_dir", "condensation_memory", "CACH
 #: environment variable naming the cache directory of condensed compliances
 CACHE_ENV = "BRAKEWEAR_CACHE"
 #: columns solved at once (bounds the block's memory: block x DOFs x 8 bytes)
-BLOCK = 256
+BLOCK = 128
 #: a mode counts as free when its support residual is below this share
 _NULL_TOL = 1e-9
 _KEYS = ("Hn", "Ht", "hf", "E", "Dt", "zf")
@@ -158,7 +159,8 @@ def free_modes(K: sp.csr_matrix, coords: np.ndarray, fixed: np.ndarray) -> np.nd
         if held.shape[0] == 0:
             V = np.eye(6)
         else:
-            _, s, Vt = np.linalg.svd(held, full_matrices=True)
+            # only V is needed: the thin SVD (a full one holds a square U of the held DOFs)
+            _, s, Vt = np.linalg.svd(held, full_matrices=held.shape[0] < 6)
             s = np.concatenate([s, np.zeros(6 - s.size)])
             V = Vt[s <= _NULL_TOL * max(s[0], 1e-300)].T
         if V.shape[1]:
@@ -246,9 +248,14 @@ class Supported:
             Kb = self.K[keep][:, keep].tocsc()
             self._lu[i] = lu = spla.splu(Kb, permc_spec="MMD_AT_PLUS_A",
                                          options={"SymmetricMode": True})
+            # lu.nnz: the factor's own count (lu.L and lu.U would be copies of it)
             self.figures[i].update(dofs=int(keep.size), factor_s=time.perf_counter() - t0,
-                                   factor_nnz=int(lu.L.nnz + lu.U.nnz))
+                                   factor_nnz=int(lu.nnz))
         return self._lu[i]
+
+    def release(self, i: int) -> None:
+        """Free body ``i``'s factorisation (refactorised on the next use)."""
+        self._lu[i] = None
 
     def apply(self, F: np.ndarray) -> np.ndarray:
         """``K^+ F`` (zero on the held DOFs); ``F`` must be in equilibrium."""
@@ -272,6 +279,7 @@ def _body_solves(sup: Supported, i: int, columns, products):
         idx = used[a:a + BLOCK]
         Y = lu.solve(Cb[:, idx].toarray())
         out[idx] = (Bb.T @ Y).T
+    sup.release(i)              # one body's factor alive at a time
     fig = sup.figures[i]
     fig.update(columns=int(used.size), solve_s=time.perf_counter() - t1)
     logger.info("condensation, body %d: %d DOFs, factor %.2f s (%d entries), %d columns "
@@ -290,7 +298,9 @@ class LoadGap:
 
     def __call__(self, F: np.ndarray):
         sup = self.sup
-        return self.C @ sup.apply(np.where(sup.held, 0.0, F)), sup.Z.T @ F
+        with blas_threads(1):
+            u = sup.apply(np.where(sup.held, 0.0, F))
+        return self.C @ u, sup.Z.T @ F
 
 
 def condensation_key(cs) -> str:
@@ -361,7 +371,8 @@ def _compute(cs, line_pressure: float) -> Condensation:
     G1 = drag_loads(pair, N, mu=1.0 if pair.drag is not None else 0.0).tocsr()
     f = np.where(held, 0.0, cs.f) / line_pressure
     B = sp.hstack([C.T, mask @ G1, sp.csc_matrix(f[:, None])]).tocsc()
-    YB = sum(_body_solves(sup, i, C.T.tocsc(), B) for i in range(len(sup.keep)))
+    with blas_threads(1):
+        YB = sum(_body_solves(sup, i, C.T.tocsc(), B) for i in range(len(sup.keep)))
     ns = pair.slave.size
     cond = Condensation(Hn=YB[:, :ns], Ht=YB[:, ns:2 * ns], hf=YB[:, 2 * ns].copy(),
                         E=np.asarray(constraint_rows(pair, N) @ Z),

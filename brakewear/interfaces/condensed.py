@@ -33,6 +33,7 @@ from scipy.linalg import lu_factor, lu_solve
 
 from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver, Margins
 from ..errors import CondensedRangeError, ContactError, WearError
+from ..solvers.threads import blas_threads
 from .compliance import condense
 from .fe import FEInterface
 from .protocol import InterfaceSolution
@@ -41,10 +42,12 @@ logger = logging.getLogger(__name__)
 
 __all__ = ["CondensedInterface"]
 
-#: factorisations kept per interface (sets x friction x compliance)
-_KEEP = 8
-#: largest change of the active set solved by an update of a kept factorisation
-_UPDATE_MAX = 48
+#: factorisations kept per interface (friction x compliance, or sets x friction x
+#: compliance), and the Schur systems of the sets solved from them
+_KEEP = 4
+_SETS = 16
+#: nodes whose base columns are solved together
+_BLOCK = 64
 
 
 class CondensedInterface:
@@ -101,8 +104,8 @@ class CondensedInterface:
             model.meshes["pad"], "friction")
         self._H = {}                        # mu -> (H, D)
         self._lu = OrderedDict()            # (set, mu, compliance) -> LU of the set's system
-        self._base = {}                     # (mu, compliance) -> (set, LU): the updates' base
-        self._updated = {}                  # set -> times an update solved it
+        self._bases = OrderedDict()         # (mu, compliance) -> _Base: every node's system
+        self._schur = OrderedDict()         # (set, base) -> LU of its Schur system
         self._thermal = None                # the load -> gap operator, built on first use
 
     # -------------------------------------------------------------- protocol --
@@ -154,7 +157,8 @@ class CondensedInterface:
                                         else 1e-12 * max(np.abs(g).max(), 1e-300))
         options = EXACT if c is None else replace(COMPLIANT, loose_tol=None)
         driver = ActiveSetDriver(options, self.tol, exact=True, name="pad-rotor (condensed)")
-        act = driver.run(problem, start)
+        with blas_threads(1):
+            act = driver.run(problem, start)
         lam = problem.lam
         pressure = (lam if c is None else np.maximum(lam, 0.0)) / self.area
         info = {**driver.report(), "factorisations": problem.factorised,
@@ -209,17 +213,6 @@ class CondensedInterface:
             self._H = {key: ops}
         return self._H[key]
 
-    def kept(self, key, lu, active) -> None:
-        """Keep ``lu`` (the set ``active`` under the friction and compliance of
-        ``key``) for reuse, and as the base of the updates of that friction
-        and compliance."""
-        self._lu[key] = lu
-        while len(self._lu) > _KEEP:
-            self._lu.popitem(last=False)
-        self._base[key[1:]] = (active.copy(), lu)
-        while len(self._base) > _KEEP:
-            self._base.pop(next(iter(self._base)))
-
     def thermal_gap(self, load: np.ndarray):
         """``(gap change per contact node, the free modes' share)`` of a nodal load."""
         if self._thermal is None:
@@ -229,18 +222,45 @@ class CondensedInterface:
         return self._thermal(self.fe.cs.P.T @ load)
 
 
+class _Base:
+    """The factorised system of every node in contact under one friction and
+    compliance, and its solved columns (in fixed blocks of nodes)."""
+
+    def __init__(self, lu, n: int, m: int):
+        self.lu, self.n, self.m = lu, n, m
+        self.columns = np.zeros((n + m, n))     # base^-1 e_j, column j once solved
+        self.solved = np.zeros(-(-n // _BLOCK), dtype=bool)
+
+    def columns_of(self, nodes: np.ndarray) -> np.ndarray:
+        """``base^-1 e_j`` of each node (the unit load that holds it), solved
+        block by block: a block of :data:`_BLOCK` consecutive nodes at once,
+        always the same block, so a column does not depend on which sets
+        asked first (a resumed run repeats the uninterrupted one)."""
+        for b in np.unique(nodes // _BLOCK):
+            if not self.solved[b]:
+                js = np.arange(b * _BLOCK, min((b + 1) * _BLOCK, self.n))
+                V = np.zeros((self.n + self.m, js.size))
+                V[js, np.arange(js.size)] = 1.0
+                self.columns[:, js] = lu_solve(self.lu, V, check_finite=False)
+                self.solved[b] = True
+        return self.columns[:, nodes]
+
+
 class _DenseSets:
     """One condensed contact solve as a :class:`~brakewear.contact.active_set.SetProblem`.
 
-    The system of a set ``S`` is embedded in all ``n`` nodes and the ``m``
-    modes: ``T_S = [[P K P + I - P, P E], [D P, 0]]`` with ``P`` the set's
-    mask and ``K = H + diag(c)`` (an open node's row says ``lam_i = 0``).  A
-    set met before (same friction and compliance) reuses its LU; a set that
-    differs from the last factorised one (the *base*) in at most
-    :data:`_UPDATE_MAX` nodes is solved from the base's LU by the
-    Sherman-Morrison-Woodbury formula (``T_S - T_base`` has rank at most
-    twice the changed nodes), checked by its residual; any other set is
-    factorised and becomes the base.
+    The system of a set ``A`` (the rows of ``H + diag(c)`` of its nodes and
+    the ``m`` free modes) is the system of every node (the *base*, factorised
+    once per friction and compliance) with the open nodes ``R`` held at
+    ``lam = 0`` by multipliers: ``z = y - X w`` with ``y = base^-1 b``, the
+    base's solved unit columns ``X`` of ``R`` (each solved once per base)
+    and the Schur system ``X_RR w = y_R`` of ``|R|`` unknowns (its LU kept
+    per set).  A settled contact meets the same set step after step at the
+    cost of a triangular solve pair and two products.  A set with more open
+    nodes than half its active ones, or whose Schur solve does not satisfy
+    the set's equations to 1e-12 of their terms, is factorised on its own
+    (the LU kept per set).  Every choice depends on the set alone, never on
+    the sets met before, so a resumed run repeats the uninterrupted one.
     """
 
     def __init__(self, itf, H, D, q, rhs, c):
@@ -251,110 +271,113 @@ class _DenseSets:
 
     def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
         itf, n = self.itf, self.q.size
-        key = (np.packbits(active).tobytes(), itf.mu_key, self.c_key)
-        lu = itf._lu.get(key)
+        key = (itf.mu_key, self.c_key)
+        rem = np.nonzero(~active)[0]
         state = None
-        if lu is not None:
-            itf._lu.move_to_end(key)
-            state = self._gap(self._solve_with(lu, active), active)
-        else:
-            base = itf._base.get(key[1:])
-            # a set that updates have solved twice is factorised: a history that has
-            # settled on it then solves it by two triangular solves (a contact that
-            # spreads meets each set twice: at the end of a step and the start of
-            # the next)
-            if base is not None and itf._updated.get(key, 0) < 2:
-                changed = int(np.count_nonzero(base[0] != active))
-                if 0 < changed <= min(_UPDATE_MAX, n // 4):
-                    state = self._gap(self._woodbury(active, *base), active)
-                    if self._solves(*state, active):
-                        self.updated += 1
-                        itf._updated[key] = itf._updated.get(key, 0) + 1
-                        while len(itf._updated) > 4 * _KEEP:
-                            itf._updated.pop(next(iter(itf._updated)))
-                    else:
-                        state = None
-            if state is None:
-                lu = self._factor(active)
-                itf.kept(key, lu, active)
+        if 2 * rem.size <= n - rem.size:
+            state = self._gap(self._schur(self._base(key), active, rem), active,
+                              None if rem.size else rem)
+            if not rem.size:
+                pass
+            elif self._solves(*state, active):
+                self.updated += 1
+            else:
+                state = None
+        if state is None:
+            set_key = (np.packbits(active).tobytes(), *key)
+            lu = itf._lu.get(set_key)
+            if lu is None:
+                lu = itf._lu[set_key] = self._factor(active)
                 self.factorised += 1
-                state = self._gap(self._solve_with(lu, active), active)
+                while len(itf._lu) > _KEEP:
+                    itf._lu.popitem(last=False)
+            itf._lu.move_to_end(set_key)
+            state = self._gap(self._direct(lu, active), active, rem)
         self.lam, self.g = state
         if self.c is None:
             self.g[active] = 0.0
 
     # ------------------------------------------------------------------ --
+    def _block(self, rows, cols):
+        """Rows ``rows`` and columns ``cols`` of ``H + diag(c)`` (node numbers)."""
+        M = self.H[np.ix_(rows, cols)]
+        if self.c is not None:
+            at = np.full(self.q.size, -1, dtype=np.int64)
+            at[cols] = np.arange(cols.size)
+            i = np.nonzero(at[rows] >= 0)[0]
+            M[i, at[rows[i]]] += self.c[rows[i]]
+        return M
+
+    def _comply(self, lam):
+        """The compliance's share of the active rows: ``c lam`` (0 when rigid)."""
+        return 0.0 if self.c is None else self.c * lam
+
     def _factor(self, active):
+        """The LU of the set's system (its nodes, then the modes)."""
         A = np.nonzero(active)[0]
         m, k = self.E.shape[1], A.size
         M = np.empty((k + m, k + m))
-        M[:k, :k] = self.H[np.ix_(A, A)]
-        if self.c is not None:
-            M[np.arange(k), np.arange(k)] += self.c[A]
+        M[:k, :k] = self._block(A, A)
         M[:k, k:] = self.E[A]
         M[k:, :k] = self.D[:, A]
         M[k:, k:] = 0.0
         return lu_factor(M, check_finite=False)
 
-    def _full_rhs(self, active):
-        n = self.q.size
-        b = np.zeros(n + self.E.shape[1])
-        b[:n] = np.where(active, -self.q, 0.0)
-        b[n:] = self.rhs
-        return b
+    def _base(self, key) -> _Base:
+        """The base of ``key`` (friction, compliance): every node in contact."""
+        itf = self.itf
+        base = itf._bases.get(key)
+        if base is None:
+            n = self.q.size
+            base = itf._bases[key] = _Base(self._factor(np.ones(n, dtype=bool)), n,
+                                           self.E.shape[1])
+            self.factorised += 1
+            while len(itf._bases) > _KEEP:
+                itf._bases.popitem(last=False)
+        itf._bases.move_to_end(key)
+        return base
 
-    def _apply(self, lu, mask, V):
-        """``T_mask^-1 V`` from the LU of ``mask``'s compressed system."""
-        n = self.q.size
-        idx = np.concatenate([np.nonzero(mask)[0], n + np.arange(self.E.shape[1])])
-        Z = np.array(V, dtype=float, copy=True)
-        Z[idx] = lu_solve(lu, V[idx], check_finite=False)
-        return Z
+    def _direct(self, lu, active):
+        """The solution ``z`` (n nodes, then m modes) from the set's own LU."""
+        n, A = self.q.size, np.nonzero(active)[0]
+        y = lu_solve(lu, np.concatenate([-self.q[A], self.rhs]), check_finite=False)
+        z = np.zeros(n + self.E.shape[1])
+        z[A], z[n:] = y[:A.size], y[A.size:]
+        return z
 
-    def _solve_with(self, lu, active):
-        return self._apply(lu, active, self._full_rhs(active))
+    def _schur(self, base: _Base, active, rem):
+        """The solution ``z`` from the base, the open nodes ``rem`` held."""
+        y = lu_solve(base.lu, np.concatenate([-self.q, self.rhs]), check_finite=False)
+        if not rem.size:
+            return y
+        set_key = np.packbits(active).tobytes()
+        lu = self.itf._schur.get((set_key, id(base)))
+        if lu is None:
+            lu = lu_factor(base.columns_of(rem)[rem], check_finite=False)
+            self.itf._schur[(set_key, id(base))] = lu
+            while len(self.itf._schur) > _SETS:
+                self.itf._schur.popitem(last=False)
+        w = lu_solve(lu, y[rem], check_finite=False)
+        z = y - base.columns[:, rem] @ w
+        z[rem] = 0.0
+        return z
 
-    def _rows(self, rows, mask):
-        """Rows ``rows`` of the embedded ``T_mask``."""
-        n = self.q.size
-        R = np.zeros((rows.size, n + self.E.shape[1]))
-        inside = mask[rows]
-        r_in = rows[inside]
-        R[inside, :n] = self.H[r_in] * mask
-        if self.c is not None:
-            R[np.nonzero(inside)[0], r_in] += self.c[r_in]
-        R[inside, n:] = self.E[r_in]
-        R[np.nonzero(~inside)[0], rows[~inside]] = 1.0
-        return R
-
-    def _woodbury(self, active, base_mask, lu):
-        """The embedded system of ``active`` from the LU of ``base_mask``'s."""
-        n = self.q.size
-        d = np.nonzero(active != base_mask)[0]
-        k = d.size
-        X = self._rows(d, active) - self._rows(d, base_mask)      # changed rows
-        s = np.where(active[d], 1.0, -1.0)
-        Y = np.zeros((X.shape[1], k))                              # changed columns, other rows
-        both = np.nonzero(active & base_mask)[0]
-        Y[both] = self.H[np.ix_(both, d)] * s
-        Y[n:] = self.D[:, d] * s
-        U = np.zeros((X.shape[1], 2 * k))
-        U[d, np.arange(k)] = 1.0
-        U[:, k:] = Y
-        W = self._apply(lu, base_mask, U)
-        z0 = self._apply(lu, base_mask, self._full_rhs(active))
-        cap = np.eye(2 * k) + np.vstack([X @ W, W[d]])
-        return z0 - W @ np.linalg.solve(cap, np.concatenate([X @ z0, z0[d]]))
-
-    def _gap(self, z, active):
-        """The contact forces and gaps of a solution ``z`` of the embedded system."""
+    def _gap(self, z, active, rows=None):
+        """The contact forces and gaps of a solution ``z`` of the embedded system:
+        the gaps of ``rows`` (default every node) from the compliance, the
+        others from the set's equations (``g = -c lam``, 0 when rigid), which
+        a factorised system satisfies to round-off."""
         n = self.q.size
         lam = np.where(active, z[:n], 0.0)
-        return lam, self.q + self.H @ lam + self.E @ z[n:]
+        if rows is None:
+            return lam, self.q + self.H @ lam + self.E @ z[n:]
+        g = -self._comply(lam) * active
+        g[rows] = self.q[rows] + self.H[rows] @ lam + self.E[rows] @ z[n:]
+        return lam, g
 
     def _solves(self, lam, g, active) -> bool:
         """Whether ``lam`` (with its gaps ``g``) solves the set's equations to round-off."""
-        r = g if self.c is None else g + self.c * lam
+        r = g + self._comply(lam)
         ref = max(float(np.abs(self.q[active]).max()), float(np.abs((g - self.q)[active]).max()),
                   1e-300)
         bottom = self.D @ lam - self.rhs

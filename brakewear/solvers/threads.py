@@ -1,5 +1,6 @@
-"""BLAS threads: run the AMG setup and the Krylov solves with one BLAS thread
-(through threadpoolctl, the scientific Python stack's own thread control)."""
+"""BLAS threads: run the AMG setup, the Krylov solves and the condensed
+interface's factorisations and dense solves with one BLAS thread (through
+threadpoolctl, the scientific Python stack's own thread control)."""
 from __future__ import annotations
 
 import logging
@@ -9,7 +10,7 @@ from threadpoolctl import ThreadpoolController
 
 logger = logging.getLogger(__name__)
 
-__all__ = []
+__all__ = ["blas_threads"]
 
 
 _CONTROLLER: ThreadpoolController | None = None
@@ -37,5 +38,20 @@ def _single_threaded_blas():
     105k brake with 2 threads, twice the CPU time of the solve with 1
     (docs/performance.md, "AMG settings").
     """
-    with _blas_controller().limit(limits=1, user_api="blas"):
+    with blas_threads(1):
+        yield
+
+
+@contextmanager
+def blas_threads(threads: int = 1):
+    """Run the block with ``threads`` BLAS threads (OpenBLAS, every copy loaded),
+    then restore the counts.
+
+    The condensed interface's sparse LU (SuperLU's supernodal kernels call
+    BLAS) and its dense set solves run with one: OpenBLAS's threads spin
+    while they wait, and beside another busy process on the same cores they
+    took 3-4x the CPU time of one thread for the same work
+    (docs/condensed.md, "Threads").  Nested blocks are allowed.
+    """
+    with _blas_controller().limit(limits=int(threads), user_api="blas"):
         yield
