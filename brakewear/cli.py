@@ -197,6 +197,11 @@ def _print_schedule(scene: str, s: dict) -> None:
           + (", rotor.pvd" if s["files"].get("rotor") else "") + ", scene.json")
 
 
+def _announce(line: str) -> None:
+    """A line about the run before its progress bar (the interface "auto" chose)."""
+    print(line, flush=True)
+
+
 def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,
               quiet: bool = False) -> dict:
     """Load a scene (name or file), check it, run it into ``out``; return the summary.
@@ -215,7 +220,7 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     bar = _Progress(sc, quiet)
     try:
         with listening(bar.beat):
-            summary = run_scene(sc, out, resume=resume, progress=bar)
+            summary = run_scene(sc, out, resume=resume, progress=bar, announce=_announce)
     except KeyboardInterrupt:
         bar.close()
         raise _Interrupted(sc, out, bar.step) from None
@@ -245,7 +250,7 @@ def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = 
     bar = _Progress(sc, quiet)
     try:
         with listening(bar.beat):
-            summary = run_scene(sc, out, progress=bar)
+            summary = run_scene(sc, out, progress=bar, announce=_announce)
     finally:
         bar.close()
     summary["out"] = str(out)

@@ -250,7 +250,7 @@ def _write_csv(path: Path, rows: list) -> None:
 
 
 def run_scene(scene, out: str | os.PathLike, resume: bool = False,
-              progress: Callable | None = None) -> dict:
+              progress: Callable | None = None, announce: Callable | None = None) -> dict:
     """Build a scene's model and run its wear history into ``out``; return the summary.
 
     Writes what :func:`brakewear.output.run_wear` writes, plus
@@ -259,14 +259,16 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     refuses a folder written by a different scene or with other inputs
     (geometry and material data, laws, numerics, package version: the
     checkpoint's fingerprint), also when that run has already finished.  ``progress`` is
-    called with each :class:`~brakewear.wear.WearStep`.  Every bad-input error names
-    the scene file and shows its values in the file's units.
+    called with each :class:`~brakewear.wear.WearStep`, ``announce`` with the
+    line that says which interface ``interface.model = "auto"`` chose and why
+    (also logged, and in ``summary.json``'s ``interface``).  Every bad-input
+    error names the scene file and shows its values in the file's units.
     """
     with file_messages(scene.source, scene.user_units):
-        return _run_scene(scene, out, resume, progress)
+        return _run_scene(scene, out, resume, progress, announce)
 
 
-def _run_scene(scene, out, resume: bool, progress) -> dict:
+def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
     out = check_out(out)
     record = scene.to_dict()
     rec_path = out / "scene.json"
@@ -295,6 +297,10 @@ def _run_scene(scene, out, resume: bool, progress) -> dict:
         from .interfaces.condensed import CondensedInterface
         kw["interface"] = CondensedInterface(model, scene.line_pressure or 1e6,
                                              scene.build_mu(), n.tol)
+    choice = _auto_interface(scene, model, pad_law, kw, out / "checkpoint.npz" if resume
+                             else None) if scene.interface.model == "auto" else None
+    if choice is not None and announce is not None:
+        announce(f"interface: {choice.model} (auto): {choice.reason}")
     if scene.interface.nonconforming:
         if "interface" not in kw:
             kw["interface"] = FEInterface(model, scene.line_pressure, scene.build_mu(), n.tol)
@@ -315,7 +321,8 @@ def _run_scene(scene, out, resume: bool, progress) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     rec_path.write_text(json.dumps(record, indent=2))
     if scene.schedule:
-        return _run_schedule_scene(scene, model, out, pad_law, rotor_law, kw, progress)
+        return _run_schedule_scene(scene, model, out, pad_law, rotor_law, kw, progress,
+                                   choice)
     worn = None
     try:
         summary = run_wear(model, out, scene.line_pressure, scene.omega, scene.duration,
@@ -326,6 +333,7 @@ def _run_scene(scene, out, resume: bool, progress) -> dict:
         if getattr(exc, "summary", None) is None:
             raise
         worn, summary = exc, exc.summary
+    summary["interface"] = _interface_record(scene, choice)
     summary["scene"] = {"name": scene.name, "source": scene.source,
                         "interface": scene.interface.model, "scheme": n.scheme,
                         "update": n.update, "mesh_size_m": model.geometry.mesh.size
@@ -338,8 +346,37 @@ def _run_scene(scene, out, resume: bool, progress) -> dict:
     return summary
 
 
+def _auto_interface(scene, model, pad_law, kw: dict, resume=None):
+    """``interface.model = "auto"``: FE or condensed for this run
+    (:func:`~brakewear.interfaces.auto.choose_interface`), put in ``kw``."""
+    from .interfaces.auto import choose_interface
+    from .interfaces.condensed import CondensedInterface
+
+    n = scene.numerics
+    fe = FEInterface(model, scene.line_pressure or 1e6, scene.build_mu(), n.tol)
+
+    def rate(p, v):
+        return float(np.max(pad_law.rate(np.array([p]), np.array([v]), scene.ambient)))
+
+    choice = choose_interface(model, fe, n, line_pressure=scene.line_pressure or 1e6,
+                              omega=scene.omega, duration=scene.duration, wear_rate=rate,
+                              applications=len(scene.schedule),
+                              thermal=scene.thermal.enabled, resume=resume)
+    logger.info("interface: %s (auto): %s", choice.model, choice.reason)
+    kw["interface"] = fe if choice.model == "fe" else CondensedInterface(
+        model, fe.line_pressure, scene.build_mu(), n.tol, fe=fe)
+    return choice
+
+
+def _interface_record(scene, choice) -> dict:
+    """``summary.json``'s ``interface``: the one asked for, the one taken and why."""
+    if choice is None:
+        return {"requested": scene.interface.model, "model": scene.interface.model}
+    return choice.record()
+
+
 def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict,
-                        progress=None) -> dict:
+                        progress=None, choice=None) -> dict:
     """A scene's [schedule]: applications.csv, the pad per application, summary.json
     (also when the schedule ends early: its status and the reason)."""
     from .duty.report import run_schedule_files
@@ -354,6 +391,7 @@ def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict,
         if getattr(exc, "summary", None) is None:
             raise
         ended, summary = exc, exc.summary
+    summary["interface"] = _interface_record(scene, choice)
     summary["scene"] = {"name": scene.name, "source": scene.source, "scheme":
                         scene.numerics.scheme, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}

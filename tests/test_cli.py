@@ -159,7 +159,7 @@ def test_solver_failure_exits_3(tmp_path, capsys, monkeypatch):
     import brakewear.output
     from brakewear.errors import StepSizeError
 
-    def fail(scene, out, resume=False, progress=None):
+    def fail(scene, out, resume=False, progress=None, **kw):
         raise StepSizeError("step 7: no acceptable wear step after 13 halvings")
     monkeypatch.setattr(brakewear.output, "run_scene", fail)
     assert main(["run", "default", "--out", str(tmp_path), "--quiet"]) == 3

@@ -59,7 +59,7 @@ def test_default_scene_loads_in_si():
     s = load_scene("default")
     assert s.line_pressure == 1e6 and s.omega == 55.0 and s.duration == 3600.0
     assert s.ambient == pytest.approx(293.15)
-    assert s.interface.mu == 0.4 and s.interface.model == "fe"
+    assert s.interface.mu == 0.4 and s.interface.model == "auto"
     assert s.numerics.scheme == "implicit" and s.numerics.update == "gap"
     mesh = _default_dict()["mesh"]           # the file's [mesh] (mm), chosen in docs/performance.md
     assert s.mesh_size == pytest.approx(mesh.pop("size") * 1e-3)
@@ -79,7 +79,7 @@ def test_python_built_scene_equals_the_file():
         resolution={"rotor_size": 4.5 * 1e-3, "friction_layers": 4,   # m, as 4.5 mm reads
                     "backplate_layers": 8, "rotor_layers": 3},
         line_pressure=1e6, omega=55.0, duration=3600.0, ambient=293.15,
-        interface=InterfaceSpec(model="fe", surfaces=("pad.friction", "rotor.friction"), mu=0.4),
+        interface=InterfaceSpec(model="auto", surfaces=("pad.friction", "rotor.friction"), mu=0.4),
         pad_wear=WearSpec(k=None, a=1.0, b=1.0),
         rotor_wear=WearSpec(k=None),
         thermal=ThermalSpec(enabled=False),

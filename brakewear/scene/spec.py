@@ -193,7 +193,7 @@ class Scene:
                 (self.numerics.update == "geometry", "numerics.update",
                  "update = 'geometry' (moving worn surfaces)",
                  "numerics.update = 'gap', or mesh.order = 1"),
-                (self.interface.model != "fe", "interface.model",
+                (self.interface.model not in ("fe", "auto"), "interface.model",
                  f"interface.model = {self.interface.model!r}",
                  "interface.model = 'fe', or mesh.order = 1")):
             if bad:
@@ -277,9 +277,10 @@ class Scene:
             raise fail("wear.pad.a", f"{self.pad_wear.a!r} is not allowed with numerics.scheme "
                                       "= 'implicit' (backward Euler needs a law linear in p): "
                                       "allowed 1, or use scheme = 'explicit'")
-        if n.update == "geometry" and self.interface.model != "fe":
+        if n.update == "geometry" and self.interface.model not in ("fe", "auto"):
             raise fail("numerics.update", "'geometry' moves the FE meshes; it needs "
-                                           "interface.model = 'fe'")
+                                           "interface.model = 'fe' (or 'auto', which takes "
+                                           "FE with it)")
         if self.thermal.enabled and self.interface.model == "winkler":
             raise fail("thermal.enabled", "true needs interface.model = 'fe' or 'condensed': "
                                           "the foundation takes no thermal-strain load (it "

@@ -67,8 +67,11 @@ class InterfaceSpec:
     Parameters
     ----------
     model
-        ``"fe"``: node-to-surface FE contact; ``"winkler"``: an elastic
-        foundation (:class:`brakewear.interfaces.WinklerInterface`);
+        ``"auto"`` (default): the condensed interface where the run's expected
+        steps pay for its condensation, FE otherwise
+        (:func:`brakewear.interfaces.auto.choose_interface`; the same answer
+        either way); ``"fe"``: node-to-surface FE contact; ``"winkler"``: an
+        elastic foundation (:class:`brakewear.interfaces.WinklerInterface`);
         ``"condensed"``: the FE contact condensed onto the contact nodes
         (:class:`brakewear.interfaces.CondensedInterface`: the FE answer,
         gap-offset wear only).
@@ -105,7 +108,7 @@ class InterfaceSpec:
         (default) or ``"error"``.  Read and checked when the scene is made.
     """
 
-    model: str = "fe"
+    model: str = "auto"
     surfaces: tuple[str, str] = _WEAR_INTERFACE
     mu: float = 0.0
     method: str = "segment"
@@ -118,7 +121,7 @@ class InterfaceSpec:
     map_outside: str = "clamp"
 
     def __post_init__(self):
-        check_choice("interface.model", self.model, ("fe", "winkler", "condensed"))
+        check_choice("interface.model", self.model, ("auto", "fe", "winkler", "condensed"))
         check_choice("interface.map_outside", self.map_outside, ("clamp", "error"))
         if (not isinstance(self.surfaces, (tuple, list)) or len(self.surfaces) != 2
                 or not all(isinstance(s, str) for s in self.surfaces)):
