@@ -28,11 +28,12 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from .contact.surface import mortar_coupling, project_nodes
+from .contact.quadratic import quadratic_face_areas
+from .contact.surface import mortar_coupling
 from .errors import MeshError, MeshQualityError, MotionError
 from .fem.assembly import assemble_stiffness, stiffness_update
-from .mesh.surface import (facet_normals, is_quadratic, quadratic_faces, surface_nodes,
-                           tributary_areas)
+from .follower import SurfaceFollower
+from .mesh.surface import is_quadratic, quadratic_faces, surface_nodes, tributary_areas
 from .mesh.topology import facet_indices, keep_topology
 
 logger = logging.getLogger(__name__)
@@ -178,98 +179,11 @@ def segment_average(mesh: fem.Mesh, facets="friction", level: int = 2) -> sp.csr
     return W[:, nodes].tocsr()
 
 
-class SurfaceFollower:
-    """Moves one worn surface and the band of nodes beneath it.
-
-    Built once on the reference (unworn) mesh: each node at depth ``d < D``
-    below the surface (measured along the surface normal, laterally inside
-    the surface) gets the weights ``(1 - d/D) * b`` on the surface nodes of
-    the facet it projects on (``b`` its barycentric coordinates).  On the
-    structured brake meshes a node lies exactly under a surface node, so
-    ``b`` is one on that node and the motion is per column.
-
-    Parameters
-    ----------
-    mesh
-        The reference mesh (P1 tetrahedra).
-    facets
-        Name (or facet indices) of the worn surface.
-    depth
-        Target band depth ``D`` (m).  With ``snap`` it is raised to the
-        nearest node depth at or below it, so that the band ends on a node
-        layer and the elements beyond it do not move at all.
-    snap
-        See ``depth``.
-    """
-
-    def __init__(self, mesh: fem.Mesh, facets, depth: float, snap: bool = True):
-        if not isinstance(mesh, fem.MeshTet1):
-            raise MotionError(f"SurfaceFollower needs a P1 MeshTet; got {type(mesh).__name__}")
-        depth = float(depth)
-        if not (np.isfinite(depth) and depth > 0):
-            raise MotionError(f"depth = {depth!r} m is not allowed; need a finite band depth > 0")
-        fac = mesh.boundaries[facets] if isinstance(facets, str) else np.asarray(facets)
-        self.nodes = surface_nodes(mesh, fac)
-        ns = self.nodes.size
-        p = mesh.p
-        # outward nodal normals: area-weighted facet normals
-        f = mesh.facets[:, fac]
-        area = 0.5 * np.linalg.norm(np.cross(p[:, f[1]] - p[:, f[0]], p[:, f[2]] - p[:, f[0]],
-                                             axis=0), axis=0)
-        nf = facet_normals(mesh, fac) * area
-        acc = np.zeros((3, mesh.nvertices))
-        for a in range(3):
-            for i in range(3):
-                np.add.at(acc[i], f[a], nf[i])
-        n = acc[:, self.nodes]
-        self.normals = n / np.linalg.norm(n, axis=0)
-        # depth and lateral position of every node over the surface
-        scale = float(np.ptp(p, axis=1).max())
-        tol = 1e-9 * scale
-        # in chunks: the candidate search holds (3, n, 12) arrays
-        parts = [project_nodes(p[:, i:i + 50_000], mesh, fac)
-                 for i in range(0, mesh.nvertices, 50_000)]
-        d = -np.concatenate([q.gap for q in parts])
-        dist = np.concatenate([q.distance for q in parts])
-        weights = np.hstack([q.weights for q in parts])
-        fnodes = np.hstack([q.nodes for q in parts])
-        under = (dist <= tol) & (d >= -tol)
-        depths = np.unique(np.round(d[under] / tol)) * tol
-        if snap:
-            deeper = depths[depths >= depth - tol]
-            if deeper.size == 0:
-                raise MotionError(f"depth = {depth:.6g} m is not allowed: the body is only "
-                                  f"{depths.max():.6g} m deep under this surface")
-            depth = float(d[under][np.argmin(np.abs(d[under] - deeper[0]))])
-        self.depth = depth
-        inband = np.nonzero(under & (d < depth - tol))[0]
-        w = np.clip(1.0 - np.clip(d[inband], 0.0, None) / depth, 0.0, 1.0)
-        b = weights[:, inband].copy()
-        b[np.abs(b) < 1e-12] = 0.0  # a node under a vertex follows that vertex alone
-        b /= b.sum(axis=0, keepdims=True)
-        col = -np.ones(mesh.nvertices, dtype=np.int64)
-        col[self.nodes] = np.arange(ns)
-        cols = col[fnodes[:, inband]]
-        if np.any(cols < 0):  # pragma: no cover - facets' vertices are surface nodes
-            raise RuntimeError("follower: a projection landed on a non-surface vertex")
-        rows = np.repeat(inband[None, :], 3, axis=0)
-        F = sp.csr_matrix(((b * w).ravel(), (rows.ravel(), cols.ravel())),
-                          shape=(mesh.nvertices, ns))
-        F.eliminate_zeros()
-        self.F = F
-        self.band_nodes = inband
-        self.scale = scale
-        logger.debug("follower: %d surface nodes, band depth %.4g m, %d nodes in the band",
-                     ns, depth, inband.size)
-
-    def displacement(self, h: np.ndarray) -> np.ndarray:
-        """Nodal displacement (3, nvertices) for worn depths ``h`` (surface-node order)."""
-        s = -(self.normals * h[None, :])            # inward, by h
-        return np.vstack([self.F @ s[i] for i in range(3)])
-
-
-def _check_wear(name: str, h, n: int, body: str) -> np.ndarray:
-    """Validate a worn-depth array before anything is computed."""
+def _check_wear(name: str, h, n: int, body: str, quadratic: bool = False) -> np.ndarray:
+    """Validate a worn-depth array before anything is computed.  On a quadratic
+    face the depths are coefficients of its transformed basis, which a depth
+    profile with steps (the rotor's rings at the pad's radii) takes slightly
+    below zero next to a step: up to 5 % of the largest one is allowed."""
     try:
         arr = np.asarray(h, dtype=float)
     except (TypeError, ValueError):
@@ -277,13 +191,14 @@ def _check_wear(name: str, h, n: int, body: str) -> np.ndarray:
             from None
     if arr.shape != (n,):
         raise MotionError(f"{name} has shape {arr.shape}; need ({n},): one worn depth per node of "
-                          f"the {body}'s friction face, in the order of surface_nodes(mesh, "
-                          "'friction')")
+                         f"the {body}'s friction face, in the order of surface_nodes(mesh, "
+                         "'friction')")
     bad = np.nonzero(~np.isfinite(arr))[0]
     if bad.size:
         raise MotionError(f"{name}[{bad[0]}] = {float(arr[bad[0]])!r} is not allowed; worn "
-                          f"depths must be finite ({bad.size} are not)")
-    neg = np.nonzero(arr < 0)[0]
+                         f"depths must be finite ({bad.size} are not)")
+    floor = -0.05 * max(float(arr.max()), 0.0) if quadratic and arr.size else 0.0
+    neg = np.nonzero(arr < floor)[0]
     if neg.size:
         raise MotionError(f"{name}[{neg[0]}] = {float(arr[neg[0]])!r} m is not allowed; worn "
                           f"depths must be >= 0 (wear removes material; {neg.size} are "
@@ -328,11 +243,7 @@ class BrakeMotion:
                  min_quality: float = DEFAULT_MIN_QUALITY):
         if not (np.isfinite(min_quality) and 0.0 < min_quality < 1.0):
             raise MotionError(f"min_quality = {min_quality!r} is not allowed; "
-                              "need 0 < min_quality < 1")
-        if getattr(model, "order", 1) != 1:
-            raise MotionError(f"BrakeMotion: the model has quadratic meshes (order = "
-                              f"{model.order}); moving worn geometry supports P1 meshes only "
-                              "(wear in gap-offset mode, update = 'gap', works on P2)")
+                             "need 0 < min_quality < 1")
         self.model = model
         self.min_quality = float(min_quality)
         g = model.geometry
@@ -349,7 +260,7 @@ class BrakeMotion:
             rotor_depth = 0.2 * half if rotor_depth is None else float(rotor_depth)
             if not (np.isfinite(rotor_depth) and 0 < rotor_depth <= half * (1 + 1e-9)):
                 raise MotionError(f"rotor_depth = {rotor_depth!r} m is not allowed; need 0 < "
-                                  f"rotor_depth <= the meshed half thickness {half:g} m")
+                                 f"rotor_depth <= the meshed half thickness {half:g} m")
             self.followers["rotor"] = SurfaceFollower(model.meshes["rotor"], "friction",
                                                       rotor_depth)
         self.reference = {b: model.meshes[b].p.copy() for b in self.followers}
@@ -405,16 +316,18 @@ class BrakeMotion:
         """
         if reassembly not in ("partial", "full"):
             raise MotionError(f"reassembly = {reassembly!r} is not allowed; "
-                              "allowed: 'partial', 'full'")
+                             "allowed: 'partial', 'full'")
         t0 = time.perf_counter()
-        wear = {"pad": _check_wear("pad_wear", pad_wear, self.followers["pad"].nodes.size, "pad")}
+        quad = is_quadratic(self.model.meshes["pad"])
+        wear = {"pad": _check_wear("pad_wear", pad_wear, self.followers["pad"].nodes.size, "pad",
+                                   quad)}
         if "rotor" in self.followers:
             n = self.followers["rotor"].nodes.size
             wear["rotor"] = np.zeros(n) if rotor_wear is None else _check_wear(
-                "rotor_wear", rotor_wear, n, "rotor")
+                "rotor_wear", rotor_wear, n, "rotor", quad)
         elif rotor_wear is not None and np.any(np.asarray(rotor_wear, dtype=float) != 0):
             raise MotionError("rotor_wear is not allowed with a rigid rotor (the plane z = 0 does "
-                              "not move); pass None")
+                             "not move); pass None")
         model = self.model
         new_meshes, moved_elems, stats = {}, {}, {"step": step}
         for b, fol in self.followers.items():
@@ -470,5 +383,7 @@ class BrakeMotion:
         for b, fol in self.followers.items():
             ref = _moved_mesh(self.model.meshes[b], self.reference[b])
             h = self.pad_wear if b == "pad" else self.rotor_wear
-            out[b] = float((h * tributary_areas(ref, "friction", fol.nodes)).sum())
+            area = (quadratic_face_areas(ref, "friction")[1] if is_quadratic(ref)
+                    else tributary_areas(ref, "friction", fol.nodes))
+            out[b] = float((h * area).sum())
         return out

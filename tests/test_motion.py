@@ -373,3 +373,24 @@ def test_piston_body_tie_survives_the_update():
         np.testing.assert_array_equal(n0, n1)
         np.testing.assert_allclose(w1, w0, rtol=0, atol=1e-14)
     assert mo.model.meshes["piston"] is piston0 and "piston" not in mo.followers
+
+
+def test_a_quadratic_face_moves_by_its_worn_coefficients():
+    """P2: the depths are coefficients of the face's transformed basis; the face
+    moves by their nodal values (curved edges included), so the weak gap of the
+    moved geometry grows by exactly the coefficients, and the worn volume is
+    ``area @ h``."""
+    from brakewear import BrakeModel, FEInterface
+
+    model = BrakeModel(size=1.2e-2, order=2)
+    fe = FEInterface(model, 1e6, 0.4)
+    motion = BrakeMotion(model)
+    h = 2e-6 * (fe.r - fe.r.min()) / np.ptp(fe.r) * (1.0 + 0.3 * np.sin(9 * fe.x[1] / fe.r))
+    motion.apply(h, np.zeros(fe.rotor_area.size))
+    moved = fe.rebuilt(motion.model)
+    assert np.abs((moved.g0 - fe.g0) - h).max() < 1e-12 * h.max()
+    assert motion.worn_volume()["pad"] == pytest.approx(float(fe.area @ h), rel=1e-12)
+    # the backplate stays, the band beneath the face follows
+    fol = motion.followers["pad"]
+    assert fol.depth == pytest.approx(model.geometry.pad.friction_thickness, rel=1e-9)
+    assert fol.band_nodes.size > fol.nodes.size

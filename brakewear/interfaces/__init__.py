@@ -9,10 +9,12 @@ returns the contact pressure, the active set and the displacement
 against FE contact by :func:`calibrate`), and the FE model condensed onto its
 contact nodes (:class:`CondensedInterface`, computed by :func:`condense`), all
 behind the :class:`Interface` protocol of the wear loop
-(:mod:`~brakewear.interfaces.protocol`).
+(:mod:`~brakewear.interfaces.protocol`); :func:`choose_interface` picks FE or
+condensed for a run (``interface.model = "auto"``).
 """
 
-from . import calibration, compliance, condensed, fe, foundation, protocol, winkler_bed
+from . import auto, calibration, compliance, condensed, fe, foundation, protocol, winkler_bed
+from .auto import *  # noqa: F403
 from .calibration import *  # noqa: F403
 from .compliance import *  # noqa: F403
 from .condensed import *  # noqa: F403
@@ -21,5 +23,5 @@ from .foundation import *  # noqa: F403
 from .protocol import *  # noqa: F403
 from .winkler_bed import *  # noqa: F403
 
-__all__ = [*calibration.__all__, *compliance.__all__, *condensed.__all__, *fe.__all__,
+__all__ = [*auto.__all__, *calibration.__all__, *compliance.__all__, *condensed.__all__, *fe.__all__,
            *foundation.__all__, *protocol.__all__, *winkler_bed.__all__]

@@ -40,8 +40,7 @@ import numpy as np
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["InterfaceChoice", "choose_interface", "condensation_solves", "CONDENSE_SOLVES",
-           "CONDENSE_EXPONENT", "FE_STEP_SOLVES", "CONTROLLED_STEPS", "PEAK_PRESSURE"]
+__all__ = ["InterfaceChoice", "choose_interface", "condensation_solves", "expected_steps"]
 
 #: the condensation at 1e5 DOFs, in FE contact solves of the same model (measured)
 CONDENSE_SOLVES = 12.0

@@ -184,22 +184,14 @@ class Scene:
         return replace(g, mesh=replace(g.mesh, **self.resolution)) if self.resolution else g
 
     def _check_order(self) -> None:
-        """Quadratic (P2) meshes run FE contact with the gap-offset update (with or
-        without thermal coupling); every other combination is refused by name."""
+        """Quadratic (P2) meshes run FE contact or its condensation, with either
+        wear update; the elastic foundation is refused by name."""
         order = self.geometry.mesh.order if self.order is None else self.order
-        if order != 2:
-            return
-        for bad, key, what, instead in (
-                (self.numerics.update == "geometry", "numerics.update",
-                 "update = 'geometry' (moving worn surfaces)",
-                 "numerics.update = 'gap', or mesh.order = 1"),
-                (self.interface.model not in ("fe", "auto"), "interface.model",
-                 f"interface.model = {self.interface.model!r}",
-                 "interface.model = 'fe', or mesh.order = 1")):
-            if bad:
-                raise fail(key, f"{what} with mesh.order = 2 is not supported (quadratic "
-                                f"meshes: FE contact, gap offset); use "
-                                f"{instead}")
+        if order == 2 and self.interface.model == "winkler":
+            raise fail("interface.model", "interface.model = 'winkler' with mesh.order = 2 is "
+                                          "not supported (quadratic meshes: FE contact or its "
+                                          "condensation); use interface.model = 'fe', "
+                                          "'condensed' or 'auto', or mesh.order = 1")
 
     def _check_resolution(self) -> None:
         """Check the per-body mesh keys (names, types, ranges)."""

@@ -47,9 +47,6 @@ def check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics, inter
     mu_law, mu = friction_law(mu, thermal)
     if thermal is not None:
         check_thermal(model, thermal, numerics, interface)
-    if numerics.update == "geometry" and getattr(model, "order", 1) != 1:
-        raise WearError("update = 'geometry' moves P1 meshes only; this model is quadratic "
-                        f"(order = {model.order}): use update = 'gap'")
     if numerics.update == "geometry" and interface is not None and not (
             isinstance(interface, FEInterface) and interface.model is model):
         raise WearError("update = 'geometry' rebuilds the FE interface; it needs the "
