@@ -38,7 +38,8 @@ def _choose(small, steps=None, tmp_path=None, **kw):
 
 def test_the_break_even_decides_between_a_short_and_a_long_run(small, tmp_path):
     model, fe = small
-    even = condensation_solves(model.dofs) / (auto.FE_STEP_SOLVES * (1 - auto.CONDENSED_STEP))
+    even = condensation_solves(model.dofs, fe.area.size) / (
+        auto.FE_STEP_SOLVES * (1 - auto.CONDENSED_STEP))
     short = _choose(small, max(1, int(even) - 1), tmp_path)
     long = _choose(small, int(even) + 2, tmp_path)
     assert short.model == "fe" and long.model == "condensed"
@@ -79,7 +80,9 @@ def test_auto_runs_say_what_they_chose_and_answer_as_fe(tmp_path, monkeypatch):
     """Both ways end to end: the short run stays FE, the long one condenses, the
     first line and summary.json say so, and the answers are FE's."""
     lines = []
-    even = condensation_solves(BrakeModel(size=1.2e-2).dofs) / auto.FE_STEP_SOLVES
+    model = BrakeModel(size=1.2e-2)
+    even = condensation_solves(model.dofs, FEInterface(model, 1e6, 0.4).area.size) / (
+        auto.FE_STEP_SOLVES * (1 - auto.CONDENSED_STEP))
     short, long = max(1, int(even) - 1), int(even) + 2
     monkeypatch.setenv("BRAKEWEAR_CACHE", str(tmp_path / "cache"))
     a = run_scene(_scene(short), tmp_path / "short", announce=lines.append)

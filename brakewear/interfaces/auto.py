@@ -14,10 +14,10 @@ condensation does not apply:
 * a run whose wear is expected to pass the condensed interface's range
   (a quarter of the height of the pad's elements at its face).
 
-**The break-even.**  The condensation costs ``C(N)`` FE contact solves of
-the same model (``N`` DOFs), a fit to the measured costs
-(:data:`CONDENSE_SOLVES`, :data:`CONDENSE_EXPONENT`; docs/condensed.md, "The
-interface chosen for the user"); an FE wear step costs
+**The break-even.**  The condensation costs ``C(n, N)`` FE contact solves
+of the same model (``n`` contact nodes, ``N`` DOFs), a fit to the measured
+costs (:data:`CONDENSE_SOLVES`; docs/condensed.md, "The interface chosen
+for the user"); an FE wear step costs
 :data:`FE_STEP_SOLVES` of a contact solve and a condensed one about a
 hundredth of that.  The condensed interface is taken when the expected
 steps times the saving per step reach ``C(N)``; a condensation already in
@@ -42,10 +42,13 @@ logger = logging.getLogger(__name__)
 
 __all__ = ["InterfaceChoice", "choose_interface", "condensation_solves", "expected_steps"]
 
-#: the condensation at 1e5 DOFs, in FE contact solves of the same model (measured)
-CONDENSE_SOLVES = 12.0
-#: its growth with the DOFs, ``C(N) = CONDENSE_SOLVES (N / 1e5) ** CONDENSE_EXPONENT``
-CONDENSE_EXPONENT = 0.9
+#: the condensation in FE contact solves of the same model, a fit to four measured
+#: meshes of the default brake (8.8k-105k DOFs, 189-2280 contact nodes, within 13 %):
+#: ``C = CONDENSE_SOLVES (n / 1000) ** CONDENSE_EXPONENTS[0] (N / 1e5) **
+#: CONDENSE_EXPONENTS[1]`` (its column solves grow with the contact nodes ``n`` and
+#: the factor, an FE contact solve with the DOFs ``N``)
+CONDENSE_SOLVES = 14.4
+CONDENSE_EXPONENTS = (2.13, -0.52)
 #: an FE wear step in FE contact solves (warm-started Krylov solves, kept hierarchies)
 FE_STEP_SOLVES = 0.2
 #: a condensed wear step in FE wear steps
@@ -82,9 +85,11 @@ class InterfaceChoice:
         return {"requested": "auto", **asdict(self)}
 
 
-def condensation_solves(dofs: int) -> float:
-    """The condensation's cost in FE contact solves of a model of ``dofs`` DOFs."""
-    return CONDENSE_SOLVES * (float(dofs) / 1e5) ** CONDENSE_EXPONENT
+def condensation_solves(dofs: int, contact_nodes: int) -> float:
+    """The condensation's cost in FE contact solves of a model of ``dofs`` DOFs
+    and ``contact_nodes`` pad friction nodes (:data:`CONDENSE_SOLVES`)."""
+    a, b = CONDENSE_EXPONENTS
+    return CONDENSE_SOLVES * (contact_nodes / 1000.0) ** a * (float(dofs) / 1e5) ** b
 
 
 def _expected_wear(model, fe, line_pressure: float, omega: float, duration: float,
@@ -162,7 +167,7 @@ def choose_interface(model, fe, numerics, *, line_pressure: float, omega: float,
         return InterfaceChoice("condensed", f"its condensation is in the cache ({folder}): "
                                             "the FE answer at a dense solve per step, free",
                                steps, 0.0)
-    cost = condensation_solves(N) * (1.25 if thermal else 1.0)
+    cost = condensation_solves(N, n) * (1.25 if thermal else 1.0)
     even = cost / (FE_STEP_SOLVES * (1.0 - CONDENSED_STEP))
     how = "fixed steps" if numerics.steps is not None else "under step control"
     if applications:
