@@ -144,6 +144,43 @@ def amg_columns(target: float, columns: int = 8, tol: float = 1e-12) -> dict:
             "amg_column_rel_diff": max(diff)}
 
 
+def cost_row(model, label: str) -> dict:
+    """The condensation (no cache) against one plain FE contact solve of ``model``
+    (the faster of two), in process CPU time: a row of the fit
+    :func:`brakewear.interfaces.condensation_solves` is made from."""
+    fe = FEInterface(model, 1e6, 0.4)
+    cpu = []
+    for _ in range(2):
+        c0 = time.process_time()
+        fe.solve(np.zeros(fe.area.size), None)
+        cpu.append(time.process_time() - c0)
+    c0 = time.process_time()
+    cd = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
+    cond = time.process_time() - c0
+    return {"mesh": label, "dofs": int(model.dofs), "contact_nodes": int(fe.area.size),
+            "fe_contact_solve_cpu_s": min(cpu), "condensation_cpu_s": cond,
+            "factor_entries": sum(b["factor_nnz"] for b in cd.cond.info["bodies"]),
+            "condensation_over_fe_solve": cond / min(cpu)}
+
+
+def auto_main(sizes=(1e4, 3e4, 1e5), scene: bool = True, out=None) -> list:
+    """:func:`cost_row` of the bench's meshes at ``sizes`` and of the default
+    scene's mesh; writes ``data/condensed_auto.json`` to ``out``."""
+    from brakewear.scene import load_scene
+
+    rows = [cost_row(brake_resolution(t)[1], f"default brake, uniform {t:g} target (bench "
+                                             "wear's)") for t in sizes]
+    if scene:
+        rows.append(cost_row(load_scene("default").build_model(), "the default scene's"))
+    if out is not None:
+        (Path(out) / "data").mkdir(parents=True, exist_ok=True)
+        (Path(out) / "data" / "condensed_auto.json").write_text(json.dumps(
+            {"what": "the condensation against one FE contact solve, process CPU time",
+             "command": "python studies/condensed_cost.py --auto-fit --out docs",
+             "rows": rows}, indent=1) + "\n")
+    return rows
+
+
 def amg_main(sizes=(1e5,), columns: int = 8, out=None) -> list:
     """:func:`amg_columns` at each size; writes ``data/condensed_amg.json`` to ``out``."""
     rows = [amg_columns(target, columns) for target in sizes]
@@ -207,8 +244,17 @@ if __name__ == "__main__":
     ap.add_argument("--amg-columns", type=int, default=0, metavar="N",
                     help="only time N condensation columns by AMG-preconditioned CG against "
                          "the sparse LU, at each of --sizes (writes data/condensed_amg.json)")
+    ap.add_argument("--auto-fit", action="store_true",
+                    help="only measure the condensation in FE contact solves (CPU time) at "
+                         "each of --sizes and on the default scene's mesh (writes "
+                         "data/condensed_auto.json, the rows interface 'auto' is fitted to)")
     a = ap.parse_args()
-    if a.amg_columns:
+    if a.auto_fit:
+        for r in auto_main(a.sizes, out=a.out):
+            print(f"{r['mesh']}: {r['dofs']} DOFs, {r['contact_nodes']} contact nodes: "
+                  f"condensation {r['condensation_cpu_s']:.1f} s CPU = "
+                  f"{r['condensation_over_fe_solve']:.1f} FE contact solves")
+    elif a.amg_columns:
         for r in amg_main(a.sizes, a.amg_columns, a.out):
             print(f"{r['dofs']:>7} DOFs {r['contact_nodes']:>5} nodes: per column, sparse LU "
                   f"{r['lu_s_per_column'] * 1e3:.0f} ms ({r['lu_condense_s']:.1f} s for all), "

@@ -107,3 +107,38 @@ def test_a_resumed_run_keeps_the_interface_it_was_run_on(small, tmp_path):
     CondensedInterface(model, 1e6, 0.4, fe=fe, cache=tmp_path)   # now it would be free
     kept = _choose(small, 1, tmp_path, resume=tmp_path / "run" / "checkpoint.npz")
     assert kept.model == "fe" and "resumed" in kept.reason
+
+
+def test_the_cost_fit_holds_the_measured_condensations():
+    """condensation_solves is fitted to the measured meshes (docs/data): within 15 %."""
+    from pathlib import Path
+
+    rows = json.loads((Path(__file__).resolve().parents[1] / "docs" / "data"
+                       / "condensed_auto.json").read_text())["rows"]
+    assert len(rows) >= 4
+    for r in rows:
+        fit = condensation_solves(r["dofs"], r["contact_nodes"])
+        assert fit == pytest.approx(r["condensation_over_fe_solve"], rel=0.15), r["mesh"]
+
+
+def test_the_cost_study_measures_the_rows_of_the_fit(tmp_path):
+    from studyload import load_study
+
+    study = load_study("condensed_cost")
+    (row,) = study.auto_main(sizes=(3000,), scene=False, out=tmp_path)
+    assert row["condensation_over_fe_solve"] == pytest.approx(
+        row["condensation_cpu_s"] / row["fe_contact_solve_cpu_s"])
+    assert row["factor_entries"] > 0 and row["contact_nodes"] > 0
+    saved = json.loads((tmp_path / "data" / "condensed_auto.json").read_text())
+    assert saved["rows"][0]["dofs"] == row["dofs"]
+
+
+def test_the_p2_study_runs_both_orders_on_both_interfaces():
+    from studyload import load_study
+
+    study = load_study("p2_interfaces")
+    rows = study.main(meshes=(("P2 18 mm", 2, study.mc.level_settings(1.0)),), steps=2, p1=None)
+    fe, cd = rows
+    assert (fe["interface"], cd["interface"]) == ("fe", "condensed")
+    assert cd["condense_cpu_s"] > 0 == fe["condense_cpu_s"]
+    assert cd["pad_wear_max_um"] == pytest.approx(fe["pad_wear_max_um"], rel=1e-8)

@@ -295,6 +295,10 @@ def test_wear_bench_times_the_condensed_and_the_foundation_interface():
     assert cd["interface_over_contact"] == pytest.approx(cd["interface_s"]
                                                          / cd["contact_solve_s"])
     assert cd["steps"] == wk["steps"] == 3 and cd["contact_nodes"] == fe["contact_nodes"]
+    # every set solve of the running-in: from a factorisation or a Schur update
+    assert cd["factorisations"] >= 1 and cd["factorisations"] + cd["updates"] >= 3
+    assert cd["interface_over_contact_cpu"] == pytest.approx(cd["interface_cpu_s"]
+                                                             / cd["contact_solve_cpu_s"])
     table = bench.format_wear_table(rows)
     assert "condensed: built in" in table and "winkler" in table
     with pytest.raises(ValueError, match="update 'gap'"):
