@@ -52,15 +52,22 @@ def _running_in(model, itf, steps: int, line_pressure: float = 1e6):
     return last, time.perf_counter() - t0
 
 
+def _plain_solves(fe, clock) -> list:
+    """The times (``clock``) of two plain contact solves: the first pays for
+    first-call set-up."""
+    out = []
+    for _ in range(2):
+        t0 = clock()
+        fe.solve(np.zeros(fe.area.size), None)
+        out.append(clock() - t0)
+    return out
+
+
 def run_size(target: float, steps: int = 200, pressures: int = 10) -> dict:
     """One mesh size: the figures of the module docstring."""
     size, model = brake_resolution(target)
     fe = FEInterface(model, 1e6, 0.4)
-    solve_s = []
-    for _ in range(2):        # the first pays for first-call set-up
-        t0 = time.perf_counter()
-        fe.solve(np.zeros(fe.area.size), None)
-        solve_s.append(time.perf_counter() - t0)
+    solve_s = _plain_solves(fe, time.perf_counter)
     t0 = time.perf_counter()
     cd = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
     condense_s = time.perf_counter() - t0
@@ -149,11 +156,7 @@ def cost_row(model, label: str) -> dict:
     (the faster of two), in process CPU time: a row of the fit
     :func:`brakewear.interfaces.condensation_solves` is made from."""
     fe = FEInterface(model, 1e6, 0.4)
-    cpu = []
-    for _ in range(2):
-        c0 = time.process_time()
-        fe.solve(np.zeros(fe.area.size), None)
-        cpu.append(time.process_time() - c0)
+    cpu = _plain_solves(fe, time.process_time)
     c0 = time.process_time()
     cd = CondensedInterface(model, 1e6, 0.4, fe=fe, cache=False)
     cond = time.process_time() - c0
