@@ -105,7 +105,6 @@ class CondensedInterface:
         self._H = {}                        # mu -> (H, D)
         self._lu = OrderedDict()            # (set, mu, compliance) -> LU of the set's system
         self._bases = OrderedDict()         # (mu, compliance) -> _Base: every node's system
-        self._schur = OrderedDict()         # (set, base) -> LU of its Schur system
         self._thermal = None                # the load -> gap operator, built on first use
 
     # -------------------------------------------------------------- protocol --
@@ -230,6 +229,7 @@ class _Base:
         self.lu, self.n, self.m = lu, n, m
         self.columns = np.zeros((n + m, n))     # base^-1 e_j, column j once solved
         self.solved = np.zeros(-(-n // _BLOCK), dtype=bool)
+        self.sets: OrderedDict = OrderedDict()  # set -> LU of its Schur system
 
     def columns_of(self, nodes: np.ndarray) -> np.ndarray:
         """``base^-1 e_j`` of each node (the unit load that holds it), solved
@@ -351,12 +351,12 @@ class _DenseSets:
         if not rem.size:
             return y
         set_key = np.packbits(active).tobytes()
-        lu = self.itf._schur.get((set_key, id(base)))
+        lu = base.sets.get(set_key)
         if lu is None:
-            lu = lu_factor(base.columns_of(rem)[rem], check_finite=False)
-            self.itf._schur[(set_key, id(base))] = lu
-            while len(self.itf._schur) > _SETS:
-                self.itf._schur.popitem(last=False)
+            lu = base.sets[set_key] = lu_factor(base.columns_of(rem)[rem], check_finite=False)
+            while len(base.sets) > _SETS:
+                base.sets.popitem(last=False)
+        base.sets.move_to_end(set_key)
         w = lu_solve(lu, y[rem], check_finite=False)
         z = y - base.columns[:, rem] @ w
         z[rem] = 0.0
