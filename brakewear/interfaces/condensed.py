@@ -10,13 +10,15 @@ active-set iteration on a dense system of the active nodes,
 
 with ``q = g0 + offset + hf p_line`` (plus the thermal load's gap) and ``c``
 the implicit step's wear compliance per newton (``eps / area``; zero for a
-rigid contact).  Its LU factorisation is kept for the next solve with the
-same set, friction coefficient and compliance (a wear history with fixed
-steps reuses it step after step).  The active-set policy is the FE solves'
-(:mod:`brakewear.contact.active_set`), so the answer is the FE answer.
+rigid contact).  The system of every node in contact is factorised once per
+friction coefficient and compliance, and each set is solved from it with
+its open nodes held by a small Schur system (:class:`_DenseSets`; a wear
+history with fixed steps reuses both step after step), on one BLAS thread.
+The active-set policy is the FE solves' (:mod:`brakewear.contact.active_set`),
+so the answer is the FE answer.
 
 Where it applies: gap-offset wear (the meshes do not move) with linear
-elasticity.  A gap offset beyond ``valid_fraction`` of the friction face's
+elasticity, P1 or P2 meshes.  A gap offset beyond ``valid_fraction`` of the friction face's
 element height raises :class:`~brakewear.errors.CondensedRangeError`, which
 names the FE interface with the geometry update as the alternative.
 """
