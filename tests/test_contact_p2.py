@@ -308,14 +308,14 @@ def test_p2_brake_refuses_what_it_cannot_do(brake2):
     with pytest.raises(SceneError, match="order 2"):
         BrakeModel("default", size=12e-3, order=2,
                    meshes={"pad": BrakeModel("default", size=12e-3).meshes["pad"]})
-    # a P2 brake heats (the temperature on its vertices: tests/test_thermal_p2.py),
-    # but its faces do not move
+    # a P2 brake heats (the temperature on its vertices: tests/test_thermal_p2.py) and
+    # its faces move (tests/test_motion.py), but not both: the heat model does not move
     with pytest.raises(ThermalError, match="not supported with P2"):
         ThermalModel(brake2).follow(brake2)
-    with pytest.raises(ValueError, match="P1"):
-        BrakeMotion(brake2)
+    assert BrakeMotion(brake2).followers["pad"].basis is not None
     with pytest.raises(WearError, match="gap"):
         next(wear_history(brake2, 1e6, 50.0, 10.0, WearLaw(5e-14), None, 0.4,
+                          thermal=ThermalModel(brake2),
                           numerics=Numerics(update="geometry", steps=1)))
     # run_wear writes P2 models (tetra10 VTU): tests/test_scene_p2.py
 

@@ -83,6 +83,8 @@ def test_a_quadratic_thermal_scene_writes_temperatures_at_every_node(tmp_path):
 @pytest.mark.parametrize("change,key,alternative", [
     (dict(interface=InterfaceSpec(model="winkler")), "interface.model = 'winkler'",
      "interface.model = 'fe'"),
+    (dict(numerics=Numerics(update="geometry"), thermal=ThermalSpec(enabled=True)),
+     "update = 'geometry'", "numerics.update = 'gap'"),
 ])
 def test_what_quadratic_scenes_do_not_support_is_refused_by_name(change, key, alternative):
     with pytest.raises(SceneError, match="mesh.order = 2 is not supported") as e:

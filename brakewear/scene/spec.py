@@ -187,6 +187,11 @@ class Scene:
         """Quadratic (P2) meshes run FE contact or its condensation, with either
         wear update; the elastic foundation is refused by name."""
         order = self.geometry.mesh.order if self.order is None else self.order
+        if order == 2 and self.numerics.update == "geometry" and self.thermal.enabled:
+            raise fail("numerics.update", "update = 'geometry' and thermal.enabled = true "
+                                          "with mesh.order = 2 is not supported (the "
+                                          "thermal model of a P2 mesh does not move); use "
+                                          "numerics.update = 'gap', or mesh.order = 1")
         if order == 2 and self.interface.model == "winkler":
             raise fail("interface.model", "interface.model = 'winkler' with mesh.order = 2 is "
                                           "not supported (quadratic meshes: FE contact or its "

@@ -63,6 +63,10 @@ def check_thermal(model, thermal, numerics, interface) -> None:
     if thermal.model is not model:
         raise WearError("thermal belongs to another BrakeModel; build it with "
                         "ThermalModel(model) for this model")
+    if numerics.update == "geometry" and getattr(model, "order", 1) == 2:
+        raise WearError("update = 'geometry' with thermal coupling moves P1 meshes only "
+                        "(the temperature of a P2 model lives on its vertices, which the "
+                        "thermal model does not move); use update = 'gap' or a P1 model")
     if interface is not None and not getattr(interface, "accepts_load", False):
         raise WearError(f"thermal coupling needs an interface that takes the thermal-strain "
                         f"load; {type(interface).__name__} does not (the load would be "
