@@ -240,7 +240,7 @@ def test_thermal_keys_without_heat_are_named(caplog):
 def test_a_condensed_interface_beyond_the_memory_budget_is_refused_before_meshing(no_meshing):
     """The condensation's dense compliances (16 n^2 bytes for n pad contact nodes, plus the
     factor) are estimated from the geometry like the model's size: the default scene's
-    2280 contact nodes need about 2.6 GB, refused under a 2 GB budget, run under 3 GB."""
+    2280 contact nodes need about 2.5 GB, refused under a 2 GB budget, run under 3 GB."""
     from dataclasses import replace
 
     from brakewear import Numerics
@@ -248,7 +248,7 @@ def test_a_condensed_interface_beyond_the_memory_budget_is_refused_before_meshin
     s = load_scene("default")
     condensed = InterfaceSpec(model="condensed", mu=0.4)
     with pytest.raises(SceneError, match=r"interface\.model: 'condensed' condenses about 2280 "
-                                         r"pad contact nodes .* about 2\.6 GB, beyond the "
+                                         r"pad contact nodes .* about 2\.5 GB, beyond the "
                                          r"memory budget you set \(2\.0 GB\)"):
         replace(s, interface=condensed, numerics=Numerics(memory_budget=2.0))
     replace(s, interface=condensed, numerics=Numerics(memory_budget=3.0))
