@@ -103,7 +103,7 @@ def test_a_resumed_run_keeps_the_interface_it_was_run_on(small, tmp_path):
     from brakewear import CondensedInterface
 
     model, fe = small
-    run_scene(_scene(1), tmp_path / "run")               # one step: FE
+    run_scene(_scene(1, interface=InterfaceSpec(mu=0.4, model="fe")), tmp_path / "run")
     CondensedInterface(model, 1e6, 0.4, fe=fe, cache=tmp_path)   # now it would be free
     kept = _choose(small, 1, tmp_path, resume=tmp_path / "run" / "checkpoint.npz")
     assert kept.model == "fe" and "resumed" in kept.reason
