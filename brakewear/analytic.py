@@ -37,6 +37,12 @@ __all__ = [
     "winkler_sphere",
     "winkler_sphere_pressure",
     "winkler_sphere_approach",
+    "hertz_sphere_stiffness",
+    "winkler_hertz_match",
+    "mindlin_tangential_stiffness",
+    "brush_hertz_modulus",
+    "mikic_elastic_conductance",
+    "barber_conductance",
 ]
 
 
@@ -174,6 +180,126 @@ def winkler_sphere_pressure(r, R: float, k: float, delta: float):
     """p(r) = k (delta - r^2 / (2 R)) inside the contact, zero outside."""
     r = np.asarray(r, dtype=float)
     return k * np.clip(delta - r ** 2 / (2.0 * R), 0.0, None)
+
+
+def hertz_sphere_stiffness(F: float, R: float, Es: float) -> float:
+    """Tangent normal stiffness of the Hertz sphere, ``dF/d delta = 2 E* a`` (N/m).
+
+    It is also the stiffness of a rigid flat punch of the contact radius (the
+    incremental contact is that punch: Barber's theorem).
+    """
+    return 2.0 * Es * hertz_sphere(F, R, Es)["a"]
+
+
+def winkler_hertz_match(F: float, R: float, Es: float, match: str = "radius") -> dict:
+    """A Winkler bed calibrated on the Hertz sphere, and what it predicts.
+
+    A bed ``p = K (delta - r^2 / (2 R))`` has ``a^2 = 2 R delta``,
+    ``F = pi K R delta^2`` (:func:`winkler_sphere`) and the tangent stiffness
+    ``dF/d delta = 2 pi K R delta``.  Against Hertz (:func:`hertz_sphere`,
+    :func:`hertz_sphere_stiffness`) at the load ``F``:
+
+    * ``match = "radius"`` (the thesis's calibration): Hertz's contact radius
+      at Hertz's load, ``K = 16 E* / (3 pi a)``; then the bed's approach is
+      ``delta_H / 2``, its stiffness ``8/3`` of Hertz's ``2 E* a`` and its peak
+      pressure ``4/3`` of ``p0``;
+    * ``match = "stiffness"``: Hertz's tangent stiffness at Hertz's load,
+      ``K = 3 E* / (4 pi a)``; then the approach is ``4/3`` of Hertz's, the
+      contact area ``8/3`` and the peak pressure ``1/2``.
+
+    One modulus cannot match area, approach and stiffness at once.
+
+    Returns
+    -------
+    dict
+        ``K`` (Pa/m), ``a``, ``delta``, ``p0``, ``stiffness`` of the bed, the
+        Hertz values under ``hertz`` and the ratios bed/Hertz under ``ratio``
+        (``approach``, ``stiffness``, ``peak``, ``area``).
+    """
+    h = hertz_sphere(F, R, Es)
+    if match == "radius":
+        K = 16.0 * Es / (3.0 * np.pi * h["a"])
+    elif match == "stiffness":
+        K = 3.0 * Es / (4.0 * np.pi * h["a"])
+    else:
+        raise FoundationError(f"winkler_hertz_match: match = {match!r} is not allowed; allowed: "
+                         "'radius', 'stiffness'")
+    w = winkler_sphere(R, K, F=F)
+    k_w = 2.0 * np.pi * K * R * w["delta"]
+    k_h = hertz_sphere_stiffness(F, R, Es)
+    return {"K": K, "a": w["a"], "delta": w["delta"], "p0": w["p0"], "stiffness": k_w,
+            "hertz": {**h, "stiffness": k_h},
+            "ratio": {"approach": w["delta"] / h["delta"], "stiffness": k_w / k_h,
+                      "peak": w["p0"] / h["p0"], "area": (w["a"] / h["a"]) ** 2}}
+
+
+def mindlin_tangential_stiffness(a: float, Es: float, nu: float) -> float:
+    """Tangential stiffness of a stuck circular contact of radius ``a`` (N/m).
+
+    Mindlin (1949); Johnson (1985), section 7.2: a rigid disc bonded to a
+    half-space moves by ``Q (2 - nu) / (8 G a)`` under a force ``Q``, the
+    normal-tangential coupling neglected (exact for ``nu = 0`` and for two
+    bodies of one material).  With ``G = E* (1 - nu) / 2`` (one elastic body of
+    ``E* = E / (1 - nu^2)``; also two equal bodies) that is::
+
+        K_t = 8 G a / (2 - nu) = 4 a E* (1 - nu) / (2 - nu)
+
+    against ``K_n = 2 E* a``: ``K_t / K_n = 2 (1 - nu) / (2 - nu)``.
+    """
+    if not (-1.0 < nu < 0.5):
+        raise FoundationError(f"mindlin_tangential_stiffness: nu = {nu!r} is not allowed; need "
+                         "-1 < nu < 0.5")
+    return 4.0 * a * Es * (1.0 - nu) / (2.0 - nu)
+
+
+def brush_hertz_modulus(F: float, R: float, Es: float, nu: float,
+                        match: str = "radius") -> float:
+    """Tangential (brush) modulus ``k_t`` (Pa/m) of a bed calibrated on the Hertz sphere.
+
+    A brush ``q = k_t u`` over the bed's contact area ``A_w`` has the
+    tangential stiffness ``k_t A_w``; set equal to Mindlin's stuck circle of
+    Hertz's radius (:func:`mindlin_tangential_stiffness`)::
+
+        k_t = 4 a E* (1 - nu) / ((2 - nu) A_w)
+
+    ``A_w`` is the contact area of :func:`winkler_hertz_match` with the same
+    ``match``: ``pi a^2`` for ``"radius"`` (then
+    ``k_t = 4 E* (1 - nu) / ((2 - nu) pi a)``), ``8/3 pi a^2`` for ``"stiffness"``.
+    Either brush reproduces the tangential stiffness of the smooth contact.
+    """
+    w = winkler_hertz_match(F, R, Es, match)
+    return mindlin_tangential_stiffness(w["hertz"]["a"], Es, nu) / (np.pi * w["a"] ** 2)
+
+
+def mikic_elastic_conductance(p, Es: float, sigma: float, slope: float, kappa_s: float):
+    """Contact conductance of rough surfaces in elastic contact (W/m^2 K), Mikic (1974)::
+
+        h_c = 1.54 kappa_s (m / sigma) (sqrt(2) p / (E* m))^0.94
+
+    ``p`` the nominal pressure (Pa), ``E*`` the contact modulus, ``sigma`` the
+    combined rms height ``sqrt(sigma_1^2 + sigma_2^2)`` (m), ``m`` the
+    combined mean absolute profile slope ``sqrt(m_1^2 + m_2^2)`` and
+    ``kappa_s = 2 kappa_1 kappa_2 / (kappa_1 + kappa_2)`` (W/m K).  For an
+    isotropic Gaussian surface of areal rms slope ``Sdq``, ``m = Sdq / sqrt(pi)``.
+    A correlation of the Greenwood-Williamson kind, stated for
+    ``1e-5 < p / E* m < 1e-2`` or so (a small real contact area).
+    """
+    p = np.asarray(p, dtype=float)
+    return 1.54 * kappa_s * slope / sigma * (np.sqrt(2.0) * np.clip(p, 0.0, None)
+                                             / (Es * slope)) ** 0.94
+
+
+def barber_conductance(stiffness, Es: float, kappa_s: float):
+    """Conductance of an elastic contact from its incremental normal stiffness, Barber (2003)::
+
+        C = kappa_s (dF / d delta) / E*
+
+    exact for half-spaces (the thermal and the incremental elastic problems are
+    the same Dirichlet problem on the contact spots); ``kappa_s`` as in
+    :func:`mikic_elastic_conductance`.  A stiffness per nominal area (Pa/m)
+    gives a conductance per area (W/m^2 K).  One circle: ``C = 2 kappa_s a``.
+    """
+    return kappa_s * np.asarray(stiffness, dtype=float) / Es
 
 
 def semi_infinite_temperature(x, t: float, q: float, kappa: float, rho: float, c: float,

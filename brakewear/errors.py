@@ -51,6 +51,7 @@ __all__ = [
     "MotionError",
     "SolverSettingsError",
     "BenchError",
+    "RoughnessError",
     "ConvergenceError",
     "CondensedRangeError",
     "ActiveSetError",
@@ -188,6 +189,12 @@ class SolverSettingsError(InputError):
 
 class BenchError(InputError):
     """A benchmark option that is not allowed (names the option and the allowed values)."""
+
+
+class RoughnessError(InputError):
+    """Bad input to the rough-surface tools (:mod:`brakewear.rough`): a topography file
+    that cannot be read (names the file, the row and column), or a parameter out of
+    range (names it, the value in the user's units and what is allowed)."""
 
 
 # ----------------------------------------------------------------- solver --

@@ -111,6 +111,70 @@ def test_winkler_sphere_round_trip_load_integral_and_hertz_ratio():
         an.winkler_sphere(R, k)
 
 
+@pytest.mark.parametrize("match,ratios", [
+    ("radius", {"approach": 0.5, "stiffness": 8 / 3, "peak": 4 / 3, "area": 1.0}),
+    ("stiffness", {"approach": 4 / 3, "stiffness": 1.0, "peak": 0.5, "area": 8 / 3})])
+def test_winkler_bed_calibrated_on_hertz(match, ratios):
+    """Hertz's radius (or stiffness) at Hertz's load fixes K; the rest follows exactly."""
+    F, R, Es = 12.0, 0.02, 3e9
+    w = an.winkler_hertz_match(F, R, Es, match)
+    a = an.hertz_sphere(F, R, Es)["a"]
+    K = 16 * Es / (3 * np.pi * a) if match == "radius" else 3 * Es / (4 * np.pi * a)
+    assert w["K"] == pytest.approx(K, rel=1e-14)
+    for k, v in ratios.items():
+        assert w["ratio"][k] == pytest.approx(v, rel=1e-12), f"{k}: {w['ratio'][k]}"
+    # the bed carries the load: F = pi K R delta^2, and its stiffness is dF/d delta
+    assert np.pi * w["K"] * R * w["delta"] ** 2 == pytest.approx(F, rel=1e-12)
+    d = 1e-6 * w["delta"]
+    dF = np.pi * w["K"] * R * ((w["delta"] + d) ** 2 - (w["delta"] - d) ** 2) / (2 * d)
+    assert w["stiffness"] == pytest.approx(dF, rel=1e-8)
+    with pytest.raises(ValueError, match="match"):
+        an.winkler_hertz_match(F, R, Es, "area")
+
+
+def test_hertz_stiffness_is_the_derivative_of_the_load():
+    R, Es, delta = 0.01, 2e9, 3e-6
+    load = lambda d: 4 / 3 * Es * np.sqrt(R) * d ** 1.5
+    F = load(delta)
+    dd = 1e-6 * delta
+    assert an.hertz_sphere_stiffness(F, R, Es) == pytest.approx(
+        (load(delta + dd) - load(delta - dd)) / (2 * dd), rel=1e-8)
+    assert an.hertz_sphere_stiffness(F, R, Es) == pytest.approx(
+        2 * Es * an.hertz_sphere(F, R, Es)["a"], rel=1e-14)
+
+
+def test_mindlin_and_the_brush_calibrated_on_it():
+    a, Es = 1e-3, 1e9
+    for nu in (0.0, 0.25, 0.3, 0.45):
+        kt = an.mindlin_tangential_stiffness(a, Es, nu)
+        # 8 G a / (2 - nu), G = E* (1 - nu) / 2 for one elastic body of E* = E / (1 - nu^2)
+        assert kt == pytest.approx(8 * (Es * (1 - nu) / 2) * a / (2 - nu), rel=1e-14)
+        assert kt / (2 * Es * a) == pytest.approx(2 * (1 - nu) / (2 - nu), rel=1e-14)
+    assert an.mindlin_tangential_stiffness(a, Es, 0.0) == pytest.approx(2 * Es * a)
+    with pytest.raises(ValueError, match="nu"):
+        an.mindlin_tangential_stiffness(a, Es, 0.5)
+    F, R, nu = 12.0, 0.02, 0.3
+    for match in ("radius", "stiffness"):
+        w = an.winkler_hertz_match(F, R, Es, match)
+        kt_bed = an.brush_hertz_modulus(F, R, Es, nu, match) * np.pi * w["a"] ** 2
+        assert kt_bed == pytest.approx(
+            an.mindlin_tangential_stiffness(w["hertz"]["a"], Es, nu), rel=1e-12)
+
+
+def test_mikic_correlation_and_barbers_analogy():
+    Es, s, m, k = 3e9, 3e-6, 0.12, 3.8
+    p = np.array([1e5, 1e6, 1e7])
+    h = an.mikic_elastic_conductance(p, Es, s, m, k)
+    assert h[1] == pytest.approx(1.54 * k * m / s * (np.sqrt(2) * 1e6 / (Es * m)) ** 0.94,
+                                 rel=1e-14)
+    assert h[2] / h[1] == pytest.approx(10 ** 0.94, rel=1e-12)
+    assert an.mikic_elastic_conductance(0.0, Es, s, m, k) == 0.0
+    assert an.mikic_elastic_conductance(1e6, Es, 2 * s, m, k) == pytest.approx(h[1] / 2)
+    # one circular spot: conductance 2 kappa_s a (two half-spaces in series) from 2 E* a
+    a = 50e-6
+    assert an.barber_conductance(2 * Es * a, Es, k) == pytest.approx(2 * k * a, rel=1e-14)
+
+
 def test_semi_infinite_profile_surface_flux_and_energy():
     q, k, rho, c, t = 2e5, 2.0, 2400.0, 1000.0, 12.0
     T_surf = an.semi_infinite_surface_temperature(t, q, k, rho, c, T0=300.0)
