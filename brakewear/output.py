@@ -311,7 +311,8 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
         kw["thermal"] = ThermalModel(model, partition=t.partition, h_conv=t.convection_law(),
                                      T_ambient=scene.ambient, T_ref=t.T_ref, mass=t.mass,
                                      T_initial=t.T_initial,
-                                     contact_conductance=t.contact_conductance,
+                                     contact_conductance=t.conductance(scene.geometry,
+                                                                       scene.line_pressure),
                                      T_max=t.T_max, emissivity=t.emissivity)
     if done is not None:      # finished: nothing to run, once its inputs are the same
         check_resume(model, scene.line_pressure, scene.omega, scene.duration, pad_law,

@@ -331,3 +331,27 @@ def test_wear_bench_cli_json():
                          capture_output=True, text=True, check=True)
     row = json.loads(out.stdout.strip().splitlines()[-1])
     assert row["bench"] == "wear" and row["steps"] == 2
+
+
+def test_rough_bench_rows_table_and_parser():
+    """`brakewear bench rough` on a small grid: the half-space's figures, tamaas's when it is
+    installed (the same area), the foundation far faster than the half-space."""
+    import argparse
+    import importlib.util
+
+    from brakewear.bench import add_bench_parser, format_rough_table, run_rough_case
+    row = run_rough_case(64, tol=1e-8, repeats=3)
+    assert row["n"] == 64 and row["ours_iterations"] > 0
+    assert 0 < row["ours_area_fraction"] < 0.2
+    assert row["ours_gap_error"] < 1e-5 and row["ours_tol100_gap_error"] < row["ours_gap_error"]
+    assert row["sphere_foundation_s"] > 0 and row["halfspace_over_foundation"] > 1
+    if importlib.util.find_spec("tamaas") is not None:
+        assert abs(row["area_difference"]) < 0.02
+    else:
+        assert "tamaas_s" not in row
+    table = format_rough_table([row])
+    assert "64^2" in table and table.count("\n") == 2
+    ap = argparse.ArgumentParser()
+    add_bench_parser(ap.add_subparsers(dest="bench"))
+    args = ap.parse_args(["rough", "--sizes", "128", "--tol", "1e-6", "--json"])
+    assert args.bench == "rough" and args.sizes == [128] and args.tol == 1e-6 and args.json

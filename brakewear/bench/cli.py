@@ -13,6 +13,7 @@ from typing import Sequence
 from .contact import (CONTACT_CASES, CONTACT_DIRECT_MAX, CONTACT_SIZES, bench_contact,
                       format_contact_table, run_contact_case)
 from .elasticity import DEFAULT_SIZES, bench_elasticity, format_table, run_elasticity_case
+from .rough import ROUGH_SIZES, bench_rough, format_rough_table
 from .wear import INTERFACES, LAYOUTS, WEAR_SIZES, bench_wear, format_wear_table
 
 logger = logging.getLogger(__name__)
@@ -62,6 +63,43 @@ def _add_wear_parser(subparsers) -> None:
     w.set_defaults(bench="wear", func=run_bench)
 
 
+def _run_rough_bench(args: argparse.Namespace) -> int:
+    if not args.json:
+        print(f"brakewear bench rough: {os.cpu_count()} CPUs, tol {args.tol:g}, grids "
+              f"{' '.join(f'{n}^2' for n in args.sizes)} (single-threaded FFTs)", flush=True)
+
+    def progress(row):
+        if args.json:
+            print(json.dumps(row), flush=True)
+        else:
+            tam = (f", tamaas {row['tamaas_s']:.3f} s (area {100 * row['area_difference']:+.3f}"
+                   " %)" if "tamaas_s" in row else ", tamaas not installed")
+            print(f"  {row['n']}^2: half-space {row['ours_s']:.3f} s{tam}; sphere: half-space "
+                  f"{row['sphere_halfspace_s']:.3f} s, foundation "
+                  f"{row['sphere_foundation_s'] * 1e3:.2f} ms", flush=True)
+
+    rows = bench_rough(args.sizes, args.tol, progress)
+    if not args.json:
+        print(format_rough_table(rows))
+    return 0
+
+
+def _add_rough_parser(subparsers) -> None:
+    r = subparsers.add_parser("rough", help="half-space rough contact against tamaas and the "
+                                            "foundation model",
+                              description="Rough contact: the FFT half-space solve against "
+                                          "tamaas (if installed: pip install brakewear"
+                                          "[rough-reference]) on a periodic self-affine "
+                                          "surface, and against the foundation bed on a "
+                                          "sphere on a rough plane; one run, same tolerance.")
+    r.add_argument("--json", action="store_true", help="one JSON object per size and line")
+    r.add_argument("--sizes", type=int, nargs="+", default=list(ROUGH_SIZES), metavar="N",
+                   help="grid sizes N (N x N pixels; default 256 512)")
+    r.add_argument("--tol", type=float, default=1e-8,
+                   help="relative pressure change at convergence, both solvers (default 1e-8)")
+    r.set_defaults(bench="rough", func=run_bench)
+
+
 def _add_elasticity_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true",
                    help="one JSON object per size and line instead of a table")
@@ -77,9 +115,10 @@ def _add_elasticity_args(p: argparse.ArgumentParser) -> None:
 def add_bench_parser(subparsers) -> None:
     """Register the benchmarks as sub-commands of ``subparsers`` (the ``bench`` command's):
     ``elasticity [--json] [--sizes ...] [--direct-max N] [--repeats N]`` and
-    ``contact [--json] [--sizes ...] [--cases hertz brake] [--direct-max N] [--repeats N]``.
+    ``contact [--json] [--sizes ...] [--cases hertz brake] [--direct-max N] [--repeats N]``,
+    ``wear ...`` and ``rough [--json] [--sizes N ...] [--tol T]``.
 
-    ``brakewear bench elasticity|contact`` is then run by :func:`run_bench` (also set
+    ``brakewear bench elasticity|contact|wear|rough`` is then run by :func:`run_bench` (also set
     as the ``func`` default of the parsed arguments).
     """
     e = subparsers.add_parser("elasticity", help="P1 elasticity: assembly, AMG setup and solve, memory",
@@ -107,6 +146,7 @@ def add_bench_parser(subparsers) -> None:
                    help="fresh processes per case and size; timings are medians (default 1)")
     c.set_defaults(bench="contact", func=run_bench)
     _add_wear_parser(subparsers)
+    _add_rough_parser(subparsers)
 
 
 def run_bench(args: argparse.Namespace) -> int:
@@ -116,8 +156,10 @@ def run_bench(args: argparse.Namespace) -> int:
         return _run_contact_bench(args)
     if which == "wear":
         return _run_wear_bench(args)
+    if which == "rough":
+        return _run_rough_bench(args)
     if which != "elasticity":
-        print(f"unknown benchmark {args.bench!r}; available: elasticity, contact, wear",
+        print(f"unknown benchmark {args.bench!r}; available: elasticity, contact, wear, rough",
               file=sys.stderr)
         return 2
     if not args.json:

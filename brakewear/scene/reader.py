@@ -60,8 +60,10 @@ _SCHEMA: dict[str, dict[str, str]] = {
                    "k_map": "path", "map_outside": "str"},
     "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
                 "T_initial": "temperature", "T_ref": "temperature",
-                "contact_conductance": "num", "mass": "str", "T_max": "temperature",
-                "convection": "str", "emissivity": "num"},
+                "contact_conductance": "conductance", "mass": "str", "T_max": "temperature",
+                "convection": "str", "emissivity": "num", "pad_rms_height": "length",
+                "rotor_rms_height": "length", "pad_rms_slope": "num",
+                "rotor_rms_slope": "num", "conductance_law": "str"},
     "numerics": {"scheme": "str", "update": "str", "steps": "int", "dp_tol": "num",
                  "dh_fraction": "num", "max_dh": "length", "wear_tol": "length",
                  "stability": "num", "implicit_floor": "num", "tol": "num",
@@ -395,7 +397,7 @@ def _convert(key: str, v: Any, kind: str, units: Mapping[str, str]) -> Any:
         if isinstance(v, str):
             raise fail(key, f"{v!r} is not allowed; expected a number (1/Pa) or \"material\"")
         return number()
-    if kind == "partition":
+    if kind in ("partition", "conductance"):      # a number or a word
         return v if isinstance(v, str) else number()
     if kind == "h_conv":
         if isinstance(v, Mapping):

@@ -287,9 +287,14 @@ class Scene:
             raise fail("thermal.convection", f"{self.thermal.convection!r} is the convection "
                                              "of a meshed rotor; it needs components.rotor = "
                                              "'elastic'")
-        if (self.thermal.contact_conductance or 0.0) > 0 and self.rotor != "elastic":
-            raise fail("thermal.contact_conductance", "> 0 needs an elastic rotor "
+        hc = self.thermal.contact_conductance
+        if (self.thermal.rough or (hc or 0.0) > 0) and self.rotor != "elastic":
+            raise fail("thermal.contact_conductance", f"{hc!r} (> 0) needs an elastic rotor "
                                                        "(components.rotor = 'elastic')")
+        if self.thermal.rough and self.schedule:
+            raise fail("thermal.contact_conductance", "\"rough\" is evaluated at one nominal "
+                                                       "pressure; a [schedule] changes it per "
+                                                       "application: give a number (W/m^2 K)")
 
     def _check_gap_file(self) -> None:
         from ..cleaning import read_gap_map

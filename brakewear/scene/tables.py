@@ -255,6 +255,15 @@ class ThermalSpec:
     ``"vented"`` makes the rotor's coefficient follow its speed
     (:meth:`brakewear.thermal.SpeedConvection.solid`, ``.vented``; the pad keeps
     ``h_conv``); ``emissivity`` adds radiation from the convective faces.
+
+    ``contact_conductance = "rough"`` derives the conductance from the faces'
+    roughness (:class:`brakewear.rough.RoughConductance`): ``pad_rms_height``
+    and ``rotor_rms_height`` (m), with ``conductance_law = "halfspace"``
+    (default: the law fitted to the half-space solves) or ``"mikic"`` (which
+    also needs ``pad_rms_slope`` and ``rotor_rms_slope``, the areal rms
+    slopes Sdq), evaluated at the nominal pressure, the clamp force over the
+    pad's friction face (:meth:`conductance`).  Not with a [schedule], whose
+    pressure changes from application to application.
     """
 
     enabled: bool = False
@@ -267,6 +276,11 @@ class ThermalSpec:
     T_max: float | None = None
     convection: str = "constant"
     emissivity: float | None = None
+    pad_rms_height: float | None = None
+    pad_rms_slope: float | None = None
+    rotor_rms_height: float | None = None
+    rotor_rms_slope: float | None = None
+    conductance_law: str = "halfspace"
 
     def __post_init__(self):
         check_bool("thermal.enabled", self.enabled)
@@ -288,8 +302,12 @@ class ThermalSpec:
         check_number("thermal.T_ref", self.T_ref, 0.0, unit="K", allow_none=True)
         check_plausible("thermal.T_initial", self.T_initial)
         check_plausible("thermal.T_ref", self.T_ref)
-        check_number("thermal.contact_conductance", self.contact_conductance, 0.0,
-                      lo_open=False, unit="W/m^2 K", allow_none=True)
+        if isinstance(self.contact_conductance, str):
+            check_choice("thermal.contact_conductance", self.contact_conductance, ("rough",))
+        else:
+            check_number("thermal.contact_conductance", self.contact_conductance, 0.0,
+                         lo_open=False, unit="W/m^2 K", allow_none=True)
+        self._check_roughness()
         check_choice("thermal.mass", self.mass, ("consistent", "lumped"))
         check_number("thermal.T_max", self.T_max, 0.0, unit="K", allow_none=True)
         check_choice("thermal.convection", self.convection, ("constant", "solid", "vented"))
@@ -301,6 +319,58 @@ class ThermalSpec:
         check_number("thermal.emissivity", self.emissivity, 0.0, 1.0, lo_open=False,
                      allow_none=True)
 
+
+    @property
+    def rough(self) -> bool:
+        """Whether the contact conductance comes from the faces' roughness."""
+        return self.contact_conductance == "rough"
+
+    def _check_roughness(self) -> None:
+        keys = ("pad_rms_height", "rotor_rms_height", "pad_rms_slope", "rotor_rms_slope")
+        check_choice("thermal.conductance_law", self.conductance_law, ("halfspace", "mikic"))
+        if not self.rough:
+            given = [k for k in keys if getattr(self, k) is not None]
+            if given or self.conductance_law != "halfspace":
+                k = given[0] if given else "conductance_law"
+                raise fail(f"thermal.{k}", "is used only with contact_conductance = \"rough\" "
+                                           "(the conductance from the faces' roughness)")
+            return
+        need = keys[:2] + (keys[2:] if self.conductance_law == "mikic" else ())
+        for k in need:
+            if getattr(self, k) is None:
+                raise fail(f"thermal.{k}", f"missing: contact_conductance = \"rough\" with "
+                                           f"conductance_law = {self.conductance_law!r} "
+                                           f"needs {', '.join(need)}")
+        for k in keys[:2]:
+            # the rms height of a brake face is microns; a millimetre is a wavy face
+            check_number(f"thermal.{k}", getattr(self, k), 0.0, 1e-3, unit="m")
+        for k in keys[2:]:
+            check_number(f"thermal.{k}", getattr(self, k), 0.0, 2.0, allow_none=True)
+
+    def rough_law(self, geometry):
+        """The :class:`~brakewear.rough.RoughConductance` of the pad and rotor faces of
+        ``geometry`` (their materials give ``E*`` and the conductivities)."""
+        from ..analytic import effective_modulus
+        from ..rough.conductance import RoughConductance
+        pad, rotor = geometry.pad.friction_material, geometry.rotor.material
+        Es = effective_modulus(pad.elastic.E_normal, pad.elastic.nu_normal,
+                               rotor.elastic.E_normal, rotor.elastic.nu_normal)
+        return RoughConductance.of_faces(
+            (self.pad_rms_height, self.pad_rms_slope),
+            (self.rotor_rms_height, self.rotor_rms_slope), Es, pad.thermal.kappa,
+            rotor.thermal.kappa, self.conductance_law)
+
+    def conductance(self, geometry, line_pressure: float | None) -> float | None:
+        """The ``contact_conductance`` argument of :class:`~brakewear.thermal.ThermalModel`:
+        the number given, or (``"rough"``) the rough law at the nominal pressure
+        ``line_pressure * clamp_area / pad area`` (W/m^2 K)."""
+        if not self.rough:
+            return self.contact_conductance
+        p = line_pressure * geometry.clamp_area / geometry.pad.area
+        h = float(self.rough_law(geometry).conductance(p))
+        logger.info("contact conductance from the roughness (%s law): %.4g W/m^2 K at the "
+                    "nominal pressure %.4g MPa", self.conductance_law, h, p / 1e6)
+        return h
 
     def convection_law(self):
         """The ``h_conv`` argument of :class:`~brakewear.thermal.ThermalModel`: the
