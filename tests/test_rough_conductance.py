@@ -8,6 +8,7 @@ from brakewear.errors import RoughnessError, SceneError
 from brakewear.rough import RoughConductance, halfspace_conductance, self_affine
 from brakewear.rough.conductance import HALFSPACE_FIT
 from brakewear.scene import load_scene, scene_file, scene_from_dict
+from studyload import load_study
 
 try:
     import tomllib
@@ -135,3 +136,32 @@ def test_rough_conductance_needs_an_elastic_rotor_and_no_schedule():
     with pytest.raises(SceneError, match="thermal.contact_conductance: \"rough\" is evaluated "
                                          "at one nominal pressure.*give a number"):
         scene_from_dict(d)
+
+
+def test_the_rough_conductance_makes_the_thermal_drag_run_away():
+    """The documented consequence on a 12 mm mesh: with the rough faces' conductance the
+    pad keeps its fixed share and its face passes T_max within seconds (the run stops,
+    naming the pad), while the default constant keeps both faces together."""
+    study = load_study("thermal_conductance")
+    r = study.main(size=12e-3, duration=12.0, steps=4,
+                   which=["rough faces, halfspace law", "1e+05 (default)"], write=False)
+    rough, default = r["cases"]["rough faces, halfspace law"], r["cases"]["1e+05 (default)"]
+    assert 100 < rough["h_c_W_m2K"] < 2000 and default["h_c_W_m2K"] == 1e5
+    assert rough["stopped"] is not None and rough["stopped"]["body"] == "pad"
+    assert rough["stopped"]["temperature_C"] > 900 and rough["stopped"]["time_s"] <= 12.0
+    assert default["stopped"] is None and len(default["steps"]) == 4
+    last = default["steps"][-1]
+    assert abs(last["pad_T_max_C"] - last["rotor_T_max_C"]) < 0.2 * (last["rotor_T_max_C"] - 20)
+    # the pad holds more of the heat with the weak exchange
+    assert rough["steps"][0]["heat_pad_W"] > 2 * default["steps"][0]["heat_pad_W"]
+
+
+def test_the_conductance_and_hertz_studies_on_small_settings(tmp_path):
+    study = load_study("rough_conductance")
+    r = study.main(n=128, fine=None, seeds=1, points=3, out_data=tmp_path, out_fig=tmp_path,
+                   progress=None)
+    assert r["gamma"] == pytest.approx(HALFSPACE_FIT["gamma"], rel=0.3)
+    assert (tmp_path / "rough_conductance.png").stat().st_size > 0
+    assert r["brake"]["rows"][1]["line_pressure_MPa"] == 1.0
+    h = load_study("rough_hertz").main(grids=(64,), write=False)["rows"][0]
+    assert abs(h["approach_error"]) < 1e-2 and abs(h["normal_stiffness_error"]) < 1e-2
