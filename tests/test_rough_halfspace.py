@@ -73,10 +73,10 @@ def _hertz_grid(n):
     return hs, r, r ** 2 / (2 * R)
 
 
-def _check_hertz(n):
+def _check_hertz(n, tol=1e-10):
     hs, r, g0 = _hertz_grid(n)
     for kw in ({"load": 15.0}, {"approach": 0.1}):
-        res = solve_normal(hs, g0, tol=1e-10, **kw)
+        res = solve_normal(hs, g0, tol=tol, **kw)
         F = res.load
         h = an.hertz_sphere(F, R, ES)
         if "load" in kw:
@@ -101,7 +101,9 @@ def test_hertz_on_a_free_grid():
 
 @pytest.mark.slow
 def test_hertz_on_the_512_free_grid():
-    _check_hertz(512)
+    """ContactMechanics' own grid (tolerance 1e-8: the same errors as 1e-10 on 512^2,
+    in three quarters of the iterations)."""
+    _check_hertz(512, tol=1e-8)
 
 
 def test_hertz_converges_under_refinement():
