@@ -165,3 +165,14 @@ def test_the_conductance_and_hertz_studies_on_small_settings(tmp_path):
     assert r["brake"]["rows"][1]["line_pressure_MPa"] == 1.0
     h = load_study("rough_hertz").main(grids=(64,), write=False)["rows"][0]
     assert abs(h["approach_error"]) < 1e-2 and abs(h["normal_stiffness_error"]) < 1e-2
+
+
+def test_a_record_without_the_roughness_keys_resumes_as_before():
+    """The new [thermal] keys default to None: a run's scene.json written without them
+    reads the same as the scene now (resume compares the two records)."""
+    from brakewear.scene.spec import _first_difference
+    now = load_scene("thermal").to_dict()
+    before = {**now, "thermal": {k: v for k, v in now["thermal"].items() if k not in (
+        "pad_rms_height", "rotor_rms_height", "pad_rms_slope", "rotor_rms_slope",
+        "conductance_law")}}
+    assert _first_difference(before, now) is None

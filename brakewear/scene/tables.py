@@ -259,7 +259,7 @@ class ThermalSpec:
     ``contact_conductance = "rough"`` derives the conductance from the faces'
     roughness (:class:`brakewear.rough.RoughConductance`): ``pad_rms_height``
     and ``rotor_rms_height`` (m), with ``conductance_law = "halfspace"``
-    (default: the law fitted to the half-space solves) or ``"mikic"`` (which
+    (None, the default: the law fitted to the half-space solves) or ``"mikic"`` (which
     also needs ``pad_rms_slope`` and ``rotor_rms_slope``, the areal rms
     slopes Sdq), evaluated at the nominal pressure, the clamp force over the
     pad's friction face (:meth:`conductance`).  Not with a [schedule], whose
@@ -280,7 +280,7 @@ class ThermalSpec:
     pad_rms_slope: float | None = None
     rotor_rms_height: float | None = None
     rotor_rms_slope: float | None = None
-    conductance_law: str = "halfspace"
+    conductance_law: str | None = None
 
     def __post_init__(self):
         check_bool("thermal.enabled", self.enabled)
@@ -327,20 +327,24 @@ class ThermalSpec:
 
     def _check_roughness(self) -> None:
         keys = ("pad_rms_height", "rotor_rms_height", "pad_rms_slope", "rotor_rms_slope")
-        check_choice("thermal.conductance_law", self.conductance_law, ("halfspace", "mikic"))
+        # None: "halfspace"; a run's record without these keys reads the same
+        if self.conductance_law is not None:
+            check_choice("thermal.conductance_law", self.conductance_law,
+                         ("halfspace", "mikic"))
         if not self.rough:
             given = [k for k in keys if getattr(self, k) is not None]
-            if given or self.conductance_law != "halfspace":
+            if given or self.conductance_law is not None:
                 k = given[0] if given else "conductance_law"
                 raise fail(f"thermal.{k}", "is used only with contact_conductance = \"rough\" "
                                            "(the conductance from the faces' roughness)")
             return
-        need = keys[:2] + (keys[2:] if self.conductance_law == "mikic" else ())
+        law = self.conductance_law or "halfspace"
+        need = keys[:2] + (keys[2:] if law == "mikic" else ())
         for k in need:
             if getattr(self, k) is None:
                 raise fail(f"thermal.{k}", f"missing: contact_conductance = \"rough\" with "
-                                           f"conductance_law = {self.conductance_law!r} "
-                                           f"needs {', '.join(need)}")
+                                           f"conductance_law = {law!r} needs "
+                                           f"{', '.join(need)}")
         for k in keys[:2]:
             # the rms height of a brake face is microns; a millimetre is a wavy face
             check_number(f"thermal.{k}", getattr(self, k), 0.0, 1e-3, unit="m")
@@ -358,7 +362,7 @@ class ThermalSpec:
         return RoughConductance.of_faces(
             (self.pad_rms_height, self.pad_rms_slope),
             (self.rotor_rms_height, self.rotor_rms_slope), Es, pad.thermal.kappa,
-            rotor.thermal.kappa, self.conductance_law)
+            rotor.thermal.kappa, self.conductance_law or "halfspace")
 
     def conductance(self, geometry, line_pressure: float | None) -> float | None:
         """The ``contact_conductance`` argument of :class:`~brakewear.thermal.ThermalModel`:
@@ -369,7 +373,8 @@ class ThermalSpec:
         p = line_pressure * geometry.clamp_area / geometry.pad.area
         h = float(self.rough_law(geometry).conductance(p))
         logger.info("contact conductance from the roughness (%s law): %.4g W/m^2 K at the "
-                    "nominal pressure %.4g MPa", self.conductance_law, h, p / 1e6)
+                    "nominal pressure %.4g MPa", self.conductance_law or "halfspace", h,
+                    p / 1e6)
         return h
 
     def convection_law(self):
