@@ -29,6 +29,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from ..errors import BenchError
 from .common import fmt
 
 logger = logging.getLogger(__name__)
@@ -128,7 +129,7 @@ def bench_rough(sizes: Sequence[int] = ROUGH_SIZES, tol: float = 1e-8,
     rows = []
     for n in sizes:
         if int(n) != n or n < 64:
-            raise ValueError(f"size {n!r} is not allowed; need a whole number of pixels >= 64")
+            raise BenchError(f"size {n!r} is not allowed; need a whole number of pixels >= 64")
         rows.append(run_rough_case(int(n), tol))
         if progress:
             progress(rows[-1])
