@@ -37,6 +37,7 @@ import scipy.sparse as sp
 from ..errors import ContactError
 from .active_set import COMPLIANT, ActiveSetDriver, ActiveSetOptions
 from .basis import in_slave_basis
+from .compliant_rings import RingBlock
 from .compliant_sets import CompliantSets, SupportedSets
 from .pairs import ContactPair
 
@@ -118,7 +119,8 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
                             loose_tol: float | None = 1e-4, release_tol: float = 1e-6,
                             cycle_tol: float = 1e-3,
                             options: ActiveSetOptions | None = None,
-                            supports: list | None = None) -> CompliantResult:
+                            supports: list | None = None,
+                            rings: tuple | None = None) -> CompliantResult:
     """Contact of ``pair`` through springs of compliance ``compliance`` (m/Pa per slave node).
 
     Parameters
@@ -172,6 +174,14 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
         ``support_active`` and ``support_gap`` give their state.  ``solver``
         must then be the hierarchy of :func:`compliant_preconditioner` with the
         same ``supports`` (their quadratic faces change the unknowns).
+    rings
+        ``(ring_gap, ring_depth)``: the rotor's ring wear of the step, implicit
+        with the pad's (:mod:`~brakewear.contact.compliant_rings`).
+        ``ring_gap`` (n_slave x m, sparse) is the gap each slave node sees per
+        metre of each ring's depth, ``ring_depth`` (m x n_slave) each ring's
+        depth per newton of end-of-step force at each slave node.  The ring
+        depths are solved with the displacements (``info["ring_depth"]``, m)
+        and open the gap of every slave node (``gap`` includes them).
 
     The active set follows the penalty rule: a node is active while its
     spring is compressed (``g0 + C u < 0``), within the hysteresis band.  A
@@ -233,11 +243,12 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
             active = guess
     options = replace(options or COMPLIANT, max_iter=max_iter, loose_tol=loose_tol,
                       release_tol=release_tol, cycle_band=cycle_tol)
+    block = None if rings is None else RingBlock(rings[0], rings[1], kappa, pair.g0)
     if supports:
         problem, active = _supported(pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed,
-                                     coords, active)
+                                     coords, active, block)
     else:
-        problem = CompliantSets(pair, kappa, C, G, Kd, fd, base, x)
+        problem = CompliantSets(pair, kappa, C, G, Kd, fd, base, x, block)
     driver = ActiveSetDriver(options, tol, name=pair.name)
     active = driver.run(problem, active)
     x = problem.u
@@ -246,7 +257,7 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
         active, a_s = problem.split(active)
         state = {"support_force": list(problem.support_force), "support_active": a_s,
                  "support_gap": list(problem.support_gap)}
-    g = pair.g0 + C @ x
+    g = problem.gaps(x)
     force = np.where(active, -kappa * g, 0.0)
     fmax = max(float(force.max()), 1e-300)
     info = {**driver.report(), "linear_iterations": problem.lin,
@@ -261,6 +272,8 @@ def solve_compliant_contact(K: sp.spmatrix, f: np.ndarray, fixed: np.ndarray,
     # band counts as no pressure: no wear, no negative Archard rate)
     if supports:
         info["support_normal_force"] = [float(v.sum()) for v in state["support_force"]]
+    if block is not None:
+        info["ring_depth"] = block.d.copy()
     u = x if T is None else T @ x
     return CompliantResult(u, np.maximum(force, 0.0) / pair.area, force, g, active, info,
                            **state)
@@ -279,12 +292,13 @@ def _check_supports(pair: ContactPair, supports: list) -> None:
         check_disjoint([pair, *supports])
 
 
-def _supported(pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed, coords, active):
+def _supported(pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed, coords, active,
+               block):
     """The set problem with rigid ``supports`` and its flat start set (the compliant
     pair's, then each stop's: closed where its gap at ``x`` (or ``g0``) is shut)."""
     size = float(np.linalg.norm(coords.max(axis=1) - coords.min(axis=1)))
     problem = SupportedSets(pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed,
-                            1e-10 * size)
+                            1e-10 * size, block)
     start = [g <= problem.gap_tol for g in problem.support_gap]
     return problem, np.concatenate([active, *start])
 

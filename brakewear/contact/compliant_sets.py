@@ -42,9 +42,10 @@ class CompliantSets:
     :class:`~brakewear.contact.active_set.SetProblem`): ``K_d`` plus the springs
     of the active nodes, preconditioned by a refreshed copy of the base hierarchy."""
 
-    def __init__(self, pair, kappa, C, G, Kd, fd, base, x):
+    def __init__(self, pair, kappa, C, G, Kd, fd, base, x, rings=None):
         self.pair, self.kappa, self.C, self.G, self.Kd, self.fd = pair, kappa, C, G, Kd, fd
         self.base, self.x = base, x
+        self.rings = rings      # a RingBlock: the rotor's ring depths as extra unknowns
         self.key = None
         self.lin = 0
 
@@ -72,6 +73,8 @@ class CompliantSets:
             N = A.shape[0]
             self.Aop = LinearOperator((N, N), matvec=lambda v, A=A, E=E: A @ v + E @ v,
                                       dtype=float)
+        if self.rings is not None:
+            self.rings.for_set(active, Ca, None if self.G is None else self.G[:, active])
 
     def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
         key = np.packbits(active).tobytes()
@@ -79,15 +82,26 @@ class CompliantSets:
             self._new_set(active)
             self.key = key
         self.amg.tol = tol
+        if self.rings is not None:
+            op = self.amg.A if self.Aop is None else self.Aop
+            self.x = self.rings.solve(self.amg, op, self.b, self.x, tol, rtol0)
+            self.lin += self.amg.info.iterations
+            return
         self.x = self.amg.solve(self.b, x0=self.x, A=self.Aop,
                                 krylov="gmres" if self.G is not None else "cg", rtol0=rtol0)
         self.lin += self.amg.info.iterations
+
+    def gaps(self, u: np.ndarray) -> np.ndarray:
+        """The gap of every compliant node at displacement ``u`` (m), the rotor's
+        ring wear of the step included."""
+        g = self.pair.g0 + self.C @ u
+        return g if self.rings is None else g + self.rings.gap()
 
     def margins(self, active: np.ndarray, band: float) -> Margins:
         """An active node stays while its spring force is above ``-band`` x the
         largest, an open node enters when its spring would be compressed by more
         than ``band`` x the largest."""
-        force = -self.kappa * (self.pair.g0 + self.C @ self.x)
+        force = -self.kappa * self.gaps(self.x)
         fmax = max(float(force[active].max()) if active.any() else 0.0, 1e-300)
         return Margins(force, band * fmax, force, band * fmax)
 
@@ -97,8 +111,9 @@ class SupportedSets(CompliantSets):
     those of the current set (``u = P x + c``, :attr:`u`); ``support_force``
     and ``support_gap`` hold the stops' state after each :meth:`margins`."""
 
-    def __init__(self, pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed, gap_tol):
-        super().__init__(pair, kappa, C, G, Kd, fd, base, None)
+    def __init__(self, pair, kappa, C, G, Kd, fd, base, x, supports, is_fixed, gap_tol,
+                 rings=None):
+        super().__init__(pair, kappa, C, G, Kd, fd, base, None, rings)
         self.supports, self.is_fixed, self.gap_tol = supports, is_fixed, gap_tol
         self.u_last = x          # the displacement the next set starts from
         self.ns = pair.slave.size
@@ -144,6 +159,8 @@ class SupportedSets(CompliantSets):
         self.b[self.is_fixed] = 0.0
         self.M, self.E, self.b_full, self.P, self.c = M, E, b, P, c
         self.amg = self.base.refreshed(A, dA=(D + dM).tocsr())
+        if self.rings is not None:
+            self.rings.for_set(a_c, Ca, None if self.G is None else self.G[:, a_c], P, c)
         self.Aop = None
         if E is not None:
             PtE = (P.T @ E).tocsr()
@@ -159,11 +176,13 @@ class SupportedSets(CompliantSets):
         pair's largest, enters when it penetrates by more than the gap tolerance."""
         a_c, a_s = self.split(active)
         u = self.u
-        force = -self.kappa * (self.pair.g0 + self.C @ u)
+        force = -self.kappa * self.gaps(u)
         fmax = max(float(force[a_c].max()) if a_c.any() else 0.0, 1e-300)
         r = self.M @ u - self.b_full
         if self.E is not None:
             r = r + self.E @ u
+        if self.rings is not None:
+            r = r + self.rings.force_residual()
         r = r.reshape(-1, 3)
         bound = np.full(self.ns, band * fmax)
         stay, sb, enter, eb = [force], [bound], [force], [bound]

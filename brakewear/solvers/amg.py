@@ -311,7 +311,7 @@ class AMGSolver:
 
     def solve(self, b: np.ndarray, x0: np.ndarray | None = None,
               A: sp.spmatrix | None = None, krylov: str = "cg",
-              rtol0: float | None = None) -> np.ndarray:
+              rtol0: float | None = None, M=None) -> np.ndarray:
         """Solve ``A x = b`` by CG preconditioned with the hierarchy.
 
         ``A`` (optional) is a changed matrix to solve with the existing
@@ -332,6 +332,8 @@ class AMGSolver:
             return x
         normb = float(np.linalg.norm(b))
         tol = self.tol
+        if M is not None and krylov != "gmres":
+            raise ValueError("a preconditioner M other than the hierarchy's needs krylov='gmres'")
         with warnings.catch_warnings(record=True) as caught, _single_threaded_blas():
             warnings.simplefilter("always")
             if krylov == "cg":
@@ -345,8 +347,8 @@ class AMGSolver:
             elif krylov == "gmres":  # unsymmetric operators; right preconditioning
                 # restart 30: the solves here take 5-30 iterations; the last residual
                 # it reports is the true one, computed after the update
-                x, res, tol = _fgmres(op, b, x0, self.M, tol, 30, self.maxiter,
-                                      self._krylov_work, rtol0)
+                x, res, tol = _fgmres(op, b, x0, self.M if M is None else M, tol, 30,
+                                      self.maxiter, self._krylov_work, rtol0)
                 rel = res[-1] / normb
             else:
                 raise SolverSettingsError(f"krylov = {krylov!r}; allowed: 'cg', 'gmres'")
