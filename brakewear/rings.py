@@ -17,7 +17,8 @@ from .errors import WearError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["rotor_rings", "face_rings", "rotor_wear_rate", "ring_wear_nodes", "ring_profile"]
+__all__ = ["rotor_rings", "face_rings", "rotor_wear_rate", "ring_coupling", "ring_wear_nodes",
+           "ring_profile"]
 
 
 
@@ -81,6 +82,24 @@ def rotor_wear_rate(volume_rate: np.ndarray, coupling: sp.spmatrix, ring: np.nda
     if np.any((ring_volume > 0) & (ring_area <= 0)):
         raise WearError("a rotor ring receives wear but has no area")
     return (ring_volume / np.where(ring_area > 0, ring_area, 1.0))[ring]
+
+
+def ring_coupling(coupling: sp.spmatrix, ring: np.ndarray,
+                  area: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
+    """The rings as :func:`rotor_wear_rate` sees them: ``(B, ring_area)``.
+
+    ``B`` (n_slave x n_ring) is ``coupling`` summed over each ring's nodes: the
+    gap a pad node sees per metre of a ring's depth, and (transposed) the
+    share of a pad node's worn volume that goes to each ring; ``ring_area``
+    the area of each ring's nodes.  So ``rotor_wear_rate(q, coupling, ring,
+    area) == (B.T @ q / ring_area)[ring]``.
+    """
+    ring = np.asarray(ring)
+    n_ring = int(ring.max()) + 1
+    R = sp.csr_matrix((np.ones(ring.size), (np.arange(ring.size), ring)),
+                      shape=(ring.size, n_ring))
+    B = (sp.csr_matrix(coupling) @ R).tocsr()
+    return B, np.bincount(ring, weights=area, minlength=n_ring)
 
 
 def ring_wear_nodes(r: np.ndarray):

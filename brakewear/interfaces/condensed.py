@@ -38,7 +38,7 @@ from ..errors import CondensedRangeError, ContactError, WearError
 from ..solvers.threads import blas_threads
 from .compliance import condense
 from .fe import FEInterface
-from .protocol import InterfaceSolution
+from .protocol import InterfaceSolution, StepCompliance
 
 logger = logging.getLogger(__name__)
 
@@ -124,13 +124,16 @@ class CondensedInterface:
                         "interface.model = 'fe' with numerics.update = 'geometry'")
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
-              compliance: np.ndarray | None = None, x0: np.ndarray | None = None,
-              load: np.ndarray | None = None, mu=None) -> InterfaceSolution:
+              compliance: StepCompliance | np.ndarray | None = None,
+              x0: np.ndarray | None = None, load: np.ndarray | None = None,
+              mu=None) -> InterfaceSolution:
         """Contact with ``offset`` (m) added to the gap (the
         :class:`~brakewear.interfaces.Interface` protocol).  ``x0`` is not
         needed (every solve is direct); ``load`` is a nodal load of the
-        model's DOFs (thermal strain), ``compliance`` (m/Pa per pad node) the
-        implicit step's, ``mu`` a number or one per pad friction node."""
+        model's DOFs (thermal strain), ``compliance`` the implicit step's (a
+        :class:`~brakewear.interfaces.StepCompliance`, whose rings add their
+        rank-``n_ring`` compliance to the dense one, or the pad's alone in
+        m/Pa per pad node), ``mu`` a number or one per pad friction node."""
         t0 = time.perf_counter()
         offset = np.asarray(offset, dtype=float)
         self._check_range(offset)
@@ -143,10 +146,16 @@ class CondensedInterface:
             dq, dz = self.thermal_gap(load)
             q, rhs = q + dq, rhs - dz
         H, D = self._operators(self.mu)
-        c = None if compliance is None else np.asarray(compliance, dtype=float) / self.area
-        if c is not None and (c.shape != q.shape or not np.all(np.isfinite(c)) or np.any(c <= 0)):
+        comp = StepCompliance.of(compliance)
+        c = None if comp is None else comp.pad / self.area
+        if c is not None and c.shape != q.shape:
             raise ContactError(f"compliance must be ({q.size},) finite and > 0 m/Pa")
-        problem = _DenseSets(self, H, D, q, rhs, c)
+        rings = comp is not None and comp.rings
+        if rings:
+            # the rings' wear over the step: the gap per newton, W diag(1/A_ring) W^T diag(eps_rot)
+            H = H + comp.ring_compliance()
+        problem = _DenseSets(self, H, D, q, rhs, c,
+                             comp.rotor.tobytes() + comp.ring_area.tobytes() if rings else b"")
         g = self.g0 + offset
         if active is not None:
             start = np.asarray(active, dtype=bool)
@@ -166,6 +175,8 @@ class CondensedInterface:
                 "updates": problem.updated,
                 "normal_force": float(lam.sum()), "min_gap": float(problem.g.min()),
                 "time_s": time.perf_counter() - t0}
+        if rings:
+            info["ring_depth"] = comp.ring_force_depth() @ lam
         return InterfaceSolution(pressure, act, None, info)
 
     # --------------------------------------------------------------- helpers --
@@ -265,11 +276,11 @@ class _DenseSets:
     the sets met before, so a resumed run repeats the uninterrupted one.
     """
 
-    def __init__(self, itf, H, D, q, rhs, c):
+    def __init__(self, itf, H, D, q, rhs, c, ring_key: bytes = b""):
         self.itf, self.H, self.D, self.q, self.rhs, self.c = itf, H, D, q, rhs, c
         self.E = itf.cond.E
         self.factorised = self.updated = 0
-        self.c_key = None if c is None else c.tobytes()
+        self.c_key = None if c is None else c.tobytes() + ring_key
 
     def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
         itf, n = self.itf, self.q.size

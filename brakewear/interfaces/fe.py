@@ -12,7 +12,7 @@ from ..contact.lagrange import contact_preconditioner, solve_contact
 from ..contact.quadratic import quadratic_face_areas, slave_basis
 from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from ..rings import face_rings, ring_wear_nodes
-from .protocol import InterfaceSolution
+from .protocol import InterfaceSolution, StepCompliance
 
 logger = logging.getLogger(__name__)
 
@@ -122,15 +122,18 @@ class FEInterface:
         return new
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
-              compliance: np.ndarray | None = None, x0: np.ndarray | None = None,
-              load: np.ndarray | None = None, mu=None) -> InterfaceSolution:
+              compliance: StepCompliance | np.ndarray | None = None,
+              x0: np.ndarray | None = None, load: np.ndarray | None = None,
+              mu=None) -> InterfaceSolution:
         """Contact solve with ``offset`` (m) added to the gap (the
         :class:`~brakewear.interfaces.Interface` protocol).
 
-        With ``compliance`` (m/Pa per pad node) the interface is a compliant
-        layer: the implicit wear step (:mod:`brakewear.contact.compliant`), whose
-        Krylov solves start from ``x0`` (the previous step's displacement),
-        when given.  ``load`` is an extra nodal load of the model's DOFs (the
+        With ``compliance`` (a :class:`~brakewear.interfaces.StepCompliance`,
+        or the pad's alone in m/Pa per pad node) the interface is a compliant
+        layer: the implicit wear step (:mod:`brakewear.contact.compliant`; the
+        rotor's rings, when the compliance has them, as extra unknowns,
+        :mod:`brakewear.contact.compliant_rings`), whose Krylov solves start
+        from ``x0`` (the previous step's displacement), when given.  ``load`` is an extra nodal load of the model's DOFs (the
         thermal strain), ``mu`` the friction coefficient of this solve (a number
         or one per pad friction node).
 
@@ -146,14 +149,16 @@ class FEInterface:
         cs = self.cs
         f = cs.f if load is None else cs.f + cs.P.T @ load
         supports = self.supports or None
-        if compliance is not None:
+        comp = StepCompliance.of(compliance)
+        if comp is not None:
             if "compliant" not in self._base:
                 self._base["compliant"] = compliant_preconditioner(
                     cs.K, cs.fixed, cs.coords, self.tol, supports=supports)
+            rings = (comp.ring_gap, comp.ring_force_depth()) if comp.rings else None
             res = solve_compliant_contact(cs.K, f, cs.fixed, cs.coords, self.pair,
-                                          compliance, initial_active=active, tol=self.tol,
+                                          comp.pad, initial_active=active, tol=self.tol,
                                           solver=self._base["compliant"], x0=x0,
-                                          supports=supports)
+                                          supports=supports, rings=rings)
             if supports:
                 self.support_active = res.support_active
             return InterfaceSolution(res.pressure, res.active, res.u, res.info)

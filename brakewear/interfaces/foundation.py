@@ -4,15 +4,16 @@ from __future__ import annotations
 import logging
 
 import numpy as np
+import scipy.sparse as sp
 
-from ..errors import ContactLostError, WearError
+from ..errors import ContactLostError, FoundationSolveError, WearError
 from ..mesh.surface import surface_nodes
 from ..rings import ring_wear_nodes
-from .protocol import InterfaceSolution
+from .protocol import InterfaceSolution, StepCompliance
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["FoundationInterface"]
+__all__ = ["FoundationInterface", "ring_fixed_point"]
 
 
 class FoundationInterface:
@@ -47,7 +48,9 @@ class FoundationInterface:
         """The foundation's pressure with ``offset`` (m) added to the gap (the
         :class:`~brakewear.interfaces.Interface` protocol).  ``active`` and ``x0``
         are not needed (a foundation solve is direct); a nodal ``load`` has no
-        place in a foundation and is refused."""
+        place in a foundation and is refused.  A ``compliance`` with rings
+        (:class:`~brakewear.interfaces.StepCompliance`) is solved by
+        :func:`ring_fixed_point` around the foundation's solve."""
         if load is not None:
             raise WearError("the foundation interface takes no nodal load (thermal strain); "
                             "use the FE interface for thermal coupling")
@@ -58,10 +61,74 @@ class FoundationInterface:
                                 "condensed interface")
             self.mu = float(mu)
         w = self.winkler
-        if compliance is not None:
-            w = w.with_modulus(1.0 / (1.0 / np.asarray(w.modulus) + compliance))
-        res = w.solve(self.line_pressure, self.mu, gap=offset)
-        if not res.active.any():
-            raise ContactLostError("foundation: no node in contact")
+        comp = StepCompliance.of(compliance)
+        if comp is not None:
+            w = w.with_modulus(1.0 / (1.0 / np.asarray(w.modulus) + comp.pad))
+
+        def pressure(extra):
+            res = w.solve(self.line_pressure, self.mu, gap=offset + extra)
+            if not res.active.any():
+                raise ContactLostError("foundation: no node in contact")
+            return res
+
+        info = {}
+        if comp is not None and comp.rings:
+            res, info = ring_fixed_point(pressure, comp, self.area,
+                                         self.area * np.asarray(w.modulus, dtype=float))
+        else:
+            res = pressure(0.0)
         return InterfaceSolution(res.pressure, res.active, None,
-                                 {"iterations": res.iterations, "time_s": res.time_s})
+                                 {"iterations": res.iterations, "time_s": res.time_s, **info})
+
+
+def ring_fixed_point(pressure, comp: StepCompliance, area: np.ndarray,
+                     stiffness: np.ndarray, tol: float = 1e-12, max_iter: int = 60):
+    """The rings' depths of an implicit step around a solve that does not hold them.
+
+    ``pressure(extra)`` solves the contact with the extra gap ``extra`` (m per
+    pad node) and returns a result with ``pressure`` (Pa); the rings' depths
+    ``d`` of the step solve ``d = F(d)``, ``F(d) = ring_depth(pressure(ring_gap
+    d))`` (:class:`~brakewear.interfaces.StepCompliance`).  For one contact set
+    ``F`` is affine, ``F(d) = b - G K_eff B d`` (``B`` the rings' gaps, ``G``
+    their depth per newton, ``K_eff`` the pad nodes' stiffness).  ``stiffness``
+    (N/m per pad node) is the part of ``K_eff`` that acts node by node (a
+    foundation's springs, the wear springs in series); the iteration is
+    preconditioned by ``J = I + G diag(stiffness_A) B`` over the nodes in
+    contact, ``d <- d + J^-1 (F(d) - d)``, whose error is multiplied by
+    ``J^-1 G (diag(stiffness) - K_eff) B``: for a foundation on a rigid backing
+    the difference is the backing's three rigid motions, so the iteration
+    matrix has rank 3, its eigenvalues lie in ``[0, 1)`` whatever the wear
+    coefficients, the step and the mesh, and Anderson acceleration (restarted
+    when the contact set changes) settles a set in about four solves.  Stops
+    when the depths change by less than ``tol`` of their size; returns
+    ``(result, info)`` with ``info["ring_depth"]`` (m) and
+    ``info["ring_iterations"]``.
+    """
+    G, B = comp.ring_force_depth(), comp.ring_gap
+    m = B.shape[1]
+    d = np.zeros(m)
+    key, D, R = None, [], []       # the set of the history; iterates and their steps
+    for k in range(1, max_iter + 1):
+        res = pressure(B @ d)
+        fd = G @ (res.pressure * area)
+        size = max(float(np.abs(fd).max()), 1e-300)
+        change = float(np.abs(fd - d).max())
+        if change <= tol * size or not np.any(fd):
+            return res, {"ring_depth": fd, "ring_iterations": k}
+        act = res.pressure > 0
+        if key is None or not np.array_equal(act, key):
+            key, D, R = act, [], []
+            J = np.eye(m) + (G[:, act] @ sp.diags(stiffness[act]) @ B[act]).toarray()
+        r = np.linalg.solve(J, fd - d)
+        D.append(d)
+        R.append(r)
+        if len(R) > 1:
+            dR = np.diff(np.array(R[-8:]), axis=0).T
+            dD = np.diff(np.array(D[-8:]), axis=0).T
+            gamma = np.linalg.lstsq(dR, r, rcond=None)[0]
+            d = d + r - (dD + dR) @ gamma
+        else:
+            d = d + r
+    raise FoundationSolveError(
+        f"foundation contact: the rings' wear of the implicit step did not settle in "
+        f"{max_iter} solves (last change {change:.2e} m of {size:.2e} m)")

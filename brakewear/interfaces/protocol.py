@@ -12,6 +12,14 @@ Everything a solve needs comes in as an argument (gap offset, start set,
 the implicit step's compliance, a Krylov start, the thermal load, the
 friction coefficient) and everything it gives comes back in an
 :class:`InterfaceSolution`; nothing is set on the interface from outside.
+
+The implicit (backward Euler) step's compliance is a :class:`StepCompliance`:
+the pad's wear per unit end pressure at each node and, when the rotor's
+ring-averaged wear is implicit too, the rotor's, with the rings that average
+it.  Every interface solves the same equations with it: the gap of pad node
+``i`` opens by ``pad_i p_i + (ring_gap d)_i`` over the step, the ring depths
+``d`` being the revolution average of the end-of-step pressures
+(:meth:`StepCompliance.ring_depth`).
 """
 from __future__ import annotations
 
@@ -20,10 +28,110 @@ from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
 import numpy as np
+import scipy.sparse as sp
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Interface", "InterfaceSolution"]
+__all__ = ["Interface", "InterfaceSolution", "StepCompliance"]
+
+
+@dataclass(frozen=True)
+class StepCompliance:
+    """How an implicit wear step's wear depends on its end-of-step pressure.
+
+    Attributes
+    ----------
+    pad : ndarray
+        (n_pad,) m/Pa, > 0: the pad node ``i`` wears ``pad_i p_i`` over the
+        step (``dt k_pad v_i`` for an Archard law).
+    rotor : ndarray or None
+        (n_pad,) m/Pa, >= 0: the rotor volume worn under pad node ``i`` per
+        unit of its area, ``rotor_i p_i`` (``dt k_rot v_i``); None: the rotor's
+        wear is not part of the solve (no rotor law, or an explicit rotor whose
+        wear is in the gap offset).
+    ring_gap : sparse matrix or None
+        (n_pad, n_ring): the gap of each pad node per metre of each ring's
+        depth (the interface's ``W`` summed over each ring's nodes,
+        :func:`brakewear.rings.ring_coupling`).
+    ring_area : ndarray or None
+        (n_ring,) m^2: the area of each ring's rotor wear nodes.
+
+    Over the step ring ``j`` is worn by ``d_j = sum_i ring_gap_ij rotor_i p_i
+    A_i / ring_area_j`` (the rotor passes under the pad once per revolution:
+    the volume the pad nodes above it take, spread over the whole ring), and
+    pad node ``i``'s gap opens by ``pad_i p_i + sum_j ring_gap_ij d_j``.
+    """
+
+    pad: np.ndarray
+    rotor: np.ndarray | None = None
+    ring_gap: sp.spmatrix | None = None
+    ring_area: np.ndarray | None = None
+
+    def __post_init__(self):
+        pad = np.asarray(self.pad, dtype=float)
+        if pad.ndim != 1 or not np.all(np.isfinite(pad)) or np.any(pad <= 0):
+            raise ValueError(f"compliance: pad must be (n_pad,) finite and > 0 m/Pa; got shape "
+                             f"{pad.shape}, min {np.min(pad) if pad.size else None!r}")
+        object.__setattr__(self, "pad", pad)
+        if self.rotor is None:
+            return
+        n = pad.size
+        rotor = np.asarray(self.rotor, dtype=float)
+        if rotor.shape != (n,) or not np.all(np.isfinite(rotor)) or np.any(rotor < 0):
+            raise ValueError(f"compliance: rotor must be ({n},) finite and >= 0 m/Pa; got "
+                             f"shape {rotor.shape}")
+        if self.ring_gap is None or self.ring_area is None:
+            raise ValueError("compliance: a rotor compliance needs ring_gap and ring_area")
+        B = sp.csr_matrix(self.ring_gap)
+        area = np.asarray(self.ring_area, dtype=float)
+        if B.shape != (n, area.size):
+            raise ValueError(f"compliance: ring_gap has shape {B.shape}; need ({n}, "
+                             f"{area.size}), one column per ring of ring_area")
+        used = np.asarray(abs(B).sum(axis=0)).ravel() > 0
+        if not np.all(np.isfinite(area)) or np.any(area[used] <= 0):
+            raise ValueError("compliance: every ring under the pad needs an area > 0")
+        object.__setattr__(self, "rotor", rotor)
+        object.__setattr__(self, "ring_gap", B)
+        object.__setattr__(self, "ring_area", area)
+
+    @classmethod
+    def of(cls, compliance) -> "StepCompliance | None":
+        """``compliance`` as a :class:`StepCompliance`: None stays None, an array
+        is the pad's alone (m/Pa per pad node)."""
+        if compliance is None or isinstance(compliance, cls):
+            return compliance
+        return cls(pad=compliance)
+
+    @property
+    def rings(self) -> bool:
+        """Whether the rotor's ring wear is part of the step."""
+        return self.rotor is not None
+
+    def ring_force_depth(self) -> sp.csr_matrix:
+        """(n_ring, n_pad): each ring's depth per newton of end-of-step contact
+        force at each pad node (m/N)."""
+        inv = np.divide(1.0, self.ring_area, out=np.zeros_like(self.ring_area),
+                        where=self.ring_area > 0)
+        return (sp.diags(inv) @ self.ring_gap.T @ sp.diags(self.rotor)).tocsr()
+
+    def ring_depth(self, pressure: np.ndarray, area: np.ndarray) -> np.ndarray:
+        """(n_ring,) m: the rings' wear over the step under the end pressure (Pa at
+        the pad nodes of area ``area``)."""
+        return self.ring_force_depth() @ (np.asarray(pressure, dtype=float) * area)
+
+    def gap(self, pressure: np.ndarray, area: np.ndarray) -> np.ndarray:
+        """(n_pad,) m: how far the step's wear of both surfaces opens each pad
+        node's gap under the end pressure."""
+        g = self.pad * pressure
+        return g if not self.rings else g + self.ring_gap @ self.ring_depth(pressure, area)
+
+    def ring_compliance(self) -> np.ndarray:
+        """(n_pad, n_pad) m/N, dense: the gap the rings' wear opens at each pad
+        node per newton at each pad node (rank ``n_ring``; zero without rings)."""
+        n = self.pad.size
+        if not self.rings:
+            return np.zeros((n, n))
+        return np.asarray((self.ring_gap @ self.ring_force_depth()).todense())
 
 
 @dataclass
@@ -84,14 +192,20 @@ class Interface(Protocol):
     accepts_load: bool
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
-              compliance: np.ndarray | None = None, x0: np.ndarray | None = None,
+              compliance: "StepCompliance | np.ndarray | None" = None,
+              x0: np.ndarray | None = None,
               load: np.ndarray | None = None, mu: float | None = None) -> InterfaceSolution:
         """Contact with ``offset`` (m) added to the gap.
 
         ``active`` is the start set (None: the interface's own start);
-        ``compliance`` (m/Pa per pad node) makes it the implicit wear step
-        (contact through the step's wear compliance); ``x0`` starts the
-        Krylov solves; ``load`` is an extra nodal load of the model (N per
-        DOF, e.g. thermal strain); ``mu`` the friction coefficient of this
-        solve (None: the interface's own).
+        ``compliance`` makes it the implicit wear step: a
+        :class:`StepCompliance` (the pad's wear compliance and, when the
+        rotor's ring wear is implicit too, the rotor's and its rings: every
+        interface then solves the rings' depths with the pressure, so the
+        returned pressure is the end-of-step pressure of both surfaces'
+        wear) or an array (m/Pa per pad node, the pad's alone); ``x0``
+        starts the Krylov solves; ``load`` is an extra nodal load of the
+        model (N per DOF, e.g. thermal strain); ``mu`` the friction
+        coefficient of this solve (None: the interface's own).  With rings,
+        ``info["ring_depth"]`` holds the rings' depths (m) the solve found.
         """
