@@ -270,10 +270,16 @@ class Scene:
 
     def _check_consistency(self) -> None:
         n = self.numerics
-        if n.scheme == "implicit" and self.pad_wear.a != 1.0:
+        if n.scheme != "explicit" and self.pad_wear.a != 1.0:
             raise fail("wear.pad.a", f"{self.pad_wear.a!r} is not allowed with numerics.scheme "
-                                      "= 'implicit' (backward Euler needs a law linear in p): "
-                                      "allowed 1, or use scheme = 'explicit'")
+                                      f"= {n.scheme!r} (backward Euler needs a law linear in "
+                                      "p): allowed 1, or use scheme = 'explicit'")
+        rot = self.rotor_wear
+        if n.scheme == "implicit" and rot is not None and rot.a != 1.0:
+            raise fail("wear.rotor.a", f"{rot.a!r} is not allowed with numerics.scheme = "
+                                       "'implicit' (backward Euler needs a law linear in p): "
+                                       "allowed 1, or use scheme = 'implicit_pad' (the rotor's "
+                                       "wear explicit) or 'explicit'")
         if n.update == "geometry" and self.interface.model not in ("fe", "auto"):
             raise fail("numerics.update", "'geometry' moves the FE meshes; it needs "
                                            "interface.model = 'fe' (or 'auto', which takes "

@@ -10,12 +10,15 @@ The step is the smallest of
   the pressure's response to a local gap change is bounded by the row sums
   of the friction face's normal stiffness (Gershgorin, docs: theory), so
   ``dt <= stability / max_i(c_i s_i / A_i)``;
-- ``rotor_stability`` (implicit scheme): the rotor's ring-averaged wear stays
-  explicit, so its own bound applies, ``dt <= stability / max_j(sum_i c_i
-  s_i / A_ring_j)`` over the pad nodes ``i`` above ring ``j`` (a ring's gap
-  change moves the pressure of the pad nodes over it, whose wear is spread
-  over the whole ring: a fast-wearing rotor layer makes it the binding limit);
-- ``first`` (implicit scheme, first step): the explicit bound as a first
+- ``rotor_stability``: where the rotor's ring-averaged wear is explicit (the
+  ``implicit_pad`` scheme, and an implicit step taken explicitly below
+  ``implicit_floor``) its own bound applies, ``dt <= stability / max_j(sum_i
+  c_i s_i / A_ring_j)`` over the pad nodes ``i`` above ring ``j`` (a ring's
+  gap change moves the pressure of the pad nodes over it, whose wear is
+  spread over the whole ring: a fast-wearing rotor layer makes it the binding
+  limit).  The ``implicit`` scheme solves the rings with the pad (backward
+  Euler on both surfaces) and has no bound;
+- ``first`` (implicit schemes, first step): the explicit bound as a first
   guess of the time scale on which the pressure moves;
 - ``growth``: at most twice the last step (``dp_tol`` control), or
   ``wear_tol``: the step the wear-error control aims at.
@@ -95,13 +98,17 @@ class StepControl:
 
     def propose(self, dt_next: float | None, remaining: float, seen_rate: np.ndarray,
                 worst: Callable[[], float],
-                worst_rotor: Callable[[], float] | None = None) -> tuple[float, str]:
+                worst_rotor: Callable[[], float] | None = None,
+                explicit_below: Callable[[], float] | None = None) -> tuple[float, str]:
         """The next step and what set it.
 
         ``seen_rate`` is the wear rate each pad node sees (pad + rotor under
         it, m/s); ``worst()`` the largest ``c_i s_i / A_i`` over the contact
         (1/s), evaluated only when a limit needs it; ``worst_rotor()`` the
-        same for the rotor's ring wear alone (the implicit scheme's bound).
+        same for the rotor's ring wear alone (the bound of an explicit ring
+        wear); ``explicit_below()`` the step (s) below which the
+        ``implicit`` scheme takes a step explicitly (``implicit_floor``), where
+        the rings' bound applies.
         """
         n = self.numerics
         if self.fixed:
@@ -119,12 +126,14 @@ class StepControl:
                 # no bound, but the explicit one is the time scale on which the
                 # pressure starts to move: a first guess that saves halvings
                 cands["first"] = 1.0 / w
-        if not explicit and n.stability is not None and worst_rotor is not None:
+        if dt_next is not None:
+            cands["growth" if n.wear_tol is None else "wear_tol"] = dt_next
+        if not explicit and n.stability is not None and worst_rotor is not None and (
+                n.scheme == "implicit_pad" or (explicit_below is not None
+                                               and min(cands.values()) < explicit_below())):
             w = worst_rotor()
             if w > 0:
                 cands["rotor_stability"] = n.stability / w
-        if dt_next is not None:
-            cands["growth" if n.wear_tol is None else "wear_tol"] = dt_next
         limit = min(cands, key=cands.get)
         return cands[limit], limit
 

@@ -36,9 +36,13 @@ def check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics, inter
     for name, law in (("pad_law", pad_law), ("rotor_law", rotor_law)):
         if law is not None:
             check_wear_law(name, law, thermal)
-    if numerics.scheme == "implicit" and pad_law.a != 1.0:
-        raise WearError(f"scheme = 'implicit' needs a pad wear law linear in p (a = 1); "
-                        f"got a = {pad_law.a}")
+    if numerics.scheme != "explicit" and pad_law.a != 1.0:
+        raise WearError(f"scheme = {numerics.scheme!r} needs a pad wear law linear in p "
+                        f"(a = 1); got a = {pad_law.a}")
+    if numerics.scheme == "implicit" and rotor_law is not None and rotor_law.a != 1.0:
+        raise WearError(f"scheme = 'implicit' needs a rotor wear law linear in p (a = 1); "
+                        f"got a = {rotor_law.a}: use scheme = 'implicit_pad' (the rotor's "
+                        "wear explicit) or 'explicit'")
     if initial_gap is not None:
         initial_gap = np.asarray(initial_gap, dtype=float)
         if initial_gap.ndim != 1 or not np.all(np.isfinite(initial_gap)):

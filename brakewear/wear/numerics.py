@@ -24,14 +24,20 @@ class Numerics:
 
     Attributes
     ----------
-    scheme : {"implicit", "explicit"}
-        ``"implicit"`` (backward Euler for the pad: the pressure at the end of
-        the step, solved as contact through the step's wear compliance,
-        :mod:`brakewear.contact.compliant`; unconditionally stable; needs a pad
-        law with a = 1) or ``"explicit"`` (Euler: the pressure at the start).
-        The rotor's ring-averaged wear is explicit in both.  An implicit
-        step whose wear compliance is below ``implicit_floor`` is taken
-        explicitly.
+    scheme : {"implicit", "explicit", "implicit_pad"}
+        ``"implicit"`` (backward Euler for both surfaces: the pad and the
+        rotor's rings wear with the pressure at the end of the step, solved
+        as contact through the step's wear compliance of both,
+        :mod:`brakewear.contact.compliant` and
+        :mod:`~brakewear.contact.compliant_rings`; unconditionally stable, so
+        the step is set by ``dp_tol`` / ``wear_tol`` and ``max_dh`` alone;
+        needs pad and rotor laws with a = 1), ``"explicit"`` (Euler: the
+        pressure at the start, within the ``stability`` bound) or
+        ``"implicit_pad"`` (backward Euler for the pad, the rotor's
+        ring-averaged wear explicit within its own ``stability`` bound, which
+        shrinks with the face's elements).  An implicit step whose pad wear
+        compliance is below ``implicit_floor`` is taken explicitly (with the
+        rings' bound).
     update : {"gap", "geometry"}
         ``"gap"`` (the worn depths offset the contact gap; meshes stay) or
         ``"geometry"`` (after every accepted step both worn faces move and the
@@ -54,7 +60,8 @@ class Numerics:
         Fraction of the monotone explicit-Euler bound on the step (1 keeps
         every mode from overshooting, 2 is the stability limit; None switches
         it off): of pad and rotor wear in the explicit scheme, of the rotor's
-        ring wear (explicit in both schemes) in the implicit one.
+        ring wear where it is explicit (``implicit_pad``, and implicit steps
+        taken explicitly under ``implicit_floor``).
     implicit_floor : float
         The implicit scheme takes a step explicitly when the pad's wear
         compliance over it (``dt k v``) is below this fraction of the
@@ -105,7 +112,7 @@ class Numerics:
             raise NumericsError(str(e)) from None
 
     def _check(self) -> None:
-        check_choice("numerics.scheme", self.scheme, ("explicit", "implicit"))
+        check_choice("numerics.scheme", self.scheme, ("explicit", "implicit", "implicit_pad"))
         check_choice("numerics.update", self.update, ("gap", "geometry"))
         check_int("numerics.steps", self.steps, 1, allow_none=True)
         check_number("numerics.dp_tol", self.dp_tol, 0.0)

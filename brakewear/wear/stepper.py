@@ -6,8 +6,8 @@
 2. chooses its length (:class:`~brakewear.wear.StepControl`);
 3. wears pad and rotor over it: the explicit scheme with the starting pressure,
    the implicit (backward Euler) one with the end pressure, solved as contact
-   through the step's wear compliance; the rotor wears by the revolution
-   average of its rings;
+   through the step's wear compliance of both surfaces (``implicit_pad``: the
+   pad's); the rotor wears by the revolution average of its rings;
 4. solves the contact of the worn state (the :class:`~brakewear.interfaces.Interface`),
    with the thermal load when coupled, and accepts the step or retries it smaller;
 5. in geometry-update mode moves the worn faces (:class:`~brakewear.motion.BrakeMotion`),
@@ -28,9 +28,9 @@ import numpy as np
 
 from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, SolverError,
                       StepSizeError, WearError)
-from ..interfaces.fe import FEInterface
+from ..interfaces import FEInterface, StepCompliance
 from ..laws import WearLaw, friction_power
-from ..rings import rotor_wear_rate
+from ..rings import ring_coupling, rotor_wear_rate
 from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .inputs import at_pressure, check_inputs
@@ -381,7 +381,7 @@ class _WearLoop:
         dt, limit = control.propose(state.dt_next, control.duration - state.time,
                                     rate_pad + self.W @ rate_rot,
                                     lambda: self.worst(p, act),
-                                    lambda: self.worst_rotor(p, act))
+                                    lambda: self.worst_rotor(p, act), lambda: self.explicit_below(p))
         rejected, solve_s = 0, 0.0
         saved = self.thermal.state_arrays() if self.thermal is not None else None
         while True:
@@ -394,7 +394,8 @@ class _WearLoop:
                 self.thermal.step(self.thermal.flux(p, mu_step, self.omega), dt)
                 self.couple(p)
             try:
-                sol, pad_w, rot_w, p_rate, s = self.attempt(state, dt, rate_pad, rate_rot, act)
+                sol, pad_w, rot_w, p_rate, q_used, s = self.attempt(state, dt, rate_pad,
+                                                                    q_rot, rate_rot, act)
                 solve_s += s
                 change = np.abs(sol.pressure - p).max() / max(p.max(), 1e-300)
                 est = self.wear_error(sol.pressure, dt, rate_pad, rate_rot) \
@@ -408,12 +409,10 @@ class _WearLoop:
                         "automatic step control, which retries smaller") from None
                 change, est, ok = np.inf, np.inf, False
             except (ActiveSetError, ConvergenceError) as e:
-                # the implicit step's contact set cycles when the wear changes it a lot
-                # within the step (a corrosion layer worn through under part of the pad),
-                # and its springs (compliance ~ k v dt) hold a pad that is free to tilt
-                # only weakly on a long step: a shorter step is a smaller change and a
-                # better-posed problem
-                if control.fixed or self.numerics.scheme != "implicit":
+                # an implicit step's set cycles when its wear changes the contact a lot (a
+                # corrosion layer worn through), and on a long step its soft springs hold a
+                # pad free to tilt weakly: a shorter step is better posed
+                if control.fixed or self.numerics.scheme == "explicit":
                     raise
                 logger.info("step %d: %s; retrying with dt/2", state.step + 1, e)
                 change, est, ok = np.inf, np.inf, False
@@ -424,7 +423,7 @@ class _WearLoop:
             limit = new_limit or limit
         state.pad_wear, state.rotor_wear = pad_w, rot_w
         state.pad_archard += float((self.laws.pad_rate(p_rate, self.v) * self.A_pad).sum() * dt)
-        state.rotor_archard += float(q_rot.sum() * dt)
+        state.rotor_archard += float(q_used.sum() * dt)
         state.time += dt
         state.step += 1
         state.dt_next = control.next_dt(dt, change, est, now=state.time)
@@ -439,26 +438,29 @@ class _WearLoop:
         self.finish(state, record, sol, dt)
         return record
 
-    def attempt(self, state, dt, rate_pad, rate_rot, act):
-        """The contact solve of a trial step: ``(solution, pad wear, rotor wear,
-        pressure the pad wore with, seconds)``."""
-        rot_w = state.rotor_wear + rate_rot * dt
-        eps = None
-        if self.numerics.scheme == "implicit":
-            eps = dt * self.laws.pad_slope(state.pressure, self.v)    # a = 1: k v^b
-            if float((eps * self.itf.normal_stiffness / self.A_pad).max()) \
-                    < self.numerics.implicit_floor:
-                # the wear compliance is negligible beside the elastic one: the
-                # explicit step is as accurate and its contact solve well-posed
-                eps = None
-        self.took_explicit = eps is None
-        if eps is None:
+    def explicit_below(self, p) -> float:
+        """The step (s) under which the pad's wear compliance is below ``implicit_floor``."""
+        lam = float((self.laws.pad_slope(p, self.v) * self.itf.normal_stiffness / self.A_pad).max())
+        return self.numerics.implicit_floor / lam if lam > 0 else np.inf
+
+    def attempt(self, state, dt, rate_pad, q_rot, rate_rot, act):
+        """A trial step: ``(solution, pad and rotor wear, the p and rotor m^3/s it wore with, s)``."""
+        p0, scheme = state.pressure, self.numerics.scheme
+        self.took_explicit = scheme == "explicit" or dt < self.explicit_below(p0)
+        rings = not self.took_explicit and scheme == "implicit" and self.rotor_law is not None
+        rot_w = state.rotor_wear if rings else state.rotor_wear + rate_rot * dt
+        if self.took_explicit:
             pad_w = state.pad_wear + rate_pad * dt
             sol, s = self.solve(state, pad_w, rot_w, act)
-            return sol, pad_w, rot_w, state.pressure, s
-        # backward Euler: the pad wears with the end-of-step pressure
-        sol, s = self.solve(state, state.pad_wear, rot_w, act, eps, dt)
-        return sol, state.pad_wear + eps * sol.pressure, rot_w, sol.pressure, s
+            return sol, pad_w, rot_w, p0, q_rot, s
+        eps = dt * self.laws.pad_slope(p0, self.v)    # backward Euler, a = 1: k v^b
+        comp = StepCompliance(eps, dt * self.laws.rotor_slope(p0, self.v),   # and the rings
+                              *ring_coupling(self.W, self.ring, self.A_rot)) if rings else eps
+        sol, s = self.solve(state, state.pad_wear, rot_w, act, comp, dt)
+        if rings:
+            q_rot = self.laws.rotor_rate(sol.pressure, self.v) * self.A_pad
+            rot_w = rot_w + rotor_wear_rate(q_rot, self.W, self.ring, self.A_rot) * dt
+        return sol, state.pad_wear + eps * sol.pressure, rot_w, sol.pressure, q_rot, s
 
     def wear_error(self, p_new, dt, rate_pad, rate_rot) -> float:
         """Embedded local error of the wear depth: dt/2 x the change of the rate
