@@ -165,7 +165,7 @@ def test_implicit_floor_is_checked(bad):
 
 def test_fast_rotor_layer_keeps_its_ring_wear_within_its_bound(small):
     """A rotor layer that wears 200 x faster than the pad (a corrosion layer), 20 s
-    under the implicit scheme with a loose dp_tol: the ring wear stays explicit, and
+    under the ``implicit_pad`` scheme with a loose dp_tol: the ring wear is explicit, and
     every step is within its monotone bound stability / max_j sum_i k v s_i / A_ring_j
     (recomputed here from each step's start), which sets steps.  Against a reference
     (a tenth of the bound, dp_tol 0.02) the bound cuts the rotor-wear error about
@@ -178,7 +178,7 @@ def test_fast_rotor_layer_keeps_its_ring_wear_within_its_bound(small):
     def run(stability, dp_tol=1.0):
         return list(wear_history(model, study.P_LINE, study.OMEGA, 20.0, WearLaw(study.K_PAD),
                                  fast, study.MU, interface=itf,
-                                 numerics=Numerics(scheme="implicit", dp_tol=dp_tol,
+                                 numerics=Numerics(scheme="implicit_pad", dp_tol=dp_tol,
                                                    stability=stability)))
     recs = run(1.0)
     assert any(r.limit == "rotor_stability" for r in recs)
