@@ -214,7 +214,7 @@ def main(size: float | None = None, steps: int | None = None,
     size
         Mesh size (mm); None: the scene's (6 mm for the default scene).
     steps
-        Equal steps; None: the scene's automatic step control.
+        Equal steps; None: the scene's (60).
     mu_values
         Friction coefficients, one running-in each (same mesh, loads, laws).
     band
@@ -240,7 +240,7 @@ def main(size: float | None = None, steps: int | None = None,
     sc = load_scene(scene)
     if size is not None:
         sc = dataclasses.replace(sc, mesh_size=size * 1e-3)
-    numerics = dataclasses.replace(sc.numerics, steps=steps)
+    numerics = sc.numerics if steps is None else dataclasses.replace(sc.numerics, steps=steps)
     duration = sc.duration if duration is None else duration
     model = sc.build_model()
     sense = rotor_sense(model)
@@ -371,7 +371,7 @@ def _cli(argv=None) -> int:
     ap.add_argument("--size", type=float, default=None, help="mesh size, mm (default: the "
                                                               "scene's, 6)")
     ap.add_argument("--steps", type=int, default=None, help="equal steps (default: the "
-                                                             "scene's step control)")
+                                                             "scene's, 60)")
     ap.add_argument("--duration", type=float, default=None, help="drag, s (default: the "
                                                                    "scene's, 3600)")
     ap.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.4])

@@ -49,7 +49,7 @@ def _tiny(tmp_path, **edits) -> Path:
     text = re.sub(r"\n(rotor_size|friction_layers|backplate_layers|rotor_layers) = .*", "",
                   text)
     repl = {"size = 1.5 ": "size = 12.0 ", "duration = 3600.0": "duration = 800.0",
-            "dp_tol = 0.05": "steps = 4", "checkpoint_every = 5": "checkpoint_every = 2",
+            "steps = 60": "steps = 4", "checkpoint_every = 5": "checkpoint_every = 2",
             "vtu_every = 50": "vtu_every = 2", "figures = true": "figures = false",
             'name = "default"': 'name = "tiny"'}
     repl.update(edits)
@@ -104,7 +104,7 @@ def test_interrupted_run_resumes_to_the_same_end(tmp_path, capsys, monkeypatch):
 
 def test_resume_refuses_another_scene_and_a_missing_checkpoint(tmp_path, capsys):
     out, short = tmp_path / "out", {"duration = 3600.0": "duration = 200.0",
-                                    "dp_tol = 0.05": "steps = 1"}
+                                    "steps = 60": "steps = 1"}
     assert main(["run", str(_tiny(tmp_path, **short)), "--out", str(out), "--quiet"]) == 0
     (tmp_path / "other").mkdir()
     other = _tiny(tmp_path / "other", **short, **{"mu = 0.4": "mu = 0.3"})
@@ -168,7 +168,7 @@ def test_solver_failure_exits_3(tmp_path, capsys, monkeypatch):
 
 
 def test_resume_with_a_longer_duration_extends_the_run(tmp_path, capsys):
-    auto = {"dp_tol = 0.05": "dp_tol = 0.2", "duration = 3600.0": "duration = 100.0"}
+    auto = {"steps = 60": "dp_tol = 0.2", "duration = 3600.0": "duration = 100.0"}
     out = tmp_path / "out"
     assert main(["run", str(_tiny(tmp_path, **auto)), "--out", str(out), "--quiet"]) == 0
     first = json.loads((out / "summary.json").read_text())

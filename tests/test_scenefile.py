@@ -83,7 +83,7 @@ def test_python_built_scene_equals_the_file():
         pad_wear=WearSpec(k=None, a=1.0, b=1.0),
         rotor_wear=WearSpec(k=None),
         thermal=ThermalSpec(enabled=False),
-        numerics=Numerics(scheme="implicit", update="gap", dp_tol=0.05, dh_fraction=0.1),
+        numerics=Numerics(scheme="implicit", update="gap", steps=60),
         output=OutputSpec(vtu_every=50, checkpoint_every=5, figures=True),
         name="default",
     )
