@@ -193,3 +193,32 @@ def test_fe_and_condensed_histories_agree_with_implicit_rings(interfaces):
     assert np.abs(a.pad_wear - b.pad_wear).max() <= 1e-8 * b.pad_wear.max()
     assert np.abs(a.rotor_wear - b.rotor_wear).max() <= 1e-8 * b.rotor_wear.max()
     assert np.abs(a.pressure_end - b.pressure_end).max() <= 1e-8 * b.pressure_end.max()
+
+
+def test_bad_input_is_refused_with_the_alternative(stiff, tmp_path):
+    from brakewear.errors import SceneError, WearError
+    from brakewear.scene import load_scene
+
+    model, itf = stiff
+    with pytest.raises(WearError, match=r"rotor wear law linear in p .* 'implicit_pad'"):
+        next(wear_history(model, P_LINE, OMEGA, 1.0, WearLaw(K_PAD), WearLaw(K_ROT, a=0.8), MU,
+                          interface=itf))
+    # the pad-only scheme takes it (its rings are explicit)
+    next(wear_history(model, P_LINE, OMEGA, 1.0, WearLaw(K_PAD), WearLaw(K_ROT, a=0.8), MU,
+                      interface=itf, numerics=Numerics(scheme="implicit_pad", steps=2)))
+    import dataclasses
+    sc = load_scene("default")
+    with pytest.raises(SceneError, match=r"wear\.rotor\.a.*implicit_pad"):
+        dataclasses.replace(sc, rotor_wear=dataclasses.replace(sc.rotor_wear, a=0.8))
+    n = itf.area.size
+    B, area = ring_coupling(itf.W, itf.ring, itf.rotor_area)
+    for kw, msg in ((dict(pad=-np.ones(n)), "pad must be"),
+                    (dict(pad=np.ones(n), rotor=np.ones(n)), "needs ring_gap"),
+                    (dict(pad=np.ones(n), rotor=np.ones(n + 1), ring_gap=B, ring_area=area),
+                     "rotor must be"),
+                    (dict(pad=np.ones(n), rotor=np.ones(n), ring_gap=B, ring_area=area[:-1]),
+                     "ring_gap has shape"),
+                    (dict(pad=np.ones(n), rotor=np.ones(n), ring_gap=B, ring_area=0 * area),
+                     "area > 0")):
+        with pytest.raises(ValueError, match=msg):
+            StepCompliance(**kw)
