@@ -137,19 +137,22 @@ def lever_arm(itf, sol) -> float:
 
 
 def archard_volumes(itf, history: list, pad_law, rotor_law, omega: float,
-                    implicit: bool) -> tuple[float, float]:
+                    scheme: str) -> tuple[float, float]:
     """Sum over the steps of ``k p v A dt`` for pad and rotor (m^3), from the records.
 
-    The implicit scheme wears the pad with the end-of-step pressure (unless the
-    step was taken explicitly), the rotor always with the start's.
+    The implicit schemes wear the pad with the end-of-step pressure (unless the
+    step was taken explicitly), ``"implicit"`` the rotor too, ``"implicit_pad"``
+    the rotor with the start's.
     """
     v = omega * itf.r
     pad = rot = 0.0
     for s in history:
-        p_pad = s.pressure_end if implicit and not s.explicit else s.pressure
+        end = scheme != "explicit" and not s.explicit
+        p_pad = s.pressure_end if end else s.pressure
+        p_rot = s.pressure_end if end and scheme == "implicit" else s.pressure
         pad += float((pad_law.rate(p_pad, v) * itf.area).sum()) * s.dt
         if rotor_law is not None:
-            rot += float((rotor_law.rate(s.pressure, v) * itf.area).sum()) * s.dt
+            rot += float((rotor_law.rate(p_rot, v) * itf.area).sum()) * s.dt
     return pad, rot
 
 
@@ -176,7 +179,7 @@ def run(model, scene, mu: float, numerics, duration: float, sense: int,
     # the worn state at the end: the contact of the worn surfaces
     end = itf.solve(last.pad_wear + itf.W @ last.rotor_wear, last.active_end)
     pad_arch, rot_arch = archard_volumes(itf, history, pad_law, rotor_law, scene.omega,
-                                         numerics.scheme == "implicit")
+                                         numerics.scheme)
     out = {"mu": mu, "steps": last.step,
            "contact_solves": int(sum(s.contact_solves for s in history)),
            **profile_numbers(xi, itf.area, last.pad_wear, band),
