@@ -171,6 +171,25 @@ def test_fe_and_condensed_solve_the_same_ring_coupled_step(interfaces, ratio):
     check_defining_equations(cd, b, comp, offset)
 
 
+def test_the_rings_with_the_pads_abutment_stops():
+    """A push-type bracket (rigid stops, eliminated in the solve) with the rings: the
+    same defining equations."""
+    from dataclasses import replace
+
+    from brakewear.geometry import SupportGeometry, load_geometry
+
+    g = load_geometry("default")
+    model = BrakeModel(replace(g, support=SupportGeometry(type="push", clearance=1e-4)),
+                       size=8e-3, rotor="rigid")
+    itf = FEInterface(model, P_LINE, MU, tol=1e-12)
+    assert itf.supports
+    start = itf.solve(np.zeros(itf.area.size), None)
+    offset = np.zeros(itf.area.size)
+    comp = step_compliance(itf, 5.0, 20.0)
+    sol = itf.solve(offset, start.active, compliance=comp, x0=start.u)
+    check_defining_equations(itf, sol, comp, offset, x0=sol.u)
+
+
 @pytest.mark.parametrize("ratio", [0.1, 20.0, 1000.0])
 def test_the_foundation_solves_its_ring_coupled_step(ratio):
     model = BrakeModel(size=8e-3, rotor="rigid")
