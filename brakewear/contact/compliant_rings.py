@@ -47,6 +47,8 @@ import scipy.sparse as sp
 from scipy.linalg import lu_factor, lu_solve
 from scipy.sparse.linalg import LinearOperator
 
+from ..errors import ContactError
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["RingBlock"]
@@ -73,8 +75,8 @@ class RingBlock:
         self.B, self.G = sp.csr_matrix(ring_gap), sp.csr_matrix(ring_depth)
         m = self.B.shape[1]
         if self.B.shape != (ns, m) or self.G.shape != (m, ns):
-            raise ValueError(f"ring_gap has shape {self.B.shape} and ring_depth "
-                             f"{self.G.shape}; need ({ns}, m) and (m, {ns})")
+            raise ContactError(f"ring_gap has shape {self.B.shape} and ring_depth "
+                               f"{self.G.shape}; need ({ns}, m) and (m, {ns})")
         self.kappa, self.g0 = kappa, g0
         self.m = m
         self.d = None           # the ring depths of the last solve (m)

@@ -30,6 +30,8 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ContactError
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["Interface", "InterfaceSolution", "StepCompliance"]
@@ -70,26 +72,26 @@ class StepCompliance:
     def __post_init__(self):
         pad = np.asarray(self.pad, dtype=float)
         if pad.ndim != 1 or not np.all(np.isfinite(pad)) or np.any(pad <= 0):
-            raise ValueError(f"compliance: pad must be (n_pad,) finite and > 0 m/Pa; got shape "
-                             f"{pad.shape}, min {np.min(pad) if pad.size else None!r}")
+            raise ContactError(f"compliance: pad must be (n_pad,) finite and > 0 m/Pa; got shape "
+                               f"{pad.shape}, min {np.min(pad) if pad.size else None!r}")
         object.__setattr__(self, "pad", pad)
         if self.rotor is None:
             return
         n = pad.size
         rotor = np.asarray(self.rotor, dtype=float)
         if rotor.shape != (n,) or not np.all(np.isfinite(rotor)) or np.any(rotor < 0):
-            raise ValueError(f"compliance: rotor must be ({n},) finite and >= 0 m/Pa; got "
-                             f"shape {rotor.shape}")
+            raise ContactError(f"compliance: rotor must be ({n},) finite and >= 0 m/Pa; got "
+                               f"shape {rotor.shape}")
         if self.ring_gap is None or self.ring_area is None:
-            raise ValueError("compliance: a rotor compliance needs ring_gap and ring_area")
+            raise ContactError("compliance: a rotor compliance needs ring_gap and ring_area")
         B = sp.csr_matrix(self.ring_gap)
         area = np.asarray(self.ring_area, dtype=float)
         if B.shape != (n, area.size):
-            raise ValueError(f"compliance: ring_gap has shape {B.shape}; need ({n}, "
-                             f"{area.size}), one column per ring of ring_area")
+            raise ContactError(f"compliance: ring_gap has shape {B.shape}; need ({n}, "
+                               f"{area.size}), one column per ring of ring_area")
         used = np.asarray(abs(B).sum(axis=0)).ravel() > 0
         if not np.all(np.isfinite(area)) or np.any(area[used] <= 0):
-            raise ValueError("compliance: every ring under the pad needs an area > 0")
+            raise ContactError("compliance: every ring under the pad needs an area > 0")
         object.__setattr__(self, "rotor", rotor)
         object.__setattr__(self, "ring_gap", B)
         object.__setattr__(self, "ring_area", area)

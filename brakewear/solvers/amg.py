@@ -333,7 +333,8 @@ class AMGSolver:
         normb = float(np.linalg.norm(b))
         tol = self.tol
         if M is not None and krylov != "gmres":
-            raise ValueError("a preconditioner M other than the hierarchy's needs krylov='gmres'")
+            raise SolverSettingsError("a preconditioner M other than the hierarchy's needs "
+                                      "krylov='gmres'")
         with warnings.catch_warnings(record=True) as caught, _single_threaded_blas():
             warnings.simplefilter("always")
             if krylov == "cg":
