@@ -1,20 +1,18 @@
 """The caliper's load path on a brake model's meshes: clamp loads and pad supports.
 
 The clamp force ``F = line_pressure x clamp_area`` (the hydraulic area of one
-side's pistons) reaches the pads' backs:
-
-each piston's footprint (the annular rim between ``rim_inner_diameter`` and
-``diameter``, or the disc) integrated mesh-independently
-(:func:`~brakewear.fem.footprint.footprint_load`), each carrying
-``line_pressure x`` its own bore area.  The half and the full model integrate
-the same footprint with the same rule, so a pad gets the same nodal loads in
-both (the half model equals the full one where its assumption holds).  In the full model a fixed
-  caliper presses the outboard pad with the mirrored pistons, a floating one
-  with its fingers, which share ``F`` in proportion to their footprint areas
-  (the caliper slides on its pins, so the finger force balances the piston
-  force).  A compliant bridge (``caliper.bridge_tilt > 0``) turns the
-  fingers' jaw under the clamp force, so the finger pressure varies across
-  the footprints (:func:`jaw_pressure`).
+side's pistons) reaches the pads' backs through each piston's footprint (the
+annular rim between ``rim_inner_diameter`` and ``diameter``, or the disc),
+integrated mesh-independently (:func:`~brakewear.fem.footprint.footprint_load`),
+each carrying ``line_pressure x`` its own bore area.  The half and the full
+model integrate the same footprint with the same rule, so a pad gets the same
+nodal loads in both (the half model equals the full one where its assumption
+holds).  In the full model a fixed caliper presses the outboard pad with the
+mirrored pistons, a floating one with its fingers, which share ``F`` in
+proportion to their footprint areas (the caliper slides on its pins, so the
+finger force balances the piston force).  A compliant bridge
+(``caliper.bridge_tilt > 0``) turns the fingers' jaw under the clamp force,
+so the finger pressure varies across the footprints (:func:`jaw_pressure`).
 
 Supports of the pads in the bracket: ``"bilateral"`` holds the backplate's
 end faces in-plane (Dirichlet); push and pull supports are unilateral

@@ -72,7 +72,9 @@ def _same_histories(model, scheme, steps, thermal):
     for x, y in zip(a, b):
         assert x.time == pytest.approx(y.time, rel=TOL)
         if x.limit != "end":        # the last step is the remainder of the duration
-            assert x.dt == pytest.approx(y.dt, rel=TOL)
+            # each growth-limited step scales the last one, so the steps carry the
+            # solves' differences (1e-11..1e-9 per step) forward: 1e-8 after 20 steps
+            assert x.dt == pytest.approx(y.dt, rel=10 * TOL)
         assert _rel(x.pressure_end, y.pressure_end) < TOL
         assert _rel(x.pad_wear, y.pad_wear) < TOL
         assert _rel(x.rotor_wear, y.rotor_wear) < TOL
