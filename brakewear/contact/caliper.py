@@ -44,7 +44,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -77,7 +77,12 @@ class CaliperRows:
     g0, g1 : ndarray
         (n,) gap at rest (m) and its change per pascal of line pressure (m/Pa).
     friction_of : ndarray
-        (n,) the normal row of a friction row, -1 for a normal row.
+        (n,) a normal row of a friction row (the first of its ``cap``), -1 for a
+        normal row.
+    cap : scipy.sparse.csr_matrix
+        (n, n) the normal rows whose force bounds each friction row's:
+        ``|lam_k| <= mu_k (cap lam)_k`` (one row for a point's friction; every
+        rim row for the rim's friction, which acts on the rim as a whole).
     mu : ndarray
         (n,) friction coefficient of each friction row (0 for normal rows).
     compliance : ndarray
@@ -106,6 +111,7 @@ class CaliperRows:
     g0: np.ndarray
     g1: np.ndarray
     friction_of: np.ndarray
+    cap: sp.csr_matrix
     mu: np.ndarray
     compliance: np.ndarray
     point: np.ndarray
@@ -130,6 +136,24 @@ class CaliperRows:
         """(n,) bool: the normal (unilateral) rows."""
         return self.friction_of < 0
 
+    def subset(self, keep) -> "CaliperRows":
+        """The rows ``keep`` (a mask or indices; a kept friction row's normal row must be
+        kept too) with the same rigid parts."""
+        idx = np.arange(self.n)[keep]
+        new = -np.ones(self.n, dtype=np.int64)
+        new[idx] = np.arange(idx.size)
+        fr = self.friction_of[idx]
+        cap = self.cap[idx]
+        if cap[:, np.setdiff1d(np.arange(self.n), idx)].nnz:
+            raise ValueError("a kept friction row's normal rows are not kept")
+        pick = lambda v: [v[i] for i in idx]  # noqa: E731
+        return replace(self, C=self.C[idx], R=self.R[idx], g0=self.g0[idx], g1=self.g1[idx],
+                       friction_of=np.where(fr >= 0, new[np.maximum(fr, 0)], -1),
+                       cap=cap[:, idx].tocsr(),
+                       mu=self.mu[idx], compliance=self.compliance[idx],
+                       point=self.point[:, idx], direction=self.direction[:, idx],
+                       plus=pick(self.plus), minus=pick(self.minus), group=pick(self.group))
+
     def rows_of(self, group: str) -> np.ndarray:
         """Indices of the rows of one family."""
         return np.array([i for i, g in enumerate(self.group) if g == group], dtype=np.int64)
@@ -148,21 +172,23 @@ class _Rows:
         self.parts = parts
         self.rows = []
 
-    def add(self, x, n, plus, minus, group, g0=0.0, friction_of=-1, mu=0.0, compliance=0.0,
+    def add(self, x, n, plus, minus, group, g0=0.0, cap=(), mu=0.0, compliance=0.0,
             fe=None) -> int:
+        """A row (see :class:`CaliperRows`); ``cap``: a friction row's normal rows."""
         self.rows.append(dict(x=np.asarray(x, dtype=float), n=np.asarray(n, dtype=float),
                               plus=plus, minus=minus, group=group, g0=float(g0),
-                              friction_of=friction_of, mu=float(mu),
-                              compliance=float(compliance), fe=fe))
+                              cap=tuple(cap), mu=float(mu), compliance=float(compliance),
+                              fe=fe))
         return len(self.rows) - 1
 
-    def add_with_friction(self, x, n, plus, minus, group, tangents, mu, **kw) -> None:
+    def add_with_friction(self, x, n, plus, minus, group, tangents, mu, **kw) -> int:
         """A normal row and, with ``mu > 0``, a friction row along each of ``tangents``."""
         k = self.add(x, n, plus, minus, group, **kw)
         if mu > 0:
             for t in tangents:
-                self.add(x, t, plus, minus, f"{group} friction", friction_of=k, mu=mu,
+                self.add(x, t, plus, minus, f"{group} friction", cap=(k,), mu=mu,
                          fe=kw.get("fe"))
+        return k
 
     def build(self, col: np.ndarray, n_dofs: int, K_q, f_q, info) -> CaliperRows:
         P, rows = self.parts, self.rows
@@ -186,7 +212,12 @@ class _Rows:
         C = sp.csr_matrix((np.concatenate(vi), (np.concatenate(ri), np.concatenate(ci))),
                           shape=(n, n_dofs))
         get = lambda key: np.array([r[key] for r in rows])  # noqa: E731
-        return CaliperRows(C=C, R=R, g0=get("g0"), g1=g1, friction_of=get("friction_of"),
+        ci = [np.array(r["cap"], dtype=np.int64) for r in rows]
+        cap = sp.csr_matrix((np.ones(sum(c.size for c in ci)),
+                             (np.repeat(np.arange(n), [c.size for c in ci]),
+                              np.concatenate(ci))), shape=(n, n))
+        first = np.array([c[0] if c.size else -1 for c in ci])
+        return CaliperRows(C=C, R=R, g0=get("g0"), g1=g1, friction_of=first, cap=cap,
                            mu=get("mu"), compliance=get("compliance"),
                            point=np.array([r["x"] for r in rows]).T,
                            direction=np.array([r["n"] for r in rows]).T,
@@ -225,13 +256,22 @@ def _rim_and_bore(rows: _Rows, mesh, offset: int, side: str) -> None:
     back = ("back_in" if side == "in" else "back_out") if "back_in" in mesh.boundaries else "back"
     radii = ((0.5 * pis.rim_inner_diameter, 0.5 * pis.diameter) if pis.rim_inner_diameter
              else (0.5 * 0.5 * pis.diameter, 0.5 * pis.diameter))
+    normal, fe = [], []
     for rad in radii:
         x, _ = ring_points(c, rad, ROW_COUNTS["rim"])
         nodes, w = _on_face(mesh, back, x, offset)
         for j in range(x.shape[1]):
-            rows.add_with_friction(x[:, j], -s * _EZ, "pad", body, f"rim {side}",
-                                   (P.e, P.t), guide.rim_friction,
-                                   fe=(nodes[:, j], w[:, j]))
+            normal.append(rows.add(x[:, j], -s * _EZ, "pad", body, f"rim {side}",
+                                   fe=(nodes[:, j], w[:, j])))
+            fe.append((nodes[:, j], w[:, j] / (len(radii) * x.shape[1])))
+    if guide.rim_friction > 0:
+        # the rim's friction on the rim as a whole: the pad's mean slip over the rim's
+        # points against the piston's, bounded by mu times the rim's whole force
+        nodes = np.concatenate([f[0] for f in fe])
+        w = np.concatenate([f[1] for f in fe])
+        for t in (P.e, P.t):
+            rows.add(c, t, "pad", body, f"rim {side} friction", cap=normal,
+                     mu=guide.rim_friction, fe=(nodes, w))
     wall = P.housing_part(side, "bore")
     mouth = P.mouth(side)
     for depth in (0.0, guide.engagement):

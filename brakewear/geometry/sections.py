@@ -76,7 +76,7 @@ LOAD_PATH_KEYS = {
                           "radial width of the seal's section"),
     "piston.seal_height": ("seal_height", "length", None, (0.0, 20e-3, True), (2e-3, 4.5e-3),
                            "axial height of the seal's section"),
-    "piston.seal_modulus": ("seal_modulus", "MPa", 1e6, (0.0, 1000.0, True), (3e6, 12e6),
+    "piston.seal_modulus": ("seal_modulus", "MPa", 1e6, (0.0, 1e9, True), (3e6, 12e6),
                             "Young's modulus of the seal's rubber"),
     "piston.rim_friction": ("rim_friction", "", 1.0, (0.0, 1.0, False), (0.08, 0.4),
                             "friction coefficient of the piston's rim on the backplate"),

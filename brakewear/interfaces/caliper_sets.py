@@ -36,11 +36,12 @@ one pass.
 from __future__ import annotations
 
 import logging
+import warnings
 from collections import OrderedDict
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.linalg import lu_factor, lu_solve
+from scipy.linalg import LinAlgWarning, lu_factor, lu_solve
 
 from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver
 from ..errors import SolverError
@@ -104,8 +105,13 @@ class RowSets:
     def _initial_state(self) -> np.ndarray:
         rows = self.rows
         st = np.where(rows.normal, np.where(rows.g0 <= self.gap_tol, CLOSED, OPEN), STICK)
-        st[~rows.normal] = np.where(st[rows.friction_of[~rows.normal]] == CLOSED, STICK, OFF)
+        st[~rows.normal] = np.where(self._on(st)[~rows.normal], STICK, OFF)
         return st.astype(np.int8)
+
+    def _on(self, state: np.ndarray) -> np.ndarray:
+        """(n,) bool: friction rows any of whose normal rows is closed."""
+        closed = (self.rows.normal & (state == CLOSED)).astype(float)
+        return (self.rows.cap @ closed) > 0
 
     @property
     def mu_key(self):
@@ -151,11 +157,14 @@ class RowSets:
         M[h, :ns] = cond.H[s][:, s][h]
         M[h, h] += rows.compliance[h]
         M[h, ns:] = -rows.R[h]
-        M[slip, rows.friction_of[slip]] = -np.where(state[slip] == SLIP_UP, 1.0,
-                                                    -1.0) * rows.mu[slip]
+        sign = np.where(state[slip] == SLIP_UP, 1.0, -1.0)
+        M[slip, :ns] -= (sign * rows.mu[slip])[:, None] * rows.cap[slip].toarray()
         M[ns:, :ns] = rows.R.T
         M[ns:, ns:] = rows.K_q
-        lu = lu_factor(M, check_finite=False)
+        scale = 1.0 / np.abs(M).max(axis=1)     # rows of forces, gaps and compliances
+        with warnings.catch_warnings():          # a singular state is refused below
+            warnings.simplefilter("ignore", LinAlgWarning)
+            lu = lu_factor(scale[:, None] * M, check_finite=False)
         pivots = np.abs(np.diag(lu[0]))
         if not np.all(np.isfinite(pivots)) or pivots.min() <= 1e-14 * pivots.max():
             raise SolverError(f"caliper rows: their state leaves a rigid part free ({h.size} of "
@@ -164,10 +173,10 @@ class RowSets:
         B = np.zeros((ns + nq, cond.n_c + cond.E.shape[1]))
         B[h, :cond.n_c] = -Hsc[h]
         B[h, cond.n_c:] = -cond.E[s][h]
-        L = lu_solve(lu, B, check_finite=False)
+        L = lu_solve(lu, scale[:, None] * B, check_finite=False)
         Lc, La = L[:ns, :cond.n_c], L[:ns, cond.n_c:]
         Hcs, Es = cond.H[c][:, s], cond.E[s]
-        eff = dict(lu=lu, L=L, H=Hcc + Hcs @ Lc, E=cond.E[c] + Hcs @ La, D=D + Es.T @ Lc,
+        eff = dict(lu=lu, scale=scale, L=L, H=Hcc + Hcs @ Lc, E=cond.E[c] + Hcs @ La, D=D + Es.T @ Lc,
                    Q=Es.T @ La, Hcs=Hcs, Es=Es)
         self._eff[key] = eff
         while len(self._eff) > _KEEP_STATES:
@@ -189,12 +198,12 @@ class RowSets:
         state, seen, act = self.state.copy(), set(), active
         for outer in range(1, MAX_OUTER + 1):
             self._state_key = state.tobytes()
-            eff = self._effective(state)
+            eff = self._effective(state)      # a state met here holds every rigid part
             b0 = np.zeros(rows.n + rows.K_q.shape[0])
             h = np.nonzero(self._holding(state))[0]
             b0[h] = -gap_s[h]
             b0[rows.n:] = line_pressure * rows.f_q
-            y0 = lu_solve(eff["lu"], b0, check_finite=False)
+            y0 = lu_solve(eff["lu"], eff["scale"] * b0, check_finite=False)
             L0 = y0[:rows.n]
             problem = _DenseSets(self, eff["H"], eff["D"], q_c + eff["Hcs"] @ L0,
                                  rhs_c - eff["Es"].T @ L0, compliance, E=eff["E"], Q=eff["Q"])
@@ -207,7 +216,8 @@ class RowSets:
             new = self._update(state, lam_s, g_s, F)
             if np.array_equal(new, state):
                 break
-            if new.tobytes() in seen:           # a cycle: change one row at a time
+            if new.tobytes() in seen or not self._holds(new):
+                # a cycle, or a state that leaves a rigid part free: one row at a time
                 new = self._one_change(state, new, lam_s, g_s, F)
             seen.add(state.tobytes())
             state = new
@@ -245,11 +255,10 @@ class RowSets:
         new[nrm & closed & (lam < -ftol)] = OPEN
         new[nrm & ~closed & (g < -gtol)] = CLOSED
         k = np.nonzero(~nrm)[0]
-        j = rows.friction_of[k]
-        cap = rows.mu[k] * np.maximum(lam[j], 0.0)
+        cap = rows.mu[k] * (rows.cap[k] @ np.maximum(lam, 0.0))
         st = state[k]
         nst = st.copy()
-        on = new[j] == CLOSED
+        on = self._on(new)[k]
         nst[on & (st == OFF)] = STICK
         over = on & (st == STICK) & (np.abs(lam[k]) > cap + ftol)
         nst[over] = np.where(lam[k][over] > 0, SLIP_UP, SLIP_DOWN)
@@ -261,16 +270,28 @@ class RowSets:
         new[k] = nst
         return new
 
+    def _holds(self, state: np.ndarray) -> bool:
+        """Whether a state holds every rigid part (its eliminated system is regular)."""
+        try:
+            self._effective(state)
+        except SolverError:
+            return False
+        return True
+
     def _one_change(self, state, new, lam, g, F: float) -> np.ndarray:
-        """Of the changes from ``state`` to ``new``, the one of the largest violation."""
+        """Of the changes from ``state`` to ``new``, the one of the largest violation
+        whose state holds every rigid part."""
         ftol, gtol = self._tolerances(lam, F)
         d = np.nonzero(new != state)[0]
         viol = np.abs(np.where(self.rows.normal[d], np.minimum(lam[d], 0.0) / ftol
                                + np.minimum(g[d], 0.0) / gtol, g[d] / gtol))
-        out = state.copy()
-        i = d[int(np.argmax(viol))]
-        out[i] = new[i]
-        return out
+        for i in d[np.argsort(-viol)]:
+            out = state.copy()
+            out[i] = new[i]
+            if self._holds(out):
+                return out
+        raise SolverError(f"caliper rows: every change of their state leaves a rigid part "
+                          f"free ({self._violations(state, lam, g)})")
 
     def _violations(self, state, lam, g) -> str:
         nrm = self.rows.normal
