@@ -138,7 +138,8 @@ def test_the_cleaning_study_answers_the_same_on_either_interface():
     from studyload import load_study
 
     study = load_study("cleaning_stops")
-    task = dict(study.DEFAULTS, decel=1.0, stops=2, size=12.0, k_corrosion=8e-12)
+    task = dict(study.DEFAULTS, decel=1.0, stops=2, size=12.0, k_corrosion=8e-12,
+                geometry="default")         # the idealised brake: FE and condensed
     fe = study.run_decel(dict(task, interface="fe"))
     cd = study.run_decel(dict(task, interface="condensed"))
     assert fe["line_pressure_MPa"] == pytest.approx(cd["line_pressure_MPa"], rel=1e-6)
@@ -180,7 +181,7 @@ def test_the_monte_carlo_runs_on_a_dask_cluster_as_in_one_process():
     from studyload import load_study
 
     study = load_study("cleaning_stops")
-    kw = dict(n=2, stops=1, size=12.0, interface="condensed")
+    kw = dict(n=2, stops=1, size=12.0, interface="condensed", geometry="default")
 
     class Serial:
         def map(self, fn, items):

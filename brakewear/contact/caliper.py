@@ -13,7 +13,9 @@ decides how far a pad may tilt.  Here each is what a brake engineer draws:
   ``n_bore`` angles each, with friction along the axis);
 * the **rim**, the piston's annular face on the backplate: unilateral rows
   at points on the rim's inner and outer edge, so the pad can rock on either
-  edge, with friction in the backplate's plane;
+  edge, each through its share of the cup wall's axial compliance
+  (``piston.length / (E A_rim)`` over the rim), with friction in the
+  backplate's plane on the rim as a whole;
 * the **housing** (floating caliper, full model), sliding on its pins: one
   DOF, its axial position; its fingers press the outboard pad through a
   layer of ``finger_stiffness`` (unilateral rows over the finger
@@ -257,12 +259,16 @@ def _rim_and_bore(rows: _Rows, mesh, offset: int, side: str) -> None:
     radii = ((0.5 * pis.rim_inner_diameter, 0.5 * pis.diameter) if pis.rim_inner_diameter
              else (0.5 * 0.5 * pis.diameter, 0.5 * pis.diameter))
     normal, fe = [], []
+    # the piston is a cup: its rim presses through the wall's axial compliance,
+    # length / (E A) over the rim's points together
+    n_pts = len(radii) * ROW_COUNTS["rim"]
+    c_wall = n_pts * pis.length / (pis.material.elastic.E * pis.footprint_area)
     for rad in radii:
         x, _ = ring_points(c, rad, ROW_COUNTS["rim"])
         nodes, w = _on_face(mesh, back, x, offset)
         for j in range(x.shape[1]):
             normal.append(rows.add(x[:, j], -s * _EZ, "pad", body, f"rim {side}",
-                                   fe=(nodes[:, j], w[:, j])))
+                                   compliance=c_wall, fe=(nodes[:, j], w[:, j])))
             fe.append((nodes[:, j], w[:, j] / (len(radii) * x.shape[1])))
     if guide.rim_friction > 0:
         # the rim's friction on the rim as a whole: the pad's mean slip over the rim's

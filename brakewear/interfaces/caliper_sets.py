@@ -26,9 +26,10 @@ per state) of the system the elimination leaves:
     [D + Es^T Lc] lam_c + [Es^T La] alpha = -(zf p + Es^T L0).
 
 Then the state is updated from the rows' forces and gaps -- a closed row
-that pulls opens, an open one that penetrates closes; a sticking row whose
-force exceeds ``mu lam_normal`` slips in its force's sense, a slipping row
-whose slip turns to its force's sense sticks -- until it repeats.  A state
+that pulls opens, an open one that penetrates closes (its friction slipping
+against the slip it has, or sticking); a sticking row whose force exceeds
+``mu lam_normal`` slips in its force's sense, a slipping row whose slip
+turns to its force's sense sticks -- until it repeats.  A state
 met again after others is a cycle: the update then changes one row at a
 time.  The last state starts the next solve, so a wear history mostly needs
 one pass.
@@ -97,6 +98,12 @@ class RowSets:
         self._c, self._s = slice(0, n_c), slice(n_c, None)
         self._H, self._lu, self._base, self._updated = {}, OrderedDict(), {}, {}
         self._eff = OrderedDict()
+        c, s = self._c, self._s
+        # the blocks every solve reads (copies made once)
+        self._Hss, self._Hcs = cond.H[s][:, s], cond.H[c][:, s]
+        self._Es, self._Ec = cond.E[s], cond.E[c]
+        self._fr = np.nonzero(~rows.normal)[0]
+        self._cap_fr = rows.cap[self._fr].tocsr()
         self.mu = 0.0
         self.state = self._initial_state()
         self._state_key = self.state.tobytes()
@@ -137,7 +144,7 @@ class RowSets:
             cond, c, s = self.cond, self._c, self._s
             m = np.broadcast_to(np.asarray(mu, dtype=float), (cond.n_c,))
             Hc = cond.H[:, c] + cond.Ht * m[None, :]     # every row under lam_c (+ friction)
-            D = cond.E[c].T + cond.Dt * m[None, :]
+            D = self._Ec.T + cond.Dt * m[None, :]
             self._H = {key: (Hc[c], Hc[s], D)}
         return self._H[key]
 
@@ -154,7 +161,7 @@ class RowSets:
         slip = np.nonzero((~rows.normal) & ((state == SLIP_UP) | (state == SLIP_DOWN)))[0]
         M = np.zeros((ns + nq, ns + nq))
         M[:ns, :ns] = np.eye(ns)
-        M[h, :ns] = cond.H[s][:, s][h]
+        M[h, :ns] = self._Hss[h]
         M[h, h] += rows.compliance[h]
         M[h, ns:] = -rows.R[h]
         sign = np.where(state[slip] == SLIP_UP, 1.0, -1.0)
@@ -172,11 +179,11 @@ class RowSets:
                               f"{pivots.max():.3g}): no closed row holds it")
         B = np.zeros((ns + nq, cond.n_c + cond.E.shape[1]))
         B[h, :cond.n_c] = -Hsc[h]
-        B[h, cond.n_c:] = -cond.E[s][h]
+        B[h, cond.n_c:] = -self._Es[h]
         L = lu_solve(lu, scale[:, None] * B, check_finite=False)
         Lc, La = L[:ns, :cond.n_c], L[:ns, cond.n_c:]
-        Hcs, Es = cond.H[c][:, s], cond.E[s]
-        eff = dict(lu=lu, scale=scale, L=L, H=Hcc + Hcs @ Lc, E=cond.E[c] + Hcs @ La, D=D + Es.T @ Lc,
+        Hcs, Es = self._Hcs, self._Es
+        eff = dict(lu=lu, scale=scale, L=L, H=Hcc + Hcs @ Lc, E=self._Ec + Hcs @ La, D=D + Es.T @ Lc,
                    Q=Es.T @ La, Hcs=Hcs, Es=Es)
         self._eff[key] = eff
         while len(self._eff) > _KEEP_STATES:
@@ -193,7 +200,7 @@ class RowSets:
         ``compliance`` (m/N per node) the implicit step's; ``active`` the contact
         set to start from (else the nodes of ``start_gap <= 0``)."""
         cond, rows = self.cond, self.rows
-        Hsc, Hss = self._operators()[1], cond.H[self._s][:, self._s]
+        Hsc, Hss = self._operators()[1], self._Hss
         F = line_pressure * rows.hydraulic_area
         state, seen, act = self.state.copy(), set(), active
         for outer in range(1, MAX_OUTER + 1):
@@ -254,12 +261,14 @@ class RowSets:
         closed = state == CLOSED
         new[nrm & closed & (lam < -ftol)] = OPEN
         new[nrm & ~closed & (g < -gtol)] = CLOSED
-        k = np.nonzero(~nrm)[0]
-        cap = rows.mu[k] * (rows.cap[k] @ np.maximum(lam, 0.0))
+        k = self._fr
+        cap = rows.mu[k] * (self._cap_fr @ np.maximum(lam, 0.0))
         st = state[k]
         nst = st.copy()
         on = self._on(new)[k]
-        nst[on & (st == OFF)] = STICK
+        # a row that closes starts slipping against the slip it has, or sticks
+        start = np.where(g[k] > gtol, SLIP_DOWN, np.where(g[k] < -gtol, SLIP_UP, STICK))
+        nst[on & (st == OFF)] = start[on & (st == OFF)]
         over = on & (st == STICK) & (np.abs(lam[k]) > cap + ftol)
         nst[over] = np.where(lam[k][over] > 0, SLIP_UP, SLIP_DOWN)
         sign = np.where(st == SLIP_UP, 1.0, -1.0)
@@ -269,6 +278,16 @@ class RowSets:
         nst[~on] = OFF
         new[k] = nst
         return new
+
+    def _consistent(self, state: np.ndarray) -> np.ndarray:
+        """``state`` with each friction row off where its normal rows are open and
+        sticking where one of them closed while it was off."""
+        fr = ~self.rows.normal
+        on = self._on(state)
+        out = state.copy()
+        out[fr & ~on] = OFF
+        out[fr & on & (state == OFF)] = STICK
+        return out
 
     def _holds(self, state: np.ndarray) -> bool:
         """Whether a state holds every rigid part (its eliminated system is regular)."""
@@ -288,7 +307,8 @@ class RowSets:
         for i in d[np.argsort(-viol)]:
             out = state.copy()
             out[i] = new[i]
-            if self._holds(out):
+            out = self._consistent(out)
+            if not np.array_equal(out, state) and self._holds(out):
                 return out
         raise SolverError(f"caliper rows: every change of their state leaves a rigid part "
                           f"free ({self._violations(state, lam, g)})")
