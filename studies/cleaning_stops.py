@@ -151,6 +151,10 @@ def _geometry(pad_modulus: float, name: str = "default", support: str | None = N
     return replace(g, pad=replace(g.pad, friction_material=stiffer))
 
 
+#: this process's caliper interface of the last brake run (its condensation and model)
+_BUILT: dict = {}
+
+
 def _interface(task: dict):
     """The study's model and its interface: the FE contact, or its condensation
     (the same answer; read from the cache when a run of this model made it); the
@@ -158,15 +162,26 @@ def _interface(task: dict):
     from brakewear import CaliperInterface
 
     piston, rotor, _ = brake_kind(task)
-    model = BrakeModel(_geometry(task.get("pad_modulus", 1.0), task.get("geometry", "default"),
-                                 task.get("support"), task.get("load_path")),
-                       size=task["size"] * 1e-3, rotor=rotor, piston=piston)
+    geometry = _geometry(task.get("pad_modulus", 1.0), task.get("geometry", "default"),
+                         task.get("support"), task.get("load_path"))
     kind = task.get("interface", "fe")
     _check("interface", kind, kind in ("fe", "condensed"), "allowed: 'fe', 'condensed'")
     if piston == "rigid":
         _check("interface", kind, kind == "condensed", "the rigid piston's load path runs on "
                "the condensed (caliper) interface: interface = 'condensed'")
-        return model, CaliperInterface(model, 1e6, task["mu"])
+        # one model and condensation per worker for every load path of this brake; each
+        # run gets its own rows and solver state (CaliperInterface.with_load_path)
+        key = (task.get("geometry"), task["size"], task.get("pad_modulus", 1.0),
+               task.get("support"), rotor)
+        if key not in _BUILT:
+            base = BrakeModel(_geometry(task.get("pad_modulus", 1.0), task.get("geometry"),
+                                        task.get("support")),
+                              size=task["size"] * 1e-3, rotor=rotor, piston=piston)
+            _BUILT.clear()
+            _BUILT[key] = CaliperInterface(base, 1e6, task["mu"])
+        itf = _BUILT[key].with_load_path(geometry)
+        return itf.model, itf
+    model = BrakeModel(geometry, size=task["size"] * 1e-3, rotor=rotor, piston=piston)
     if kind == "condensed":
         return model, CondensedInterface(model, 1e6, task["mu"])
     return model, FEInterface(model, 1e6, task["mu"])
@@ -515,6 +530,69 @@ def probability_of_clean(decel: float, n: int = 24, seed: int = 20091,
     return result
 
 
+#: the load-path keys whose plausible ranges the spread covers, one at a time
+LOAD_PATH_SPREAD = ("piston.seal_modulus", "piston.bore_clearance", "piston.engagement_length",
+                    "piston.stand_out", "piston.rim_friction", "piston.bore_friction",
+                    "support.abutment_friction", "support.spring_stiffness",
+                    "caliper.bridge_tilt", "caliper.bore_tilt", "caliper.finger_stiffness")
+
+
+def load_path_cases(keys=LOAD_PATH_SPREAD, geometry: str = "floating") -> dict:
+    """name -> load-path overrides: the nominal brake and each key at each end of its
+    plausible range (:data:`brakewear.geometry.sections.LOAD_PATH_KEYS`), in the
+    geometry file's units."""
+    import tomllib
+
+    from brakewear.geometry import geometry_file
+    from brakewear.geometry.sections import LOAD_PATH_KEYS, STIFFNESS_UNITS
+    units = tomllib.loads(geometry_file(geometry).read_text())["units"]
+    cases = {"nominal": {}}
+    for key in keys:
+        _, unit, si, _, (lo, hi), _ = LOAD_PATH_KEYS[key]
+        if unit == "length":
+            si = {"mm": 1e-3, "m": 1.0}[units["length"]]
+        elif unit == "stiffness":
+            si = STIFFNESS_UNITS[units.get("stiffness", "N/mm")]
+        for end, v in (("low", lo), ("high", hi)):
+            cases[f"{key} {end}"] = {key: float(v / si)}
+    return cases
+
+
+def load_path_spread(decels=(0.5, 1.0, 2.0, 3.0), stops: int = DEFAULTS["stops"],
+                     executor: Executor | None = None, out=None, keys=LOAD_PATH_SPREAD,
+                     name: str = "cleaning_stops_load_path", **settings) -> dict:
+    """The floating caliper's answer over the load path's own uncertainty: the sweep
+    of ``decels`` for the nominal brake and for each of ``keys`` at each end of its
+    plausible range (:func:`load_path_cases`), one at a time.  Per case the lowest
+    cleaning deceleration and, per deceleration, the cleaned share of each face after
+    the last stop.  Writes ``data/<name>.json`` to ``out``."""
+    st = {**DEFAULTS, **settings, "stops": stops}
+    cases = load_path_cases(keys)
+    tasks = [dict(st, load_path=lp or None, decel=a, case=name)
+             for name, lp in cases.items() for a in sorted(decels)]
+    t0 = time.perf_counter()
+    runs = _map_runs(tasks, executor)
+    result = {"settings": {k: v for k, v in st.items() if k != "decels"},
+              "decels": sorted(decels), "cases": {}}
+    for (name, lp), i in zip(cases.items(), range(0, len(tasks), len(decels))):
+        rr = runs[i:i + len(decels)]
+        ok = [r for r in rr if "error" not in r]
+        low = next((r for r in ok if r["stops_to_clean"] is not None), None)
+        result["cases"][name] = {
+            "overrides": lp, "failed": [r for r in rr if "error" in r],
+            "lowest_cleaning_decel": None if low is None else low["decel"],
+            "its_stops": None if low is None else low["stops_to_clean"],
+            "cleaned_faces": {str(r["decel"]): r["rows"][-1]["cleaned_faces"] for r in ok},
+            "stops_run": {str(r["decel"]): r["rows"][-1]["stop"] for r in ok},
+            "line_pressure_MPa": {str(r["decel"]): r["line_pressure_MPa"] for r in ok},
+            "run_s": [r.get("run_s") for r in ok]}
+    result["wall_s"] = time.perf_counter() - t0
+    if out is not None:
+        (Path(out) / "data").mkdir(parents=True, exist_ok=True)
+        (Path(out) / "data" / f"{name}.json").write_text(json.dumps(result, indent=1))
+    return result
+
+
 def plot_contact_maps(result: dict, path: Path, decels=None) -> None:
     """The pad face seen from the rotor at the end of the first and the last stop,
     for up to four decelerations: one dot per friction node coloured by pressure,
@@ -588,6 +666,9 @@ def _cli(argv=None) -> dict:
                          "nodes once (the same answer, much faster; the default)")
     ap.add_argument("--tornado", action="store_true",
                     help="only draw the sensitivity (tornado) chart of the sweeps in OUT/data")
+    ap.add_argument("--load-path-spread", action="store_true",
+                    help="the floating caliper's answer for each load-path key at each end of "
+                         "its plausible range, one at a time (at --decels)")
     ap.add_argument("--monte-carlo", type=int, default=0, metavar="N",
                     help="only the probability of clean at the first of --decels, N samples "
                          "of the inputs in UNCERTAIN")
@@ -596,12 +677,28 @@ def _cli(argv=None) -> dict:
     if a["load_path"]:
         a["load_path"] = {k: float(v) for k, v in (x.split("=", 1) for x in a["load_path"])}
     mc, where = a.pop("monte_carlo"), (a.pop("dask"), a.pop("workers"))
+    spread = a.pop("load_path_spread")
     if a.pop("tornado"):
         for r in write_sensitivity(Path(a["out"])):
             print(r)
         return {}
     with study_executor(*where) as executor:
+        if spread:
+            return _run_spread(a, executor)
         return _run_cli(a, mc, executor)
+
+
+def _run_spread(a: dict, executor: Executor) -> dict:
+    """The command line's load-path spread; prints a line per case."""
+    name = a.pop("name")
+    r = load_path_spread(a.pop("decels"), a.pop("stops"), executor=executor, out=a.pop("out"),
+                         name="cleaning_stops_load_path" if name == "cleaning_stops" else name,
+                         **{k: v for k, v in a.items() if k in DEFAULTS})
+    for name, c in r["cases"].items():
+        worst = {d: min(f.values()) for d, f in c["cleaned_faces"].items()}
+        print(f"{name:34s} lowest {c['lowest_cleaning_decel']} m/s^2; cleaned (worse face) "
+              + ", ".join(f"{d}: {v:.2f}" for d, v in worst.items()))
+    return r
 
 
 def _run_cli(a: dict, mc: int, executor: Executor) -> dict:

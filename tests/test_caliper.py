@@ -253,3 +253,38 @@ def test_a_piston_tilted_in_its_bore_engages_the_wall_at_2c_over_L():
             arm = L
             couple = wall[ends > 0].sum() * arm
             assert couple == pytest.approx(M - k_tilt * theta_w, rel=1e-3)
+
+
+def test_another_load_path_on_the_same_condensation_is_a_fresh_interface(solved):
+    """CaliperInterface.with_load_path shares the condensation (which the rows' places
+    decide) and gives the answer of an interface built for that geometry."""
+    model, itf, offset, _ = solved
+    g = replace(model.geometry, support=replace(model.geometry.support, abutment_friction=0.4),
+                piston=replace(model.geometry.piston, guide=replace(
+                    model.geometry.piston.guide, seal_modulus=12e6, rim_friction=0.3)))
+    other = itf.with_load_path(g)
+    assert other.cond is itf.cond
+    fresh = CaliperInterface(BrakeModel(g, size=SIZE, piston="rigid"), 1e6, 0.4)
+    a = other.solve(offset, None, mu=0.4)
+    b = fresh.solve(offset, None, mu=0.4)
+    assert np.array_equal(a.active, b.active)
+    assert np.abs(a.pressure - b.pressure).max() < 1e-9 * np.abs(b.pressure).max()
+    assert not np.allclose(a.pressure, itf.solve(offset, None, mu=0.4).pressure, rtol=1e-6)
+    with pytest.raises(Exception, match="load-path parameters only"):
+        itf.with_load_path(replace(g, pad=replace(g.pad, slot_width=0.0)))
+
+
+def test_a_set_under_another_compliance_is_solved_as_a_factorisation_would(solved):
+    """The implicit step's compliance changes each step; a set met before is solved by
+    GMRES on the kept factorisation, to the factorisation's answer."""
+    model, itf, offset, _ = solved
+    a = itf.with_load_path(model.geometry)
+    eps = 1e-12 * np.ones(itf.area.size)
+    s1 = a.solve(offset, None, compliance=eps, mu=0.4)
+    before = a.sets.reused
+    s2 = a.solve(offset, s1.active, compliance=1.3 * eps, mu=0.4)
+    assert a.sets.reused > before
+    fresh = itf.with_load_path(model.geometry)
+    s3 = fresh.solve(offset, s1.active, compliance=1.3 * eps, mu=0.4)
+    assert np.array_equal(s2.active, s3.active)
+    assert np.abs(s2.pressure - s3.pressure).max() < 1e-9 * np.abs(s3.pressure).max()

@@ -134,6 +134,30 @@ class CaliperInterface(CondensedInterface):
         new.fe = self.fe.at_line_pressure(line_pressure)
         return new
 
+    def with_load_path(self, geometry) -> "CaliperInterface":
+        """This interface for ``geometry``: the same brake (rotor, pad, piston places,
+        fingers, mesh) with other load-path parameters (seal, clearance, friction,
+        bridge and bore tilt, stiffnesses) on the same meshes: the rows rebuilt, the
+        condensation (which depends on the rows' places, not on those parameters) and
+        the factorised stiffness shared."""
+        g0 = self.model.geometry
+        if (geometry.rotor, geometry.pad, geometry.mesh, geometry.caliper.fingers) != (
+                g0.rotor, g0.pad, g0.mesh, g0.caliper.fingers) or (
+                geometry.piston.diameter, geometry.piston.radius, geometry.piston.angle) != (
+                g0.piston.diameter, g0.piston.radius, g0.piston.angle):
+            raise WearError("with_load_path: the geometry must be this interface's brake with "
+                            "other load-path parameters only")
+        model = copy.copy(self.model)
+        model.geometry = geometry          # the same meshes and stiffness
+        rows = caliper_rows(geometry, model.meshes["pad"], model.offsets["pad"],
+                            self.fe.cs.col, self.fe.cs.K.shape[0], model.full)
+        if rows.C.shape != self.rows.C.shape or abs(rows.C - self.rows.C).max() != 0.0:
+            raise WearError("with_load_path: the caliper's rows moved; build a new interface")
+        new = copy.copy(self)
+        new.model, new.rows = model, rows
+        new.sets = RowSets(self.cond, rows, self.gap_tol, self.tol)
+        return new
+
     def supported(self):
         """The supported stiffness the condensation inverts (factorised on first use)."""
         if self._thermal is None:
@@ -144,7 +168,8 @@ class CaliperInterface(CondensedInterface):
 
             cs = self.fe.cs
             A = sp.vstack([constraint_rows(cs.pair, cs.K.shape[0]), self.rows.C]).tocsr()
-            self._thermal = (Supported(cs, self.rows.C), A)
+            sup = self.cond.supported or Supported(cs, self.rows.C)
+            self._thermal = (sup, A)
         return self._thermal[0]
 
     def thermal_gap(self, load: np.ndarray):

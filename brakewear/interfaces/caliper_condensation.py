@@ -51,6 +51,8 @@ class CaliperCondensation:
     n_c: int
     key: str = ""
     info: dict = field(default_factory=dict)
+    #: the factorised stiffness it was computed with (None when read from the cache)
+    supported: object = field(default=None, repr=False)
 
 
 def _rows_key(cs, rows: sp.spmatrix) -> str:
@@ -115,6 +117,7 @@ def _compute(cs, rows: sp.csr_matrix, line_pressure: float) -> CaliperCondensati
                                zf=Z.T @ (cs.f / line_pressure), n_c=n_c)
     cond.info = {"seconds": time.perf_counter() - t0, "bodies": sup.figures,
                  "modes": Z.shape[1], "rows": n - n_c, "block": BLOCK}
+    cond.supported = sup
     logger.info("condensed %d contact nodes and %d caliper rows of %d DOFs in %.1f s "
                 "(%d free modes)", n_c, n - n_c, N, cond.info["seconds"], Z.shape[1])
     return cond

@@ -61,6 +61,55 @@ OPEN, CLOSED = 0, 1
 OFF, STICK, SLIP_UP, SLIP_DOWN = 0, 1, 2, 3
 
 
+class _ReusingSets(_DenseSets):
+    """The condensed interface's set solves, plus one more reuse: a set met before
+    under another compliance (the implicit step's changes with the step and the
+    speed) is solved by GMRES preconditioned with that factorisation, and accepted
+    where it solves the set's equations as a factorisation would (the residual
+    check of :meth:`_DenseSets._solves`); else it is factorised."""
+
+    def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
+        itf = self.itf
+        if self.c is not None:
+            key = (np.packbits(active).tobytes(), itf.mu_key)
+            old = itf._by_set.get(key)
+            if old is not None and key + (self.c_key,) not in itf._lu:
+                state = self._krylov(old, active)
+                if state is not None:
+                    self.lam, self.g = state
+                    itf.reused += 1
+                    return
+        super().solve(active, tol, rtol0)
+
+    def _krylov(self, lu, active):
+        from scipy.sparse.linalg import LinearOperator, gmres
+
+        n, m = self.q.size, self.E.shape[1]
+        A = np.nonzero(active)[0]
+        k = A.size
+        M = np.empty((k + m, k + m))
+        M[:k, :k] = self.H[np.ix_(A, A)]
+        M[np.arange(k), np.arange(k)] += self.c[A]
+        M[:k, k:] = self.E[A]
+        M[k:, :k] = self.D[:, A]
+        M[k:, k:] = 0.0 if self.Q is None else self.Q
+        b = self._full_rhs(active)[np.concatenate([A, n + np.arange(m)])]
+        pre = LinearOperator(M.shape, matvec=lambda v: lu_solve(lu, v, check_finite=False))
+        x = np.zeros(k + m)
+        z = np.zeros(n + m)
+        for _ in range(3):          # GMRES on the true residual, as refinement steps
+            dx, info = gmres(M, b - M @ x, M=pre, rtol=1e-14, atol=0.0, restart=60,
+                             maxiter=2)
+            if info < 0:
+                return None
+            x += dx
+            z[A], z[n:] = x[:k], x[k:]
+            state = self._gap(z, active)
+            if self._solves(*state, active):
+                return state
+        return None
+
+
 @dataclass
 class RowSolution:
     """A solve of :class:`RowSets`: the contact forces ``lam`` (N per node) and
@@ -97,7 +146,9 @@ class RowSets:
         n_c = cond.n_c
         self._c, self._s = slice(0, n_c), slice(n_c, None)
         self._H, self._lu, self._base, self._updated = {}, OrderedDict(), {}, {}
-        self._eff = OrderedDict()
+        self._by_set = {}
+        self.reused = 0         # sets solved on another compliance's factorisation
+        self._eff, self._rows_lus = OrderedDict(), {}
         c, s = self._c, self._s
         # the blocks every solve reads (copies made once)
         self._Hss, self._Hcs = cond.H[s][:, s], cond.H[c][:, s]
@@ -126,8 +177,13 @@ class RowSets:
         mu = self.mu if np.ndim(self.mu) == 0 else self.mu.tobytes()
         return (mu, self._state_key)
 
-    #: keep a factorisation (as the condensed interface does)
-    kept = CondensedInterface.kept
+    def kept(self, key, lu, active) -> None:
+        """Keep a factorisation (as the condensed interface does), and as the latest
+        of its set (under any compliance) for :class:`_ReusingSets`."""
+        CondensedInterface.kept(self, key, lu, active)
+        self._by_set[key[:2]] = lu
+        while len(self._by_set) > 4 * _KEEP_STATES:
+            self._by_set.pop(next(iter(self._by_set)))
 
     def _holding(self, state: np.ndarray) -> np.ndarray:
         """Rows whose gap (or slip) is held at zero: closed normal rows, sticking ones."""
@@ -158,6 +214,29 @@ class RowSets:
         Hcc, Hsc, D = self._operators()
         ns, nq = rows.n, rows.K_q.shape[0]
         h = np.nonzero(self._holding(state))[0]
+        lu, scale = self._rows_lu(state)
+        B = np.zeros((ns + nq, cond.n_c + cond.E.shape[1]))
+        B[h, :cond.n_c] = -Hsc[h]
+        B[h, cond.n_c:] = -self._Es[h]
+        L = lu_solve(lu, scale[:, None] * B, check_finite=False)
+        Lc, La = L[:ns, :cond.n_c], L[:ns, cond.n_c:]
+        Hcs, Es = self._Hcs, self._Es
+        eff = dict(lu=lu, scale=scale, L=L, H=Hcc + Hcs @ Lc, E=self._Ec + Hcs @ La,
+                   D=D + Es.T @ Lc, Q=Es.T @ La, Hcs=Hcs, Es=Es)
+        self._eff[key] = eff
+        while len(self._eff) > _KEEP_STATES:
+            self._eff.popitem(last=False)
+        return eff
+
+    def _rows_lu(self, state: np.ndarray):
+        """The LU (row-scaled) of a state's rows-and-rigid-parts system, kept; refuses a
+        state that leaves a rigid part free."""
+        key = (self.mu_key[0], state.tobytes())
+        if key in self._rows_lus:
+            return self._rows_lus[key]
+        rows, cond = self.rows, self.cond
+        ns, nq = rows.n, rows.K_q.shape[0]
+        h = np.nonzero(self._holding(state))[0]
         slip = np.nonzero((~rows.normal) & ((state == SLIP_UP) | (state == SLIP_DOWN)))[0]
         M = np.zeros((ns + nq, ns + nq))
         M[:ns, :ns] = np.eye(ns)
@@ -177,18 +256,10 @@ class RowSets:
             raise SolverError(f"caliper rows: their state leaves a rigid part free ({h.size} of "
                               f"{ns} rows hold, smallest pivot {pivots.min():.3g} of "
                               f"{pivots.max():.3g}): no closed row holds it")
-        B = np.zeros((ns + nq, cond.n_c + cond.E.shape[1]))
-        B[h, :cond.n_c] = -Hsc[h]
-        B[h, cond.n_c:] = -self._Es[h]
-        L = lu_solve(lu, scale[:, None] * B, check_finite=False)
-        Lc, La = L[:ns, :cond.n_c], L[:ns, cond.n_c:]
-        Hcs, Es = self._Hcs, self._Es
-        eff = dict(lu=lu, scale=scale, L=L, H=Hcc + Hcs @ Lc, E=self._Ec + Hcs @ La, D=D + Es.T @ Lc,
-                   Q=Es.T @ La, Hcs=Hcs, Es=Es)
-        self._eff[key] = eff
-        while len(self._eff) > _KEEP_STATES:
-            self._eff.popitem(last=False)
-        return eff
+        self._rows_lus[key] = (lu, scale)
+        while len(self._rows_lus) > 8 * _KEEP_STATES:
+            self._rows_lus.pop(next(iter(self._rows_lus)))
+        return lu, scale
 
     # ------------------------------------------------------------- solve --
     def solve(self, q_c: np.ndarray, rhs_c: np.ndarray, gap_s: np.ndarray, line_pressure: float,
@@ -212,7 +283,7 @@ class RowSets:
             b0[rows.n:] = line_pressure * rows.f_q
             y0 = lu_solve(eff["lu"], eff["scale"] * b0, check_finite=False)
             L0 = y0[:rows.n]
-            problem = _DenseSets(self, eff["H"], eff["D"], q_c + eff["Hcs"] @ L0,
+            problem = _ReusingSets(self, eff["H"], eff["D"], q_c + eff["Hcs"] @ L0,
                                  rhs_c - eff["Es"].T @ L0, compliance, E=eff["E"], Q=eff["Q"])
             act = self._contact(problem, start_gap, compliance, act)
             lam_c, alpha = problem.lam, problem.alpha
@@ -290,9 +361,9 @@ class RowSets:
         return out
 
     def _holds(self, state: np.ndarray) -> bool:
-        """Whether a state holds every rigid part (its eliminated system is regular)."""
+        """Whether a state holds every rigid part (its rows' system is regular)."""
         try:
-            self._effective(state)
+            self._rows_lu(state)
         except SolverError:
             return False
         return True
