@@ -353,7 +353,9 @@ def plot_map(result: dict, path: Path) -> None:
     ax.set_xlabel("deceleration (m/s^2) and its line pressure (MPa)")
     ax.set_ylabel("stops")
     ax.yaxis.get_major_locator().set_params(integer=True)
-    ax.set_title("cleaned share of the friction band's area (%)", fontsize=10)
+    worse = ", the worse face" if "cleaned_faces" in runs[0]["rows"][0] and len(
+        runs[0]["rows"][0]["cleaned_faces"]) > 1 else ""
+    ax.set_title(f"cleaned share of the friction band's area (%){worse}", fontsize=10)
     fig.colorbar(im, ax=ax)
     for r in runs:
         f = [row["touched_fraction"] for row in r["rows"]]
@@ -361,7 +363,7 @@ def plot_map(result: dict, path: Path) -> None:
                 label=f"{r['decel']:g} m/s^2")
     bx.set_xlabel("stop")
     bx.xaxis.get_major_locator().set_params(integer=True)
-    bx.set_ylabel(f"band area touched at >= {st['threshold']:g} MPa (%)")
+    bx.set_ylabel(f"band area touched at >= {st['threshold']:g} MPa (%){worse}")
     bx.set_ylim(0, 105)
     bx.legend(fontsize=7)
     fig.suptitle(f"{st['mass']:g} kg, {st['front_share']:.0%} front, {st['tyre_radius']:g} m "
@@ -568,17 +570,17 @@ def load_path_spread(decels=(0.5, 1.0, 2.0, 3.0), stops: int = DEFAULTS["stops"]
     the last stop.  Writes ``data/<name>.json`` to ``out``."""
     st = {**DEFAULTS, **settings, "stops": stops}
     cases = load_path_cases(keys)
-    tasks = [dict(st, load_path=lp or None, decel=a, case=name)
-             for name, lp in cases.items() for a in sorted(decels)]
+    tasks = [dict(st, load_path=lp or None, decel=a, case=case)
+             for case, lp in cases.items() for a in sorted(decels)]
     t0 = time.perf_counter()
     runs = _map_runs(tasks, executor)
     result = {"settings": {k: v for k, v in st.items() if k != "decels"},
               "decels": sorted(decels), "cases": {}}
-    for (name, lp), i in zip(cases.items(), range(0, len(tasks), len(decels))):
+    for (case, lp), i in zip(cases.items(), range(0, len(tasks), len(decels))):
         rr = runs[i:i + len(decels)]
         ok = [r for r in rr if "error" not in r]
         low = next((r for r in ok if r["stops_to_clean"] is not None), None)
-        result["cases"][name] = {
+        result["cases"][case] = {
             "overrides": lp, "failed": [r for r in rr if "error" in r],
             "lowest_cleaning_decel": None if low is None else low["decel"],
             "its_stops": None if low is None else low["stops_to_clean"],
@@ -594,9 +596,10 @@ def load_path_spread(decels=(0.5, 1.0, 2.0, 3.0), stops: int = DEFAULTS["stops"]
 
 
 def plot_contact_maps(result: dict, path: Path, decels=None) -> None:
-    """The pad face seen from the rotor at the end of the first and the last stop,
-    for up to four decelerations: one dot per friction node coloured by pressure,
-    open where it is below the touch threshold; the band's edges dashed."""
+    """The pad faces seen from their rotor faces at the end of the first and the last
+    stop, for up to four decelerations: one dot per friction node coloured by
+    pressure, open where it is below the touch threshold; the band's edges dashed.
+    Both faces of the full model in their own rows (inboard, then outboard)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -609,26 +612,35 @@ def plot_contact_maps(result: dict, path: Path, decels=None) -> None:
         runs = [r for r in runs if r["decel"] in decels]
     thr = result["settings"]["threshold"]
     vmax = max(max(r["pressure_first_MPa"] + r["pressure_last_MPa"]) for r in runs)
-    fig, axes = plt.subplots(2, len(runs), figsize=(2.6 * len(runs) + 1.2, 6.0),
+    faces = sorted(set(runs[0].get("pad_face", ["in"])), key=("in", "out").index)
+    fig, axes = plt.subplots(2 * len(faces), len(runs),
+                             figsize=(2.6 * len(runs) + 1.2, 3.0 * 2 * len(faces)),
                              squeeze=False, layout="constrained")
     for j, r in enumerate(runs):
         x, y = np.array(r["pad_x_mm"]), np.array(r["pad_y_mm"])
-        for i, (key, when) in enumerate((("pressure_first_MPa", "stop 1"),
-                                         ("pressure_last_MPa", f"stop {r['rows'][-1]['stop']}"))):
-            ax, p = axes[i, j], np.array(r[key])
-            on = p >= thr
-            sc = ax.scatter(x[on], y[on], c=p[on], s=9, cmap="inferno", vmin=0, vmax=vmax)
-            ax.scatter(x[~on], y[~on], s=9, facecolors="none", edgecolors="0.6", lw=0.5)
-            for rad in (min(np.hypot(x, y)), max(np.hypot(x, y))):
-                t = np.linspace(np.arctan2(y, x).min(), np.arctan2(y, x).max(), 50)
-                ax.plot(rad * np.cos(t), rad * np.sin(t), "k--", lw=0.5)
-            ax.set_aspect("equal")
-            ax.set_xticks([])
-            ax.set_yticks([])
-            ax.set_title(f"{r['decel']:g} m/s^2, {r['line_pressure_MPa']:.2f} MPa\n{when}",
-                         fontsize=8)
+        face = np.array(r.get("pad_face", ["in"] * x.size))
+        for f, fc in enumerate(faces):
+            m = face == fc
+            label = "" if len(faces) == 1 else {"in": "inboard face, ", "out": "outboard face, "}[fc]
+            for i, (key, when) in enumerate((("pressure_first_MPa", "stop 1"),
+                                             ("pressure_last_MPa",
+                                              f"stop {r['rows'][-1]['stop']}"))):
+                ax, p = axes[2 * f + i, j], np.array(r[key])[m]
+                on = p >= thr
+                sc = ax.scatter(x[m][on], y[m][on], c=p[on], s=9, cmap="inferno", vmin=0,
+                                vmax=vmax)
+                ax.scatter(x[m][~on], y[m][~on], s=9, facecolors="none", edgecolors="0.6",
+                           lw=0.5)
+                for rad in (min(np.hypot(x, y)), max(np.hypot(x, y))):
+                    t = np.linspace(np.arctan2(y, x).min(), np.arctan2(y, x).max(), 50)
+                    ax.plot(rad * np.cos(t), rad * np.sin(t), "k--", lw=0.5)
+                ax.set_aspect("equal")
+                ax.set_xticks([])
+                ax.set_yticks([])
+                ax.set_title(f"{r['decel']:g} m/s^2, {r['line_pressure_MPa']:.2f} MPa\n"
+                             f"{label}{when}", fontsize=8)
     fig.colorbar(sc, ax=axes, shrink=0.6, label="contact pressure (MPa)")
-    fig.suptitle(f"pad face seen from the rotor (radius to the right); open: below {thr:g} MPa",
+    fig.suptitle(f"pad faces seen from the rotor (radius to the right); open: below {thr:g} MPa",
                  fontsize=9)
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -18,8 +18,9 @@ caliper resists.  Per pad and coning:
   tilt: every force the caliper puts on the pad (rim or fingers, abutments
   with their friction, rails and clip).
 
-The slope of the moment against the tilt is the caliper's tilt stiffness for
-that pad (kN m/rad), printed against the lining's own (``E_t / h`` times the
+The slope of the moment against the tilt, negated (the caliper's moment falls
+as the pad tilts: it resists), is the caliper's tilt stiffness for that pad
+(kN m/rad), printed against the lining's own (``E_t / h`` times the
 second moment of the face's area about that axis) and the seal's (the bonded
 ring's closed form).  Over the load-path parameters' plausible ranges
 (:data:`brakewear.geometry.sections.LOAD_PATH_KEYS`), one at a time at each
@@ -117,11 +118,17 @@ def sweep(itf, coning_um, line_pressure: float, mu: float) -> dict:
             rows[side].append({"coning_um": c, "face_coning_um": c if side == "in" else -c,
                                "tilt_mrad": 1e3 * tm[side]["tilt"],
                                "moment_Nm": tm[side]["moment"]})
+    width = g.pad.outer_radius - g.pad.inner_radius
     for side, r in rows.items():
         x = np.array([v["tilt_mrad"] for v in r]) * 1e-3
         y = np.array([v["moment_Nm"] for v in r])
-        k = float(np.polyfit(x, y, 1)[0]) if np.ptp(x) > 0 else float("nan")
-        rows[side] = {"points": r, "stiffness_kNm_per_rad": k / 1e3}
+        c = np.array([v["face_coning_um"] for v in r]) * 1e-6
+        # the caliper resists: its moment falls as the tilt grows
+        k = -float(np.polyfit(x, y, 1)[0]) if np.ptp(x) > 0 else float("nan")
+        # how much of its face's coning the pad follows by tilting (1: all of it)
+        follows = -float(np.polyfit(c / width, x, 1)[0]) if np.ptp(c) > 0 else float("nan")
+        rows[side] = {"points": r, "stiffness_kNm_per_rad": k / 1e3, "follows": follows,
+                      "moment_range_Nm": float(np.ptp(y))}
     return rows
 
 
@@ -172,12 +179,14 @@ def write(result: dict, out: Path) -> None:
     (out / "data" / "pad_tilt_stiffness.json").write_text(json.dumps(result, indent=1))
     with open(out / "data" / "pad_tilt_stiffness.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["case", "pad", "coning_um", "tilt_mrad", "moment_Nm", "stiffness_kNm_per_rad"])
+        w.writerow(["case", "pad", "face_coning_um", "tilt_mrad", "moment_Nm",
+                    "stiffness_kNm_per_rad", "follows"])
         for name, c in result["cases"].items():
             for side in ("in", "out"):
                 for v in c[side]["points"]:
-                    w.writerow([name, side, v["coning_um"], f"{v['tilt_mrad']:.6g}",
-                                f"{v['moment_Nm']:.6g}", f"{c[side]['stiffness_kNm_per_rad']:.6g}"])
+                    w.writerow([name, side, v["face_coning_um"], f"{v['tilt_mrad']:.6g}",
+                                f"{v['moment_Nm']:.6g}", f"{c[side]['stiffness_kNm_per_rad']:.6g}",
+                                f"{c[side]['follows']:.6g}"])
     plot(result, out / "figures" / "pad_tilt_stiffness.png")
 
 
@@ -231,7 +240,8 @@ def _cli(argv=None) -> dict:
     res = main(a.size, a.pressure, a.mu, tuple(a.coning), out=a.out)
     for name, c in res["cases"].items():
         print(f"{name:34s} in {c['in']['stiffness_kNm_per_rad']:9.3g}  out "
-              f"{c['out']['stiffness_kNm_per_rad']:9.3g} kN m/rad")
+              f"{c['out']['stiffness_kNm_per_rad']:9.3g} kN m/rad; follows in "
+              f"{c['in']['follows']:.3f} out {c['out']['follows']:.3f}")
     print(f"lining {res['lining_tilt_stiffness_kNm_per_rad']:.0f} kN m/rad, seal "
           f"{res['seal_tilt_stiffness_kNm_per_rad']:.3f} kN m/rad; {res['wall_s']:.0f} s")
     return res

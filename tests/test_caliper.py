@@ -23,7 +23,7 @@ from brakewear.contact.compliant import constraint_rows, drag_loads
 from brakewear.interfaces.caliper_sets import CLOSED, SLIP_DOWN, SLIP_UP, STICK, RowSets
 from brakewear.static import pad_balance
 
-SIZE = 8e-3
+SIZE = 12e-3
 
 
 def _floating(**guide):
@@ -287,4 +287,6 @@ def test_a_set_under_another_compliance_is_solved_as_a_factorisation_would(solve
     fresh = itf.with_load_path(model.geometry)
     s3 = fresh.solve(offset, s1.active, compliance=1.3 * eps, mu=0.4)
     assert np.array_equal(s2.active, s3.active)
-    assert np.abs(s2.pressure - s3.pressure).max() < 1e-9 * np.abs(s3.pressure).max()
+    # both solve the set's equations to round-off in the gaps (the residual check);
+    # the forces then agree to the condensed interface's 1e-8
+    assert np.abs(s2.pressure - s3.pressure).max() < 1e-8 * np.abs(s3.pressure).max()

@@ -28,7 +28,8 @@ def test_the_caliper_holds_each_pad_far_below_its_lining(tmp_path):
         assert np.all(np.diff(tilt) < 0)
         assert -np.diff(tilt).mean() > 0.5 * 0.7
         k = res["cases"]["nominal"][side]["stiffness_kNm_per_rad"]
-        assert abs(k) < 0.2 * lining
+        assert 0 < k < 0.2 * lining                  # the caliper resists, a little
+        assert 0.5 < res["cases"]["nominal"][side]["follows"] <= 1.05
     assert (tmp_path / "figures" / "pad_tilt_stiffness.png").stat().st_size > 10_000
     assert (tmp_path / "data" / "pad_tilt_stiffness.csv").read_text().startswith("case,")
 
@@ -39,8 +40,8 @@ def test_what_the_pads_wear_on_the_floating_caliper():
     free, held = res["runs"]
     for run in (free, held):
         p = run["pads"]
-        # the fingers bear outboard of the band's middle: the outboard pad tapers radially
-        assert p["out"]["radial_taper"] > p["in"]["radial_taper"] > 0
+        # the outer band slides faster and bears more: both pads taper radially
+        assert p["out"]["radial_taper"] > 0 and p["in"]["radial_taper"] > 0
         # friction at the face and the bracket's reaction tip both pads to the leading end
         assert p["in"]["leading_taper"] > 0 and p["out"]["leading_taper"] > 0
     # frictionless abutments: each face carries the clamp force (the seal takes a little)

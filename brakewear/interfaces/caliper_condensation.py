@@ -35,6 +35,9 @@ logger = logging.getLogger(__name__)
 __all__ = ["CaliperCondensation", "condense_caliper"]
 
 _KEYS = ("H", "Ht", "hf", "E", "Dt", "zf")
+#: the last condensation this process computed, with its factorised stiffness (the
+#: arrays are never changed after: interfaces share them)
+_LAST: dict = {}
 
 
 @dataclass
@@ -69,6 +72,8 @@ def condense_caliper(cs, rows: sp.spmatrix, line_pressure: float, *, cache=None,
 
     n_c = cs.pair.slave.size
     key = _rows_key(cs, rows)
+    if key in _LAST:            # this process condensed it: its factorisation too
+        return _LAST[key]
     folder = cache_dir(cache)
     path = None if folder is None else folder / f"caliper-{key}.npz"
     if path is not None and path.exists():
@@ -90,6 +95,8 @@ def condense_caliper(cs, rows: sp.spmatrix, line_pressure: float, *, cache=None,
                           "Use a coarser mesh")
     cond = _compute(cs, sp.csr_matrix(rows), line_pressure)
     cond.key = key
+    _LAST.clear()
+    _LAST[key] = cond
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
