@@ -15,7 +15,7 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from brakewear import BrakeModel, CaliperInterface, analytic, load_geometry
+from brakewear import BrakeModel, CaliperInterface, analytic_caliper as analytic, load_geometry
 from brakewear.caliper_static import abutment_friction_work, part_balance
 from brakewear.contact.caliper import caliper_rows
 from brakewear.contact.caliper_parts import CaliperParts, rigid_map, seal_springs
@@ -272,21 +272,3 @@ def test_another_load_path_on_the_same_condensation_is_a_fresh_interface(solved)
     assert not np.allclose(a.pressure, itf.solve(offset, None, mu=0.4).pressure, rtol=1e-6)
     with pytest.raises(Exception, match="load-path parameters only"):
         itf.with_load_path(replace(g, pad=replace(g.pad, slot_width=0.0)))
-
-
-def test_a_set_under_another_compliance_is_solved_as_a_factorisation_would(solved):
-    """The implicit step's compliance changes each step; a set met before is solved by
-    GMRES on the kept factorisation, to the factorisation's answer."""
-    model, itf, offset, _ = solved
-    a = itf.with_load_path(model.geometry)
-    eps = 1e-12 * np.ones(itf.area.size)
-    s1 = a.solve(offset, None, compliance=eps, mu=0.4)
-    before = a.sets.reused
-    s2 = a.solve(offset, s1.active, compliance=1.3 * eps, mu=0.4)
-    assert a.sets.reused > before
-    fresh = itf.with_load_path(model.geometry)
-    s3 = fresh.solve(offset, s1.active, compliance=1.3 * eps, mu=0.4)
-    assert np.array_equal(s2.active, s3.active)
-    # both solve the set's equations to round-off in the gaps (the residual check);
-    # the forces then agree to the condensed interface's 1e-8
-    assert np.abs(s2.pressure - s3.pressure).max() < 1e-8 * np.abs(s3.pressure).max()

@@ -41,7 +41,7 @@ def test_floating_loads_in_si():
     assert [f.radius for f in g.caliper.fingers] == pytest.approx([0.126, 0.126], rel=1e-12)
     assert [f.angle for f in g.caliper.fingers] == pytest.approx([-math.radians(12),
                                                                   math.radians(12)], rel=1e-12)
-    assert g.support == SupportGeometry("push", 2e-4, 1e9, 1e5)
+    assert g.support == SupportGeometry("push", 2e-4, 1e9, 1e5, 0.2)
     assert g.rotor.mount == "hat" and g.rotor.hat.bolt_circle_radius == pytest.approx(0.05715)
     assert g.pad.backplate_radii == pytest.approx((0.090, 0.148), rel=1e-12)
     assert g.pad.leading_chamfer == pytest.approx((5e-3, 2e-3)) and g.pad.slot_width == 3e-3

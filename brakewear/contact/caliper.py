@@ -51,6 +51,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ContactError
 from .caliper_parts import CaliperParts, ring_points, seal_springs, seal_stiffness
 from .supports import SUPPORT_ENDS, _face_weights, abutment_faces, end_normal
 from .surface import project_nodes
@@ -147,7 +148,7 @@ class CaliperRows:
         fr = self.friction_of[idx]
         cap = self.cap[idx]
         if cap[:, np.setdiff1d(np.arange(self.n), idx)].nnz:
-            raise ValueError("a kept friction row's normal rows are not kept")
+            raise ContactError("a kept friction row's normal rows are not kept")
         pick = lambda v: [v[i] for i in idx]  # noqa: E731
         return replace(self, C=self.C[idx], R=self.R[idx], g0=self.g0[idx], g1=self.g1[idx],
                        friction_of=np.where(fr >= 0, new[np.maximum(fr, 0)], -1),
@@ -206,7 +207,7 @@ class _Rows:
                 nodes, w = r["fe"]
                 c = col[nodes]
                 if np.any(c < 0):
-                    raise ValueError(f"{r['group']}: a pad node of the row is tied (eliminated)")
+                    raise ContactError(f"{r['group']}: a pad node of the row is tied (eliminated)")
                 for i in range(3):
                     ri.append(np.full(c.size, k))
                     ci.append(3 * c + i)
@@ -336,7 +337,7 @@ def caliper_rows(geometry, pad_mesh, pad_offset: int, col: np.ndarray, n_dofs: i
     retained node of the contact system, ``n_dofs`` its DOFs).  ``full``: both
     pads (the full model); else the inboard pad alone (the housing held)."""
     if geometry.extra_pistons:
-        raise ValueError(f"the rigid piston's load path has one piston per side; the "
+        raise ContactError(f"the rigid piston's load path has one piston per side; the "
                          f"geometry has {1 + len(geometry.extra_pistons)}")
     P = CaliperParts(geometry, full)
     rows = _Rows(P)

@@ -27,7 +27,7 @@ import numpy as np
 from ..contact.caliper import caliper_rows
 from ..contact.caliper_parts import bracket_springs
 from ..contact.supports import support_springs
-from ..errors import WearError
+from ..errors import ContactError, WearError
 from .caliper_condensation import condense_caliper
 from .caliper_sets import RowSets
 from .condensed import CondensedInterface
@@ -115,7 +115,7 @@ class CaliperInterface(CondensedInterface):
         cc = None if compliance is None else np.asarray(compliance, dtype=float) / self.area
         if cc is not None and (cc.shape != g.shape or not np.all(np.isfinite(cc))
                                or np.any(cc <= 0)):
-            raise ValueError(f"compliance must be ({g.size},) finite and > 0 m/Pa")
+            raise ContactError(f"compliance must be ({g.size},) finite and > 0 m/Pa")
         gap_s = rows.g0 + p * (rows.g1 + cond.hf[n_c:]) + dq[n_c:]
         sol = self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s, p,
                               cc, active, g)

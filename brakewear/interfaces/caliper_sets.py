@@ -46,7 +46,7 @@ from scipy.linalg import LinAlgWarning, lu_factor, lu_solve
 
 from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver
 from ..errors import SolverError
-from .condensed import CondensedInterface, _DenseSets
+from .condensed import _DenseSets
 
 logger = logging.getLogger(__name__)
 
@@ -59,55 +59,6 @@ MAX_OUTER = 60
 
 OPEN, CLOSED = 0, 1
 OFF, STICK, SLIP_UP, SLIP_DOWN = 0, 1, 2, 3
-
-
-class _ReusingSets(_DenseSets):
-    """The condensed interface's set solves, plus one more reuse: a set met before
-    under another compliance (the implicit step's changes with the step and the
-    speed) is solved by GMRES preconditioned with that factorisation, and accepted
-    where it solves the set's equations as a factorisation would (the residual
-    check of :meth:`_DenseSets._solves`); else it is factorised."""
-
-    def solve(self, active: np.ndarray, tol: float, rtol0: float | None) -> None:
-        itf = self.itf
-        if self.c is not None:
-            key = (np.packbits(active).tobytes(), itf.mu_key)
-            old = itf._by_set.get(key)
-            if old is not None and key + (self.c_key,) not in itf._lu:
-                state = self._krylov(old, active)
-                if state is not None:
-                    self.lam, self.g = state
-                    itf.reused += 1
-                    return
-        super().solve(active, tol, rtol0)
-
-    def _krylov(self, lu, active):
-        from scipy.sparse.linalg import LinearOperator, gmres
-
-        n, m = self.q.size, self.E.shape[1]
-        A = np.nonzero(active)[0]
-        k = A.size
-        M = np.empty((k + m, k + m))
-        M[:k, :k] = self.H[np.ix_(A, A)]
-        M[np.arange(k), np.arange(k)] += self.c[A]
-        M[:k, k:] = self.E[A]
-        M[k:, :k] = self.D[:, A]
-        M[k:, k:] = 0.0 if self.Q is None else self.Q
-        b = self._full_rhs(active)[np.concatenate([A, n + np.arange(m)])]
-        pre = LinearOperator(M.shape, matvec=lambda v: lu_solve(lu, v, check_finite=False))
-        x = np.zeros(k + m)
-        z = np.zeros(n + m)
-        for _ in range(3):          # GMRES on the true residual, as refinement steps
-            dx, info = gmres(M, b - M @ x, M=pre, rtol=1e-14, atol=0.0, restart=60,
-                             maxiter=2)
-            if info < 0:
-                return None
-            x += dx
-            z[A], z[n:] = x[:k], x[k:]
-            state = self._gap(z, active)
-            if self._solves(*state, active):
-                return state
-        return None
 
 
 @dataclass
@@ -145,9 +96,8 @@ class RowSets:
         self.cond, self.rows, self.gap_tol, self.tol = cond, rows, gap_tol, tol
         n_c = cond.n_c
         self._c, self._s = slice(0, n_c), slice(n_c, None)
-        self._H, self._lu, self._base, self._updated = {}, OrderedDict(), {}, {}
-        self._by_set = {}
-        self.reused = 0         # sets solved on another compliance's factorisation
+        # the condensed interface's factorisations, kept per friction and rows' state
+        self._H, self._lu, self._bases = {}, OrderedDict(), OrderedDict()
         self._eff, self._rows_lus = OrderedDict(), {}
         c, s = self._c, self._s
         # the blocks every solve reads (copies made once)
@@ -176,14 +126,6 @@ class RowSets:
         """The factorisations' key: the friction coefficient and the rows' state."""
         mu = self.mu if np.ndim(self.mu) == 0 else self.mu.tobytes()
         return (mu, self._state_key)
-
-    def kept(self, key, lu, active) -> None:
-        """Keep a factorisation (as the condensed interface does), and as the latest
-        of its set (under any compliance) for :class:`_ReusingSets`."""
-        CondensedInterface.kept(self, key, lu, active)
-        self._by_set[key[:2]] = lu
-        while len(self._by_set) > 4 * _KEEP_STATES:
-            self._by_set.pop(next(iter(self._by_set)))
 
     def _holding(self, state: np.ndarray) -> np.ndarray:
         """Rows whose gap (or slip) is held at zero: closed normal rows, sticking ones."""
@@ -283,7 +225,7 @@ class RowSets:
             b0[rows.n:] = line_pressure * rows.f_q
             y0 = lu_solve(eff["lu"], eff["scale"] * b0, check_finite=False)
             L0 = y0[:rows.n]
-            problem = _ReusingSets(self, eff["H"], eff["D"], q_c + eff["Hcs"] @ L0,
+            problem = _DenseSets(self, eff["H"], eff["D"], q_c + eff["Hcs"] @ L0,
                                  rhs_c - eff["Es"].T @ L0, compliance, E=eff["E"], Q=eff["Q"])
             act = self._contact(problem, start_gap, compliance, act)
             lam_c, alpha = problem.lam, problem.alpha
