@@ -32,7 +32,7 @@ from .caliper_condensation import condense_caliper
 from .caliper_sets import RowSets
 from .condensed import CondensedInterface
 from .fe import FEInterface
-from .protocol import InterfaceSolution
+from .protocol import InterfaceSolution, StepCompliance
 
 logger = logging.getLogger(__name__)
 
@@ -94,8 +94,9 @@ class CaliperInterface(CondensedInterface):
         self._thermal = None
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
-              compliance: np.ndarray | None = None, x0: np.ndarray | None = None,
-              load: np.ndarray | None = None, mu=None) -> InterfaceSolution:
+              compliance: StepCompliance | np.ndarray | None = None,
+              x0: np.ndarray | None = None, load: np.ndarray | None = None,
+              mu=None) -> InterfaceSolution:
         """Contact with ``offset`` (m) added to the gap (the
         :class:`~brakewear.interfaces.Interface` protocol; arguments as
         :meth:`CondensedInterface.solve`).  ``info["caliper"]`` holds the rows'
@@ -112,18 +113,26 @@ class CaliperInterface(CondensedInterface):
         n_c = cond.n_c
         dq, dz = (np.zeros(cond.H.shape[0]), 0.0) if load is None else self.thermal_gap(load)
         g = self.g0 + offset
-        cc = None if compliance is None else np.asarray(compliance, dtype=float) / self.area
-        if cc is not None and (cc.shape != g.shape or not np.all(np.isfinite(cc))
-                               or np.any(cc <= 0)):
+        comp = StepCompliance.of(compliance)
+        cc = None if comp is None else comp.pad / self.area
+        if cc is not None and cc.shape != g.shape:
             raise ContactError(f"compliance must be ({g.size},) finite and > 0 m/Pa")
+        rings = comp is not None and comp.rings
         gap_s = rows.g0 + p * (rows.g1 + cond.hf[n_c:]) + dq[n_c:]
         sol = self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s, p,
-                              cc, active, g)
+                              cc, active, g,
+                              # the rings' wear over the step: a compliance among the
+                              # contact nodes alone (the caliper's rows do not wear)
+                              ring_H=comp.ring_compliance() if rings else None,
+                              ring_key=(comp.rotor.tobytes() + comp.ring_area.tobytes()
+                                        if rings else b""))
         pressure = (sol.lam if cc is None else np.maximum(sol.lam, 0.0)) / self.area
         info = {"outer_iterations": sol.outer, "normal_force": float(sol.lam.sum()),
                 "min_gap": sol.min_gap, "time_s": time.perf_counter() - t0,
                 "caliper": {"force": sol.force, "gap": sol.gap, "state": sol.state,
                             "q": sol.q, "alpha": sol.alpha, "lam": sol.lam}}
+        if rings:
+            info["ring_depth"] = comp.ring_force_depth() @ sol.lam
         return InterfaceSolution(pressure, sol.active, None, info)
 
     def at_line_pressure(self, line_pressure: float) -> "CaliperInterface":

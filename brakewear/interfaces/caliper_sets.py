@@ -206,12 +206,15 @@ class RowSets:
     # ------------------------------------------------------------- solve --
     def solve(self, q_c: np.ndarray, rhs_c: np.ndarray, gap_s: np.ndarray, line_pressure: float,
               compliance: np.ndarray | None, active: np.ndarray | None,
-              start_gap: np.ndarray) -> RowSolution:
+              start_gap: np.ndarray, ring_H: np.ndarray | None = None,
+              ring_key: bytes = b"") -> RowSolution:
         """The contact and the rows for the contact nodes' gap ``q_c`` at zero force
         and the modes' right-hand side ``rhs_c``, the rows' gaps (slips) ``gap_s``
         at zero force and the rigid parts' load ``line_pressure f_q``;
         ``compliance`` (m/N per node) the implicit step's; ``active`` the contact
-        set to start from (else the nodes of ``start_gap <= 0``)."""
+        set to start from (else the nodes of ``start_gap <= 0``); ``ring_H`` the
+        implicit rings' compliance among the contact nodes (``ring_key`` tells it
+        apart in the kept factorisations)."""
         cond, rows = self.cond, self.rows
         Hsc, Hss = self._operators()[1], self._Hss
         F = line_pressure * rows.hydraulic_area
@@ -225,8 +228,9 @@ class RowSets:
             b0[rows.n:] = line_pressure * rows.f_q
             y0 = lu_solve(eff["lu"], eff["scale"] * b0, check_finite=False)
             L0 = y0[:rows.n]
-            problem = _DenseSets(self, eff["H"], eff["D"], q_c + eff["Hcs"] @ L0,
-                                 rhs_c - eff["Es"].T @ L0, compliance, E=eff["E"], Q=eff["Q"])
+            problem = _DenseSets(self, eff["H"] if ring_H is None else eff["H"] + ring_H,
+                                 eff["D"], q_c + eff["Hcs"] @ L0, rhs_c - eff["Es"].T @ L0,
+                                 compliance, ring_key, E=eff["E"], Q=eff["Q"])
             act = self._contact(problem, start_gap, compliance, act)
             lam_c, alpha = problem.lam, problem.alpha
             y = y0 + eff["L"] @ np.concatenate([lam_c, alpha])
