@@ -66,6 +66,7 @@ _LAZY = {
     "StribeckFriction": "maps", "MildSevereWear": "maps",
     "BrakeModel": "model", "StaticResult": "model",
     "FEInterface": "interfaces", "CondensedInterface": "interfaces",
+    "CaliperInterface": "interfaces",
     "FoundationInterface": "interfaces",
     "WinklerInterface": "interfaces", "calibrate": "interfaces",
     "Interface": "interfaces", "InterfaceSolution": "interfaces",

@@ -1,21 +1,18 @@
 """The caliper's load path on a brake model's meshes: clamp loads and pad supports.
 
 The clamp force ``F = line_pressure x clamp_area`` (the hydraulic area of one
-side's pistons) reaches the pads' backs:
-
-- *idealised* (the half model's historical load, kept so its answers stay
-  comparable): one solid piston, its footprint the back facets whose centre
-  lies inside the piston disc, a uniform traction over their area;
-- every other case: each piston's footprint (the annular rim between
-  ``rim_inner_diameter`` and ``diameter``, or the disc) integrated
-  mesh-independently (:func:`~brakewear.fem.footprint.footprint_load`), each
-  carrying ``line_pressure x`` its own bore area.  In the full model a fixed
-  caliper presses the outboard pad with the mirrored pistons, a floating one
-  with its fingers, which share ``F`` in proportion to their footprint areas
-  (the caliper slides on its pins, so the finger force balances the piston
-  force).  A compliant bridge (``caliper.bridge_tilt > 0``) turns the
-  fingers' jaw under the clamp force, so the finger pressure varies across
-  the footprints (:func:`jaw_pressure`).
+side's pistons) reaches the pads' backs through each piston's footprint (the
+annular rim between ``rim_inner_diameter`` and ``diameter``, or the disc),
+integrated mesh-independently (:func:`~brakewear.fem.footprint.footprint_load`),
+each carrying ``line_pressure x`` its own bore area.  The half and the full
+model integrate the same footprint with the same rule, so a pad gets the same
+nodal loads in both (the half model equals the full one where its assumption
+holds).  In the full model a fixed caliper presses the outboard pad with the
+mirrored pistons, a floating one with its fingers, which share ``F`` in
+proportion to their footprint areas (the caliper slides on its pins, so the
+finger force balances the piston force).  A compliant bridge
+(``caliper.bridge_tilt > 0``) turns the fingers' jaw under the clamp force,
+so the finger pressure varies across the footprints (:func:`jaw_pressure`).
 
 Supports of the pads in the bracket: ``"bilateral"`` holds the backplate's
 end faces in-plane (Dirichlet); push and pull supports are unilateral
@@ -37,7 +34,7 @@ from .mesh.surface import is_quadratic, tributary_areas
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["clamp_loads", "idealised_load", "pad_support_dofs", "footprints", "uniform_traction",
+__all__ = ["clamp_loads", "pad_support_dofs", "footprints", "uniform_traction",
            "half_model_holds", "resolve_layout", "jaw_pressure", "JawPressure"]
 
 
@@ -66,12 +63,6 @@ def resolve_layout(geometry, layout: str, rotor: str = "elastic", strict: bool =
                        "the outboard pad is taken to carry the inboard pad's load",
                        geometry.caliper.type, geometry.rotor.mount)
     return layout
-
-
-def idealised_load(geometry) -> bool:
-    """Whether the pad's back carries the idealised piston load (one solid piston,
-    the footprint snapped to the back facets inside it)."""
-    return not geometry.extra_pistons and geometry.piston.rim_inner_diameter is None
 
 
 def _center(geometry, radius: float, angle: float) -> tuple[float, float]:
@@ -186,8 +177,6 @@ def clamp_loads(geometry, pad_mesh, line_pressure: float, full: bool,
     ``F = line_pressure x clamp_area``."""
     F = line_pressure * geometry.clamp_area
     f = np.zeros(3 * pad_mesh.p.shape[1])
-    if "in" in sides and not full and idealised_load(geometry):
-        return uniform_traction(pad_mesh, "piston_face", F)
     todo = [s for s in (("in", "back_in" if full else "back", -1.0), ("out", "back_out", 1.0))
             if s[0] in sides and (full or s[0] == "in")]
     for side, facets, sign in todo:

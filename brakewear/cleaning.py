@@ -1,23 +1,30 @@
-"""Cleaning a corroded rotor: a layered rotor wear law and the cleaning criterion.
+"""Cleaning a corroded rotor: the cleaning criterion, judged per face, and a layered rust law.
 
 A rotor face that stood (an electric car braking by regeneration) carries a
 corrosion layer of thickness ``h_c`` that wears with ``k_layer`` (much
 faster than the iron beneath, ``k_base``).  The pad must sweep the whole
 friction band -- the annulus ``r_in <= r <= r_out`` the pad covers -- and
-wear through the layer everywhere.
+wear through the layer everywhere, on each friction face its pad touches.
 
-:class:`CorrodedRotor` keeps, per rotor ring, whether the layer is worn
-through, and gives the wear loop a rotor law whose coefficient at each pad
-node is that of the ring under it (``k_layer`` or ``k_base``); call
-:meth:`CorrodedRotor.update` with the cumulative rotor wear after each step.
+Two things, kept apart:
 
-The criterion, per rotor face, by *area* (rings are annuli, so an outer ring
-counts more than an inner one of the same width):
+* :class:`BandCriterion`, the judgement: per rotor face (the full model has
+  the inboard ``"in"`` and the outboard ``"out"`` face, each its own rings
+  and its own wear) and by *area* (rings are annuli, so an outer ring counts
+  more than an inner one of the same width):
 
-* ``cleaned_fraction`` -- the band's area whose ring wear reached ``h_c``;
-* ``touched_fraction`` -- the band's area over which the pad presses with a
-  mean pressure (over the pad's footprint at that radius) of at least
-  ``threshold``: a ring grazed by one node at a few pascals does not count.
+  - ``cleaned_fraction`` -- the band's area whose ring wear reached ``h_c``;
+  - ``touched_fraction`` -- the band's area over which the pad presses with a
+    mean pressure (over the pad's footprint at that radius) of at least
+    ``threshold``: a ring grazed by one node at a few pascals does not count;
+
+  the brake's answer is the worse face (the fraction of the face that has
+  least);
+* :class:`CorrodedRotor`, the rust law: per ring whether the layer is worn
+  through, and a rotor law whose coefficient at each pad node is that of the
+  ring under it (``k_layer`` or ``k_base``); call
+  :meth:`CorrodedRotor.update` with the cumulative rotor wear after each
+  step.  It judges through its :class:`BandCriterion`.
 """
 from __future__ import annotations
 
@@ -29,7 +36,7 @@ from .errors import GeometryError, WearError
 from .laws import WearLaw
 
 __all__ = ["read_gap_map", "map_gap", "GAP_COLUMNS", "LayeredWearLaw", "CorrodedRotor",
-           "coning_gap", "nonconformity_gap", "outboard_nodes"]
+           "BandCriterion", "coning_gap", "nonconformity_gap", "outboard_nodes"]
 
 
 @dataclass(frozen=True)
@@ -146,14 +153,117 @@ def map_gap(points: np.ndarray, x: np.ndarray, source: str = "gap map") -> np.nd
     return g - g.min()
 
 
+class BandCriterion:
+    """The cleaning criterion of every rotor face an interface models (see the module).
+
+    Parameters
+    ----------
+    interface
+        The wear loop's interface (``W``, ``ring``, ``rotor_x``, ``area``; its
+        ``model.geometry.rotor.thickness`` tells the faces apart).
+    r_in, r_out
+        The friction band swept by the pad (m).
+    thickness
+        Corrosion layer thickness (m, > 0).
+    threshold
+        Smallest mean pad pressure (Pa, >= 0) over a ring for it to count as touched.
+
+    Attributes
+    ----------
+    radii : ndarray
+        Mean radius of each rotor ring (every face's rings).
+    face : ndarray
+        Each ring's face, ``"in"`` or ``"out"``.
+    band_area : ndarray
+        The area of each ring inside the band, on its own face (m^2).
+    """
+
+    def __init__(self, interface, r_in: float, r_out: float, thickness: float,
+                 threshold: float = 0.0):
+        if not (np.isfinite(thickness) and thickness > 0):
+            raise WearError(f"thickness = {thickness!r} is not allowed; need > 0")
+        if not (np.isfinite(threshold) and threshold >= 0):
+            raise WearError(f"threshold = {threshold!r} Pa is not allowed; need >= 0")
+        if not (0 < r_in < r_out):
+            raise WearError(f"friction band {r_in!r}..{r_out!r} m is not allowed; need "
+                            "0 < r_in < r_out")
+        itf = interface
+        self.W, self.ring, self.area = itf.W, itf.ring, itf.area
+        self.thickness, self.threshold = thickness, threshold
+        x = np.asarray(itf.rotor_x)
+        n_ring = int(self.ring.max()) + 1
+        count = np.bincount(self.ring, minlength=n_ring)
+        self.radii = np.bincount(self.ring, weights=np.hypot(x[0], x[1]),
+                                 minlength=n_ring) / count
+        model = getattr(itf, "model", None)
+        t = model.geometry.rotor.thickness if getattr(model, "full", False) else None
+        z = np.bincount(self.ring, weights=x[2], minlength=n_ring) / count
+        self.face = np.where(outboard_nodes(np.vstack([self.radii, 0 * z, z]), t), "out", "in") \
+            if t is not None else np.full(n_ring, "in")
+        self.band_area = np.zeros(n_ring)
+        for f in self.faces:
+            idx = np.nonzero(self.face == f)[0]
+            idx = idx[np.argsort(self.radii[idx])]
+            r = self.radii[idx]
+            mid = 0.5 * (r[1:] + r[:-1])
+            lo = np.clip(np.concatenate([[r[0]], mid]), r_in, r_out)
+            hi = np.clip(np.concatenate([mid, [r[-1]]]), r_in, r_out)
+            self.band_area[idx] = np.pi * (hi ** 2 - lo ** 2)
+            if not self.band_area[idx].sum() > 0:
+                raise WearError(f"no rotor ring of face {f!r} lies in the friction band "
+                                f"{r_in}..{r_out} m")
+        self._ring_nodes = np.asarray(self.W.T @ self.area).ravel()    # pad area over a node
+
+    @property
+    def faces(self) -> list:
+        """The faces judged: ``["in"]`` or ``["in", "out"]``."""
+        return [f for f in ("in", "out") if np.any(self.face == f)]
+
+    def ring_means(self, rotor_wear: np.ndarray) -> np.ndarray:
+        """Ring means of a field on the rotor's wear nodes (e.g. the wear depth)."""
+        n = self.radii.size
+        return np.bincount(self.ring, weights=rotor_wear, minlength=n) / np.bincount(
+            self.ring, minlength=n)
+
+    def _fractions(self, on: np.ndarray) -> dict:
+        return {f: float(self.band_area[on & (self.face == f)].sum()
+                         / self.band_area[self.face == f].sum()) for f in self.faces}
+
+    def cleaned_fractions(self, rotor_wear: np.ndarray) -> dict:
+        """Per face, the share of its band's area whose layer is worn through."""
+        return self._fractions(self.ring_means(rotor_wear) >= self.thickness)
+
+    def cleaned_fraction(self, rotor_wear: np.ndarray) -> float:
+        """The worse face's cleaned share of its band."""
+        return min(self.cleaned_fractions(rotor_wear).values())
+
+    def ring_pressure(self, pressure: np.ndarray) -> np.ndarray:
+        """Mean pad pressure over each ring (Pa): load over the pad area at that radius."""
+        load = np.asarray(self.W.T @ (np.maximum(pressure, 0.0) * self.area)).ravel()
+        per_ring = np.bincount(self.ring, weights=load, minlength=self.radii.size)
+        pad = np.bincount(self.ring, weights=self._ring_nodes, minlength=self.radii.size)
+        return np.divide(per_ring, pad, out=np.zeros_like(per_ring), where=pad > 0)
+
+    def touched_fractions(self, pressure: np.ndarray) -> dict:
+        """Per face, the share of its band's area the pad presses with at least
+        ``threshold`` (and more than zero)."""
+        pr = self.ring_pressure(pressure)
+        return self._fractions((pr > 0) & (pr >= self.threshold))
+
+    def touched_fraction(self, pressure: np.ndarray) -> float:
+        """The worse face's touched share of its band."""
+        return min(self.touched_fractions(pressure).values())
+
+
 class CorrodedRotor:
-    """The corrosion layer of one rotor face under the pad, ring by ring.
+    """The corrosion layer of the rotor's faces under the pads, ring by ring: the
+    layered rust law, judged by a :class:`BandCriterion`.
 
     Parameters
     ----------
     interface
         The wear loop's interface (``W``, ``ring``, ``rotor_x``, ``rotor_area``,
-        ``area``: an :class:`~brakewear.interfaces.FEInterface`).
+        ``area``: an :class:`~brakewear.interfaces.FEInterface` or its kin).
     r_in, r_out
         The friction band swept by the pad (m).
     thickness
@@ -166,37 +276,20 @@ class CorrodedRotor:
 
     def __init__(self, interface, r_in: float, r_out: float, thickness: float,
                  k_layer: float, k_base: float, threshold: float = 0.0):
-        for name, x in (("thickness", thickness), ("k_layer", k_layer), ("k_base", k_base)):
+        for name, x in (("k_layer", k_layer), ("k_base", k_base)):
             if not (np.isfinite(x) and x > 0):
                 raise WearError(f"{name} = {x!r} is not allowed; need > 0")
-        if not (np.isfinite(threshold) and threshold >= 0):
-            raise WearError(f"threshold = {threshold!r} Pa is not allowed; need >= 0")
-        if not (0 < r_in < r_out):
-            raise WearError(f"friction band {r_in!r}..{r_out!r} m is not allowed; need "
-                            "0 < r_in < r_out")
-        itf = interface
-        self.W, self.ring, self.area = itf.W, itf.ring, itf.area
+        self.criterion = BandCriterion(interface, r_in, r_out, thickness, threshold)
+        c = self.criterion
+        self.W, self.ring, self.area = c.W, c.ring, c.area
         self.thickness, self.k_layer, self.k_base = thickness, k_layer, k_base
-        self.threshold = threshold
-        r = np.hypot(itf.rotor_x[0], itf.rotor_x[1])
-        n_ring = int(self.ring.max()) + 1
-        self.radii = np.bincount(self.ring, weights=r, minlength=n_ring) / np.bincount(
-            self.ring, minlength=n_ring)
-        mid = 0.5 * (self.radii[1:] + self.radii[:-1])
-        lo = np.clip(np.concatenate([[self.radii[0]], mid]), r_in, r_out)
-        hi = np.clip(np.concatenate([mid, [self.radii[-1]]]), r_in, r_out)
-        self.band_area = np.pi * (hi ** 2 - lo ** 2)        # of each ring inside the band
-        if not self.band_area.sum() > 0:
-            raise WearError(f"no rotor ring lies in the friction band {r_in}..{r_out} m")
-        self._ring_nodes = np.asarray(self.W.T @ self.area).ravel()    # pad area over a node
-        self.through = np.zeros(n_ring, dtype=bool)
+        self.threshold, self.radii, self.band_area = threshold, c.radii, c.band_area
+        self.through = np.zeros(self.radii.size, dtype=bool)
         self.law = LayeredWearLaw(k_layer, factor=np.ones(self.area.size))
 
     def ring_means(self, rotor_wear: np.ndarray) -> np.ndarray:
         """Ring means of a field on the rotor's wear nodes (e.g. the wear depth)."""
-        n = self.radii.size
-        return np.bincount(self.ring, weights=rotor_wear, minlength=n) / np.bincount(
-            self.ring, minlength=n)
+        return self.criterion.ring_means(rotor_wear)
 
     def update(self, rotor_wear: np.ndarray) -> None:
         """Mark the rings worn through by the cumulative ``rotor_wear`` (m, per wear
@@ -206,20 +299,13 @@ class CorrodedRotor:
         self.law.factor[:] = self.W @ node_factor
 
     def cleaned_fraction(self, rotor_wear: np.ndarray) -> float:
-        """Share of the band's area whose layer is worn through."""
-        done = self.ring_means(rotor_wear) >= self.thickness
-        return float(self.band_area[done].sum() / self.band_area.sum())
+        """The worse face's share of its band whose layer is worn through."""
+        return self.criterion.cleaned_fraction(rotor_wear)
 
     def ring_pressure(self, pressure: np.ndarray) -> np.ndarray:
-        """Mean pad pressure over each ring (Pa): load over the pad area at that radius."""
-        load = np.asarray(self.W.T @ (np.maximum(pressure, 0.0) * self.area)).ravel()
-        per_ring = np.bincount(self.ring, weights=load, minlength=self.radii.size)
-        pad = np.bincount(self.ring, weights=self._ring_nodes, minlength=self.radii.size)
-        return np.divide(per_ring, pad, out=np.zeros_like(per_ring), where=pad > 0)
+        """Mean pad pressure over each ring (Pa)."""
+        return self.criterion.ring_pressure(pressure)
 
     def touched_fraction(self, pressure: np.ndarray) -> float:
-        """Share of the band's area the pad presses with at least ``threshold``
-        (and more than zero)."""
-        pr = self.ring_pressure(pressure)
-        on = (pr > 0) & (pr >= self.threshold)
-        return float(self.band_area[on].sum() / self.band_area.sum())
+        """The worse face's share of its band the pad presses with at least ``threshold``."""
+        return self.criterion.touched_fraction(pressure)

@@ -22,6 +22,7 @@ from os import PathLike
 import numpy as np
 import scipy.sparse as sp
 
+from .caliper_static import solve_caliper
 from .checks import check_plausible
 from .contact.lagrange import solve_contact
 from .contact.basis import check_supports
@@ -58,7 +59,6 @@ logger = logging.getLogger(__name__)
 
 __all__ = ["BrakeModel", "StaticResult", "ContactSystem"]
 
-
 _MESHERS = {"rotor": rotor_mesh, "pad": pad_mesh, "piston": piston_mesh}
 
 
@@ -78,8 +78,7 @@ class StaticResult:
 
     @property
     def normal_force(self) -> float:
-        """Total normal force the rotor exerts on the pads (N): both faces in the
-        full model (where it is twice the clamp force)."""
+        """Total normal force the rotor exerts on the pads (N), both faces."""
         nz = 1.0 if self.normal_z is None else self.normal_z
         return float((self.interface_force[2] * nz).sum())
 
@@ -111,9 +110,10 @@ class BrakeModel:
         plane z = 0; nothing meshed).
     piston
         ``"traction"`` (default: the clamp force as a uniform traction on the
-        backplate's piston footprint -- no piston mesh) or ``"body"`` (the
-        piston meshed and tied to the backplate, hydraulic pressure on its
-        back face).
+        backplate's piston footprint), ``"body"`` (the piston meshed, tied to
+        the backplate) or ``"rigid"`` (a rigid piston in its bore and seal,
+        rim, fingers and abutments one-sided with friction: the caliper's
+        load path, :mod:`brakewear.contact.caliper`).
     size, order
         Mesh size (m) and element order; default from the geometry file.
         The size is checked before meshing: in (0, half the radial pad width]
@@ -139,8 +139,9 @@ class BrakeModel:
                  size: float | None = None, order: int | None = None, rotor: str = "elastic",
                  meshes: dict | None = None, memory_budget: float | None = None,
                  layout: str = "auto"):
-        if piston not in ("traction", "body"):
-            raise SceneError(f"piston = {piston!r} is not allowed; allowed: 'traction', 'body'")
+        if piston not in ("traction", "body", "rigid"):
+            raise SceneError(f"piston = {piston!r} is not allowed; allowed: 'traction', 'body', "
+                             "'rigid'")
         if rotor not in ("elastic", "rigid"):
             raise SceneError(f"rotor = {rotor!r} is not allowed; allowed: 'elastic', 'rigid'")
         self.rotor = rotor
@@ -154,8 +155,7 @@ class BrakeModel:
         # a rigid rotor is the plane z = 0, not a mesh
         self.bodies = (("rotor",) if rotor == "elastic" else ()) + ("pad",) + (
             ("piston",) if piston == "body" else ())
-        unknown = sorted(set(meshes or {}) - set(self.bodies))
-        if unknown:
+        if unknown := sorted(set(meshes or {}) - set(self.bodies)):
             raise SceneError(f"meshes: {unknown[0]!r} is not a meshed body of this model; "
                              f"bodies: {', '.join(self.bodies)}")
         given = {b: read_body_mesh(m, b, piston) if isinstance(m, (str, PathLike)) else m
@@ -169,8 +169,7 @@ class BrakeModel:
         t0 = time.perf_counter()
         self.meshes = {b: given[b] if b in given else self._mesh(b, size, order)
                        for b in self.bodies}
-        wrong = [b for b, m in self.meshes.items() if is_quadratic(m) != (self.order == 2)]
-        if wrong:
+        if wrong := [b for b, m in self.meshes.items() if is_quadratic(m) != (self.order == 2)]:
             raise SceneError(f"meshes: the {wrong[0]} mesh is not of order {self.order}; every "
                              "body of a model has the model's order")
         mats = component_materials(self.geometry)
@@ -273,6 +272,8 @@ class BrakeModel:
         f = np.zeros(self.dofs)
         g = self.geometry
         pad = self.meshes["pad"]
+        if self.piston == "rigid":      # the caliper's rows carry the load to the pads
+            return f
         if self.piston == "body":
             pm = self.meshes["piston"]
             fb = uniform_traction(pm, "piston_back", line_pressure * g.piston.hydraulic_area)
@@ -462,6 +463,8 @@ class BrakeModel:
         load (N, every DOF; e.g. a thermal strain's).  Returns the nodal
         contact pressure on the pad's friction face (zero where it lifts off).
         """
+        if self.piston == "rigid":
+            return StaticResult(**solve_caliper(self, line_pressure, mu, tol=tol, load=load))
         t0 = time.perf_counter()
         cs = self.contact_system(line_pressure, mu, method)
         t1 = time.perf_counter()
@@ -495,5 +498,3 @@ class BrakeModel:
     def summary(self, result: StaticResult) -> dict:
         """A JSON-ready summary of a static solve (:func:`~brakewear.static.static_summary`)."""
         return static_summary(self, result)
-
-

@@ -98,9 +98,9 @@ def _pad_sides(model) -> dict[str, np.ndarray]:
 
 
 def _traction_only(model) -> None:
-    if model.piston != "traction":
-        raise SceneError("pad and caliper balances need piston = 'traction' (a meshed "
-                         "piston is tied to the pad)")
+    if model.piston == "body":
+        raise SceneError("pad and caliper balances need piston = 'traction' or 'rigid' (a "
+                         "meshed piston is tied to the pad)")
 
 
 def caliper_balance(model, line_pressure: float) -> dict:
@@ -142,8 +142,10 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
     supported DOFs; the abutment stops, rails and springs of push and pull
     supports, ``result.support_force``) + ``extra`` forces (name -> pad-DOF vector, e.g. springs or
     abutments), each resultant relative to the clamp force (moments to the clamp
-    force times the pad's outer radius).  Needs ``piston = "traction"``.
-    In the full model also the caliper (:func:`caliper_balance`).
+    force times the pad's outer radius).  Needs ``piston = "traction"`` or
+    ``"rigid"``.  In the full model also the caliper (:func:`caliper_balance`);
+    with the rigid piston every rigid part
+    (:func:`brakewear.caliper_static.part_balance`).
 
     Returns
     -------
@@ -179,6 +181,10 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
         m = np.cross(x[:, mask].T, e).sum(axis=0)
         out[side] = {"force": float(np.linalg.norm(e.sum(axis=0)) / F),
                      "moment": float(np.linalg.norm(m) / (F * R))}
-    if model.full:
+    if model.piston == "rigid":
+        from .caliper_static import part_balance     # each piston, the housing, the bracket
+
+        out.update(part_balance(result, line_pressure))
+    elif model.full:
         out["caliper"] = caliper_balance(model, line_pressure)
     return out

@@ -19,16 +19,32 @@ The answer: the lowest deceleration of the sweep that cleans within
 ``stops``, and its line pressure; the map of cleaned fraction against
 deceleration and number of stops.
 
-Model: the default brake with a rigid rotor (one face, the plane z = 0, its
-wear revolution-averaged on rings), the pad and backplate elastic, mesh
-``size`` mm (``geometry = "floating"``: the floating caliper's inboard pad
-with its piston rim, chamfers, slot and push-type bracket, which needs
-``interface = "fe"``; ``support = "bilateral"`` holds its ends instead); isothermal Archard wear (pad ``k`` of a resin pad, rotor
+Model (``geometry = "floating"``, the default): the floating caliper of
+``geometry/floating.toml`` as the full model -- both pads, the whole rotor on
+its hat, elastic -- with the pads held as the caliper holds them
+(``piston = "rigid"``: the rigid piston in its bore and seal, the rim, the
+fingers and the abutments one-sided with friction;
+:class:`brakewear.CaliperInterface`, condensed onto the contact nodes and the
+caliper's rows); each rotor face has its own corrosion layer and its own
+wear, the coning opens the inboard face's gap at the outer radius and the
+outboard face's at the inner one (:func:`brakewear.cleaning.nonconformity_gap`),
+and the band counts as cleaned when both faces are: the answer is the worse
+face's (:class:`brakewear.cleaning.BandCriterion`).  ``load_path`` overrides
+load-path keys of the geometry file (``{"support.abutment_friction": 0.4}``,
+in the file's units, checked as the file is).
+
+``geometry = "default"`` is the *idealised* brake (labelled so in the
+outputs): one pad on a rigid rotor (the plane z = 0), the clamp force a
+uniform traction on a 40 mm disc, both backplate ends held; its contact
+solves on the FE model condensed onto the pad's contact nodes
+(:class:`brakewear.CondensedInterface`; ``--interface fe`` for FE solves).
+``rotor = "rigid"`` with ``geometry = "floating"`` takes its inboard pad alone
+(the half model), with the piston a traction (``piston = "traction"``, which
+needs ``interface = "fe"`` for its unilateral abutments) or meshed
+(``"body"``).  Isothermal Archard wear (pad ``k`` of a resin pad, rotor
 ``k_corrosion`` on the layer and ``k`` of grey cast iron beneath), implicit
-pad wear, gap-offset update (:func:`brakewear.duty.run_schedule`).  The contact
-solves run on the FE model condensed onto the pad's contact nodes
-(:class:`brakewear.CondensedInterface`, the FE answer; ``--interface fe`` for
-FE solves), condensed once per model and read from the cache by every run.
+pad wear, gap-offset update (:func:`brakewear.duty.run_schedule`); every
+model is condensed once and read from the cache by every run.
 
 Run ``python studies/cleaning_stops.py [--decels 0.5 1 2 3] [--stops 20] [--out docs]``;
 the sensitivity sweeps with ``--name cleaning_stops_<case>`` (:data:`SENSITIVITY`) and
@@ -52,7 +68,7 @@ import numpy as np
 
 from brakewear import (MATERIALS, BrakeModel, CondensedInterface, FEInterface, Numerics,
                        SolverError, Vehicle, WearLaw)
-from brakewear.cleaning import CorrodedRotor, coning_gap
+from brakewear.cleaning import CorrodedRotor, nonconformity_gap, outboard_nodes
 from brakewear.duty import KMH, repeated_stops, run_schedule
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -64,7 +80,23 @@ DEFAULTS = dict(decels=(0.5, 1.0, 1.5, 2.0, 3.0, 4.0), stops=20, speed=50.0, int
                 mass=1800.0, front_share=0.7, tyre_radius=0.32, regen_share=0.0,
                 corrosion=25.0, k_corrosion=1e-12, coning=30.0, mu=0.4, threshold=0.02,
                 size=4.0, dp_tol=0.05, pad_modulus=1.0, interface="condensed",
-                geometry="default", support=None, piston="traction")
+                geometry="floating", support=None, piston=None, rotor=None, load_path=None)
+
+
+def brake_kind(task: dict) -> tuple[str, str, str]:
+    """``(piston, rotor, label)`` of a task: the floating caliper as the caliper holds
+    its pads (rigid piston, elastic rotor, both faces) unless told otherwise, the
+    default geometry as the idealised brake."""
+    ideal = task.get("geometry", "floating") == "default"
+    piston = task.get("piston") or ("traction" if ideal else "rigid")
+    rotor = task.get("rotor") or ("rigid" if ideal or piston != "rigid" else "elastic")
+    if ideal:
+        label = "idealised brake (one pad, rigid rotor, 40 mm disc, ends held)"
+    elif piston == "rigid" and rotor == "elastic":
+        label = "floating caliper, both faces (rigid piston in its bore, hat rotor)"
+    else:
+        label = f"floating caliper, inboard pad (piston {piston}, rotor {rotor})"
+    return piston, rotor, label
 
 
 def run_decel(task: dict) -> dict:
@@ -85,15 +117,28 @@ def run_decel(task: dict) -> dict:
         return {"decel": task["decel"], "error": f"{type(e).__name__}: {e}"}
 
 
-def _geometry(pad_modulus: float, name: str = "default", support: str | None = None):
+def _geometry(pad_modulus: float, name: str = "default", support: str | None = None,
+              load_path: dict | None = None):
     """The brake of geometry file ``name`` (default: the default brake), its friction
     layer's moduli scaled by ``pad_modulus``; ``support = "bilateral"``: both
-    backplate ends held in-plane instead of the file's support."""
+    backplate ends held in-plane instead of the file's support; ``load_path``:
+    keys of the file set to other values (``"section.key"`` -> value in the file's
+    units), checked as the file is."""
     from dataclasses import replace
 
     from brakewear import load_geometry
     from brakewear.geometry import SupportGeometry
-    g = load_geometry(name)
+    if load_path:
+        import tomllib
+
+        from brakewear.geometry import geometry_file, geometry_from_dict
+        d = tomllib.loads(geometry_file(name).read_text())
+        for key, value in load_path.items():
+            sec, field = key.split(".")
+            d.setdefault(sec, {})[field] = value
+        g = geometry_from_dict(d, source=f"{name}.toml with {load_path}")
+    else:
+        g = load_geometry(name)
     if support is not None:
         _check("support", support, support == "bilateral", "allowed: None, 'bilateral'")
         g = replace(g, support=SupportGeometry())
@@ -106,15 +151,37 @@ def _geometry(pad_modulus: float, name: str = "default", support: str | None = N
     return replace(g, pad=replace(g.pad, friction_material=stiffer))
 
 
+#: this process's caliper interface of the last brake run (its condensation and model)
+_BUILT: dict = {}
+
+
 def _interface(task: dict):
     """The study's model and its interface: the FE contact, or its condensation
-    (the same answer; read from the cache when a run of this model made it)."""
-    model = BrakeModel(_geometry(task.get("pad_modulus", 1.0), task.get("geometry", "default"),
-                                 task.get("support")),
-                       size=task["size"] * 1e-3, rotor="rigid",
-                       piston=task.get("piston", "traction"))
+    (the same answer; read from the cache when a run of this model made it); the
+    rigid piston's caliper interface for the floating caliper."""
+    from brakewear import CaliperInterface
+
+    piston, rotor, _ = brake_kind(task)
+    geometry = _geometry(task.get("pad_modulus", 1.0), task.get("geometry", "default"),
+                         task.get("support"), task.get("load_path"))
     kind = task.get("interface", "fe")
     _check("interface", kind, kind in ("fe", "condensed"), "allowed: 'fe', 'condensed'")
+    if piston == "rigid":
+        _check("interface", kind, kind == "condensed", "the rigid piston's load path runs on "
+               "the condensed (caliper) interface: interface = 'condensed'")
+        # one model and condensation per worker for every load path of this brake; each
+        # run gets its own rows and solver state (CaliperInterface.with_load_path)
+        key = (task.get("geometry"), task["size"], task.get("pad_modulus", 1.0),
+               task.get("support"), rotor)
+        if key not in _BUILT:
+            base = BrakeModel(_geometry(task.get("pad_modulus", 1.0), task.get("geometry"),
+                                        task.get("support")),
+                              size=task["size"] * 1e-3, rotor=rotor, piston=piston)
+            _BUILT.clear()
+            _BUILT[key] = CaliperInterface(base, 1e6, task["mu"])
+        itf = _BUILT[key].with_load_path(geometry)
+        return itf.model, itf
+    model = BrakeModel(geometry, size=task["size"] * 1e-3, rotor=rotor, piston=piston)
     if kind == "condensed":
         return model, CondensedInterface(model, 1e6, task["mu"])
     return model, FEInterface(model, 1e6, task["mu"])
@@ -127,6 +194,7 @@ def _run_decel(task: dict) -> dict:
     r_in, r_out = g.pad.inner_radius, g.pad.outer_radius
     rotor = CorrodedRotor(itf, r_in, r_out, task["corrosion"] * 1e-6, task["k_corrosion"],
                           MATERIALS["grey_cast_iron"].wear_k, task["threshold"] * 1e6)
+    judge = rotor.criterion
     car = Vehicle(mass=task["mass"], front_share=task["front_share"],
                   tyre_radius=task["tyre_radius"], regen_share=task["regen_share"])
     sched = repeated_stops(task["stops"], task["speed"] * KMH, decel=task["decel"],
@@ -140,31 +208,38 @@ def _run_decel(task: dict) -> dict:
     num = Numerics(scheme="implicit", max_dh=task["corrosion"] * 1e-7, dp_tol=task["dp_tol"])
     for rec in run_schedule(model, sched, WearLaw(MATERIALS["pad_resin"].wear_k), rotor.law,
                             task["mu"], vehicle=car, numerics=num, interface=itf,
-                            initial_gap=coning_gap(itf.r, r_in, r_out, task["coning"] * 1e-6),
+                            initial_gap=nonconformity_gap(itf.x, r_in, r_out,
+                                                          g.rotor.thickness,
+                                                          task["coning"] * 1e-6),
                             on_step=on_step):
         if rec.kind != "stop":
             continue
-        touched.append(rotor.touched_fraction(rec.pressure))
+        faces = judge.touched_fractions(rec.pressure)
+        touched.append(min(faces.values()))
         if len(touched) == 1:
             first = rec.pressure.copy()
+        cleaned = judge.cleaned_fractions(rec.rotor_wear)
         rows.append({"stop": len(rows) + 1, "line_pressure_MPa": rec.line_pressure / 1e6,
                      "r_eff_mm": rec.r_eff * 1e3, "duration_s": rec.duration,
                      "target_face_kJ": rec.target_face_J / 1e3,
                      "friction_face_kJ": rec.friction_face_J / 1e3,
                      "touched_fraction": touched[-1],
-                     "cleaned_fraction": rotor.cleaned_fraction(rec.rotor_wear),
+                     "cleaned_fraction": min(cleaned.values()),
+                     "touched_faces": faces, "cleaned_faces": cleaned,
                      "pad_volume_mm3": rec.pad_volume_m3 * 1e9,
                      "rotor_volume_mm3": rec.rotor_volume_m3 * 1e9, "steps": rec.steps})
         if rows[-1]["cleaned_fraction"] >= 1.0:
             break
     clean = next((r["stop"] for r in rows if r["cleaned_fraction"] >= 1.0), None)
     return {"decel": task["decel"], "line_pressure_MPa": rows[0]["line_pressure_MPa"],
-            # the pad's contact at the end of the first and the last stop (maps)
+            # the pads' contact at the end of the first and the last stop (maps)
             "pad_x_mm": (itf.x[0] * 1e3).tolist(), "pad_y_mm": (itf.x[1] * 1e3).tolist(),
+            "pad_face": ["out" if o else "in" for o in outboard_nodes(itf.x,
+                                                                       g.rotor.thickness)],
             "pressure_first_MPa": (first / 1e6).tolist(),
             "pressure_last_MPa": (rec.pressure / 1e6).tolist(),
             "stops_to_clean": clean, "rows": rows,
-            "ring_radius_mm": (rotor.radii * 1e3).tolist(),
+            "ring_radius_mm": (rotor.radii * 1e3).tolist(), "ring_face": judge.face.tolist(),
             "ring_wear_um": (rotor.ring_means(rec.rotor_wear) * 1e6).tolist(),
             "run_s": time.perf_counter() - t0}
 
@@ -182,14 +257,17 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
     k_corrosion 1/Pa, coning um, threshold MPa, size mm, ...).  ``name``
     names the files written to ``out`` (``data/<name>.json``,
     ``data/<name>_map.csv``, ``figures/<name>_map.png``)."""
-    unknown = set(settings) - set(DEFAULTS)
+    unknown = set(settings) - set(DEFAULTS) - {"brake"}
     _check("settings", sorted(unknown), not unknown, f"allowed: {', '.join(DEFAULTS)}")
     st = {**DEFAULTS, **settings, "decels": sorted(float(a) for a in decels), "stops": stops}
     _check("stops", stops, isinstance(stops, int) and stops >= 1, "need a whole number >= 1")
-    support = _geometry(1.0, st["geometry"], st["support"]).support.type
-    _check("interface", st["interface"], st["interface"] != "condensed" or support == "bilateral",
-           f"the condensed interface needs a bilateral pad support and geometry "
-           f"{st['geometry']!r} has a {support!r} one: use interface = 'fe'")
+    support = _geometry(1.0, st["geometry"], st["support"], st["load_path"]).support.type
+    piston, _, label = brake_kind(st)
+    _check("interface", st["interface"], st["interface"] != "condensed" or support == "bilateral"
+           or piston == "rigid",
+           f"the condensed interface needs a bilateral pad support or the rigid piston, and "
+           f"geometry {st['geometry']!r} has a {support!r} one: use interface = 'fe'")
+    st["brake"] = label
     Vehicle(mass=st["mass"], front_share=st["front_share"], tyre_radius=st["tyre_radius"],
             regen_share=st["regen_share"]).check_deceleration(max(st["decels"]))
     t0 = time.perf_counter()
@@ -213,7 +291,7 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
 
 def _map_runs(tasks: list, executor: Executor | None) -> list:
     """:func:`run_decel` of every task on ``executor`` (default: two processes)."""
-    if tasks and tasks[0].get("interface") == "condensed":
+    if tasks and tasks[0].get("interface") == "condensed" and run_decel.__module__ == __name__:
         _interface(tasks[0])    # condensed once here: the workers read it from the cache
     own = executor is None
     executor = ProcessPoolExecutor(max_workers=2) if own else executor
@@ -275,7 +353,9 @@ def plot_map(result: dict, path: Path) -> None:
     ax.set_xlabel("deceleration (m/s^2) and its line pressure (MPa)")
     ax.set_ylabel("stops")
     ax.yaxis.get_major_locator().set_params(integer=True)
-    ax.set_title("cleaned share of the friction band's area (%)", fontsize=10)
+    worse = ", the worse face" if "cleaned_faces" in runs[0]["rows"][0] and len(
+        runs[0]["rows"][0]["cleaned_faces"]) > 1 else ""
+    ax.set_title(f"cleaned share of the friction band's area (%){worse}", fontsize=10)
     fig.colorbar(im, ax=ax)
     for r in runs:
         f = [row["touched_fraction"] for row in r["rows"]]
@@ -283,7 +363,7 @@ def plot_map(result: dict, path: Path) -> None:
                 label=f"{r['decel']:g} m/s^2")
     bx.set_xlabel("stop")
     bx.xaxis.get_major_locator().set_params(integer=True)
-    bx.set_ylabel(f"band area touched at >= {st['threshold']:g} MPa (%)")
+    bx.set_ylabel(f"band area touched at >= {st['threshold']:g} MPa (%){worse}")
     bx.set_ylim(0, 105)
     bx.legend(fontsize=7)
     fig.suptitle(f"{st['mass']:g} kg, {st['front_share']:.0%} front, {st['tyre_radius']:g} m "
@@ -452,10 +532,74 @@ def probability_of_clean(decel: float, n: int = 24, seed: int = 20091,
     return result
 
 
+#: the load-path keys whose plausible ranges the spread covers, one at a time
+LOAD_PATH_SPREAD = ("piston.seal_modulus", "piston.bore_clearance", "piston.engagement_length",
+                    "piston.stand_out", "piston.rim_friction", "piston.bore_friction",
+                    "support.abutment_friction", "support.spring_stiffness",
+                    "caliper.bridge_tilt", "caliper.bore_tilt", "caliper.finger_stiffness")
+
+
+def load_path_cases(keys=LOAD_PATH_SPREAD, geometry: str = "floating") -> dict:
+    """name -> load-path overrides: the nominal brake and each key at each end of its
+    plausible range (:data:`brakewear.geometry.sections.LOAD_PATH_KEYS`), in the
+    geometry file's units."""
+    import tomllib
+
+    from brakewear.geometry import geometry_file
+    from brakewear.geometry.sections import LOAD_PATH_KEYS, STIFFNESS_UNITS
+    units = tomllib.loads(geometry_file(geometry).read_text())["units"]
+    cases = {"nominal": {}}
+    for key in keys:
+        _, unit, si, _, (lo, hi), _ = LOAD_PATH_KEYS[key]
+        if unit == "length":
+            si = {"mm": 1e-3, "m": 1.0}[units["length"]]
+        elif unit == "stiffness":
+            si = STIFFNESS_UNITS[units.get("stiffness", "N/mm")]
+        for end, v in (("low", lo), ("high", hi)):
+            cases[f"{key} {end}"] = {key: float(v / si)}
+    return cases
+
+
+def load_path_spread(decels=(0.5, 1.0, 2.0, 3.0), stops: int = DEFAULTS["stops"],
+                     executor: Executor | None = None, out=None, keys=LOAD_PATH_SPREAD,
+                     name: str = "cleaning_stops_load_path", **settings) -> dict:
+    """The floating caliper's answer over the load path's own uncertainty: the sweep
+    of ``decels`` for the nominal brake and for each of ``keys`` at each end of its
+    plausible range (:func:`load_path_cases`), one at a time.  Per case the lowest
+    cleaning deceleration and, per deceleration, the cleaned share of each face after
+    the last stop.  Writes ``data/<name>.json`` to ``out``."""
+    st = {**DEFAULTS, **settings, "stops": stops}
+    cases = load_path_cases(keys)
+    tasks = [dict(st, load_path=lp or None, decel=a, case=case)
+             for case, lp in cases.items() for a in sorted(decels)]
+    t0 = time.perf_counter()
+    runs = _map_runs(tasks, executor)
+    result = {"settings": {k: v for k, v in st.items() if k != "decels"},
+              "decels": sorted(decels), "cases": {}}
+    for (case, lp), i in zip(cases.items(), range(0, len(tasks), len(decels))):
+        rr = runs[i:i + len(decels)]
+        ok = [r for r in rr if "error" not in r]
+        low = next((r for r in ok if r["stops_to_clean"] is not None), None)
+        result["cases"][case] = {
+            "overrides": lp, "failed": [r for r in rr if "error" in r],
+            "lowest_cleaning_decel": None if low is None else low["decel"],
+            "its_stops": None if low is None else low["stops_to_clean"],
+            "cleaned_faces": {str(r["decel"]): r["rows"][-1]["cleaned_faces"] for r in ok},
+            "stops_run": {str(r["decel"]): r["rows"][-1]["stop"] for r in ok},
+            "line_pressure_MPa": {str(r["decel"]): r["line_pressure_MPa"] for r in ok},
+            "run_s": [r.get("run_s") for r in ok]}
+    result["wall_s"] = time.perf_counter() - t0
+    if out is not None:
+        (Path(out) / "data").mkdir(parents=True, exist_ok=True)
+        (Path(out) / "data" / f"{name}.json").write_text(json.dumps(result, indent=1))
+    return result
+
+
 def plot_contact_maps(result: dict, path: Path, decels=None) -> None:
-    """The pad face seen from the rotor at the end of the first and the last stop,
-    for up to four decelerations: one dot per friction node coloured by pressure,
-    open where it is below the touch threshold; the band's edges dashed."""
+    """The pad faces seen from their rotor faces at the end of the first and the last
+    stop, for up to four decelerations: one dot per friction node coloured by
+    pressure, open where it is below the touch threshold; the band's edges dashed.
+    Both faces of the full model in their own rows (inboard, then outboard)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -468,26 +612,35 @@ def plot_contact_maps(result: dict, path: Path, decels=None) -> None:
         runs = [r for r in runs if r["decel"] in decels]
     thr = result["settings"]["threshold"]
     vmax = max(max(r["pressure_first_MPa"] + r["pressure_last_MPa"]) for r in runs)
-    fig, axes = plt.subplots(2, len(runs), figsize=(2.6 * len(runs) + 1.2, 6.0),
+    faces = sorted(set(runs[0].get("pad_face", ["in"])), key=("in", "out").index)
+    fig, axes = plt.subplots(2 * len(faces), len(runs),
+                             figsize=(2.6 * len(runs) + 1.2, 3.0 * 2 * len(faces)),
                              squeeze=False, layout="constrained")
     for j, r in enumerate(runs):
         x, y = np.array(r["pad_x_mm"]), np.array(r["pad_y_mm"])
-        for i, (key, when) in enumerate((("pressure_first_MPa", "stop 1"),
-                                         ("pressure_last_MPa", f"stop {r['rows'][-1]['stop']}"))):
-            ax, p = axes[i, j], np.array(r[key])
-            on = p >= thr
-            sc = ax.scatter(x[on], y[on], c=p[on], s=9, cmap="inferno", vmin=0, vmax=vmax)
-            ax.scatter(x[~on], y[~on], s=9, facecolors="none", edgecolors="0.6", lw=0.5)
-            for rad in (min(np.hypot(x, y)), max(np.hypot(x, y))):
-                t = np.linspace(np.arctan2(y, x).min(), np.arctan2(y, x).max(), 50)
-                ax.plot(rad * np.cos(t), rad * np.sin(t), "k--", lw=0.5)
-            ax.set_aspect("equal")
-            ax.set_xticks([])
-            ax.set_yticks([])
-            ax.set_title(f"{r['decel']:g} m/s^2, {r['line_pressure_MPa']:.2f} MPa\n{when}",
-                         fontsize=8)
+        face = np.array(r.get("pad_face", ["in"] * x.size))
+        for f, fc in enumerate(faces):
+            m = face == fc
+            label = "" if len(faces) == 1 else {"in": "inboard face, ", "out": "outboard face, "}[fc]
+            for i, (key, when) in enumerate((("pressure_first_MPa", "stop 1"),
+                                             ("pressure_last_MPa",
+                                              f"stop {r['rows'][-1]['stop']}"))):
+                ax, p = axes[2 * f + i, j], np.array(r[key])[m]
+                on = p >= thr
+                sc = ax.scatter(x[m][on], y[m][on], c=p[on], s=9, cmap="inferno", vmin=0,
+                                vmax=vmax)
+                ax.scatter(x[m][~on], y[m][~on], s=9, facecolors="none", edgecolors="0.6",
+                           lw=0.5)
+                for rad in (min(np.hypot(x, y)), max(np.hypot(x, y))):
+                    t = np.linspace(np.arctan2(y, x).min(), np.arctan2(y, x).max(), 50)
+                    ax.plot(rad * np.cos(t), rad * np.sin(t), "k--", lw=0.5)
+                ax.set_aspect("equal")
+                ax.set_xticks([])
+                ax.set_yticks([])
+                ax.set_title(f"{r['decel']:g} m/s^2, {r['line_pressure_MPa']:.2f} MPa\n"
+                             f"{label}{when}", fontsize=8)
     fig.colorbar(sc, ax=axes, shrink=0.6, label="contact pressure (MPa)")
-    fig.suptitle(f"pad face seen from the rotor (radius to the right); open: below {thr:g} MPa",
+    fig.suptitle(f"pad faces seen from the rotor (radius to the right); open: below {thr:g} MPa",
                  fontsize=9)
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -504,11 +657,20 @@ def _cli(argv=None) -> dict:
               "k_corrosion", "coning", "mu", "threshold", "size", "pad_modulus"):
         ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=float, default=DEFAULTS[k])
     ap.add_argument("--geometry", default=DEFAULTS["geometry"],
-                    help="geometry file or packaged name (e.g. 'floating': the real piston rim "
-                         "and bracket on the inboard pad; the rotor stays rigid)")
-    ap.add_argument("--piston", choices=("traction", "body"), default=DEFAULTS["piston"],
-                    help="the clamp force as a traction on the piston footprint (the pad free "
-                         "to tilt on it), or the piston meshed, tied and guided by its bore")
+                    help="geometry file or packaged name ('floating', the default: the floating "
+                         "caliper as it holds its pads, both faces; 'default': the idealised "
+                         "brake, one pad on a rigid rotor)")
+    ap.add_argument("--piston", choices=("rigid", "traction", "body"), default=DEFAULTS["piston"],
+                    help="the rigid piston in its bore (the floating caliper's default), the "
+                         "clamp force as a traction on the piston footprint (the pad free to "
+                         "tilt on it), or the piston meshed, tied and guided by its bore")
+    ap.add_argument("--rotor", choices=("elastic", "rigid"), default=DEFAULTS["rotor"],
+                    help="the rotor elastic on its hat (both faces; the rigid piston's default) "
+                         "or rigid (the inboard pad alone)")
+    ap.add_argument("--load-path", dest="load_path", nargs="+", default=None,
+                    metavar="SECTION.KEY=VALUE",
+                    help="load-path keys of the geometry file set to other values, in its "
+                         "units (e.g. support.abutment_friction=0.4 piston.seal_modulus=3)")
     ap.add_argument("--support", choices=("bilateral",), default=None,
                     help="hold both backplate ends in-plane instead of the geometry's support")
     ap.add_argument("--interface", choices=("fe", "condensed"), default=DEFAULTS["interface"],
@@ -516,18 +678,39 @@ def _cli(argv=None) -> dict:
                          "nodes once (the same answer, much faster; the default)")
     ap.add_argument("--tornado", action="store_true",
                     help="only draw the sensitivity (tornado) chart of the sweeps in OUT/data")
+    ap.add_argument("--load-path-spread", action="store_true",
+                    help="the floating caliper's answer for each load-path key at each end of "
+                         "its plausible range, one at a time (at --decels)")
     ap.add_argument("--monte-carlo", type=int, default=0, metavar="N",
                     help="only the probability of clean at the first of --decels, N samples "
                          "of the inputs in UNCERTAIN")
     add_executor_options(ap)
     a = vars(ap.parse_args(argv))
+    if a["load_path"]:
+        a["load_path"] = {k: float(v) for k, v in (x.split("=", 1) for x in a["load_path"])}
     mc, where = a.pop("monte_carlo"), (a.pop("dask"), a.pop("workers"))
+    spread = a.pop("load_path_spread")
     if a.pop("tornado"):
         for r in write_sensitivity(Path(a["out"])):
             print(r)
         return {}
     with study_executor(*where) as executor:
+        if spread:
+            return _run_spread(a, executor)
         return _run_cli(a, mc, executor)
+
+
+def _run_spread(a: dict, executor: Executor) -> dict:
+    """The command line's load-path spread; prints a line per case."""
+    name = a.pop("name")
+    r = load_path_spread(a.pop("decels"), a.pop("stops"), executor=executor, out=a.pop("out"),
+                         name="cleaning_stops_load_path" if name == "cleaning_stops" else name,
+                         **{k: v for k, v in a.items() if k in DEFAULTS})
+    for name, c in r["cases"].items():
+        worst = {d: min(f.values()) for d, f in c["cleaned_faces"].items()}
+        print(f"{name:34s} lowest {c['lowest_cleaning_decel']} m/s^2; cleaned (worse face) "
+              + ", ".join(f"{d}: {v:.2f}" for d, v in worst.items()))
+    return r
 
 
 def _run_cli(a: dict, mc: int, executor: Executor) -> dict:

@@ -159,19 +159,36 @@ def test_probability_of_clean_refuses_bad_settings_before_running(kw, words, mon
         study.probability_of_clean(1.0, **{"n": 4, **kw}, executor=_Serial())
 
 
-def test_the_floating_brake_cleans_with_its_energy_and_refuses_the_condensed_interface():
-    """The real inboard load path (piston rim, push bracket) in the vehicle study: its
-    stops dissipate the vehicle's energy as the default brake's do."""
+def test_the_floating_inboard_pad_cleans_with_its_energy_and_refuses_the_condensed_interface():
+    """The inboard load path with the piston a traction (piston rim, push bracket, a
+    rigid rotor) in the vehicle study: its stops dissipate the vehicle's energy as
+    the default brake's do."""
     task = dict(study.DEFAULTS, decel=1.0, stops=2, size=12.0, k_corrosion=8e-12,
-                geometry="floating", interface="fe")
+                geometry="floating", piston="traction", interface="fe")
     run = study.run_decel(task)
     assert "error" not in run
     for row in run["rows"]:
         assert row["friction_face_kJ"] == pytest.approx(row["target_face_kJ"], rel=0.03)
-    with pytest.raises(ValueError, match="needs a bilateral pad support and geometry "
-                                         "'floating' has a 'push' one"):
-        study.main(decels=(1.0,), stops=1, geometry="floating", interface="condensed",
-                   executor=_Serial())
+    with pytest.raises(ValueError, match="needs a bilateral pad support or the rigid piston, "
+                                         "and geometry 'floating' has a 'push' one"):
+        study.main(decels=(1.0,), stops=1, geometry="floating", piston="traction",
+                   interface="condensed", executor=_Serial())
+
+
+def test_the_floating_caliper_is_judged_on_both_faces():
+    """The default brake of the study: the floating caliper as it holds its pads, both
+    faces on the elastic hat rotor, each face its own layer; the answer is the worse
+    face, and the stops dissipate the vehicle's energy on each face."""
+    res = study.main(decels=(1.0,), stops=3, executor=_Serial(), size=12.0, k_corrosion=8e-12)
+    assert res["failed_runs"] == [] and "both faces" in res["settings"]["brake"]
+    (run,) = res["runs"]
+    assert set(run["pad_face"]) == {"in", "out"} and set(run["ring_face"]) == {"in", "out"}
+    for row in run["rows"]:
+        assert set(row["cleaned_faces"]) == {"in", "out"}
+        assert row["cleaned_fraction"] == min(row["cleaned_faces"].values())
+        assert row["touched_fraction"] == min(row["touched_faces"].values())
+        # the torque equation counts the clamp force the faces really carry
+        assert row["friction_face_kJ"] == pytest.approx(row["target_face_kJ"], rel=0.05)
 
 
 @pytest.mark.parametrize("argv, where", [

@@ -72,7 +72,9 @@ def _same_histories(model, scheme, steps, thermal):
     for x, y in zip(a, b):
         assert x.time == pytest.approx(y.time, rel=TOL)
         if x.limit != "end":        # the last step is the remainder of the duration
-            assert x.dt == pytest.approx(y.dt, rel=TOL)
+            # each growth-limited step scales the last one, so the steps carry the
+            # solves' differences (1e-11..1e-9 per step) forward: 1e-8 after 20 steps
+            assert x.dt == pytest.approx(y.dt, rel=10 * TOL)
         assert _rel(x.pressure_end, y.pressure_end) < TOL
         assert _rel(x.pad_wear, y.pad_wear) < TOL
         assert _rel(x.rotor_wear, y.rotor_wear) < TOL
@@ -136,7 +138,8 @@ def test_the_cleaning_study_answers_the_same_on_either_interface():
     from studyload import load_study
 
     study = load_study("cleaning_stops")
-    task = dict(study.DEFAULTS, decel=1.0, stops=2, size=12.0, k_corrosion=8e-12)
+    task = dict(study.DEFAULTS, decel=1.0, stops=2, size=12.0, k_corrosion=8e-12,
+                geometry="default")         # the idealised brake: FE and condensed
     fe = study.run_decel(dict(task, interface="fe"))
     cd = study.run_decel(dict(task, interface="condensed"))
     assert fe["line_pressure_MPa"] == pytest.approx(cd["line_pressure_MPa"], rel=1e-6)
@@ -178,7 +181,7 @@ def test_the_monte_carlo_runs_on_a_dask_cluster_as_in_one_process():
     from studyload import load_study
 
     study = load_study("cleaning_stops")
-    kw = dict(n=2, stops=1, size=12.0, interface="condensed")
+    kw = dict(n=2, stops=1, size=12.0, interface="condensed", geometry="default")
 
     class Serial:
         def map(self, fn, items):

@@ -41,7 +41,7 @@ def test_floating_loads_in_si():
     assert [f.radius for f in g.caliper.fingers] == pytest.approx([0.126, 0.126], rel=1e-12)
     assert [f.angle for f in g.caliper.fingers] == pytest.approx([-math.radians(12),
                                                                   math.radians(12)], rel=1e-12)
-    assert g.support == SupportGeometry("push", 2e-4, 1e9, 1e5)
+    assert g.support == SupportGeometry("push", 2e-4, 1e9, 1e5, 0.2)
     assert g.rotor.mount == "hat" and g.rotor.hat.bolt_circle_radius == pytest.approx(0.05715)
     assert g.pad.backplate_radii == pytest.approx((0.090, 0.148), rel=1e-12)
     assert g.pad.leading_chamfer == pytest.approx((5e-3, 2e-3)) and g.pad.slot_width == 3e-3
@@ -155,6 +155,16 @@ BAD = [
     ("f", "caliper.bridge_tilt", "0.1", "caliper.bridge_tilt", ["'0.1'", "expected a number"]),
     ("d", "caliper", {"type": "fixed", "bridge_tilt": 0.1}, "caliper.bridge_tilt",
      ["caliper.type = 'fixed'", "floating caliper"]),
+    ("f", "piston.bore_clearance", 0.0, "piston.bore_clearance", ["0.0 mm", "> 0 mm"]),
+    ("f", "piston.seal_position", 19.0, "piston.seal_position", ["19 mm", "[1.5 mm, 18.5 mm]"]),
+    ("f", "piston.seal_height", 25.0, "piston.seal_height", ["25.0 mm", "<= 20 mm"]),
+    ("f", "piston.seal_modulus", -6.0, "piston.seal_modulus", ["-6.0 MPa", "> 0 MPa"]),
+    ("f", "piston.rim_friction", 1.5, "piston.rim_friction", ["1.5", ">= 0 and <= 1"]),
+    ("f", "piston.stand_out", "5", "piston.stand_out", ["'5'", "expected a number"]),
+    ("f", "support.abutment_friction", -0.1, "support.abutment_friction", ["-0.1", ">= 0"]),
+    ("f", "caliper.bore_tilt", -1.0, "caliper.bore_tilt", ["-1.0 mrad/kN", ">= 0 mrad/kN"]),
+    ("d", "caliper", {"type": "fixed", "bore_tilt": 0.1}, "caliper.bore_tilt",
+     ["caliper.type = 'fixed'"]),
 ]
 
 
@@ -191,3 +201,22 @@ def test_the_floating_snippet_of_the_docs_runs(capsys):
     expected = [m.strip() for m in re.findall(r"# (.*)$", code, re.M)]
     assert out[:3] == expected, (out, expected)
     assert "slot" in out[3] and "leading_chamfer" in out[3]
+
+
+def test_load_path_keys_in_si_and_their_plausible_ranges(floating, caplog):
+    g = geometry_from_dict(modified(modified(floating, "piston.seal_modulus", 8.0),
+                                    "support.abutment_friction", 0.3))
+    assert g.piston.guide.seal_modulus == pytest.approx(8e6, rel=1e-12)          # MPa
+    assert g.support.abutment_friction == pytest.approx(0.3, rel=1e-12)
+    f = load_geometry("floating")
+    assert f.piston.guide.clearance == pytest.approx(0.08e-3, rel=1e-12)         # mm
+    # a value outside its plausible range loads, with a warning naming the key
+    with caplog.at_level("WARNING"):
+        geometry_from_dict(modified(floating, "piston.seal_modulus", 50.0), source="odd.toml")
+    assert "piston.seal_modulus" in caplog.text and "unusual" in caplog.text
+    assert "above 12 MPa" in caplog.text
+    # the keys against each other: the seal closes the clearance
+    d = modified(modified(floating, "piston.seal_width", 0.5), "piston.bore_clearance", 0.8)
+    with pytest.raises(GeometryError, match=r"piston.bore_clearance: 0.8 mm .* < "
+                                            r"piston.seal_width = 0.5 mm"):
+        geometry_from_dict(d)

@@ -135,14 +135,16 @@ def test_p2_family_converges_to_the_p1_estimate():
     # the default scene's physics for 1200 s in 16 steps of 75 s on P2 levels 2, 3, 4
     # (9, 6, 4.5 mm with 2, 3, 4 layers), measured against the P1 family's estimate
     # at 1200 s of the same steps (docs/data/mesh_convergence.json, "mid"); measured:
-    # differences 4.9e-8, 2.9e-8 m, errors 2.6, 1.7, 0.70 %, fitted order 1.85
-    # (3 minutes of CPU)
+    # differences 7.1e-9, 3.1e-9 m (observed order 2.9 at the ratio 4/3), errors
+    # 0.69, 0.42, 0.35 % (3 minutes of CPU). The errors level off at the P1
+    # estimate's own distance from the finest meshes (the finest P1 and P2 meshes
+    # are 0.56 % apart), so the order is taken from the P2 family's own differences.
     res = mc2.main(levels=(2, 3, 4), steps=16, duration=1200.0, out=None)
     assert res["p1_reference"]["state"] == "mid"
     est = res["orders"]["P2"]["end"]["pad_wear"]
     d21, d32 = est["differences"]
-    assert d32 < 0.75 * d21, f"P2 pad wear differences {d21:.3g}, {d32:.3g} m"
+    order = np.log(d21 / d32) / np.log(4.0 / 3.0)
+    assert order > 1.0, f"P2 pad wear differences {d21:.3g}, {d32:.3g} m: order {order:.2f}"
     err = [r["errors"]["p1_estimate"]["pad_wear"] for r in res["orders"]["P2"]["runs"]]
     assert err[0] > err[1] > err[2], f"errors from the P1 estimate {err}"
     assert err[2] < 0.015, f"P2 at 4.5 mm is {err[2]:.2%} from the P1 estimate"
-    assert res["rate_vs_p1"] > 1.0, f"fitted order {res['rate_vs_p1']:.2f}"

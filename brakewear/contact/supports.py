@@ -58,7 +58,7 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 __all__ = ["SUPPORT_ENDS", "abutment_faces", "abutment_pairs", "support_springs",
-           "end_normal", "with_supports", "support_forces"]
+           "end_normal", "with_supports", "support_forces", "spring_faces"]
 
 #: the two end faces of a pad
 SUPPORT_ENDS = ("leading", "trailing")
@@ -187,13 +187,9 @@ def support_springs(mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry,
                            f"{3 * (offset + mesh.p.shape[1]) - 1}")
     if support.type == "bilateral":
         return sp.csr_matrix((n_dofs, n_dofs))
-    c = pad_geometry.center_angle
-    radial = np.array([np.cos(c), np.sin(c), 0.0])
-    tangential = np.array([-np.sin(c), np.cos(c), 0.0])
-    faces = {end: abutment_faces(mesh, end) for end in SUPPORT_ENDS}
+    radial, tangential, pads = spring_faces(mesh, pad_geometry)
     nodes, k, d = [], [], []
-    for side in sorted(set(faces["leading"]) | set(faces["trailing"])):
-        ends = [faces[end][side] for end in SUPPORT_ENDS if side in faces[end]]
+    for ends in pads:
         for facets in ends:   # a rail per end face
             n, w = _face_weights(mesh, facets)
             nodes.append(n)
@@ -205,6 +201,19 @@ def support_springs(mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry,
         d.append(np.repeat(tangential[:, None], n.size, axis=1))
     return _node_springs(np.concatenate(nodes) + offset, np.concatenate(k),
                          np.hstack(d), n_dofs)
+
+
+def spring_faces(mesh: fem.Mesh, pad_geometry: PadGeometry):
+    """``(radial, tangential, pads)``: the unit vectors of the pad's centre line and
+    its tangent (the rails' and the clip's directions), and per pad of ``mesh`` the
+    facets of its end faces (a list of one array per end)."""
+    c = pad_geometry.center_angle
+    radial = np.array([np.cos(c), np.sin(c), 0.0])
+    tangential = np.array([-np.sin(c), np.cos(c), 0.0])
+    faces = {end: abutment_faces(mesh, end) for end in SUPPORT_ENDS}
+    pads = [[faces[end][side] for end in SUPPORT_ENDS if side in faces[end]]
+            for side in sorted(set(faces["leading"]) | set(faces["trailing"]))]
+    return radial, tangential, pads
 
 
 def _node_springs(nodes: np.ndarray, k: np.ndarray, d: np.ndarray,

@@ -10,11 +10,13 @@ through the dwells.
 Per application: the line pressure and the deceleration (one from the other
 through the vehicle and the brake's torque, ``T = 2 mu p_line A_clamp
 r_eff`` with the effective radius of the pressure field at the
-application's start, solved with the thermal load of the temperatures it
-starts from), the rotor speeds, the kinetic energy, the part regenerated,
-the friction work the vehicle asks of each face and the one the model
-dissipated (the steps' ``friction_work``: ``mu sum(p A r) Delta theta`` at
-each step's start pressure, the heat the thermal model takes in; in the full
+application's start, times the share of the clamp force that reaches the
+faces where the caliper's friction takes some; solved with the thermal load
+of the temperatures it starts from), the rotor speeds, the kinetic energy,
+the part regenerated, the friction work the vehicle asks of each face and
+the one the model dissipated (the steps' ``friction_work``: ``mu sum(p A r)
+Delta theta`` at each step's start pressure, the heat the thermal model
+takes in; in the full
 model the mean of its two faces), the worn volumes (of every modelled pad).
 The line pressure is held over an application, so the two friction works
 differ by how much the effective radius moves within it: ``torque_drift`` is
@@ -114,8 +116,13 @@ class _Brake:
         self.active = sol.active
         return sol
 
-    def r_eff(self, pressure) -> float:
-        return effective_radius(pressure, self.itf.area, self.itf.r)
+    def r_eff(self, pressure, line_pressure: float) -> float:
+        """The radius of ``T = 2 mu p_line A_clamp r_eff``: the friction radius of the
+        pressure field times the share of the clamp force its faces carry (1 but
+        for what the caliper's own friction takes, :class:`~brakewear.CaliperInterface`)."""
+        load = float((np.maximum(pressure, 0.0) * self.itf.area).sum())
+        share = load / (self.faces * line_pressure * self.clamp_area)
+        return effective_radius(pressure, self.itf.area, self.itf.r) * share
 
     def pressure_for_torque(self, torque: float, guess: float, rtol: float = 1e-10,
                             max_iter: int = 30) -> tuple[float, float]:
@@ -123,7 +130,7 @@ class _Brake:
         pressure field (a fixed point: the field moves little with the load)."""
         p = guess
         for _ in range(max_iter):
-            r = self.r_eff(self.solve(p).pressure)
+            r = self.r_eff(self.solve(p).pressure, p)
             p_new = line_pressure_for_torque(torque, self.mu, self.clamp_area, r)
             change = abs(p_new - p) / p_new
             if change <= rtol:
@@ -145,7 +152,7 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
         rec.line_pressure, rec.duration, rec.omega0 = app.line_pressure, app.duration, w
         rec.omega1, rec.v0 = w, app.speed
         rec.v1 = app.speed
-        rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure)
+        rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure, app.line_pressure)
         rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
         return ConstantSpeed(w), rec
     if app.decel is not None:          # checked with the schedule (check_schedule)
@@ -156,7 +163,7 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
         rec.decel = app.decel
     else:
         rec.line_pressure = app.line_pressure
-        rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure)
+        rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure, app.line_pressure)
         rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
         rec.decel = vehicle.deceleration(rec.torque)
         vehicle.check_deceleration(
@@ -311,7 +318,8 @@ def _braked(app, i, t, model, brake: _Brake, vehicle, pad_law, rotor_law, numeri
                           brake.mu, numerics=numerics, interface=itf, thermal=thermal,
                           initial_gap=brake.offset()):
         rec.friction_face_J += s.friction_work / brake.faces
-        r_sum += brake.r_eff(s.pressure) * (speed.angle(s.time) - speed.angle(s.time - s.dt))
+        r_sum += brake.r_eff(s.pressure, rec.line_pressure) * (speed.angle(s.time)
+                                                               - speed.angle(s.time - s.dt))
         tally.add(s, s.dt)
         if on_step is not None:
             on_step(rec, s, brake.pad_wear + s.pad_wear, brake.rotor_wear + s.rotor_wear)

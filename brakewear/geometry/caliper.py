@@ -14,6 +14,11 @@ pressure and the friction faces, the ones a brake engineer checks first:
   has a clearance) or ``"pull"`` (the leading hook bears, the trailing end has
   a clearance); unilateral abutments add radial rails and an anti-rattle
   spring so the pad is held where no abutment bears;
+- :class:`PistonGuide`: how the caliper holds its piston -- the bore's radial
+  clearance and guided length, the square-section seal (its section and the
+  rubber's modulus), the friction at the piston's rim and in the bore --
+  which decides how far the inboard pad may tilt (the rigid piston of
+  :mod:`brakewear.contact.caliper`);
 - :class:`HatGeometry` and :class:`VentGeometry`: the rotor's mounting hat
   (flange clamped at the bolt circle, a cylindrical wall, the friction ring)
   and a vented ring (two cheeks joined by radial vanes).
@@ -30,6 +35,7 @@ from dataclasses import dataclass
 
 __all__ = [
     "FingerGeometry",
+    "PistonGuide",
     "CaliperGeometry",
     "SupportGeometry",
     "HatGeometry",
@@ -100,12 +106,19 @@ class CaliperGeometry:
         the backplate (a shim, the local compliance of finger and plate): with
         a tilted jaw the finger pressure is ``finger_stiffness x`` the jaw's
         local approach (:func:`brakewear.caliper_loads.jaw_pressure`).
+    bore_tilt : float
+        The same compliance on the inboard side (rad/N, floating calipers
+        only): under ``F`` the housing's bore turns by ``bore_tilt x F`` about
+        a tangential axis through the centre of the bore's mouth, its deep end
+        moving outward (the housing opens at the inner radius); it turns the
+        seal's groove and the bore wall that guide the rigid piston.
     """
 
     type: str = "fixed"
     fingers: tuple[FingerGeometry, ...] = ()
     bridge_tilt: float = 0.0
     finger_stiffness: float = 1e12
+    bore_tilt: float = 0.0
 
     @property
     def symmetric(self) -> bool:
@@ -130,18 +143,69 @@ class SupportGeometry:
     spring_stiffness : float
         Tangential stiffness of the anti-rattle spring (N/m): it holds the
         pad where no abutment bears (no friction, or before the clearance
-        closes) and is small enough not to carry a braking drag.
+        closes) and is small enough not to carry a braking drag: the pad's
+        clip.
+    abutment_friction : float
+        Coulomb friction coefficient between the backplate's ends and the
+        bracket's abutments: the ends slide there along the rotor axis, and
+        the friction holds the pad against tilting in proportion to the drag
+        the abutment carries (the rigid-piston load path,
+        :mod:`brakewear.contact.caliper`; the FE interface's stops are
+        frictionless).
     """
 
     type: str = "bilateral"
     clearance: float = 0.0
     rail_stiffness: float = 1e9
     spring_stiffness: float = 1e5
+    abutment_friction: float = 0.0
 
     @property
     def bearing_end(self) -> str | None:
         """``"trailing"`` (push), ``"leading"`` (pull) or None (bilateral)."""
         return {"push": "trailing", "pull": "leading"}.get(self.type)
+
+
+@dataclass(frozen=True)
+class PistonGuide:
+    """How the caliper's housing holds its piston (SI units).
+
+    The piston stands on the backplate; ``stand_out`` from it the bore's
+    mouth begins, and the piston is guided over ``engagement`` from there.
+    A square-section seal sits in a groove of the bore ``seal_position`` from
+    the mouth (to its centre); it grips the piston and holds it elastically,
+    softly in tilt.  The bore wall holds the piston only once the radial
+    ``clearance`` is taken up.
+
+    Attributes
+    ----------
+    clearance : float
+        Radial clearance between piston and bore (m, one side).
+    engagement : float
+        Guided length of the piston in the bore (m).
+    stand_out : float
+        Distance from the piston's face (on the backplate) to the bore's mouth (m).
+    seal_position : float
+        Distance from the bore's mouth to the seal's centre (m).
+    seal_width, seal_height : float
+        The seal's section: radial width and axial height (m).
+    seal_modulus : float
+        Young's modulus of the seal's rubber (Pa).
+    rim_friction : float
+        Coulomb friction coefficient between the piston's rim and the backplate.
+    bore_friction : float
+        Coulomb friction coefficient between the piston and the bore wall.
+    """
+
+    clearance: float = 0.08e-3
+    engagement: float = 20e-3
+    stand_out: float = 5e-3
+    seal_position: float = 5e-3
+    seal_width: float = 3e-3
+    seal_height: float = 3e-3
+    seal_modulus: float = 6e6
+    rim_friction: float = 0.15
+    bore_friction: float = 0.15
 
 
 @dataclass(frozen=True)

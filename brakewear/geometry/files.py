@@ -27,7 +27,8 @@ from typing import Any, Mapping
 
 from ..errors import GeometryError, MaterialError
 from ..materials import MATERIALS, Isotropic, Material, Thermal, TransverselyIsotropic
-from .sections import EXTRA_FIELDS, SECTIONS, check_footprint, pad_shape, rim_inner_diameter
+from .sections import (EXTRA_FIELDS, SECTIONS, check_footprint, pad_shape, piston_guide,
+                       rim_inner_diameter)
 from .sections import caliper as _caliper
 from .sections import rotor_mount, stiffness_unit
 from .sections import support as _support
@@ -269,7 +270,7 @@ def geometry_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> BrakeGeo
             raise ck.fail(f"units.{key}", f"{u!r} is not allowed; allowed units: "
                                           f"{', '.join(repr(c) for c in choices)}")
         ck.unit_name[key] = u
-    stiffness = stiffness_unit(ck, secs["units"])
+    stiffness_unit(ck, secs["units"])
 
     materials = _materials(ck, d.get("materials", {}))
 
@@ -287,7 +288,7 @@ def geometry_from_dict(d: Mapping[str, Any], source: str = "<dict>") -> BrakeGeo
     pad = pad_shape(ck, secs["pad"], _pad(ck, secs["pad"], rotor, material), rotor)
     piston = _piston(ck, secs["piston"], pad, material)
     caliper, extra = _caliper(ck, d, pad, piston)
-    support = _support(ck, d, stiffness)
+    support = _support(ck, d)
     mesh = _mesh(ck, secs["mesh"], pad)
     return BrakeGeometry(rotor=rotor, pad=pad, piston=piston, mesh=mesh, caliper=caliper,
                          support=support, extra_pistons=extra, materials=materials,
@@ -337,7 +338,8 @@ def _piston(ck: _Checker, s: dict, pad: PadGeometry, material) -> PistonGeometry
     bore = ck.length(s, "piston", "bore_diameter") if "bore_diameter" in s else dia
     rim = rim_inner_diameter(ck, s, "piston", dia)
     check_footprint(ck, "piston", dia, rc, ang, pad)
-    return PistonGeometry(dia, rc, ang, length, material("piston", "material"), bore, rim)
+    return PistonGeometry(dia, rc, ang, length, material("piston", "material"), bore, rim,
+                          piston_guide(ck, s))
 
 
 def _mesh(ck: _Checker, s: dict, pad: PadGeometry) -> MeshSettings:

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from typing import Mapping
 
 from ..materials import Material
-from .caliper import CaliperGeometry, HatGeometry, SupportGeometry, VentGeometry
+from .caliper import CaliperGeometry, HatGeometry, PistonGuide, SupportGeometry, VentGeometry
 
 logger = logging.getLogger(__name__)
 
@@ -191,6 +191,9 @@ class PistonGeometry:
         Inner diameter of the piston's annular rim (m): a real piston is a
         cup and bears on the backplate through its rim, between this
         diameter and :attr:`diameter`; None: a solid disc footprint.
+    guide : PistonGuide
+        How the housing holds the piston: bore clearance, seal, friction
+        (the rigid piston's load path).
     """
 
     diameter: float
@@ -200,6 +203,7 @@ class PistonGeometry:
     material: Material
     bore_diameter: float
     rim_inner_diameter: float | None = None
+    guide: PistonGuide = PistonGuide()
 
     @property
     def footprint_area(self) -> float:

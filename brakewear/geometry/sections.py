@@ -19,6 +19,7 @@ friction face between them; the lining keeps a thickness under every cut.
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 from typing import Any, Mapping
 
@@ -29,12 +30,15 @@ from .caliper import (
     CaliperGeometry,
     FingerGeometry,
     HatGeometry,
+    PistonGuide,
     SupportGeometry,
     VentGeometry,
 )
 from .parts import LENGTH_UNITS, PadGeometry, PistonGeometry, RotorGeometry
 
-__all__ = ["STIFFNESS_UNITS", "EXTRA_FIELDS", "SECTIONS"]
+logger = logging.getLogger(__name__)
+
+__all__ = ["STIFFNESS_UNITS", "EXTRA_FIELDS", "SECTIONS", "LOAD_PATH_KEYS"]
 
 
 #: allowed ``units.stiffness`` (N/m per unit); default "N/mm"
@@ -47,7 +51,50 @@ EXTRA_FIELDS = {
     "rotor": {"mount", "hat", "vents"},
     "pad": {"backplate_inner_radius", "backplate_outer_radius", "leading_chamfer",
             "trailing_chamfer", "slot_width", "slot_depth"},
-    "piston": {"rim_inner_diameter"},
+    "piston": {"rim_inner_diameter", "bore_clearance", "engagement_length", "stand_out",
+               "seal_position", "seal_width", "seal_height", "seal_modulus", "rim_friction",
+               "bore_friction"},
+}
+
+
+#: the load path's parameters: ``"section.key"`` -> (attribute, unit, SI per unit,
+#: allowed ``(lo, hi)`` (lo exclusive where the third item is True), plausible
+#: ``(lo, hi)``, what it is).  Unit ``"length"`` and ``"stiffness"`` are the
+#: file's ``[units]``; the others are fixed.  A value outside the allowed range
+#: is refused, one outside the plausible range is logged as a warning
+#: (docs/load_path.md gives each range's source).
+LOAD_PATH_KEYS = {
+    "piston.bore_clearance": ("clearance", "length", None, (0.0, 1e-3, True), (0.02e-3, 0.15e-3),
+                              "radial clearance between piston and bore"),
+    "piston.engagement_length": ("engagement", "length", None, (0.0, 0.2, True), (10e-3, 30e-3),
+                                 "length of the piston guided in the bore"),
+    "piston.stand_out": ("stand_out", "length", None, (0.0, 0.1, False), (0.0, 20e-3),
+                         "distance from the piston's face to the bore's mouth"),
+    "piston.seal_position": ("seal_position", "length", None, (0.0, 0.2, True), (2e-3, 12e-3),
+                             "distance from the bore's mouth to the seal's centre"),
+    "piston.seal_width": ("seal_width", "length", None, (0.0, 20e-3, True), (2e-3, 4.5e-3),
+                          "radial width of the seal's section"),
+    "piston.seal_height": ("seal_height", "length", None, (0.0, 20e-3, True), (2e-3, 4.5e-3),
+                           "axial height of the seal's section"),
+    "piston.seal_modulus": ("seal_modulus", "MPa", 1e6, (0.0, 1e9, True), (3e6, 12e6),
+                            "Young's modulus of the seal's rubber"),
+    "piston.rim_friction": ("rim_friction", "", 1.0, (0.0, 1.0, False), (0.08, 0.4),
+                            "friction coefficient of the piston's rim on the backplate"),
+    "piston.bore_friction": ("bore_friction", "", 1.0, (0.0, 1.0, False), (0.05, 0.3),
+                             "friction coefficient of the piston in its bore"),
+    "support.abutment_friction": ("abutment_friction", "", 1.0, (0.0, 1.0, False), (0.08, 0.5),
+                                  "friction coefficient of the backplate's ends on the "
+                                  "abutments"),
+    "support.spring_stiffness": ("spring_stiffness", "stiffness", None, (0.0, math.inf, True),
+                                 (1e4, 1e6), "stiffness of the pad's clip (anti-rattle spring)"),
+    "support.rail_stiffness": ("rail_stiffness", "stiffness", None, (0.0, math.inf, True),
+                               (1e7, math.inf), "radial stiffness of the bracket's rails"),
+    "caliper.bridge_tilt": ("bridge_tilt", "mrad/kN", 1e-6, (0.0, math.inf, False), (0.0, 0.3e-6),
+                            "the fingers' jaw's tilt per clamp force"),
+    "caliper.bore_tilt": ("bore_tilt", "mrad/kN", 1e-6, (0.0, math.inf, False), (0.0, 0.3e-6),
+                          "the bore's tilt per clamp force"),
+    "caliper.finger_stiffness": ("finger_stiffness", "MPa/mm", 1e9, (0.0, math.inf, True),
+                                 (1e11, 1e13), "stiffness per area of the finger layer"),
 }
 
 
@@ -60,10 +107,9 @@ _HAT_KEYS = {"height", "wall_radius", "wall_thickness", "flange_thickness", "bor
 _VENT_KEYS = {"cheek_thickness", "vane_count", "vane_width"}
 _FINGER_KEYS = {"diameter", "radius", "angle"}
 _PISTON_KEYS = {"diameter", "rim_inner_diameter", "bore_diameter", "radius", "angle"}
-#: ``[caliper]`` bridge keys: unit in the file, SI per file unit, whether 0 is refused
-_BRIDGE_KEYS = {"bridge_tilt": ("mrad/kN", 1e-6, False),
-                "finger_stiffness": ("MPa/mm", 1e9, True)}
-_SUPPORT_KEYS = {"type", "clearance", "rail_stiffness", "spring_stiffness"}
+#: ``[caliper]`` keys of a floating caliper's bridge
+_BRIDGE_KEYS = ("bridge_tilt", "finger_stiffness", "bore_tilt")
+_SUPPORT_KEYS = {"type", "clearance", "rail_stiffness", "spring_stiffness", "abutment_friction"}
 
 
 def _choice(ck, value: Any, name: str, allowed) -> str:
@@ -341,20 +387,65 @@ def caliper(ck, d: Mapping, pad: PadGeometry, piston: PistonGeometry
     return CaliperGeometry(kind, tuple(fingers), **bridge), tuple(extra)
 
 
+def load_path_value(ck, s: Mapping, sec: str, key: str) -> float:
+    """A key of :data:`LOAD_PATH_KEYS` in SI: refused outside its allowed range
+    (in the file's units), a warning outside its plausible range."""
+    name = f"{sec}.{key}"
+    _, unit, si, (lo, hi, lo_open), (p_lo, p_hi), what = LOAD_PATH_KEYS[name]
+    v = ck.number(s, sec, key)
+    shown = unit
+    if unit in ("length", "stiffness"):
+        shown = ck.unit_name[unit]
+        si = LENGTH_UNITS[shown] if unit == "length" else STIFFNESS_UNITS[shown]
+    x = v * si
+    u = f" {shown}" if shown else ""
+    if x < lo or (lo_open and x == lo) or x > hi:
+        bound = f"{'>' if lo_open else '>='} {lo / si:.6g}{u}" + (
+            f" and <= {hi / si:.6g}{u}" if math.isfinite(hi) else "")
+        raise ck.fail(name, f"{v!r}{u} is not allowed ({what}); it must be {bound}")
+    if not p_lo <= x <= p_hi:
+        side = f"below {p_lo / si:.6g}{u}" if x < p_lo else f"above {p_hi / si:.6g}{u}"
+        logger.warning("%s: %s = %r%s is unusual (%s; %s: docs/load_path.md gives the "
+                       "range and its source); check the value and its unit", ck.source, name,
+                       v, u, side, what)
+    return x
+
+
+def piston_guide(ck, s: Mapping) -> PistonGuide:
+    """The ``[piston]`` keys of the piston's guide (bore, seal, friction) in SI,
+    each checked alone and against the others."""
+    kw = {}
+    for name, (attr, *_rest) in LOAD_PATH_KEYS.items():
+        sec, key = name.split(".")
+        if sec == "piston" and key in s:
+            kw[attr] = load_path_value(ck, s, sec, key)
+    g = PistonGuide(**kw)
+    L = ck.fmt_len
+    if g.seal_height >= g.engagement:
+        raise ck.fail("piston.seal_height", f"{L(g.seal_height)} is not allowed; it must be < "
+                                            f"piston.engagement_length = {L(g.engagement)}")
+    lo, hi = 0.5 * g.seal_height, g.engagement - 0.5 * g.seal_height
+    if not lo <= g.seal_position <= hi:
+        raise ck.fail("piston.seal_position", f"{L(g.seal_position)} is not allowed; allowed "
+                                              f"range [{L(lo)}, {L(hi)}] (the seal lies in the "
+                                              "guided length)")
+    if g.clearance >= g.seal_width:
+        raise ck.fail("piston.bore_clearance", f"{L(g.clearance)} is not allowed; it must be < "
+                                               f"piston.seal_width = {L(g.seal_width)} (the "
+                                               "seal closes the clearance)")
+    return g
+
+
 def _bridge(ck, s: Mapping, kind: str) -> dict[str, float]:
-    """``caliper.bridge_tilt`` (mrad/kN) and ``caliper.finger_stiffness`` (MPa/mm) in SI."""
+    """The bridge keys of ``[caliper]`` (:data:`_BRIDGE_KEYS`) in SI."""
     out = {}
-    for key, (unit, si, strict) in _BRIDGE_KEYS.items():
+    for key in _BRIDGE_KEYS:
         if key not in s:
             continue
         if kind != "floating":
             raise ck.fail(f"caliper.{key}", f"is given with caliper.type = {kind!r}; the bridge "
                                             "and its fingers belong to a floating caliper")
-        v = ck.number(s, "caliper", key)
-        if v < 0.0 or (strict and v == 0.0):
-            raise ck.fail(f"caliper.{key}", f"{v!r} {unit} is not allowed; it must be "
-                                            f"{'>' if strict else '>='} 0 {unit}")
-        out[key] = v * si
+        out[key] = load_path_value(ck, s, "caliper", key)
     return out
 
 
@@ -366,8 +457,8 @@ def _rows(ck, s: Mapping, key: str) -> list[dict]:
     return [ck.table(t, f"caliper.{key}[{i}]") for i, t in enumerate(v)]
 
 
-def support(ck, d: Mapping, stiffness_unit_si: float) -> SupportGeometry:
-    """``[support] type clearance rail_stiffness spring_stiffness``."""
+def support(ck, d: Mapping) -> SupportGeometry:
+    """``[support] type clearance rail_stiffness spring_stiffness abutment_friction``."""
     if "support" not in d:
         return SupportGeometry()
     s = ck.table(d["support"], "support")
@@ -378,12 +469,6 @@ def support(ck, d: Mapping, stiffness_unit_si: float) -> SupportGeometry:
         raise ck.fail("support.clearance", f"{ck.fmt_len(clearance)} is not allowed with "
                                            "support.type = 'bilateral' (both ends held); "
                                            "allowed: 0, or type 'push' / 'pull'")
-    kw = {}
-    u = ck.unit_name["stiffness"]
-    for key in ("rail_stiffness", "spring_stiffness"):
-        if key in s:
-            v = ck.number(s, "support", key)
-            if v <= 0.0:
-                raise ck.fail(f"support.{key}", f"{v!r} {u} is not allowed; it must be > 0")
-            kw[key] = v * stiffness_unit_si
+    kw = {key: load_path_value(ck, s, "support", key)
+          for key in ("rail_stiffness", "spring_stiffness", "abutment_friction") if key in s}
     return SupportGeometry(kind, clearance, **kw)

@@ -7,14 +7,20 @@ returns the contact pressure, the active set and the displacement
 (:class:`FEInterface`), an elastic (Winkler) foundation
 (:class:`FoundationInterface` around :class:`WinklerInterface`, calibrated
 against FE contact by :func:`calibrate`), and the FE model condensed onto its
-contact nodes (:class:`CondensedInterface`, computed by :func:`condense`), all
+contact nodes (:class:`CondensedInterface`, computed by :func:`condense`),
+and the pads held by the caliper's rigid piston, fingers and abutments
+(:class:`CaliperInterface`, condensed with the caliper's rows), all
 behind the :class:`Interface` protocol of the wear loop
 (:mod:`~brakewear.interfaces.protocol`); :func:`choose_interface` picks FE or
 condensed for a run (``interface.model = "auto"``).
 """
 
-from . import auto, calibration, compliance, condensed, fe, foundation, protocol, winkler_bed
+from . import (auto, caliper, caliper_condensation, caliper_sets, calibration, compliance,
+               condensed, fe, foundation, protocol, winkler_bed)
 from .auto import *  # noqa: F403
+from .caliper import *  # noqa: F403
+from .caliper_condensation import *  # noqa: F403
+from .caliper_sets import *  # noqa: F403
 from .calibration import *  # noqa: F403
 from .compliance import *  # noqa: F403
 from .condensed import *  # noqa: F403
@@ -23,5 +29,6 @@ from .foundation import *  # noqa: F403
 from .protocol import *  # noqa: F403
 from .winkler_bed import *  # noqa: F403
 
-__all__ = [*auto.__all__, *calibration.__all__, *compliance.__all__, *condensed.__all__, *fe.__all__,
+__all__ = [*auto.__all__, *caliper.__all__, *caliper_condensation.__all__, *caliper_sets.__all__,
+           *calibration.__all__, *compliance.__all__, *condensed.__all__, *fe.__all__,
            *foundation.__all__, *protocol.__all__, *winkler_bed.__all__]

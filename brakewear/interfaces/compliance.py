@@ -164,6 +164,17 @@ def free_modes(K: sp.csr_matrix, coords: np.ndarray, fixed: np.ndarray) -> np.nd
             s = np.concatenate([s, np.zeros(6 - s.size)])
             V = Vt[s <= _NULL_TOL * max(s[0], 1e-300)].T
         if V.shape[1]:
+            # springs to ground (a bracket's rails and clip) hold modes too: keep
+            # those the stiffness itself leaves free
+            B, _ = np.linalg.qr(R @ V)
+            Kb = K[dofs][:, dofs]
+            w, X = np.linalg.eigh(B.T @ (Kb @ B))
+            scale = max(float(abs(Kb).sum(axis=1).max()), 1e-300)
+            free = w <= _NULL_TOL * scale
+            if not free.all():
+                Q = np.linalg.lstsq(R @ V, B @ X[:, free], rcond=None)[0]
+                V = V @ Q
+        if V.shape[1]:
             Zb = np.zeros((N, V.shape[1]))
             Zb[dofs] = R @ V
             cols.append(Zb)
@@ -207,6 +218,9 @@ class Supported:
     ----------
     cs : ContactSystem
         The contact system (:meth:`brakewear.BrakeModel.contact_system`).
+    rows : sparse matrix, optional
+        Further rows condensed with the contact nodes (the caliper's supports,
+        :mod:`brakewear.interfaces.caliper`): their DOFs are not held either.
 
     Attributes
     ----------
@@ -220,7 +234,7 @@ class Supported:
         Each body's DOFs that are not held.
     """
 
-    def __init__(self, cs):
+    def __init__(self, cs, rows=None):
         from ..contact.elimination import body_labels
 
         self.K = K = cs.K.tocsr()
@@ -230,6 +244,8 @@ class Supported:
         self.held = np.zeros(N, dtype=bool)
         self.held[fixed] = True
         touched = np.unique(constraint_rows(cs.pair, N).indices)
+        if rows is not None:        # further condensed rows (supports): not held either
+            touched = np.union1d(touched, sp.csr_matrix(rows).indices)
         self.held[_pinned(self.Z, touched)] = True
         labels = body_labels(K)
         labels = np.zeros(N // 3, dtype=np.int64) if labels is None else labels

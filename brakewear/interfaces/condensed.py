@@ -263,7 +263,8 @@ class _DenseSets:
     """One condensed contact solve as a :class:`~brakewear.contact.active_set.SetProblem`.
 
     The system of a set ``A`` (the rows of ``H + diag(c)`` of its nodes and
-    the ``m`` free modes) is the system of every node (the *base*, factorised
+    the ``m`` free modes, their block ``Q`` zero unless the caliper's rows
+    hold them, :mod:`brakewear.interfaces.caliper_sets`) is the system of every node (the *base*, factorised
     once per friction and compliance) with the open nodes ``R`` held at
     ``lam = 0`` by multipliers: ``z = y - X w`` with ``y = base^-1 b``, the
     base's solved unit columns ``X`` of ``R`` (each solved once per base)
@@ -276,9 +277,13 @@ class _DenseSets:
     the sets met before, so a resumed run repeats the uninterrupted one.
     """
 
-    def __init__(self, itf, H, D, q, rhs, c, ring_key: bytes = b""):
+    def __init__(self, itf, H, D, q, rhs, c, ring_key: bytes = b"", E=None, Q=None):
         self.itf, self.H, self.D, self.q, self.rhs, self.c = itf, H, D, q, rhs, c
-        self.E = itf.cond.E
+        # the modes' columns and, where the caliper's rows hold the modes, their own
+        # block (:mod:`brakewear.interfaces.caliper_sets`); else the condensation's, 0
+        self.E = itf.cond.E if E is None else E
+        self.Q = Q
+        self.alpha = np.zeros(self.E.shape[1])
         self.factorised = self.updated = 0
         self.c_key = None if c is None else c.tobytes() + ring_key
 
@@ -333,7 +338,7 @@ class _DenseSets:
         M[:k, :k] = self._block(A, A)
         M[:k, k:] = self.E[A]
         M[k:, :k] = self.D[:, A]
-        M[k:, k:] = 0.0
+        M[k:, k:] = 0.0 if self.Q is None else self.Q
         return lu_factor(M, check_finite=False)
 
     def _base(self, key) -> _Base:
@@ -382,6 +387,7 @@ class _DenseSets:
         a factorised system satisfies to round-off."""
         n = self.q.size
         lam = np.where(active, z[:n], 0.0)
+        self.alpha = z[n:]
         if rows is None:
             return lam, self.q + self.H @ lam + self.E @ z[n:]
         g = -self._comply(lam) * active
@@ -394,6 +400,8 @@ class _DenseSets:
         ref = max(float(np.abs(self.q[active]).max()), float(np.abs((g - self.q)[active]).max()),
                   1e-300)
         bottom = self.D @ lam - self.rhs
+        if self.Q is not None:
+            bottom = bottom + self.Q @ self.alpha
         return bool(np.abs(r[active]).max() <= 1e-12 * ref and np.abs(bottom).max() <= 1e-12 * max(
             np.abs(self.rhs).max(), np.abs(self.D).max() * np.abs(lam).sum(), 1e-300))
 

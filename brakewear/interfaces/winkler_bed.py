@@ -253,10 +253,13 @@ class WinklerInterface:
             k_rot = layer_modulus(g.rotor.material, 0.5 * g.rotor.thickness, constrained)
             k = 1.0 / (1.0 / k_pad + 1.0 / k_rot)
             source += f" in series with the rotor half thickness (k_rotor = {k_rot:.4g} Pa/m)"
-        lnodes = surface_nodes(pad, "piston_face")
-        lw = tributary_areas(pad, "piston_face", lnodes)
-        # the FE traction is uniform over the footprint's facets: its resultant
-        # acts at their area centroid (the piston centre up to the facet staircase)
+        # the FE model's clamp load (the piston footprints integrated on the back
+        # facets): its nodal shares, and its resultant's point
+        from ..caliper_loads import clamp_loads
+
+        fz = -clamp_loads(g, pad, 1.0, full=False, sides=("in",))[2::3]
+        lnodes = np.flatnonzero(fz)
+        lw = fz[lnodes]
         load_point = (pad.p[:2, lnodes] * lw).sum(axis=1) / lw.sum()
         r = np.hypot(xy[0], xy[1])
         drag = np.vstack([-xy[1], xy[0]]) / r

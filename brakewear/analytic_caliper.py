@@ -1,0 +1,66 @@
+"""Closed forms of the caliper's parts: a rubber seal in its groove, a ring of springs, a
+piston in its bore (the checks of :mod:`brakewear.contact.caliper_parts`), tested on
+their own.
+
+All functions take and return SI units.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "bonded_ring_axial_stiffness",
+    "bonded_ring_torsion_stiffness",
+    "bonded_strip_compression_modulus",
+    "ring_tilt_stiffness",
+    "rigid_ring_liftoff_moment",
+    "bore_contact_tilt",
+]
+
+
+def bonded_ring_axial_stiffness(G: float, r_i: float, r_o: float, height: float) -> float:
+    """Axial (telescopic) shear stiffness (N/m) of a rubber annulus of shear modulus
+    ``G``, radii ``r_i < r_o``, axial ``height``, bonded to a rigid core and a rigid
+    sleeve: ``2 pi G h / ln(r_o / r_i)`` (the antiplane shear ``u_z(r)`` of a
+    bush, exact where the ends carry the shear that the rest of the ring does)."""
+    return 2.0 * np.pi * G * height / np.log(r_o / r_i)
+
+
+def bonded_ring_torsion_stiffness(G: float, r_i: float, r_o: float, height: float) -> float:
+    """Torsional stiffness (N m/rad) of the same bonded annulus about its axis:
+    ``4 pi G h / (1/r_i^2 - 1/r_o^2)`` (the shear stress ``T / (2 pi r^2 h)``
+    integrated across the wall)."""
+    return 4.0 * np.pi * G * height / (r_i ** -2 - r_o ** -2)
+
+
+def bonded_strip_compression_modulus(E: float, width: float, thickness: float) -> float:
+    """Apparent compression modulus (Pa) of a long rubber strip of ``width`` bonded
+    (or held by friction) between two plates ``thickness`` apart: ``(4/3) E (1 +
+    S^2)`` with the shape factor ``S = width / (2 thickness)`` (Gent's long-strip
+    estimate for nearly incompressible rubber; an estimate within a factor of
+    about 1.5 for a square seal section, which is neither bonded nor long)."""
+    S = width / (2.0 * thickness)
+    return 4.0 / 3.0 * E * (1.0 + S * S)
+
+
+def ring_tilt_stiffness(axial_stiffness: float, radius: float) -> float:
+    """Tilt stiffness (N m/rad) about a diameter of a ring of axial springs of total
+    stiffness ``axial_stiffness`` spread evenly at ``radius``: ``k_a r^2 / 2``."""
+    return 0.5 * axial_stiffness * radius ** 2
+
+
+def rigid_ring_liftoff_moment(force: float, radius: float) -> float:
+    """The moment (N m) at which a rigid plate pressed by ``force`` onto a ring of
+    equal springs at ``radius`` begins to lift off the ring: the ring's force per
+    unit length is ``F/(2 pi a) (1 + 2 M cos(phi) / (F a))``, zero at its edge when
+    ``M = F a / 2``.  The plate rocks on the ring's edge (all the force at one
+    point) as ``M`` approaches ``F a``."""
+    return 0.5 * force * radius
+
+
+def bore_contact_tilt(clearance: float, engagement: float) -> float:
+    """The tilt (rad) at which a rigid piston in a bore of radial ``clearance``
+    touches the wall at both ends of its guided length ``engagement``, free to
+    shift sideways within the clearance: ``2 c / L`` (small angles); held
+    centred at one end (a pivot on the axis), it touches at ``c / L``."""
+    return 2.0 * clearance / engagement
