@@ -268,10 +268,12 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--version", action="version", version=f"brakewear {__version__}")
     ap.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = ap.add_subparsers(dest="command", required=True)
+    from .scene.reader import available_scenes
+    names = ", ".join(available_scenes())
     r = sub.add_parser("run", help="run a scene: a wear history (docs/scenes.md)",
-                       description="Run a scene file (or a packaged scene name such as "
-                                   "'default'): the wear history of the brake, written to --out.")
-    r.add_argument("scene", help="packaged scene name (default) or path of a scene .toml file")
+                       description=f"Run a scene file or a packaged scene ({names}): the "
+                                   "wear history of the brake, written to --out.")
+    r.add_argument("scene", help=f"packaged scene name ({names}) or path of a scene .toml file")
     r.add_argument("--out", default=None,
                    help="output folder (default brakewear-<scene name>)")
     r.add_argument("--resume", action="store_true",
