@@ -2,7 +2,9 @@
 
 ``brakewear run SCENE`` runs a scene (a packaged name such as ``default``
 or a scene file, docs/scenes.md): the wear history with a progress bar in
-simulated time, checkpoints in the output folder, ``--resume`` to continue.
+simulated time, checkpoints in the output folder, ``--resume`` to continue;
+a folder that already holds a run is refused unless ``--resume`` or
+``--overwrite`` (:mod:`brakewear.run_folder`).
 ``brakewear demo`` runs the main job on the default brake: mesh, solve under
 a line pressure with the pad tied to the rotor, write figures, VTU files and
 a JSON summary; then the default scene (running-in under drag) into
@@ -41,12 +43,14 @@ EXIT_OK, EXIT_BAD_INPUT, EXIT_SOLVER, EXIT_WORN_THROUGH, EXIT_INTERRUPTED = 0, 2
 def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
              line_pressure_mpa: float = 1.0, piston: str = "traction",
              size_mm: float | None = None, figures: bool = True,
-             memory_budget: float | None = None) -> dict:
+             memory_budget: float | None = None, overwrite: bool = False) -> dict:
     """Mesh the brake, solve it tied under the line pressure, write results; return the summary.
 
     ``size_mm`` must lie in the bounds scene files allow (half the radial pad
     width) and fit ``memory_budget`` (GB; default ``BRAKEWEAR_MEMORY_GB`` or
     the available memory); nothing is written before the input is checked.
+    An ``out`` that already holds a run is refused unless ``overwrite`` (its
+    run's files are removed once the input is checked).
     """
     import numpy as np
 
@@ -58,8 +62,10 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     from .model import BrakeModel
     from .output import check_out
 
+    from .run_folder import check_new_out, clear_run
+
     # the whole input is checked before anything is meshed or written
-    out = check_out(out, "--out")
+    out = check_new_out(check_out(out, "--out"), overwrite=overwrite, can_resume=False)
     geom = load_geometry(geometry)
     with user_units({"--pressure": ("MPa", 1e6, 0.0, line_pressure_mpa)}):
         check_number("--pressure", line_pressure_mpa * 1e6, 0.0, unit="Pa")
@@ -69,6 +75,8 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
                      budget_key="--memory-budget", budget_gb=memory_budget)
     t0 = time.perf_counter()
     model = BrakeModel(geom, piston=piston, size=size, memory_budget=memory_budget)
+    if overwrite:
+        clear_run(out)
     out.mkdir(parents=True, exist_ok=True)
     res = model.solve_tied(line_pressure_mpa * 1e6)
     summary = model.summary(res)
@@ -105,13 +113,24 @@ class _Progress:
     its steps; a schedule's in applications, fed by their records.  Between them
     it shows that the run is alive: the solvers' beats (:mod:`brakewear.heartbeat`:
     the contact solve's active-set iteration and set size) in its postfix, and a
-    clock that ticks every :data:`TICK_S` seconds while one solve runs."""
+    clock that ticks every :data:`TICK_S` seconds while one solve runs.
+
+    A history's time estimate is the remaining simulated time at the rate of
+    the steps since the first one (the first step carries the model's setup and
+    the first contact solve, so it says nothing of the rate): none before
+    :attr:`MIN_STEPS` steps after it.  The steps grow as the pressure settles,
+    so the estimate errs long, never short, on a running-in.  A schedule's is
+    tqdm's (the applications at their mean rate).
+    """
+
+    MIN_STEPS = 3
 
     def __init__(self, scene, quiet: bool):
         self.schedule = bool(scene.schedule)
         self.total = len(scene.schedule) if self.schedule else scene.duration
         self.done, self.step, self.where, self.alive = 0.0, 0, "", ""
         self.bar, self._shown, self._stop = None, 0.0, threading.Event()
+        self._first: tuple[float, float, int] | None = None   # wall s, simulated s, step
         if quiet:
             return
         from tqdm import tqdm
@@ -120,7 +139,8 @@ class _Progress:
         self.bar = tqdm(total=self.total, unit="s", unit_scale=False, file=sys.stderr,
                         desc=f"{scene.name}", dynamic_ncols=True,
                         bar_format="{desc}: {percentage:3.0f}%|{bar}| " + counted
-                                   + " [{elapsed}<{remaining}{postfix}]")
+                                   + (" [{elapsed}<{remaining}{postfix}]" if self.schedule
+                                      else " [{elapsed}{postfix}]"))
         self._ticker = threading.Thread(target=self._tick, daemon=True)
         self._ticker.start()
 
@@ -144,6 +164,17 @@ class _Progress:
             if refresh:
                 self._shown = time.monotonic()
 
+    def remaining(self, step: int, t: float, now: float | None = None) -> float | None:
+        """Wall seconds left at the rate since the first step (None: too early to tell)."""
+        now = time.perf_counter() if now is None else now
+        if self._first is None:
+            self._first = (now, t, step)
+            return None
+        w0, t0, k0 = self._first
+        if step - k0 < self.MIN_STEPS or now <= w0 or t <= t0:
+            return None
+        return max(0.0, self.total - t) * (now - w0) / (t - t0)
+
     def __call__(self, s) -> None:
         if self.schedule:           # an ApplicationRecord
             self.where = f"application {s.index + 1} ({s.kind}) done"
@@ -153,10 +184,14 @@ class _Progress:
         logger.info("step %d: t = %.6g s, dt = %.3g s (%s), %d rejected; pad wear max %.4g um, "
                     "pressure max %.4g MPa", s.step, s.time, s.dt, s.limit, s.rejected,
                     s.pad_wear.max() * 1e6, s.pressure.max() / 1e6)
+        left = self.remaining(s.step, s.time)
         if self.bar is not None and s.step and self.done == 0.0 and s.time - s.dt > 0:
             self.done = s.time - s.dt          # resumed: start where the checkpoint was
             self.bar.update(self.done)
-        self.where = f"step {s.step}, pad wear {s.pad_wear.max() * 1e6:.3g} um"
+        eta = ("done" if s.time >= self.total * (1 - 1e-12) else
+               "estimating the time left" if left is None or self.bar is None else
+               f"about {self.bar.format_interval(left)} left at the rate so far")
+        self.where = f"{eta}; step {s.step}, pad wear {s.pad_wear.max() * 1e6:.3g} um"
         self._advance(min(s.time, self.total))
 
     def _advance(self, to: float) -> None:
@@ -203,21 +238,32 @@ def _announce(line: str) -> None:
 
 
 def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,
-              quiet: bool = False) -> dict:
+              quiet: bool = False, overwrite: bool = False) -> dict:
     """Load a scene (name or file), check it, run it into ``out``; return the summary.
 
-    ``out`` defaults to ``brakewear-<scene name>``.  A progress bar (stderr)
-    advances in simulated time unless ``quiet``.
+    ``out`` defaults to ``brakewear-<scene name>``; a folder that already holds
+    a run is refused unless ``overwrite`` (its run's files are removed once the
+    scene is checked) or ``resume``.  A progress bar (stderr) advances in
+    simulated time unless ``quiet``; a ``resume`` of a finished run says so at
+    once and draws none.
     """
     from .errors import SolverError, WornThroughError
     from .output import check_out, run_scene
+    from .run_folder import check_new_out, clear_run, finished_run
     from .scene import load_scene
 
     if out is not None:
         check_out(out, "--out")
     sc = load_scene(scene)
-    out = Path(out) if out is not None else Path(f"brakewear-{sc.name}")
-    bar = _Progress(sc, quiet)
+    out = check_out(Path(out) if out is not None else Path(f"brakewear-{sc.name}"), "--out")
+    check_new_out(out, overwrite=overwrite, resume=resume)
+    done = finished_run(out, sc.duration) if resume and not sc.schedule else None
+    if done is not None:
+        print(f"brakewear run: {out} holds a finished run ({done[0]} steps to t = "
+              f"{done[1]:.6g} s); checking that its inputs are this scene's", flush=True)
+    if overwrite:
+        clear_run(out)
+    bar = _Progress(sc, quiet or done is not None)
     try:
         with listening(bar.beat):
             summary = run_scene(sc, out, resume=resume, progress=bar, announce=_announce)
@@ -278,9 +324,14 @@ def _parser() -> argparse.ArgumentParser:
                    help="output folder (default brakewear-<scene name>)")
     r.add_argument("--resume", action="store_true",
                    help="continue from the checkpoint in --out (same scene)")
+    r.add_argument("--overwrite", action="store_true",
+                   help="replace the run that --out already holds (without it, such a "
+                        "folder is refused)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
     d = sub.add_parser("demo", help="the default brake end to end (the README's main job)")
     d.add_argument("--out", default="brakewear-out", help="output folder (default brakewear-out)")
+    d.add_argument("--overwrite", action="store_true",
+                   help="replace the demo run that --out already holds")
     d.add_argument("--geometry", default="default", help="geometry name or .toml path")
     d.add_argument("--pressure", type=float, default=1.0, help="line pressure in MPa (default 1)")
     d.add_argument("--piston", choices=("traction", "body"), default="traction",
@@ -314,7 +365,8 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         if args.command == "run":
-            s = run_scene_file(args.scene, args.out, args.resume, args.quiet)
+            s = run_scene_file(args.scene, args.out, args.resume, args.quiet,
+                               overwrite=args.overwrite)
             if "braked_applications" in s:
                 _print_schedule(args.scene, s)
                 return EXIT_OK
@@ -337,7 +389,8 @@ def main(argv: list[str] | None = None) -> int:
             return EXIT_OK
         if args.command == "demo":
             s = run_demo(args.out, args.geometry, args.pressure, args.piston, args.size,
-                         figures=not args.no_figures, memory_budget=args.memory_budget)
+                         figures=not args.no_figures, memory_budget=args.memory_budget,
+                         overwrite=args.overwrite)
             i = s["interface"]
             print(f"brakewear demo: {s['solver']['dofs']} DOFs, line pressure "
                   f"{s['line_pressure_Pa'] / 1e6:g} MPa, clamp force {s['clamp_force_N']:.1f} N")
