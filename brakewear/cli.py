@@ -263,6 +263,8 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
               f"{done[1]:.6g} s); checking that its inputs are this scene's", flush=True)
     if overwrite:
         clear_run(out)
+    if done is None:
+        _print_accuracy(f"brakewear run {scene}", sc)
     bar = _Progress(sc, quiet or done is not None)
     try:
         with listening(bar.beat):
@@ -280,6 +282,19 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     return summary
 
 
+def _print_accuracy(what: str, scene) -> None:
+    """The first lines of a run: its mesh and the estimated error of its pad wear
+    (:func:`brakewear.accuracy.mesh_accuracy`); a warning (stderr) for a coarse mesh."""
+    from .accuracy import accuracy_lines, mesh_accuracy
+
+    lines = accuracy_lines(mesh_accuracy(scene))
+    print(f"{what}: " + "\n  ".join(s for s in lines if not s.startswith("warning:")),
+          flush=True)
+    for s in lines:
+        if s.startswith("warning:"):
+            print(f"brakewear: {s}", file=sys.stderr, flush=True)
+
+
 def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = False,
                   figures: bool = True) -> dict:
     """The demo's second half: the default scene (running-in under drag) into ``out``."""
@@ -293,6 +308,7 @@ def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = 
         sc = dataclasses.replace(sc, duration=float(duration))
     if not figures:
         sc = dataclasses.replace(sc, output=dataclasses.replace(sc.output, figures=False))
+    _print_accuracy("brakewear demo, running-in", sc)
     bar = _Progress(sc, quiet)
     try:
         with listening(bar.beat):

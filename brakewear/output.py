@@ -30,6 +30,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .accuracy import mesh_accuracy
 from .checks import file_messages, shown_value
 from .errors import SceneError, SolverError, WearError, WornThroughError
 from .interfaces.fe import FEInterface
@@ -339,6 +340,7 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
                         "interface": scene.interface.model, "scheme": n.scheme,
                         "update": n.update, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}
+    summary["accuracy"] = mesh_accuracy(scene)
     if scene.output.figures and "final" in summary and not isinstance(worn, KeyboardInterrupt):
         summary["figures"] = _figures(model, out, scene)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
@@ -396,6 +398,7 @@ def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict,
     summary["scene"] = {"name": scene.name, "source": scene.source, "scheme":
                         scene.numerics.scheme, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}
+    summary["accuracy"] = mesh_accuracy(scene)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
     if ended is not None:
         raise ended
