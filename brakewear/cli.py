@@ -55,6 +55,7 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     import numpy as np
 
     from .checks import check_number, check_plausible, user_units
+    from .face_maps import plot_face_map
     from .figures import plot_field, plot_named_surfaces
     from .geometry.files import load_geometry
     from .mesh.estimate import check_model_size
@@ -93,13 +94,14 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     if figures:
         files.append(plot_named_surfaces(model.meshes, out / "brake_surfaces.png",
                                          title="default brake: named surfaces"))
-        files.append(plot_field(pad, p / 1e6, out / "pad_interface_pressure.png",
-                                f"Pad-rotor interface pressure, tied, {line_pressure_mpa:g} MPa line",
-                                label="pressure (MPa)", cmap="inferno", facets="friction",
-                                view=(0.0, 0.0, -1.0)))
+        files.append(plot_face_map(pad, p / 1e6, out / "pad_interface_pressure.png",
+                                   f"Pad-rotor interface pressure, tied, {line_pressure_mpa:g} "
+                                   "MPa line pressure", "interface pressure (MPa)",
+                                   geom.pad, cmap="inferno"))
         files.append(plot_field(model.meshes["rotor"], vm["rotor"] / 1e6,
                                 out / "rotor_von_mises.png",
-                                "Rotor von Mises stress (MPa)", label="von Mises (MPa)",
+                                "Rotor von Mises stress, displacements x 20 000",
+                                label="von Mises stress (MPa)",
                                 warp=res.u["rotor"].reshape(-1, 3).T, warp_scale=2e4))
     summary["run_s"] = time.perf_counter() - t0
     summary["files"] = [str(Path(f)) for f in files] + [str(out / "summary.json")]
