@@ -116,14 +116,9 @@ def plot_face_map(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, titl
 
     Parameters
     ----------
-    mesh : skfem.Mesh
-        The pad's or the rotor's mesh (P2 meshes are drawn with their vertices).
-    values : ndarray
-        One value per vertex (longer P2 arrays are cut to the vertices).
-    path
-        PNG file to write.
-    title : str
-        Figure title.
+    mesh, values, path, title
+        The pad's or the rotor's mesh, one value per vertex, the PNG file and the
+        title, as for :func:`brakewear.figures.plot_field`.
     label : str
         Colour-bar title with its unit, e.g. ``"pad wear (µm)"``.
     pad : brakewear.geometry.PadGeometry
