@@ -18,7 +18,9 @@ active set that cycles, no acceptable wear step, a degenerate element);
 to its wear limit: the run ends there, its files and summary.json are
 written; the message says when and where); 130 interrupted (Ctrl-C; the
 message says how to resume).  ``brakewear --version`` prints the version;
-``python -m brakewear`` is the same command.
+``python -m brakewear`` is the same command.  ``brakewear new-scene NAME``
+writes a starting geometry and scene for your own brake
+(:mod:`brakewear.scene.starter`).
 """
 from __future__ import annotations
 
@@ -346,6 +348,16 @@ def _parser() -> argparse.ArgumentParser:
                    help="replace the run that --out already holds (without it, such a "
                         "folder is refused)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
+    n = sub.add_parser("new-scene", help="write a starting geometry and scene file for your "
+                                         "own brake (docs/howto_own_brake.md)",
+                       description="Write NAME.toml (a brake geometry) and NAME_scene.toml (a "
+                                   "scene that runs it), annotated, to edit from your drawing; "
+                                   "existing files are never overwritten.")
+    n.add_argument("name", help="file name of the brake, without .toml (e.g. my_brake)")
+    n.add_argument("--dir", default=".", help="folder to write into (default: here)")
+    n.add_argument("--from", dest="start", choices=("default", "floating"), default="default",
+                   help="the packaged brake to start from: default (one pad, fixed caliper, "
+                        "solid ring) or floating (floating caliper, hat rotor, both pads)")
     d = sub.add_parser("demo", help="the default brake end to end (the README's main job)")
     d.add_argument("--out", default="brakewear-out", help="output folder (default brakewear-out)")
     d.add_argument("--overwrite", action="store_true",
@@ -373,6 +385,17 @@ def _parser() -> argparse.ArgumentParser:
     except ImportError:  # pragma: no cover
         pass
     return ap
+
+
+def _new_scene(args) -> int:
+    """``brakewear new-scene NAME``: the starting files, and what to do next."""
+    from .scene.starter import write_new_scene
+
+    geo, scn = write_new_scene(args.name, args.dir, args.start)
+    print(f"brakewear new-scene: wrote {geo} (the brake) and {scn} (what to run), both the "
+          f"packaged {args.start!r} brake until you edit them from your drawing "
+          f"(docs/howto_own_brake.md); then:\n  brakewear run {scn}")
+    return EXIT_OK
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -427,6 +450,8 @@ def main(argv: list[str] | None = None) -> int:
                       f"{100 * f['contact_fraction']:.0f} % of the pad face, p r spread "
                       f"{f['pr_spread']:.3f}; wrote {w['out']}/")
             return 0
+        if args.command == "new-scene":
+            return _new_scene(args)
         if args.command == "bench":
             from .bench import run_bench
             return run_bench(args)
