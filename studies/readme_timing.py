@@ -183,9 +183,12 @@ def tables(record: dict) -> dict[str, str]:
     loaded = {load: [r["load_before"] for r in runs.values()] for load, runs in loads.items()}
     note = "; ".join(f"{load}: load average {min(v):.1f} to {max(v):.1f} at the starts"
                      for load, v in loaded.items() if v)
-    readme += ["", f"Wall times measured by `python studies/readme_timing.py` on "
-                   f"{record.get('machine', machine())} ({note}; busy: one process spinning on "
-               "a core throughout). Details, CPU times and the slowest tests: "
+    readme += ["", (f"Wall times measured by `python studies/readme_timing.py` on "
+                    f"{record.get('machine', machine())} ({note}; busy: one process spinning "
+                    "on a core throughout)." if note else
+                    "`python studies/readme_timing.py` measures these times and writes them "
+                    "here.")
+               + " Details, CPU times and the slowest tests: "
                "[docs/performance.md](docs/performance.md), \"The README's commands\"."]
     detail = ["| command | idle: wall (CPU) | second core busy: wall (CPU) |", "|---|---:|---:|"]
     detail += [f"| {LABELS[n]} | {_cell(record, 'idle', n, True)} | "
