@@ -64,7 +64,6 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     from .mesh.io import write_mesh
     from .model import BrakeModel
     from .output import check_out
-
     from .run_folder import check_new_out, clear_run
 
     # the whole input is checked before anything is meshed or written
