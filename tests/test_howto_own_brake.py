@@ -86,3 +86,19 @@ def test_new_scene_never_overwrites(tmp_path, capsys):
     for bad in ("../x", "x.toml", ""):
         assert main(["new-scene", bad, "--dir", str(tmp_path)]) == 2
         assert "is not allowed" in capsys.readouterr().err
+
+
+def test_the_howto_quotes_what_the_run_prints(tmp_path):
+    """The estimates the how-to quotes are what the rating gives for its scene."""
+    from dataclasses import replace
+
+    from brakewear.accuracy import accuracy_lines, mesh_accuracy
+
+    (tmp_path / "my_brake.toml").write_text(_block("# my_brake.toml"))
+    (tmp_path / "s.toml").write_text(_block("# my_brake_scene.toml"))
+    sc = load_scene(tmp_path / "s.toml")
+    text = " ".join(HOWTO.split())
+    for line in accuracy_lines(mesh_accuracy(sc)):
+        assert " ".join(line.split()) in text, line
+    coarse = accuracy_lines(mesh_accuracy(replace(sc, mesh_size=None, resolution={})))
+    assert coarse[-1] in HOWTO and "6 + 2 layers" in coarse[0]
