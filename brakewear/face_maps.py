@@ -33,9 +33,9 @@ _ARROW = (0.75, 0.1, 0.1)
 
 
 def scale_length(width: float) -> float:
-    """A round length (m) of about a quarter of ``width`` (m) for a scale bar:
-    1, 2 or 5 times a power of ten."""
-    target = 0.25 * width
+    """A round length (m) of at most 30 % of ``width`` (m) for a scale bar: 1, 2 or 5
+    times a power of ten."""
+    target = 0.3 * width
     base = 10.0 ** math.floor(math.log10(target))
     return max(m * base for m in (1.0, 2.0, 5.0) if m * base <= target * (1 + 1e-12))
 

@@ -90,7 +90,8 @@ def test_the_marks_name_edges_radii_rotation_and_scale(monkeypatch, tmp_path, mo
 def test_scale_lengths_are_round():
     assert scale_length(0.043) == pytest.approx(0.01)
     assert scale_length(0.300) == pytest.approx(0.05)
-    assert scale_length(0.036) == pytest.approx(0.005)
+    assert scale_length(0.036) == pytest.approx(0.01)
+    assert scale_length(0.030) == pytest.approx(0.005)
     assert scale_length(0.12) == pytest.approx(0.02)
     assert (TICK_FORMAT % 127.0, TICK_FORMAT % 0.5, TICK_FORMAT % 1234.5) == \
         ("127", "0.5", "1.23e+03")
