@@ -240,6 +240,25 @@ def _announce(line: str) -> None:
     print(line, flush=True)
 
 
+def _print_run(scene: str, s: dict) -> None:
+    """What `brakewear run` prints at the end of a drag."""
+    f = s["final"]
+    if s.get("already_finished"):
+        print(f"brakewear run: {s['out']} already holds the finished run "
+              f"({s['steps']} steps); nothing to do")
+        return
+    print(f"brakewear run {scene}: {s['steps']} steps to t = {f['time_s']:.6g} s, "
+          f"{s['dofs']} DOFs, {s['contact_solves']} contact solves, {s['run_s']:.1f} s")
+    print(f"  pad wear max {f['pad_wear_max_m'] * 1e6:.3f} um, mean "
+          f"{f['pad_wear_mean_m'] * 1e6:.3f} um; rotor wear max "
+          f"{f['rotor_wear_max_m'] * 1e6:.3f} um; max pressure "
+          f"{f['pressure_max_Pa'] / 1e6:.3f} MPa; p r spread {f['pr_spread']:.3f}")
+    print(f"  wrote {s['out']}/: summary.json, history.csv, pad.pvd"
+          + (", rotor.pvd" if s["files"].get("rotor") else "")
+          + ", checkpoint.npz, scene.json"
+          + "".join(f", {Path(p).name}" for p in s.get("figures", [])))
+
+
 def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,
               quiet: bool = False, overwrite: bool = False) -> dict:
     """Load a scene (name or file), check it, run it into ``out``; return the summary.
@@ -410,22 +429,7 @@ def main(argv: list[str] | None = None) -> int:
             if "braked_applications" in s:
                 _print_schedule(args.scene, s)
                 return EXIT_OK
-            f = s["final"]
-            if s.get("already_finished"):
-                print(f"brakewear run: {s['out']} already holds the finished run "
-                      f"({s['steps']} steps); nothing to do")
-                return EXIT_OK
-            print(f"brakewear run {args.scene}: {s['steps']} steps to t = {f['time_s']:.6g} s, "
-                  f"{s['dofs']} DOFs, {s['contact_solves']} contact solves, "
-                  f"{s['run_s']:.1f} s")
-            print(f"  pad wear max {f['pad_wear_max_m'] * 1e6:.3f} um, mean "
-                  f"{f['pad_wear_mean_m'] * 1e6:.3f} um; rotor wear max "
-                  f"{f['rotor_wear_max_m'] * 1e6:.3f} um; max pressure "
-                  f"{f['pressure_max_Pa'] / 1e6:.3f} MPa; p r spread {f['pr_spread']:.3f}")
-            print(f"  wrote {s['out']}/: summary.json, history.csv, pad.pvd"
-                  + (", rotor.pvd" if s["files"].get("rotor") else "")
-                  + ", checkpoint.npz, scene.json"
-                  + "".join(f", {Path(p).name}" for p in s.get("figures", [])))
+            _print_run(args.scene, s)
             return EXIT_OK
         if args.command == "demo":
             s = run_demo(args.out, args.geometry, args.pressure, args.piston, args.size,
