@@ -84,7 +84,7 @@ def test_the_floating_geometry_describes_itself_as_it_is():
     assert "floating caliper" in head and "hat" in head and "push" in head
 
 
-@pytest.mark.parametrize("name", ["default", "floating", "thermal"])
+@pytest.mark.parametrize("name", available_scenes())
 def test_scene_comments_name_what_the_scene_is(name):
     text = scene_file(name).read_text()
     geom = load_geometry(re.search(r'^geometry = "(\w+)"', text, re.M).group(1))
