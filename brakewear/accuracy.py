@@ -8,7 +8,9 @@ each mesh's pad wear compared, as a relative L2 distance over the pad face,
 with the Richardson estimate of the mesh-converged pad wear, after 20 minutes
 and after the hour.  The figures are :data:`P1_MEASURED` and
 :data:`P2_MEASURED` (tests/test_accuracy.py checks them against
-docs/data/mesh_convergence.json and mesh_convergence_p2.json).
+docs/data/mesh_convergence.json and mesh_convergence_p2.json).  They are
+the meshes' errors alone: a run's own steps add theirs (the default scene's
+60 equal steps 0.25 %, docs/wear.md), which the rating does not include.
 
 :func:`mesh_accuracy` rates a scene's mesh:
 
