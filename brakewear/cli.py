@@ -2,7 +2,9 @@
 
 ``brakewear run SCENE`` runs a scene (a packaged name such as ``default``
 or a scene file, docs/scenes.md): the wear history with a progress bar in
-simulated time, checkpoints in the output folder, ``--resume`` to continue.
+simulated time, checkpoints in the output folder, ``--resume`` to continue;
+a folder that already holds a run is refused unless ``--resume`` or
+``--overwrite`` (:mod:`brakewear.run_folder`).
 ``brakewear demo`` runs the main job on the default brake: mesh, solve under
 a line pressure with the pad tied to the rotor, write figures, VTU files and
 a JSON summary; then the default scene (running-in under drag) into
@@ -16,7 +18,9 @@ active set that cycles, no acceptable wear step, a degenerate element);
 to its wear limit: the run ends there, its files and summary.json are
 written; the message says when and where); 130 interrupted (Ctrl-C; the
 message says how to resume).  ``brakewear --version`` prints the version;
-``python -m brakewear`` is the same command.
+``python -m brakewear`` is the same command.  ``brakewear new-scene NAME``
+writes a starting geometry and scene for your own brake
+(:mod:`brakewear.scene.starter`).
 """
 from __future__ import annotations
 
@@ -41,25 +45,29 @@ EXIT_OK, EXIT_BAD_INPUT, EXIT_SOLVER, EXIT_WORN_THROUGH, EXIT_INTERRUPTED = 0, 2
 def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
              line_pressure_mpa: float = 1.0, piston: str = "traction",
              size_mm: float | None = None, figures: bool = True,
-             memory_budget: float | None = None) -> dict:
+             memory_budget: float | None = None, overwrite: bool = False) -> dict:
     """Mesh the brake, solve it tied under the line pressure, write results; return the summary.
 
     ``size_mm`` must lie in the bounds scene files allow (half the radial pad
     width) and fit ``memory_budget`` (GB; default ``BRAKEWEAR_MEMORY_GB`` or
     the available memory); nothing is written before the input is checked.
+    An ``out`` that already holds a run is refused unless ``overwrite`` (its
+    run's files are removed once the input is checked).
     """
     import numpy as np
 
     from .checks import check_number, check_plausible, user_units
+    from .face_maps import plot_face_map
     from .figures import plot_field, plot_named_surfaces
     from .geometry.files import load_geometry
     from .mesh.estimate import check_model_size
     from .mesh.io import write_mesh
     from .model import BrakeModel
     from .output import check_out
+    from .run_folder import check_new_out, clear_run
 
     # the whole input is checked before anything is meshed or written
-    out = check_out(out, "--out")
+    out = check_new_out(check_out(out, "--out"), overwrite=overwrite, can_resume=False)
     geom = load_geometry(geometry)
     with user_units({"--pressure": ("MPa", 1e6, 0.0, line_pressure_mpa)}):
         check_number("--pressure", line_pressure_mpa * 1e6, 0.0, unit="Pa")
@@ -69,6 +77,8 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
                      budget_key="--memory-budget", budget_gb=memory_budget)
     t0 = time.perf_counter()
     model = BrakeModel(geom, piston=piston, size=size, memory_budget=memory_budget)
+    if overwrite:
+        clear_run(out)
     out.mkdir(parents=True, exist_ok=True)
     res = model.solve_tied(line_pressure_mpa * 1e6)
     summary = model.summary(res)
@@ -85,13 +95,14 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     if figures:
         files.append(plot_named_surfaces(model.meshes, out / "brake_surfaces.png",
                                          title="default brake: named surfaces"))
-        files.append(plot_field(pad, p / 1e6, out / "pad_interface_pressure.png",
-                                f"Pad-rotor interface pressure, tied, {line_pressure_mpa:g} MPa line",
-                                label="pressure (MPa)", cmap="inferno", facets="friction",
-                                view=(0.0, 0.0, -1.0)))
+        files.append(plot_face_map(pad, p / 1e6, out / "pad_interface_pressure.png",
+                                   f"Pad-rotor interface pressure, tied, {line_pressure_mpa:g} "
+                                   "MPa line pressure", "interface pressure (MPa)",
+                                   geom.pad, cmap="inferno"))
         files.append(plot_field(model.meshes["rotor"], vm["rotor"] / 1e6,
                                 out / "rotor_von_mises.png",
-                                "Rotor von Mises stress (MPa)", label="von Mises (MPa)",
+                                "Rotor von Mises stress, displacements x 20 000",
+                                label="von Mises stress (MPa)",
                                 warp=res.u["rotor"].reshape(-1, 3).T, warp_scale=2e4))
     summary["run_s"] = time.perf_counter() - t0
     summary["files"] = [str(Path(f)) for f in files] + [str(out / "summary.json")]
@@ -105,13 +116,24 @@ class _Progress:
     its steps; a schedule's in applications, fed by their records.  Between them
     it shows that the run is alive: the solvers' beats (:mod:`brakewear.heartbeat`:
     the contact solve's active-set iteration and set size) in its postfix, and a
-    clock that ticks every :data:`TICK_S` seconds while one solve runs."""
+    clock that ticks every :data:`TICK_S` seconds while one solve runs.
+
+    A history's time estimate is the remaining simulated time at the rate of
+    the steps since the first one (the first step carries the model's setup and
+    the first contact solve, so it says nothing of the rate): none before
+    :attr:`MIN_STEPS` steps after it.  The steps grow as the pressure settles,
+    so the estimate errs long, never short, on a running-in.  A schedule's is
+    tqdm's (the applications at their mean rate).
+    """
+
+    MIN_STEPS = 3
 
     def __init__(self, scene, quiet: bool):
         self.schedule = bool(scene.schedule)
         self.total = len(scene.schedule) if self.schedule else scene.duration
         self.done, self.step, self.where, self.alive = 0.0, 0, "", ""
         self.bar, self._shown, self._stop = None, 0.0, threading.Event()
+        self._first: tuple[float, float, int] | None = None   # wall s, simulated s, step
         if quiet:
             return
         from tqdm import tqdm
@@ -120,7 +142,8 @@ class _Progress:
         self.bar = tqdm(total=self.total, unit="s", unit_scale=False, file=sys.stderr,
                         desc=f"{scene.name}", dynamic_ncols=True,
                         bar_format="{desc}: {percentage:3.0f}%|{bar}| " + counted
-                                   + " [{elapsed}<{remaining}{postfix}]")
+                                   + (" [{elapsed}<{remaining}{postfix}]" if self.schedule
+                                      else " [{elapsed}{postfix}]"))
         self._ticker = threading.Thread(target=self._tick, daemon=True)
         self._ticker.start()
 
@@ -144,6 +167,17 @@ class _Progress:
             if refresh:
                 self._shown = time.monotonic()
 
+    def remaining(self, step: int, t: float, now: float | None = None) -> float | None:
+        """Wall seconds left at the rate since the first step (None: too early to tell)."""
+        now = time.perf_counter() if now is None else now
+        if self._first is None:
+            self._first = (now, t, step)
+            return None
+        w0, t0, k0 = self._first
+        if step - k0 < self.MIN_STEPS or now <= w0 or t <= t0:
+            return None
+        return max(0.0, self.total - t) * (now - w0) / (t - t0)
+
     def __call__(self, s) -> None:
         if self.schedule:           # an ApplicationRecord
             self.where = f"application {s.index + 1} ({s.kind}) done"
@@ -153,10 +187,14 @@ class _Progress:
         logger.info("step %d: t = %.6g s, dt = %.3g s (%s), %d rejected; pad wear max %.4g um, "
                     "pressure max %.4g MPa", s.step, s.time, s.dt, s.limit, s.rejected,
                     s.pad_wear.max() * 1e6, s.pressure.max() / 1e6)
+        left = self.remaining(s.step, s.time)
         if self.bar is not None and s.step and self.done == 0.0 and s.time - s.dt > 0:
             self.done = s.time - s.dt          # resumed: start where the checkpoint was
             self.bar.update(self.done)
-        self.where = f"step {s.step}, pad wear {s.pad_wear.max() * 1e6:.3g} um"
+        eta = ("done" if s.time >= self.total * (1 - 1e-12) else
+               "estimating the time left" if left is None or self.bar is None else
+               f"about {self.bar.format_interval(left)} left at the rate so far")
+        self.where = f"{eta}; step {s.step}, pad wear {s.pad_wear.max() * 1e6:.3g} um"
         self._advance(min(s.time, self.total))
 
     def _advance(self, to: float) -> None:
@@ -202,22 +240,54 @@ def _announce(line: str) -> None:
     print(line, flush=True)
 
 
+def _print_run(scene: str, s: dict) -> None:
+    """What `brakewear run` prints at the end of a drag."""
+    f = s["final"]
+    if s.get("already_finished"):
+        print(f"brakewear run: {s['out']} already holds the finished run "
+              f"({s['steps']} steps); nothing to do")
+        return
+    print(f"brakewear run {scene}: {s['steps']} steps to t = {f['time_s']:.6g} s, "
+          f"{s['dofs']} DOFs, {s['contact_solves']} contact solves, {s['run_s']:.1f} s")
+    print(f"  pad wear max {f['pad_wear_max_m'] * 1e6:.3f} um, mean "
+          f"{f['pad_wear_mean_m'] * 1e6:.3f} um; rotor wear max "
+          f"{f['rotor_wear_max_m'] * 1e6:.3f} um; max pressure "
+          f"{f['pressure_max_Pa'] / 1e6:.3f} MPa; p r spread {f['pr_spread']:.3f}")
+    print(f"  wrote {s['out']}/: summary.json, history.csv, pad.pvd"
+          + (", rotor.pvd" if s["files"].get("rotor") else "")
+          + ", checkpoint.npz, scene.json"
+          + "".join(f", {Path(p).name}" for p in s.get("figures", [])))
+
+
 def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,
-              quiet: bool = False) -> dict:
+              quiet: bool = False, overwrite: bool = False) -> dict:
     """Load a scene (name or file), check it, run it into ``out``; return the summary.
 
-    ``out`` defaults to ``brakewear-<scene name>``.  A progress bar (stderr)
-    advances in simulated time unless ``quiet``.
+    ``out`` defaults to ``brakewear-<scene name>``; a folder that already holds
+    a run is refused unless ``overwrite`` (its run's files are removed once the
+    scene is checked) or ``resume``.  A progress bar (stderr) advances in
+    simulated time unless ``quiet``; a ``resume`` of a finished run says so at
+    once and draws none.
     """
     from .errors import SolverError, WornThroughError
     from .output import check_out, run_scene
+    from .run_folder import check_new_out, clear_run, finished_run
     from .scene import load_scene
 
     if out is not None:
         check_out(out, "--out")
     sc = load_scene(scene)
-    out = Path(out) if out is not None else Path(f"brakewear-{sc.name}")
-    bar = _Progress(sc, quiet)
+    out = check_out(Path(out) if out is not None else Path(f"brakewear-{sc.name}"), "--out")
+    check_new_out(out, overwrite=overwrite, resume=resume)
+    done = finished_run(out, sc.duration) if resume and not sc.schedule else None
+    if done is not None:
+        print(f"brakewear run: {out} holds a finished run ({done[0]} steps to t = "
+              f"{done[1]:.6g} s); checking that its inputs are this scene's", flush=True)
+    if overwrite:
+        clear_run(out)
+    if done is None:
+        _print_accuracy(f"brakewear run {scene}", sc)
+    bar = _Progress(sc, quiet or done is not None)
     try:
         with listening(bar.beat):
             summary = run_scene(sc, out, resume=resume, progress=bar, announce=_announce)
@@ -234,6 +304,19 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     return summary
 
 
+def _print_accuracy(what: str, scene) -> None:
+    """The first lines of a run: its mesh and the estimated error of its pad wear
+    (:func:`brakewear.accuracy.mesh_accuracy`); a warning (stderr) for a coarse mesh."""
+    from .accuracy import accuracy_lines, mesh_accuracy
+
+    lines = accuracy_lines(mesh_accuracy(scene))
+    print(f"{what}: " + "\n  ".join(s for s in lines if not s.startswith("warning:")),
+          flush=True)
+    for s in lines:
+        if s.startswith("warning:"):
+            print(f"brakewear: {s}", file=sys.stderr, flush=True)
+
+
 def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = False,
                   figures: bool = True) -> dict:
     """The demo's second half: the default scene (running-in under drag) into ``out``."""
@@ -247,6 +330,7 @@ def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = 
         sc = dataclasses.replace(sc, duration=float(duration))
     if not figures:
         sc = dataclasses.replace(sc, output=dataclasses.replace(sc.output, figures=False))
+    _print_accuracy("brakewear demo, running-in", sc)
     bar = _Progress(sc, quiet)
     try:
         with listening(bar.beat):
@@ -268,17 +352,34 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--version", action="version", version=f"brakewear {__version__}")
     ap.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = ap.add_subparsers(dest="command", required=True)
+    from .scene.reader import available_scenes
+    names = ", ".join(available_scenes())
     r = sub.add_parser("run", help="run a scene: a wear history (docs/scenes.md)",
-                       description="Run a scene file (or a packaged scene name such as "
-                                   "'default'): the wear history of the brake, written to --out.")
-    r.add_argument("scene", help="packaged scene name (default) or path of a scene .toml file")
+                       description=f"Run a scene file or a packaged scene ({names}): the "
+                                   "wear history of the brake, written to --out.")
+    r.add_argument("scene", help=f"packaged scene name ({names}) or path of a scene .toml file")
     r.add_argument("--out", default=None,
                    help="output folder (default brakewear-<scene name>)")
     r.add_argument("--resume", action="store_true",
                    help="continue from the checkpoint in --out (same scene)")
+    r.add_argument("--overwrite", action="store_true",
+                   help="replace the run that --out already holds (without it, such a "
+                        "folder is refused)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
+    n = sub.add_parser("new-scene", help="write a starting geometry and scene file for your "
+                                         "own brake (docs/howto_own_brake.md)",
+                       description="Write NAME.toml (a brake geometry) and NAME_scene.toml (a "
+                                   "scene that runs it), annotated, to edit from your drawing; "
+                                   "existing files are never overwritten.")
+    n.add_argument("name", help="file name of the brake, without .toml (e.g. my_brake)")
+    n.add_argument("--dir", default=".", help="folder to write into (default: here)")
+    n.add_argument("--from", dest="start", choices=("default", "floating"), default="default",
+                   help="the packaged brake to start from: default (one pad, fixed caliper, "
+                        "solid ring) or floating (floating caliper, hat rotor, both pads)")
     d = sub.add_parser("demo", help="the default brake end to end (the README's main job)")
     d.add_argument("--out", default="brakewear-out", help="output folder (default brakewear-out)")
+    d.add_argument("--overwrite", action="store_true",
+                   help="replace the demo run that --out already holds")
     d.add_argument("--geometry", default="default", help="geometry name or .toml path")
     d.add_argument("--pressure", type=float, default=1.0, help="line pressure in MPa (default 1)")
     d.add_argument("--piston", choices=("traction", "body"), default="traction",
@@ -304,6 +405,17 @@ def _parser() -> argparse.ArgumentParser:
     return ap
 
 
+def _new_scene(args) -> int:
+    """``brakewear new-scene NAME``: the starting files, and what to do next."""
+    from .scene.starter import write_new_scene
+
+    geo, scn = write_new_scene(args.name, args.dir, args.start)
+    print(f"brakewear new-scene: wrote {geo} (the brake) and {scn} (what to run), both the "
+          f"packaged {args.start!r} brake until you edit them from your drawing "
+          f"(docs/howto_own_brake.md); then:\n  brakewear run {scn}")
+    return EXIT_OK
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
@@ -312,30 +424,17 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         if args.command == "run":
-            s = run_scene_file(args.scene, args.out, args.resume, args.quiet)
+            s = run_scene_file(args.scene, args.out, args.resume, args.quiet,
+                               overwrite=args.overwrite)
             if "braked_applications" in s:
                 _print_schedule(args.scene, s)
                 return EXIT_OK
-            f = s["final"]
-            if s.get("already_finished"):
-                print(f"brakewear run: {s['out']} already holds the finished run "
-                      f"({s['steps']} steps); nothing to do")
-                return EXIT_OK
-            print(f"brakewear run {args.scene}: {s['steps']} steps to t = {f['time_s']:.6g} s, "
-                  f"{s['dofs']} DOFs, {s['contact_solves']} contact solves, "
-                  f"{s['run_s']:.1f} s")
-            print(f"  pad wear max {f['pad_wear_max_m'] * 1e6:.3f} um, mean "
-                  f"{f['pad_wear_mean_m'] * 1e6:.3f} um; rotor wear max "
-                  f"{f['rotor_wear_max_m'] * 1e6:.3f} um; max pressure "
-                  f"{f['pressure_max_Pa'] / 1e6:.3f} MPa; p r spread {f['pr_spread']:.3f}")
-            print(f"  wrote {s['out']}/: summary.json, history.csv, pad.pvd"
-                  + (", rotor.pvd" if s["files"].get("rotor") else "")
-                  + ", checkpoint.npz, scene.json"
-                  + "".join(f", {Path(p).name}" for p in s.get("figures", [])))
+            _print_run(args.scene, s)
             return EXIT_OK
         if args.command == "demo":
             s = run_demo(args.out, args.geometry, args.pressure, args.piston, args.size,
-                         figures=not args.no_figures, memory_budget=args.memory_budget)
+                         figures=not args.no_figures, memory_budget=args.memory_budget,
+                         overwrite=args.overwrite)
             i = s["interface"]
             print(f"brakewear demo: {s['solver']['dofs']} DOFs, line pressure "
                   f"{s['line_pressure_Pa'] / 1e6:g} MPa, clamp force {s['clamp_force_N']:.1f} N")
@@ -354,6 +453,8 @@ def main(argv: list[str] | None = None) -> int:
                       f"{100 * f['contact_fraction']:.0f} % of the pad face, p r spread "
                       f"{f['pr_spread']:.3f}; wrote {w['out']}/")
             return 0
+        if args.command == "new-scene":
+            return _new_scene(args)
         if args.command == "bench":
             from .bench import run_bench
             return run_bench(args)

@@ -24,11 +24,17 @@ __all__ = [
     "skfem_to_pyvista",
     "facets_to_pyvista",
     "plot_named_surfaces",
+    "visible_named_surfaces",
     "plot_field",
     "label_log_axis",
     "offscreen_pyvista",
+    "TICK_FORMAT",
 ]
 
+
+#: tick labels of colour bars: three significant digits, no trailing dot (VTK's own
+#: format, ``%-#6.3g``, writes ``127.``)
+TICK_FORMAT = "%.3g"
 
 # VTK cell type of a linear tetrahedron / triangle
 _VTK_TETRA = 10
@@ -116,8 +122,8 @@ def _exclusive_labels(mesh: fem.Mesh) -> dict[str, np.ndarray]:
 # distinct colours for up to 20 named surfaces (a categorical palette)
 _PALETTE = [
     (0.12, 0.47, 0.71), (1.00, 0.50, 0.05), (0.17, 0.63, 0.17), (0.84, 0.15, 0.16),
-    (0.58, 0.40, 0.74), (0.55, 0.34, 0.29), (0.89, 0.47, 0.76), (0.50, 0.50, 0.50),
-    (0.74, 0.74, 0.13), (0.09, 0.75, 0.81), (0.98, 0.85, 0.20), (0.40, 0.76, 0.65),
+    (0.58, 0.40, 0.74), (0.55, 0.34, 0.29), (0.09, 0.75, 0.81), (0.50, 0.50, 0.50),
+    (0.74, 0.74, 0.13), (0.89, 0.47, 0.76), (0.98, 0.85, 0.20), (0.40, 0.76, 0.65),
     (0.00, 0.20, 0.50), (0.99, 0.55, 0.38), (0.60, 0.00, 0.30), (0.65, 0.85, 0.33),
     (0.20, 0.20, 0.20), (0.70, 0.70, 1.00), (0.50, 0.25, 0.00), (1.00, 0.75, 0.80),
 ]
@@ -125,16 +131,89 @@ _PALETTE = [
 
 _DEFAULT_SHIFT = {"rotor": -0.02, "pad": 0.0, "piston": 0.02}
 
+#: the views of :func:`plot_named_surfaces`: subtitle, hidden body, camera direction,
+#: whether the view closes in on the pad
+_VIEWS = (
+    ("the whole brake, from the piston side", None, (0.35, -1.0, 0.45), False),
+    ("pad and piston, from the piston side (rotor hidden)", "rotor", (0.35, -1.0, 0.45), True),
+    ("pad, from the rotor side (rotor hidden)", "rotor", (0.55, -1.0, -0.45), True),
+)
+
+
+def _surface_pieces(meshes: Mapping[str, fem.Mesh],
+                    explode: Mapping[str, float] | None) -> list[tuple]:
+    """(body, name, PolyData) of every named facet set, each facet under one name."""
+    explode = dict(_DEFAULT_SHIFT if explode is None else explode)
+    pieces = []
+    for body, mesh in meshes.items():
+        shift = (0.0, 0.0, explode.get(body, 0.0))
+        labels = _exclusive_labels(mesh)
+        if not labels:
+            logger.warning("plot_named_surfaces: mesh %r has no named facets", body)
+        for name in sorted(labels):
+            pieces.append((body, name, facets_to_pyvista(mesh, labels[name], shift)))
+    if not pieces:
+        raise MeshError("plot_named_surfaces: none of the meshes has named facets")
+    return pieces
+
+
+def _aim(pl, shown: list, direction, close: bool) -> None:
+    """Point the active view's camera along ``direction`` at what it shows (all of it)."""
+    b = np.array([pd.bounds for _, _, pd in shown])
+    lo, hi = b[:, 0::2].min(axis=0), b[:, 1::2].max(axis=0)
+    d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    focus = 0.5 * (lo + hi)
+    pl.camera.focal_point = tuple(focus)
+    pl.camera.position = tuple(focus + np.linalg.norm(hi - lo) * d)
+    pl.camera.up = (0.0, 0.0, 1.0)
+    pl.reset_camera()            # keeps the direction, frames everything shown
+    pl.camera.zoom(1.15 if close else 1.05)
+
+
+def visible_named_surfaces(meshes: Mapping[str, fem.Mesh],
+                           explode: Mapping[str, float] | None = None,
+                           window_size: tuple[int, int] = (900, 800),
+                           min_fraction: float = 1e-3) -> list[tuple[str, str]]:
+    """The ``(body, name)`` facet sets that :func:`plot_named_surfaces` shows: those
+    that cover at least ``min_fraction`` of a view's pixels in one of its views (each
+    set drawn in a colour of its own, unlit, and the pixels of each colour counted;
+    a face seen edge-on, a sliver of a few pixels, does not count)."""
+    pv = offscreen_pyvista()
+    pieces = _surface_pieces(meshes, explode)
+    code = [((k + 1) * 7 % 256, (k + 1) * 53 % 256, (k + 1) * 97 % 256)
+            for k in range(len(pieces))]
+    seen = set()
+    for _, hide, direction, close in _VIEWS:
+        pl = pv.Plotter(off_screen=True, window_size=list(window_size), lighting="none")
+        pl.disable_anti_aliasing()
+        shown = [(k, pc) for k, pc in enumerate(pieces) if pc[0] != hide]
+        for k, (_, _, pd) in shown:
+            pl.add_mesh(pd, color=tuple(c / 255 for c in code[k]), lighting=False)
+        _aim(pl, [pc for _, pc in shown], direction, close)
+        pl.set_background("white")
+        img = pl.screenshot(return_img=True)[..., :3].reshape(-1, 3).astype(int)
+        pl.close()
+        ids = (img[:, 0] << 16) | (img[:, 1] << 8) | img[:, 2]
+        counts = dict(zip(*np.unique(ids, return_counts=True)))
+        seen |= {k for k, _ in shown
+                 if counts.get((code[k][0] << 16) | (code[k][1] << 8) | code[k][2], 0)
+                 >= min_fraction * img.shape[0]}
+    return [(pieces[k][0], pieces[k][1]) for k in sorted(seen)]
+
 
 @_quiet_vtk()
 def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
                         title: str | None = None, explode: Mapping[str, float] | None = None,
-                        window_size: tuple[int, int] = (2000, 800)) -> Path:
-    """Picture every named facet set of every mesh in its own colour, with a legend.
+                        window_size: tuple[int, int] = (2700, 800)) -> Path:
+    """Picture the named facet sets of the meshes in their own colours, with a legend.
 
-    Two views of the same exploded assembly: from above (rotor friction
-    face, pad back and ends, piston) and from below with the rotor left out
-    (pad friction face, piston face); the legend has its own panel.
+    Three views of the same exploded assembly: the whole brake from the
+    piston side (the rotor's friction face, the pad's back and ends, the
+    piston), then, with the rotor hidden, the pad and piston from the piston
+    side and the pad from the rotor side (its friction face).  The legend, in
+    a panel of its own, lists the sets that show in at least one view
+    (:func:`visible_named_surfaces`); sets hidden in every view (the rotor's
+    mid-plane, say) are left out of it.
 
     Parameters
     ----------
@@ -158,57 +237,25 @@ def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
     pv = offscreen_pyvista()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    explode = dict(_DEFAULT_SHIFT if explode is None else explode)
-    pieces = []  # (body, name, polydata, colour)
-    for body, mesh in meshes.items():
-        shift = (0.0, 0.0, explode.get(body, 0.0))
-        labels = _exclusive_labels(mesh)
-        if not labels:
-            logger.warning("plot_named_surfaces: mesh %r has no named facets", body)
-        for name in sorted(labels):
-            colour = _PALETTE[len(pieces) % len(_PALETTE)]
-            pieces.append((body, name, facets_to_pyvista(mesh, labels[name], shift), colour))
-    if not pieces:
-        raise MeshError("plot_named_surfaces: none of the meshes has named facets")
-
-    def box(items):
-        b = np.array([pd.bounds for _, _, pd, _ in items])
-        return b[:, 0::2].min(axis=0), b[:, 1::2].max(axis=0)
-
-    pl = pv.Plotter(off_screen=True, shape=(1, 3), col_weights=[1.0, 1.0, 0.42],
+    visible = visible_named_surfaces(meshes, explode,
+                                     (int(window_size[0] / 3.3), window_size[1]))
+    colour = {key: _PALETTE[i % len(_PALETTE)] for i, key in enumerate(visible)}
+    pieces = [pc for pc in _surface_pieces(meshes, explode) if (pc[0], pc[1]) in colour]
+    pl = pv.Plotter(off_screen=True, shape=(1, 4), col_weights=[1.0, 1.0, 1.0, 0.3],
                     window_size=list(window_size), border=False, lighting="three lights")
-    pad_items = [pc for pc in pieces if pc[0] == "pad"]
-    views = [
-        ("seen from the piston side", None, (0.35, -1.0, 0.45), 2.4),
-        ("seen from the rotor side (rotor hidden)", "rotor", (0.55, -1.0, -0.45), 1.1),
-    ]
-    for col, (subtitle, hide, direction, zoom) in enumerate(views):
+    for col, (subtitle, hide, direction, close) in enumerate(_VIEWS):
         pl.subplot(0, col)
-        shown = [pc for pc in pieces if pc[0] != hide] or pieces
-        for body, name, pd, colour in shown:
-            pl.add_mesh(pd, color=colour, show_edges=True, edge_color=(0.15, 0.15, 0.15),
-                        line_width=0.2)
-        lo, hi = box(shown)
-        d = np.asarray(direction, dtype=float)
-        d /= np.linalg.norm(d)
-        focus = 0.5 * (lo + hi)
-        pl.camera.focal_point = tuple(focus)
-        pl.camera.position = tuple(focus + np.linalg.norm(hi - lo) * d)
-        pl.camera.up = (0.0, 0.0, 1.0)
-        pl.reset_camera()  # keeps the direction, frames everything shown
-        if hide is None and pad_items:
-            # then move the view (not its direction) onto the pad
-            plo, phi = box(pad_items)
-            move = 0.5 * (plo + phi) - np.asarray(pl.camera.focal_point)
-            pl.camera.focal_point = tuple(np.asarray(pl.camera.focal_point) + move)
-            pl.camera.position = tuple(np.asarray(pl.camera.position) + move)
-        pl.camera.zoom(zoom)
-        pl.add_text(subtitle, position="upper_edge", font_size=12, color="black")
-    pl.subplot(0, 2)
+        shown = [pc for pc in pieces if pc[0] != hide]
+        for body, name, pd in shown:
+            pl.add_mesh(pd, color=colour[(body, name)], show_edges=True,
+                        edge_color=(0.15, 0.15, 0.15), line_width=0.2)
+        _aim(pl, shown, direction, close)
+        pl.add_text(subtitle, position="upper_edge", font_size=11, color="black")
+    pl.subplot(0, 3)
     if title:
-        pl.add_text(title, position="upper_left", font_size=14, color="black")
-    legend = [[f"{body}: {name}", colour] for body, name, _, colour in pieces]
-    pl.add_legend(legend, bcolor=(1.0, 1.0, 1.0), border=False, size=(0.95, 0.8),
+        pl.add_text(title, position="upper_left", font_size=12, color="black")
+    pl.add_legend([[f"{body}: {name}", colour[(body, name)]] for body, name in visible],
+                  bcolor=(1.0, 1.0, 1.0), border=False, size=(0.95, 0.8),
                   loc="center left", face="rectangle")
     pl.set_background("white")
     pl.screenshot(str(path))
@@ -285,7 +332,9 @@ def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: 
     surf.point_data[label] = values[used]
     pl = pv.Plotter(off_screen=True, window_size=list(window_size), lighting="three lights")
     pl.add_mesh(surf, scalars=label, cmap=cmap, clim=clim, show_edges=False,
-                scalar_bar_args={"title": label, "color": "black", "vertical": True})
+                scalar_bar_args={"title": label, "color": "black", "vertical": True,
+                                 "fmt": TICK_FORMAT, "position_x": 0.8, "position_y": 0.15,
+                                 "height": 0.7})
     pl.add_text(title, position="upper_edge", font_size=12, color="black")
     b = np.array(surf.bounds)
     focus = 0.5 * (b[0::2] + b[1::2])

@@ -30,6 +30,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .accuracy import mesh_accuracy
 from .checks import file_messages, shown_value
 from .errors import SceneError, SolverError, WearError, WornThroughError
 from .interfaces.fe import FEInterface
@@ -48,33 +49,15 @@ __all__ = ["run_wear", "run_scene", "ended_early", "check_out", "step_figures",
 
 
 def _figures(model, out: Path, scene) -> list[str]:
-    """Final pad wear and pressure on the friction face; wear and pressure histories."""
+    """The maps of the last step (:func:`brakewear.face_maps.run_maps`); wear,
+    pressure and (thermal runs) temperature histories."""
     import csv
 
-    import meshio
     import numpy as np
 
-    from .figures import plot_field
+    from .face_maps import run_maps
 
-    files = []
-    pvd = out / "pad.pvd"
-    last = sorted(out.glob("pad_*.vtu"))
-    if pvd.exists() and last:
-        m = meshio.read(last[-1])
-        pad = model.meshes["pad"]
-        # the full model's two friction faces, each seen from its rotor face
-        faces = ((("friction_in", "_in", "inboard ", (0.0, 0.0, -1.0)),
-                  ("friction_out", "_out", "outboard ", (0.0, 0.0, 1.0)))
-                 if "friction_out" in (pad.boundaries or {}) else
-                 (("friction", "", "", (0.0, 0.0, -1.0)),))
-        for fld, png, scale, label, cmap in (
-                ("pad_wear", "pad_wear", 1e6, "pad wear (um)", "viridis"),
-                ("pressure", "pad_pressure", 1e-6, "pressure (MPa)", "inferno")):
-            for facets, suffix, which, view in faces:
-                files.append(str(plot_field(
-                    pad, m.point_data[fld] * scale, out / f"{png}{suffix}.png",
-                    f"{scene.name}: {which}{label}, last step", label=label, cmap=cmap,
-                    facets=facets, view=view)))
+    files = run_maps(model, out, scene.name)
     with open(out / "history.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     if rows:
@@ -88,7 +71,7 @@ def _figures(model, out: Path, scene) -> list[str]:
         for key, label in (("pad_wear_max_m", "pad, max"), ("pad_wear_mean_m", "pad, mean"),
                            ("rotor_wear_max_m", "rotor, max")):
             ax[0].plot(t, [0.0] + [1e6 * float(r[key]) for r in rows], label=label)
-        ax[0].set(xlabel="time (s)", ylabel="wear depth (um)", title="wear")
+        ax[0].set(xlabel="time (s)", ylabel="wear depth (µm)", title="wear")
         ax[0].legend()
         ax[1].plot(t_start, [1e-6 * float(r["pressure_max_Pa"]) for r in rows], marker=".")
         ax[1].set(xlabel="time (s)", ylabel="max contact pressure (MPa)",
@@ -98,7 +81,7 @@ def _figures(model, out: Path, scene) -> list[str]:
                            ("rotor_T_mean_C", "rotor face, mean")) if hot else ():
             ax[2].plot(t[1:], [float(r[key]) for r in rows], label=label)
         if hot:
-            ax[2].set(xlabel="time (s)", ylabel="temperature (C)",
+            ax[2].set(xlabel="time (s)", ylabel="temperature (°C)",
                       title="face temperatures at the end of each step")
             ax[2].legend()
         fig.suptitle(f"{scene.name}: {scene.line_pressure / 1e6:g} MPa, "
@@ -339,6 +322,7 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
                         "interface": scene.interface.model, "scheme": n.scheme,
                         "update": n.update, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}
+    summary["accuracy"] = mesh_accuracy(scene)
     if scene.output.figures and "final" in summary and not isinstance(worn, KeyboardInterrupt):
         summary["figures"] = _figures(model, out, scene)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
@@ -396,6 +380,7 @@ def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict,
     summary["scene"] = {"name": scene.name, "source": scene.source, "scheme":
                         scene.numerics.scheme, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}
+    summary["accuracy"] = mesh_accuracy(scene)
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
     if ended is not None:
         raise ended

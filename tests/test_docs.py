@@ -5,8 +5,10 @@ import re
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+#: the packaged geometry and scene files are documentation too (their comments)
 FILES = sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md"),
-                *(ROOT / "brakewear").rglob("*.py"), *(ROOT / "studies").rglob("*.py")])
+                *(ROOT / "brakewear").rglob("*.py"), *(ROOT / "studies").rglob("*.py"),
+                *(ROOT / "geometry").rglob("*.toml")])
 
 #: what tells the story of the development: work periods, issue numbers, commit
 #: hashes, dates of work, other jobs on the machine

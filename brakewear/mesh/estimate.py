@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["ModelEstimate", "estimate_model", "check_model_size", "memory_budget",
+__all__ = ["ModelEstimate", "estimate_model", "mesh_layers", "check_model_size", "memory_budget",
            "MEMORY_ENV"]
 
 #: Environment variable with a memory budget in GB (overrides the available memory).
@@ -104,6 +104,32 @@ def _two_sided_cells(length: float, h_end: float, h_mid: float, growth: float = 
     return 2 * ramp + max(1, round(middle / h_mid))
 
 
+def mesh_layers(geom: BrakeGeometry, size: float | None = None) -> dict:
+    """The in-plane sizes (m) and element layers the meshers resolve for ``geom`` at
+    ``size`` (m; default the geometry's): a body's own ``mesh.pad_size`` /
+    ``rotor_size`` and layer counts where given, else the rules of ``size``
+    (docs/geometry.md, ``[mesh]``).
+
+    Returns
+    -------
+    dict
+        ``pad_size``, ``rotor_size`` (m), ``friction_layers``, ``backplate_layers``,
+        ``rotor_layers`` (through the rotor half).
+    """
+    ms, pad = geom.mesh, geom.pad
+    size = ms.size if size is None else float(size)
+    h_pad, h_rot = ms.pad_size or size, ms.rotor_size or size
+    return {
+        "pad_size": h_pad, "rotor_size": h_rot,
+        "friction_layers": ms.friction_layers or _graded_cells(pad.friction_thickness,
+                                                               0.5 * h_pad, ms.pad_z_ratio),
+        "backplate_layers": ms.backplate_layers or max(1, math.ceil(pad.backplate_thickness
+                                                                    / h_pad)),
+        "rotor_layers": ms.rotor_layers or _graded_cells(0.5 * geom.rotor.thickness,
+                                                         0.5 * h_rot, ms.rotor_z_ratio),
+    }
+
+
 def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = "elastic",
                    piston: str = "traction", order: int = 1, full: bool = False) -> ModelEstimate:
     """Nodes and elements of each meshed body at ``size`` (m; default the geometry's);
@@ -114,7 +140,8 @@ def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = 
     k = 2 if order == 2 else 1            # grid points per cell and direction
     ms, pad, rot, pis = geom.mesh, geom.pad, geom.rotor, geom.piston
     size = ms.size if size is None else float(size)
-    h = ms.rotor_size or size
+    lay = mesh_layers(geom, size)
+    h = lay["rotor_size"]
     nodes, elements = {}, {}
     if rotor == "elastic":
         r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
@@ -123,18 +150,16 @@ def estimate_model(geom: BrakeGeometry, size: float | None = None, rotor: str = 
         n_fine = max(2, math.ceil(span * r_ref / h))
         dth = span / n_fine
         nth = n_fine + _two_sided_cells(2 * math.pi - span, dth, ms.rotor_coarse_factor * dth)
-        nz = ms.rotor_layers or _graded_cells(0.5 * rot.thickness, 0.5 * h, ms.rotor_z_ratio)
-        nz *= 2 if full else 1
+        nz = lay["rotor_layers"] * (2 if full else 1)
         nodes["rotor"] = (k * nr + 1) * k * nth * (k * nz + 1)   # periodic in theta
         elements["rotor"] = 6 * nr * nth * nz
-    h = ms.pad_size or size
+    h = lay["pad_size"]
     r_ref = 0.5 * (pad.inner_radius + pad.outer_radius)
     bri, bro = pad.backplate_radii     # a larger backplate adds radial cells (whole block)
     nr = (max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
           + math.ceil((pad.inner_radius - bri) / h) + math.ceil((bro - pad.outer_radius) / h))
     nth = max(2, math.ceil(pad.arc_angle * r_ref / h))
-    nz = ((ms.friction_layers or _graded_cells(pad.friction_thickness, 0.5 * h, ms.pad_z_ratio))
-          + (ms.backplate_layers or max(1, math.ceil(pad.backplate_thickness / h))))
+    nz = lay["friction_layers"] + lay["backplate_layers"]
     nodes["pad"] = (k * nr + 1) * (k * nth + 1) * (k * nz + 1) * (2 if full else 1)
     elements["pad"] = 6 * nr * nth * nz * (2 if full else 1)
     if piston == "body":

@@ -1,8 +1,9 @@
 """Scenes: one brake model plus what to compute, from a TOML file or from Python."""
 
-from . import reader, spec, tables
+from . import reader, spec, starter, tables
 from .reader import *  # noqa: F403
 from .spec import *  # noqa: F403
+from .starter import *  # noqa: F403
 from .tables import *  # noqa: F403
 
-__all__ = [*reader.__all__, *spec.__all__, *tables.__all__]
+__all__ = [*reader.__all__, *spec.__all__, *starter.__all__, *tables.__all__]
