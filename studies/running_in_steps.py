@@ -49,13 +49,13 @@ def parse_run(text: str) -> dict:
     out = {}
     for part in text.split("+"):
         key, _, value = part.partition("=")
-        if key not in ("steps", "dp_tol", "wear_tol", "scheme"):
+        if key not in ("steps", "dp_tol", "wear_tol", "scheme", "norm"):
             raise ValueError(f"run {text!r}: {key!r} is not one of steps, dp_tol, wear_tol, "
-                             "scheme")
+                             "scheme, norm")
         if value.lower() == "none":
             out[key] = None
         else:
-            out[key] = int(value) if key == "steps" else value if key == "scheme" \
+            out[key] = int(value) if key == "steps" else value if key in ("scheme", "norm") \
                 else float(value)
     return out
 
@@ -119,6 +119,7 @@ def main(sizes=(6.0, 3.0, 1.5), runs=("steps=60",), ref: int = 128, out="docs",
     T = duration if duration is not None else _scene_duration()
 
     def get(size, settings):
+        settings = _resolved(settings)
         k = _key({"size_mm": size, "settings": settings, "duration_s": T,
                   "resolution": resolution})
         if k not in cache:
@@ -147,6 +148,17 @@ def main(sizes=(6.0, 3.0, 1.5), runs=("steps=60",), ref: int = 128, out="docs",
     if figure:
         _figure(rows, out / "figures" / "running_in_steps.png")
     return rows
+
+
+def _resolved(settings: dict) -> dict:
+    """``settings`` with the step control's norm named when the run is step-controlled
+    (the default's, :class:`~brakewear.Numerics`), so that a stored run keeps the
+    norm it was run with."""
+    from brakewear import Numerics
+
+    if settings.get("steps", 0) is not None or "norm" in settings:
+        return settings
+    return {**settings, "norm": Numerics().norm}
 
 
 def _scene_duration() -> float:
