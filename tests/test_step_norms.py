@@ -128,7 +128,7 @@ def test_the_scene_table_takes_the_norm():
 
 
 @pytest.mark.slow
-def test_the_step_count_does_not_grow_as_the_mesh_is_refined():
+def test_the_l2_step_count_does_not_grow_as_the_mesh_is_refined():
     """The default scene's physics, the first 20 minutes (the contact spreads over the
     face), 12 and 6 mm (2 226 and 8 145 DOFs): the l2 controls take the same steps within
     20 % on both meshes (dp_tol: 23 and 26; wear_tol 1e-8 m: 29 and 32), the max norm's
