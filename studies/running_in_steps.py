@@ -5,7 +5,9 @@ The default scene (``geometry/scenes/default.toml``: one hour of drag at
 run with its ``mesh.size`` set to each of ``--sizes`` (mm; its other mesh
 keys kept) and with each of ``--runs``, a numerics override per run:
 ``steps=60`` (equal steps), ``dp_tol=0.05``, ``wear_tol=3e-8`` (m),
-``scheme=implicit_pad``, or several joined by ``+``; the scene's own numerics
+``scheme=implicit_pad``, ``norm=l2`` (the step control's measure; a
+step-controlled run is stored with the norm it ran with), or several joined
+by ``+``; the scene's own numerics
 are 60 equal steps, so a step control needs ``steps=none`` with it
 (``steps=none+wear_tol=3e-8``, ``steps=none+scheme=implicit_pad``: the
 automatic control, ``dp_tol = 0.05``, with the rotor's rings explicit).
@@ -24,8 +26,9 @@ run again, so a sweep can be extended, interrupted and resumed.  Writes
 ``DIR/figures/running_in_steps.png`` (steps against mesh size per control,
 and the p r spread's error against steps).
 
-``python studies/running_in_steps.py --sizes 6 3 1.5 --runs steps=60 dp_tol=0.05
-wear_tol=3e-8 --ref 128 --out docs``; ``main(...)`` returns the rows.
+``python studies/running_in_steps.py --sizes 6 3 1.5 --runs steps=60
+steps=none+wear_tol=1e-8+norm=l2 steps=none+dp_tol=0.05+norm=max --ref 64 --out docs``
+(docs/wear.md gives the full list); ``main(...)`` returns the rows.
 """
 from __future__ import annotations
 
@@ -49,13 +52,13 @@ def parse_run(text: str) -> dict:
     out = {}
     for part in text.split("+"):
         key, _, value = part.partition("=")
-        if key not in ("steps", "dp_tol", "wear_tol", "scheme"):
+        if key not in ("steps", "dp_tol", "wear_tol", "scheme", "norm"):
             raise ValueError(f"run {text!r}: {key!r} is not one of steps, dp_tol, wear_tol, "
-                             "scheme")
+                             "scheme, norm")
         if value.lower() == "none":
             out[key] = None
         else:
-            out[key] = int(value) if key == "steps" else value if key == "scheme" \
+            out[key] = int(value) if key == "steps" else value if key in ("scheme", "norm") \
                 else float(value)
     return out
 
@@ -119,6 +122,7 @@ def main(sizes=(6.0, 3.0, 1.5), runs=("steps=60",), ref: int = 128, out="docs",
     T = duration if duration is not None else _scene_duration()
 
     def get(size, settings):
+        settings = _resolved(settings)
         k = _key({"size_mm": size, "settings": settings, "duration_s": T,
                   "resolution": resolution})
         if k not in cache:
@@ -149,6 +153,17 @@ def main(sizes=(6.0, 3.0, 1.5), runs=("steps=60",), ref: int = 128, out="docs",
     return rows
 
 
+def _resolved(settings: dict) -> dict:
+    """``settings`` with the step control's norm named when the run is step-controlled
+    (the default's, :class:`~brakewear.Numerics`), so that a stored run keeps the
+    norm it was run with."""
+    from brakewear import Numerics
+
+    if settings.get("steps", 0) is not None or "norm" in settings:
+        return settings
+    return {**settings, "norm": Numerics().norm}
+
+
 def _scene_duration() -> float:
     from brakewear.scene import load_scene
 
@@ -157,10 +172,10 @@ def _scene_duration() -> float:
 
 def _figure(rows, path: Path) -> None:
     import matplotlib.pyplot as plt
-    from matplotlib.ticker import ScalarFormatter
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 5))
     for run in dict.fromkeys(r["run"] for r in rows):
         sel = sorted((r for r in rows if r["run"] == run), key=lambda r: r["size_mm"])
         label = run.replace("steps=none+", "step control: ").replace("steps=", "equal steps: ")
@@ -178,10 +193,15 @@ def _figure(rows, path: Path) -> None:
         axis.set_major_formatter(ScalarFormatter())
     for axis in (a.yaxis, b.yaxis):
         axis.set_minor_formatter(ScalarFormatter())
+    for axis in (a.xaxis, b.xaxis):
+        axis.set_minor_formatter(NullFormatter())
     a.set_xticks(sorted({r["size_mm"] for r in rows}))
-    a.legend(fontsize=7)
+    lo, hi = min(r["steps"] for r in rows), max(r["steps"] for r in rows)
+    b.set_xticks([n for n in (10, 20, 50, 100, 200, 500, 1000, 2000) if lo / 2 <= n <= 2 * hi])
     b.axhline(0.5, color="grey", ls=":")
-    fig.tight_layout()
+    handles, labels = a.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=7)
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
     fig.savefig(path, dpi=120)
     plt.close(fig)
 

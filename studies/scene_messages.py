@@ -74,6 +74,7 @@ CASES: list[tuple[str, dict, dict]] = [
     ("`[thermal]` `enabled = true`, `T_initial = 950.0` (C)", {},
      {"thermal": {"enabled": True, "T_initial": 950.0}}),
     ('`[numerics]` `scheme = "rk4"`', {}, {"numerics": {"scheme": "rk4"}}),
+    ('`[numerics]` `norm = "l1"`', {}, {"numerics": {"norm": "l1"}}),
     ("`[numerics]` `dh_fraction = 1.5`", {}, {"numerics": {"dh_fraction": 1.5}}),
     ("`[output]` `vtu_every = 0`", {}, {"output": {"vtu_every": 0}}),
     ("stops: `[environment]` `duration = 10.0`", STOPS, {"environment": {"duration": 10.0}}),

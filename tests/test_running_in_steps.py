@@ -34,5 +34,6 @@ def test_the_study_runs_reads_back_and_measures_against_its_reference(tmp_path, 
     assert [r["pad_max_um"] for r in again] == [r["pad_max_um"] for r in rows]
     assert study.parse_run("steps=none+scheme=implicit_pad") == {"steps": None,
                                                                   "scheme": "implicit_pad"}
+    assert study.parse_run("steps=none+norm=l2") == {"steps": None, "norm": "l2"}
     with pytest.raises(ValueError, match="not one of"):
         study.parse_run("dt=3")

@@ -66,7 +66,7 @@ _SCHEMA: dict[str, dict[str, str]] = {
                 "rotor_rms_slope": "num", "conductance_law": "str"},
     "numerics": {"scheme": "str", "update": "str", "steps": "int", "dp_tol": "num",
                  "dh_fraction": "num", "max_dh": "length", "wear_tol": "length",
-                 "stability": "num", "implicit_floor": "num", "tol": "num",
+                 "norm": "str", "stability": "num", "implicit_floor": "num", "tol": "num",
                  "max_halvings": "int", "max_steps": "int",
                  "memory_budget": "num"},
     "output": {"vtu_every": "int", "checkpoint_every": "int", "figures": "bool"},

@@ -23,10 +23,18 @@ The step is the smallest of
 - ``growth``: at most twice the last step (``dp_tol`` control), or
   ``wear_tol``: the step the wear-error control aims at.
 
-A step whose pressure changes by more than ``dp_tol`` of its maximum (or,
-with ``wear_tol``, whose embedded local wear error ``dt/2 max|rate(p_end) -
+A step whose pressure changes by more than ``dp_tol`` (or, with
+``wear_tol``, whose embedded local wear error ``dt/2 |rate(p_end) -
 rate(p_start)|`` exceeds it), or that loses the contact, is retried smaller.
 With ``steps`` the steps are equal and always accepted.
+
+Both measures are taken over the pad's friction face in the numerics'
+``norm`` (:func:`face_norm`): by default the largest nodal values
+(``"max"``), the pressure change relative to the peak pressure; or
+area-weighted (``"l2"``), the pressure change relative to the pressure,
+``||p_end - p_start|| / ||p_start||``, and the wear error as its root mean
+square over the face, so that a node entering contact counts by its
+tributary area and the steps do not multiply as the mesh is refined.
 """
 from __future__ import annotations
 
@@ -37,16 +45,48 @@ from typing import Callable
 import numpy as np
 
 from ..errors import StepSizeError
-from .numerics import Numerics
+from .numerics import Numerics, NumericsError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["StepControl", "WEAR_TOL_GROWTH"]
+__all__ = ["StepControl", "WEAR_TOL_GROWTH", "face_norm"]
 
 #: Largest growth of the step from one step to the next under ``wear_tol``
 #: control (docs: wear, "Step convergence": 2, 4 and 8 give the same runs within
 #: one step; 4 saves the step after the first guess, adds no retry).
 WEAR_TOL_GROWTH = 4.0
+
+
+def face_norm(values: np.ndarray, area: np.ndarray | None, norm: str = "l2") -> float:
+    """The size of a nodal field over the friction face.
+
+    Parameters
+    ----------
+    values : ndarray
+        One value per pad friction node.
+    area : ndarray or None
+        The nodes' tributary areas (m^2); None: equal weights of 1.
+    norm : {"l2", "max"}
+        ``"l2"``: ``(sum_i A_i x_i^2)^(1/2)``, the area-weighted L2 norm,
+        which tends to ``(int x^2 dA)^(1/2)`` under mesh refinement;
+        ``"max"``: ``max_i |x_i|`` (0 for no nodes).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    NumericsError
+        ``norm`` is neither.
+    """
+    x = np.asarray(values, dtype=float)
+    if norm == "max":
+        return float(np.abs(x).max()) if x.size else 0.0
+    if norm != "l2":
+        raise NumericsError(f"numerics.norm: {norm!r} is not allowed; allowed: 'l2', 'max'")
+    w = np.ones_like(x) if area is None else np.asarray(area, dtype=float)
+    return float(np.sqrt(np.dot(w, x * x)))
 
 
 @dataclass
@@ -64,12 +104,16 @@ class StepControl:
     speed : ConstantSpeed or LinearSpeed, optional
         The rotor's speed profile: fixed steps are equal in rotor angle
         (:mod:`brakewear.wear.speed`).
+    area : ndarray, optional
+        Tributary area of each pad friction node (m^2), the weights of the
+        ``"l2"`` measures (None: equal weights).
     """
 
     numerics: Numerics
     duration: float
     dh_limit: np.ndarray
     speed: object = None
+    area: np.ndarray | None = None
 
     @property
     def fixed(self) -> bool:
@@ -136,6 +180,27 @@ class StepControl:
                 cands["rotor_stability"] = n.stability / w
         limit = min(cands, key=cands.get)
         return cands[limit], limit
+
+    def pressure_change(self, p_start: np.ndarray, p_end: np.ndarray) -> float:
+        """The step's relative pressure change, the measure ``dp_tol`` bounds:
+        ``||p_end - p_start|| / ||p_start||`` (``"l2"``), or the largest nodal
+        change over the largest starting pressure (``"max"``)."""
+        if self.numerics.norm == "max":
+            return float(np.abs(p_end - p_start).max()) / max(float(p_start.max()), 1e-300)
+        return face_norm(p_end - p_start, self.area) / max(face_norm(p_start, self.area), 1e-300)
+
+    def wear_error(self, dt: float, rate_change: np.ndarray) -> float:
+        """The step's embedded local error of the worn depth (m), the measure
+        ``wear_tol`` bounds: ``dt/2`` times the change of the wear rate over the
+        step (``rate_change``, m/s per pad node, pad + rotor under it), as its
+        root mean square over the face (``"l2"``: ``||.|| / (sum A)^(1/2)``)
+        or its largest nodal value (``"max"``)."""
+        norm = self.numerics.norm
+        size = face_norm(rate_change, self.area, norm)
+        if norm == "l2":
+            size /= np.sqrt(np.size(rate_change) if self.area is None
+                            else float(np.sum(self.area)))
+        return 0.5 * dt * size
 
     def accepts(self, change: float, est: float) -> bool:
         """Whether a step with relative pressure change ``change`` and local wear

@@ -45,17 +45,32 @@ class Numerics:
     steps : int or None
         A number of equal steps (no step control); None: automatic control.
     dp_tol : float
-        Largest accepted change of the pressure field per step, relative to
-        its maximum (automatic control without ``wear_tol``).
+        Largest accepted change of the pressure field per step (automatic
+        control without ``wear_tol``), measured by ``norm``.
     dh_fraction, max_dh
         Largest wear per step at a pad node (pad + rotor seen by it):
         ``max_dh`` (m) everywhere, or by default ``dh_fraction`` times the
         height of the pad element under the node.
     wear_tol : float or None
         Local wear error per step (m) of the automatic control, instead of
-        ``dp_tol``: a step is accepted if ``dt/2 max|rate(p_end) -
-        rate(p_start)|`` is below it (docs: theory, "Step control on the wear
-        error").
+        ``dp_tol``: a step is accepted if its embedded estimate ``dt/2
+        |rate(p_end) - rate(p_start)|``, measured by ``norm``, is below it
+        (docs: theory, "Step control on the wear error").
+    norm : {"max", "l2"}
+        How the automatic control measures a step over the pad's friction
+        face.  ``"max"`` (the default): the largest nodal pressure change
+        relative to the peak pressure, the largest nodal wear error; while
+        the contact spreads, every node it reaches jumps by a few per cent of
+        the peak, so the steps grow in number as the face's elements shrink.
+        ``"l2"``: area-weighted, with each node's tributary area ``A_i``;
+        the pressure change is ``||p_end - p_start|| / ||p_start||`` and the
+        wear error the root mean square over the face of the local error of
+        the worn depth, ``||x|| = (sum_i A_i x_i^2)^(1/2)``.  A node that
+        enters or leaves contact counts by its area, so both measures tend
+        to integrals over the face as the mesh is refined, and so do the
+        steps they choose.  The same tolerance takes fewer, longer steps in
+        ``"l2"`` (a tighter one for the same error; docs: wear, "The
+        default scene's steps").
     stability : float or None
         Fraction of the monotone explicit-Euler bound on the step (1 keeps
         every mode from overshooting, 2 is the stability limit; None switches
@@ -98,6 +113,7 @@ class Numerics:
     dh_fraction: float = 0.1
     max_dh: float | None = None
     wear_tol: float | None = None
+    norm: str = "max"
     stability: float | None = 1.0
     implicit_floor: float = 1e-3
     tol: float = 1e-9
@@ -119,6 +135,7 @@ class Numerics:
         check_number("numerics.dh_fraction", self.dh_fraction, 0.0, 1.0)
         check_number("numerics.max_dh", self.max_dh, 0.0, unit="m", allow_none=True)
         check_number("numerics.wear_tol", self.wear_tol, 0.0, unit="m", allow_none=True)
+        check_choice("numerics.norm", self.norm, ("l2", "max"))
         check_number("numerics.stability", self.stability, 0.0, 2.0, allow_none=True)
         check_number("numerics.implicit_floor", self.implicit_floor, 0.0, 1.0, lo_open=False)
         check_number("numerics.tol", self.tol, 0.0, 1e-3)

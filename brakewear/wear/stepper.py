@@ -149,7 +149,7 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
                          numerics, interface, thermal, initial_gap, checkpoint, every, resume,
                          limits)
     numerics = loop.numerics
-    control = StepControl(numerics, duration, loop.dh_limit(), loop.speed)
+    control = StepControl(numerics, duration, loop.dh_limit(), loop.speed, loop.A_pad)
     prints = loop.fingerprint(duration)
     n_pad, n_rot = loop.A_pad.size, loop.A_rot.size
     extra: dict = {}
@@ -397,8 +397,8 @@ class _WearLoop:
                 sol, pad_w, rot_w, p_rate, q_used, s = self.attempt(state, dt, rate_pad,
                                                                     q_rot, rate_rot, act)
                 solve_s += s
-                change = np.abs(sol.pressure - p).max() / max(p.max(), 1e-300)
-                est = self.wear_error(sol.pressure, dt, rate_pad, rate_rot) \
+                change = control.pressure_change(p, sol.pressure)
+                est = control.wear_error(dt, self.rate_change(sol.pressure, rate_pad, rate_rot)) \
                     if control.on_wear_error else np.nan
                 ok = control.accepts(change, est)
             except ContactLostError:
@@ -462,15 +462,15 @@ class _WearLoop:
             rot_w = rot_w + rotor_wear_rate(q_rot, self.W, self.ring, self.A_rot) * dt
         return sol, state.pad_wear + eps * sol.pressure, rot_w, sol.pressure, q_rot, s
 
-    def wear_error(self, p_new, dt, rate_pad, rate_rot) -> float:
-        """Embedded local error of the wear depth: dt/2 x the change of the rate
-        over the step (the dt^2/2 h'' of both Euler schemes)."""
+    def rate_change(self, p_new, rate_pad, rate_rot) -> np.ndarray:
+        """The change over the step of the wear rate each pad node sees (pad + rotor, m/s):
+        the embedded local wear error's (:meth:`StepControl.wear_error`)."""
         d_rate = self.laws.pad_rate(p_new, self.v) - rate_pad
         if self.rotor_law is not None:
             q_new = self.laws.rotor_rate(p_new, self.v) * self.A_pad
             d_rate = d_rate + self.W @ (rotor_wear_rate(q_new, self.W, self.ring, self.A_rot)
                                         - rate_rot)
-        return 0.5 * dt * float(np.abs(d_rate).max())
+        return d_rate
 
     def record(self, state, dt, p, act, rejected, solve_s, limit, mu_step, T_rot) -> WearStep:
         rec = WearStep(state.step, state.time, dt, self.speed.angle(state.time) * self.r_mean,
