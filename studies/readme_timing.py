@@ -13,7 +13,7 @@ process and its children):
   first, not timed), with pip's download cache as the machine has it
   (``--no-cache``: without it, which adds the downloads);
 - ``demo``: ``brakewear demo`` with that venv, into a scratch folder;
-- ``tests``: ``python -m pytest`` in the checkout with that venv, the
+- ``tests``: ``python -m pytest -n auto`` in the checkout with that venv, the
   README's second command (``--durations=40``: the slowest tests are kept);
 - ``floating``, ``thermal``: ``brakewear run floating|thermal --quiet``.
 
@@ -50,7 +50,7 @@ COMMANDS = ("install", "demo", "tests", "floating", "thermal")
 LOADS = ("idle", "busy")
 #: what each command is called in the tables
 LABELS = {"install": '`pip install ".[test]"` (a fresh venv)', "demo": "`brakewear demo`",
-          "tests": "`python -m pytest` (the whole suite)",
+          "tests": "`python -m pytest -n auto` (the whole suite, one process per core)",
           "floating": "`brakewear run floating`", "thermal": "`brakewear run thermal`"}
 MARKERS = {"readme": "readme-timing", "detail": "readme-timing-detail"}
 #: seconds the busy process gets to take its core before a command starts
@@ -65,7 +65,7 @@ def commands(root: Path, venv: Path, work: Path, no_cache: bool = False) -> dict
     return {
         "install": pip + [f"{root}[test]"],
         "demo": [bw, "demo", "--out", str(work / "demo"), "--quiet"],
-        "tests": [py, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--durations=40"],
+        "tests": [py, "-m", "pytest", "-n", "auto", "-q", "-p", "no:cacheprovider", "--durations=40"],
         "floating": [bw, "run", "floating", "--out", str(work / "floating"), "--quiet"],
         "thermal": [bw, "run", "thermal", "--out", str(work / "thermal"), "--quiet"],
     }
