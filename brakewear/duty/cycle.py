@@ -14,7 +14,6 @@ asks brake nothing.
 """
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass
 from importlib import resources
 from os import PathLike
@@ -22,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..checks import read_csv_rows
 from ..errors import DutyError
 from .schedule import KMH
 
@@ -51,13 +51,7 @@ def read_speed_trace(path: str | PathLike, name: str | None = None) -> SpeedTrac
     (lines starting with ``#`` are comments).  Errors name the file, the row and
     the value as the file writes it."""
     path = Path(path)
-    try:
-        lines = [ln for ln in path.read_text(encoding="utf-8-sig").splitlines()
-                 if ln.strip() and not ln.lstrip().startswith("#")]
-    except OSError as e:
-        raise DutyError(f"{path}: cannot read the drive cycle ({e.strerror})") from None
-    rows = list(csv.DictReader(lines))
-    header = list(rows[0]) if rows else []
+    rows, header = read_csv_rows(path, "the drive cycle", DutyError)
     col = next((c for c in _SPEED if c in header), None)
     if "time_s" not in header or col is None:
         raise DutyError(f"{path}: need the columns time_s and speed_kmh or speed_m_s (the "
