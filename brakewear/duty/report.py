@@ -49,8 +49,8 @@ __all__ = ["run_schedule_files", "APPLICATION_COLUMNS"]
 APPLICATION_COLUMNS = ("index", "kind", "t_start", "duration", "line_pressure", "decel", "v0",
                        "v1", "omega0", "omega1", "rotor_angle", "r_eff", "r_eff_mean", "torque",
                        "kinetic_J", "regenerated_J", "road_J", "target_face_J", "friction_face_J",
-                       "pad_volume_m3",
-                       "rotor_volume_m3", "steps", "pad_temperature_max", "run_s")
+                       "pad_volume_m3", "rotor_volume_m3", "steps", "pad_temperature_max",
+                       "run_s")
 
 
 def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface,
