@@ -91,10 +91,11 @@ def test_deceleration_inverts_the_torque_at_every_speed(blend):
                 assert car.deceleration(T, v) == pytest.approx(a, rel=1e-12)
 
 
-def test_a_stop_under_a_torque_integrates_its_equation_of_motion():
+@pytest.mark.parametrize("blend", [{}, BLEND])
+def test_a_stop_under_a_torque_integrates_its_equation_of_motion(blend):
     """Constant brake torque: lambda m dv/dt = -(F_f + F_regen + F_road); distance,
     time and energies against solve_ivp of that equation."""
-    car = Vehicle(**ROAD, **BLEND)
+    car = Vehicle(**ROAD, **blend)
     T, v0 = 600.0, 110 * KMH
     e = car.stop_energy(v0, 0.0, torque=T)
     stop = lambda t, y: y[0] - 1e-9  # noqa: E731

@@ -356,7 +356,7 @@ class Vehicle:
                 "regenerated_J": kinetic - road - friction * distance,
                 "friction_J": friction * distance,
                 "decel": (v0 * v0 - v1 * v1) / (2 * distance),
-                "decel_max": float(max(acc(grid).max(), *(acc(p) for p in pts))),
+                "decel_max": float(max([acc(grid).max(), *(acc(p) for p in pts)])),
                 "duration": _integral(lambda v: 1.0 / acc(v), v1, v0, pts),
                 "distance": distance}
 
