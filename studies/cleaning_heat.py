@@ -16,7 +16,9 @@ regeneration both on).  Per stop:
   and rotor against the friction work (1e-9);
 * **temperature**: the first stop's swept-band mean face temperature against
   the closed form of a stop's falling flux on a slab heated on both faces
-  (:func:`slab_stop_temperature`: the half-space solution and its images);
+  (:func:`slab_stop_temperature`: the half-space solution and its images),
+  and the share of the rotor's heat the swept slab holds at the stop's end
+  (the rest has spread beyond the band, which the slab does not);
 * **coning**: the ring's and the hat's capacity-weighted mean temperatures,
   the coning of each face across the pad (:class:`brakewear.thermal.RotorConing`
   of the temperature field) against the hat's thermal-coning figure times the
@@ -78,8 +80,11 @@ def _means(model, thermal):
     rf = r[face]
     band = (rf >= g.pad.inner_radius - 1e-9) & (rf <= g.pad.outer_radius + 1e-9)
     area = thermal.rotor_area
-    return {"ring": np.where(hat, 0.0, m) / m[~hat].sum(), "hat": np.where(hat, m, 0.0) / m[hat].sum(),
-            "band_nodes": face[band], "band_area": area[band] / area[band].sum()}
+    slab = (~hat) & (r >= g.pad.inner_radius - 1e-9) & (r <= g.pad.outer_radius + 1e-9)
+    return {"ring": np.where(hat, 0.0, m) / m[~hat].sum(),
+            "hat": np.where(hat, m, 0.0) / m[hat].sum(),
+            "band_nodes": face[band], "band_area": area[band] / area[band].sum(),
+            "slab_capacity": np.where(slab, m, 0.0), "capacity": m}
 
 
 def main(out=None, **settings) -> dict:
@@ -110,6 +115,8 @@ def main(out=None, **settings) -> dict:
             T = thermal.T["rotor"]
             watch["t"].append(s.time)
             watch["band"].append(float(w["band_area"] @ T[w["band_nodes"]]) - thermal.T_ambient)
+            rise = T - thermal.T_ambient      # the heat the swept slab holds, of the rotor's
+            watch["slab_share"] = float(w["slab_capacity"] @ rise / (w["capacity"] @ rise))
 
     rust = RustLayer(itf, RustLaw(thickness=1e-3 - 1e-9), MATERIALS["grey_cast_iron"].wear_k,
                      WearLaw(MATERIALS["pad_resin"].wear_k))
@@ -175,6 +182,7 @@ def _first_stop(rows, watch, model, car) -> dict:
     closed = slab_stop_temperature(t, q0, t_s, 0.5 * g.rotor.thickness, g.rotor.material)
     return {"t_s": t.tolist(), "fe_band_rise_K": fe.tolist(), "closed_form_K": closed.tolist(),
             "ratio_at_end": float(fe[-1] / closed[-1]),
+            "slab_heat_share_at_end": watch["slab_share"],
             "ratio_max": float(fe.max() / closed.max()), "q0_W_m2": q0, "rotor_share": share}
 
 
@@ -231,7 +239,8 @@ def _cli(argv=None) -> dict:
                   f"{row['heat_over_friction']:.1e}, ring {row['ring_C']:.1f} C hat "
                   f"{row['hat_C']:.1f} C, coning {row['coning_um']} um (figure "
                   f"{row['figure_coning_um']:.2f})")
-    print(f"first stop: FE/closed form at its end {r['first_stop']['ratio_at_end']:.3f}; "
+    print(f"first stop: FE/closed form at its end {r['first_stop']['ratio_at_end']:.3f}, the "
+          f"swept slab holds {r['first_stop']['slab_heat_share_at_end']:.3f} of the heat; "
           f"{r['run_s']:.0f} s")
     return r
 

@@ -61,7 +61,7 @@ from sweep_executor import add_executor_options, study_executor  # noqa: E402
 logger = logging.getLogger("cleaning_routine")
 
 DEFAULTS = dict(stops=20, interval=120.0, brake="idealised", size=4.0, order=1,
-                friction_layers=None, backplate_layers=None, dp_tol=0.05, threshold=0.02,
+                friction_layers=None, backplate_layers=None, dp_tol=0.05, touch=0.02,
                 heat=True, blocks=3, load_path=None)
 
 #: the pad modulus is sampled on these levels (x the resin's; one condensation each)
@@ -79,6 +79,11 @@ OTHER_PRIORS = {
                                    "estimate: the elastic hat rotor's thermal coning (the 3D FE "
                                    "2-4 % above the converged section model, thermal.md) "
                                    "+-20 % for other hats and their expansion"),
+    "convection_factor": Prior("uniform", 1.0, 3.0, "",
+                               "estimate: the laminar rotating disc (SpeedConvection.solid, "
+                               "thermal.md) is the least a rotor sheds; a wheel housing's air "
+                               "flow and radiation (6-18 W/m2K at 200-400 C, eps 0.6) add up "
+                               "to as much again or twice"),
     "pad_modulus": Prior("lognormal", 1.0, 0.25, "",
                          "estimate: friction materials span 1-15 GPa (references.md); one pad "
                          "type's modulus a factor 0.5-1.9 of the resin's, sampled on the levels "
@@ -185,6 +190,7 @@ def _reduced(task: dict):
         _BUILT[key] = heat
     heat = _BUILT[key]
     heat.restore((np.zeros_like(heat.a), 0.0))
+    heat.convection_factor = task.get("convection_factor", 1.0)
     return heat
 
 
@@ -220,7 +226,7 @@ def _run_sample(task: dict) -> dict:
     law = RustLaw(**{k: task[k] for k in RUST_PRIORS})
     rust = RustLayer(itf, law, MATERIALS["grey_cast_iron"].wear_k,
                      WearLaw(MATERIALS["pad_resin"].wear_k))
-    judge = _judge(itf, r_in, r_out, law.thickness, task["threshold"] * 1e6)
+    judge = _judge(itf, r_in, r_out, law.thickness, task["touch"] * 1e6)
     car = study_car(**{k: task[k] for k in ("mass", "rolling_resistance", "drag_area",
                                             "drivetrain_drag")}).with_friction_share(1.0)
     v0 = task["speed"] * KMH
@@ -253,19 +259,54 @@ def _run_sample(task: dict) -> dict:
 
 
 # ---------------------------------------------------------------- the curve --
-def map_tasks(tasks: list, executor: Executor | None, workers: int = 2) -> list:
-    """:func:`run_sample` of every task on ``executor`` (default: a process pool)."""
-    if executor is None:
-        with study_executor(None, workers) as ex:
-            return list(ex.map(run_sample, tasks, chunksize=max(1, len(tasks) // (8 * workers))))
-    return list(executor.map(run_sample, tasks))
+def _key(task: dict) -> str:
+    import hashlib
+    return hashlib.sha1(json.dumps(task, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def map_tasks(tasks: list, executor: Executor | None, workers: int = 2,
+              journal: Path | None = None) -> list:
+    """:func:`run_sample` of every task on ``executor`` (default: a process pool).  With
+    ``journal`` (a JSON-lines file) each result is appended as it arrives and the tasks
+    already there are not run again: a long sweep resumes where it stopped."""
+    done = {}
+    if journal is not None and Path(journal).exists():
+        for line in Path(journal).read_text().splitlines():
+            if line.strip():
+                d = json.loads(line)
+                done[d["key"]] = d["result"]
+    keys = [_key(t) for t in tasks]
+    todo = [t for t, k in zip(tasks, keys) if k not in done]
+    own = executor is None
+    ctx = study_executor(None, workers) if own else None
+    ex = ctx.__enter__() if own else executor
+    try:
+        chunk = {"chunksize": max(1, len(todo) // (8 * workers))} if own else {}
+        fh = open(journal, "a") if journal is not None else None
+        try:
+            for t, r in zip(todo, ex.map(run_sample, todo, **chunk)):
+                k = _key(t)
+                done[k] = r
+                if fh is not None:
+                    fh.write(json.dumps({"key": k, "result": r}) + "\n")
+                    fh.flush()
+        finally:
+            if fh is not None:
+                fh.close()
+    finally:
+        if own:
+            ctx.__exit__(None, None, None)
+    return [done[k] for k in keys]
 
 
 def design_curve(decels, speeds, n: int = 200, executor: Executor | None = None, out=None,
                  seed: int = 37, targets=(0.9, 0.95), **settings) -> dict:
     """P(clean within N stops) at every deceleration (m/s^2) and speed (km/h) over the
     same ``n`` draws of the inputs; the routines reaching ``targets``.  Writes
-    ``data/cleaning_routine.json`` and the figures to ``out``."""
+    ``data/cleaning_routine.json`` and the figures to ``out``, and each run as it
+    ends to ``data/cleaning_routine_runs.jsonl`` (run again, the runs there are
+    taken from it: a long sweep resumes).  The wall time then counts this call's
+    runs only; ``cost_per_sample_s`` is the runs' own mean."""
     st = {**DEFAULTS, **settings}
     unknown = set(settings) - set(DEFAULTS)
     if unknown:
@@ -275,7 +316,11 @@ def design_curve(decels, speeds, n: int = 200, executor: Executor | None = None,
     grid = [(float(v), float(a)) for v in speeds for a in sorted(decels)]
     tasks = [dict(st, **x, decel=a, speed=v) for v, a in grid for x in samples]
     t0 = time.perf_counter()
-    runs = map_tasks(tasks, executor)
+    journal = None
+    if out is not None:
+        (Path(out) / "data").mkdir(parents=True, exist_ok=True)
+        journal = Path(out) / "data" / "cleaning_routine_runs.jsonl"
+    runs = map_tasks(tasks, executor, journal=journal)
     wall = time.perf_counter() - t0
     points = []
     for j, (v, a) in enumerate(grid):

@@ -119,6 +119,44 @@ def tornado(decel: float, speed: float, stops: int, executor: Executor | None = 
     return result
 
 
+#: the non-physical choices checked at the routine: name -> settings changed
+CHOICES = {"default": {}, "mesh 3 mm": {"size": 3.0},
+           "6 + 6 layers": {"friction_layers": 6, "backplate_layers": 6},
+           "P2": {"order": 2}, "dp_tol 0.1": {"dp_tol": 0.1}, "dp_tol 0.025": {"dp_tol": 0.025},
+           "touch 0.01 MPa": {"touch": 0.01}, "touch 0.05 MPa": {"touch": 0.05}}
+
+
+def choices(decel: float, speed: float, stops: int, n: int = 100, target: float = 0.9,
+            executor: Executor | None = None, out=None, cases=None, seed: int = 37,
+            **settings) -> dict:
+    """The routine's point under each non-physical choice of :data:`CHOICES` (mesh,
+    element order, step control, touch threshold), the same ``n`` draws each: P(clean
+    within N) for every N and the fewest stops reaching ``target``; writes
+    ``data/cleaning_choices.json``."""
+    st = {**cr.DEFAULTS, **settings, "stops": stops}
+    cases = CHOICES if cases is None else cases
+    xs = cr.draw(n, seed, st["brake"])
+    tasks = [dict(st, **ch, **x, decel=decel, speed=speed) for ch in cases.values() for x in xs]
+    t0 = time.perf_counter()
+    runs = cr.map_tasks(tasks, executor)
+    rows = {}
+    for i, name in enumerate(cases):
+        rr = runs[i * n:(i + 1) * n]
+        s2c = [r["stops_to_clean"] for r in rr]
+        P = [sum(s is not None and s <= N for s in s2c) / n for N in range(1, stops + 1)]
+        rows[name] = {"settings": cases[name], "P": P, "failed": sum("error" in r for r in rr),
+                      "stops_for_target": next((N + 1 for N, p in enumerate(P) if p >= target),
+                                               None),
+                      "mean_stops_to_clean": float(np.mean([s for s in s2c if s is not None]))
+                      if any(s is not None for s in s2c) else None,
+                      "run_s": float(np.mean([r.get("run_s", np.nan) for r in rr]))}
+    result = {"decel": decel, "speed": speed, "stops": stops, "samples": n, "target": target,
+              "cases": rows, "wall_s": time.perf_counter() - t0}
+    if out is not None:
+        cr.write_result(out, "cleaning_choices", result)
+    return result
+
+
 def plot_sobol(result: dict, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -188,9 +226,19 @@ def _cli(argv=None) -> dict:
     ap.add_argument("--n-base", type=int, default=64)
     ap.add_argument("--brake", choices=("idealised", "caliper"), default=cr.DEFAULTS["brake"])
     ap.add_argument("--tornado-only", action="store_true")
+    ap.add_argument("--choices", type=int, default=0, metavar="N",
+                    help="only the non-physical choices at the point, N draws each")
     ap.add_argument("--out", default=None)
     add_executor_options(ap)
     a = ap.parse_args(argv)
+    if a.choices:
+        with study_executor(a.dask, a.workers) as ex:
+            c = choices(a.decel, a.speed, a.stops, a.choices, executor=ex, out=a.out,
+                        brake=a.brake)
+        for k, v in c["cases"].items():
+            print(f"{k:16s} stops for P >= 0.9: {v['stops_for_target']}  P(last) {v['P'][-1]:.3f}"
+                  f"  {v['run_s']:.1f} s per sample")
+        return {"choices": c}
     with study_executor(a.dask, a.workers) as ex:
         t = tornado(a.decel, a.speed, a.stops, ex, a.out, brake=a.brake)
         s = None if a.tornado_only else sobol(a.decel, a.speed, a.stops, a.n_base, ex, a.out,

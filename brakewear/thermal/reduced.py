@@ -74,6 +74,9 @@ class ReducedRotorHeat:
     T_ring, T_hat : float
         Capacity-weighted mean temperatures (K) of the ring and of the hat
         (:func:`hat_nodes`; the ring's without a hat).
+    convection_factor : float
+        A factor on the convection (1: the thermal model's; the air a wheel
+        housing moves over the rotor, and radiation, shed more).
     """
 
     def __init__(self, thermal, band: tuple[float, float] | None = None, blocks: int = 3,
@@ -89,6 +92,7 @@ class ReducedRotorHeat:
                                "(radiation is linearised about the temperature)")
         self._law = law[0] if isinstance(law[0], SpeedConvection) else None
         self._h_assembled = thermal.h_assembled["rotor"]
+        self.convection_factor = 1.0
         self.ring, self.radii = thermal.ring, thermal.ring_radii
         self.face_area = thermal.rotor_area
         x = model.meshes["rotor"].p
@@ -131,9 +135,12 @@ class ReducedRotorHeat:
         self.K_r = V.T @ (heat.K @ V)
         self.H_r = V.T @ (heat.H1 @ V)
         self.B_r = V.T @ B
+        self._wv_ring = self._w_ring @ V
+        self._wv_hat = None if self._w_hat is None else self._w_hat @ V
         self.a = np.zeros(V.shape[1])
         self.time = 0.0
         self._cone = None
+        self._factors: dict = {}
         logger.info("reduced rotor heat: %d inputs, basis %d of %d nodes", self.inputs.size,
                     V.shape[1], heat.n)
 
@@ -142,9 +149,8 @@ class ReducedRotorHeat:
         """The factor on the rotor's assembled convection at ``omega``: a speed-dependent
         coefficient over the one assembled, rounded as the full model rounds it."""
         law = self._law
-        if law is None:
-            return 1.0
-        return rounded(law.h(omega) / self._h_assembled)
+        base = 1.0 if law is None else rounded(law.h(omega) / self._h_assembled)
+        return base * self.convection_factor
 
     @property
     def field(self) -> np.ndarray:
@@ -153,13 +159,13 @@ class ReducedRotorHeat:
 
     @property
     def T_ring(self) -> float:
-        return float(self.T_ambient + self._w_ring @ (self.V @ self.a))
+        return float(self.T_ambient + self._wv_ring @ self.a)
 
     @property
     def T_hat(self) -> float:
-        if self._w_hat is None:
+        if self._wv_hat is None:
             return self.T_ring
-        return float(self.T_ambient + self._w_hat @ (self.V @ self.a))
+        return float(self.T_ambient + self._wv_hat @ self.a)
 
     def state(self) -> tuple:
         """The reduced temperatures and the time, to :meth:`restore` later."""
@@ -239,9 +245,19 @@ class ReducedRotorHeat:
             s0, s1 = k / n, (k + 1) / n
             u = u0 + (u1 - u0) * 0.5 * (s0 + s1)       # exact mean of a linear input
             w = omega0 + (omega1 - omega0) * 0.5 * (s0 + s1)
-            A = self.M_r / dt + self.K_r + self._convection_scale(w) * self.H_r
-            self.a = sla.solve(A, self.M_r @ self.a / dt + self.B_r @ u, assume_a="pos")
+            self.a = sla.cho_solve(self._factor(dt, self._convection_scale(w)),
+                                   self.M_r @ self.a / dt + self.B_r @ u)
         self.time += duration
+
+    def _factor(self, dt: float, scale: float):
+        """The Cholesky factor of ``M_r / dt + K_r + scale H_r``, kept per (dt, scale)."""
+        key = (dt, scale)
+        f = self._factors.get(key)
+        if f is None:
+            if len(self._factors) > 64:
+                self._factors.clear()
+            f = self._factors[key] = sla.cho_factor(self.M_r / dt + self.K_r + scale * self.H_r)
+        return f
 
     def heat(self, u_start: np.ndarray, duration: float, omega0: float, omega1: float,
              u_end: np.ndarray | None = None, max_dt: float = 1.0) -> None:
