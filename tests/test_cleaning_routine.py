@@ -103,3 +103,18 @@ def test_a_small_design_curve_runs_end_to_end(tmp_path):
     assert rows[1]["thermal_coning_um"] > 0
     assert (tmp_path / "data" / "cleaning_routine.json").exists()
     assert (tmp_path / "figures" / "cleaning_routine.png").exists()
+
+
+@pytest.mark.slow
+def test_the_curve_on_a_dask_cluster_is_the_curve_in_processes():
+    """The same tiny design curve on a local dask.distributed cluster of two worker
+    processes and on the default process pool: the same stops and cleaned shares."""
+    distributed = pytest.importorskip("dask.distributed")
+    kw = dict(n=2, stops=2, size=8.0, seed=4)
+    here = cr.design_curve([3.0], [80.0], **kw)
+    with distributed.Client(n_workers=2, threads_per_worker=1, processes=True,
+                            dashboard_address=None) as client:
+        there = cr.design_curve([3.0], [80.0], executor=client.get_executor(), **kw)
+    a, b = here["points"][0], there["points"][0]
+    assert a["stops_to_clean"] == b["stops_to_clean"]
+    assert a["cleaned_last"] == pytest.approx(b["cleaned_last"], rel=1e-9)
