@@ -81,8 +81,12 @@ class RustLaw:
 
     def coefficient(self, p) -> np.ndarray:
         """The Archard coefficient the threshold law is at pressure ``p``:
-        ``k_r max(p - p_th, 0) / p`` (1/Pa; 0 where ``p <= p_th``)."""
+        ``k_r max(p - p_th, 0) / p`` (1/Pa; 0 where ``p <= p_th > 0``).  With no
+        threshold it is ``k_r`` everywhere, at ``p = 0`` too (its limit): an implicit
+        step wears a node that closes within it with the coefficient taken at its start."""
         p = np.clip(np.asarray(p, dtype=float), 0.0, None)
+        if self.threshold == 0.0:
+            return np.full_like(p, self.k_rust)
         return np.divide(self.k_rust * np.maximum(p - self.threshold, 0.0), p,
                          out=np.zeros_like(p), where=p > 0)
 
