@@ -218,7 +218,9 @@ class RustLayer:
         the layer's thickness and set the laws' per-node shares (in place)."""
         self.through = self.ring_means(rotor_wear) >= self.rust.thickness
         node = np.where(self.through[self.ring], 0.0, 1.0)
-        self.covered[:] = self.W @ node
+        # W's rows sum to 1 to rounding: a share a few ulp past 1 gives the iron a
+        # negative weight and the implicit step a negative compliance
+        self.covered[:] = np.clip(self.W @ node, 0.0, 1.0)
         self._set_pad_factor()
 
     def _set_pad_factor(self) -> None:
