@@ -1,7 +1,9 @@
 """Heat in the cleaning stops on the full model (docs/cleaning.md, "Heat in the stops").
 
 The floating caliper of ``geometry/floating.toml`` as the full model -- both
-pads (their backplate ends held in-plane), the elastic rotor on its hat -- runs a schedule of stops with thermal
+pads as the caliper holds them (the rigid piston in its bore, the fingers, the
+abutments; ``held``: their backplate ends held in-plane instead), the elastic
+rotor on its hat -- runs a schedule of stops with thermal
 coupling on (:class:`brakewear.thermal.ThermalModel`: the heat of every wear
 step into pad and rotor, the thermal load of the temperatures in every contact
 solve, so the coning the stops create enters the gap step by step; the
@@ -39,7 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear import MATERIALS, BrakeModel, FEInterface, Numerics, WearLaw, load_geometry
+from brakewear import (MATERIALS, BrakeModel, CaliperInterface, FEInterface, Numerics, WearLaw,
+                       load_geometry)
 from brakewear import analytic as an
 from brakewear.cleaning import nonconformity_gap
 from brakewear.duty import KMH, repeated_stops, study_car
@@ -52,7 +55,7 @@ from brakewear.thermal.reduced import HAT_CONING_PER_K, ReducedRotorHeat, hat_no
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 DEFAULTS = dict(stops=5, speed=50.0, decel=1.0, interval=120.0, friction_share=0.5,
-                size=6.0, coning=30.0, mu=0.4, steps=6)
+                size=6.0, coning=30.0, mu=0.4, steps=6, held=False)
 
 
 def slab_stop_temperature(t, q0: float, t_stop: float, half: float, material,
@@ -87,15 +90,26 @@ def _means(model, thermal):
             "slab_capacity": np.where(slab, m, 0.0), "capacity": m}
 
 
+def _brake(st: dict):
+    """``(model, interface)``: the floating caliper as it holds its pads (rigid piston,
+    fingers, abutments; :class:`brakewear.CaliperInterface`), or with ``held`` both
+    backplate ends held in-plane on the FE contact (no load path)."""
+    if st["held"]:
+        from brakewear.geometry import SupportGeometry
+
+        g = replace(load_geometry("floating"), support=SupportGeometry())
+        model = BrakeModel(g, size=st["size"] * 1e-3, layout="full", rotor="elastic")
+        return model, FEInterface(model, 1e6, st["mu"])
+    model = BrakeModel(load_geometry("floating"), size=st["size"] * 1e-3, rotor="elastic",
+                       piston="rigid")
+    return model, CaliperInterface(model, 1e6, st["mu"])
+
+
 def main(out=None, **settings) -> dict:
     """The schedule with heat on; the per-stop figures (see the module)."""
     st = {**DEFAULTS, **settings}
-    from brakewear.geometry import SupportGeometry
-
-    # both backplate ends held in-plane: the heat checks need no load path
-    g = replace(load_geometry("floating"), support=SupportGeometry())
-    model = BrakeModel(g, size=st["size"] * 1e-3, layout="full", rotor="elastic")
-    itf = FEInterface(model, 1e6, st["mu"])
+    model, itf = _brake(st)
+    g = model.geometry
     thermal = ThermalModel(model, h_conv={"pad": 40.0, "rotor": SpeedConvection.solid()})
     band = (g.pad.inner_radius, g.pad.outer_radius)
     coning, reduced = RotorConing(thermal, band), ReducedRotorHeat(thermal, band=band)
@@ -227,7 +241,10 @@ def plot(result: dict, path: Path) -> None:
 def _cli(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     for k, v in DEFAULTS.items():
-        ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=type(v), default=v)
+        if isinstance(v, bool):
+            ap.add_argument(f"--{k.replace('_', '-')}", dest=k, action="store_true")
+        else:
+            ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=type(v), default=v)
     ap.add_argument("--out", default=None)
     a = vars(ap.parse_args(argv))
     out = a.pop("out")

@@ -25,10 +25,12 @@ The routine (:func:`routine`) is the fewest stops, then the lowest deceleration,
 then the lowest speed, that reach the probability.  Sensitivity:
 :mod:`cleaning_sensitivity` (Sobol indices from SALib, the tornado).
 
-The brake (``brake``): ``"idealised"`` -- the default brake's pad on a rigid
-rotor (one face), condensed (:class:`brakewear.CondensedInterface`); or
-``"caliper"`` -- the model of :func:`cleaning_stops._interface` (the floating caliper
-as it holds its pads, both faces), with its load-path keys as inputs.
+The brake (``brake``): ``"caliper"`` (the default) -- the model of
+:func:`cleaning_stops._interface`, the floating caliper as it holds its pads (rigid
+piston in its bore, fingers, abutments; the hat rotor; both faces judged), with its
+load-path keys as inputs; or ``"idealised"`` -- the default brake's pad on a rigid
+rotor (one face), condensed (:class:`brakewear.CondensedInterface`), the only one
+whose mesh layers and element order the settings change.
 
 Run ``python studies/cleaning_routine.py --decels 0.5 0.75 1 1.5 2 3 --speeds 50 80 100
 --samples 200 --out docs`` (``--dask ADDRESS|local`` for a cluster).
@@ -60,7 +62,7 @@ from sweep_executor import add_executor_options, study_executor  # noqa: E402
 
 logger = logging.getLogger("cleaning_routine")
 
-DEFAULTS = dict(stops=20, interval=120.0, brake="idealised", size=4.0, order=1,
+DEFAULTS = dict(stops=20, interval=120.0, brake="caliper", size=4.0, order=1,
                 friction_layers=None, backplate_layers=None, dp_tol=0.05, touch=0.02,
                 heat=True, blocks=3, load_path=None)
 
@@ -95,7 +97,7 @@ OTHER_PRIORS = {
 }
 
 
-def inputs(brake: str = "idealised") -> dict:
+def inputs(brake: str = "caliper") -> dict:
     """The uncertain inputs: name -> :class:`~brakewear.rust.Prior` (the rust law's, the
     others of :data:`OTHER_PRIORS`, and for ``brake = "caliper"`` the load path's keys,
     uniform over their plausible ranges)."""
@@ -120,7 +122,7 @@ def _load_path_priors() -> dict:
     return out
 
 
-def draw(n: int, seed: int = 37, brake: str = "idealised") -> list[dict]:
+def draw(n: int, seed: int = 37, brake: str = "caliper") -> list[dict]:
     """``n`` independent draws of :func:`inputs` (their probabilities from a seeded
     generator, through each prior's inverse distribution)."""
     pri = inputs(brake)
@@ -134,7 +136,7 @@ def values(u: dict, priors: dict | None = None) -> dict:
     return {k: float(pri[k].sample(np.array([p]))[0]) for k, p in u.items()}
 
 
-def medians(brake: str = "idealised") -> dict:
+def medians(brake: str = "caliper") -> dict:
     """Every input at its median."""
     return values({k: 0.5 for k in inputs(brake)}, inputs(brake))
 

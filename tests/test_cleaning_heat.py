@@ -135,7 +135,8 @@ def test_the_routine_run_stop_by_stop_is_the_schedule_run_whole():
 
 @pytest.mark.slow
 def test_heat_study_closes_energy_and_cones_as_the_field_says(tmp_path):
-    """studies/cleaning_heat.py on 8 mm, two stops: energy closure per stop with road load,
+    """studies/cleaning_heat.py on 8 mm, two stops, the floating caliper as it holds its
+    pads: energy closure per stop with road load,
     regeneration and heat on (1e-10; the model's work within its drift), heat = friction
     work (1e-9), the first stop's band temperature within 0.6-1.0 of the slab closed form
     and within 0.08 of the share of the heat the swept slab holds,
@@ -150,7 +151,9 @@ def test_heat_study_closes_energy_and_cones_as_the_field_says(tmp_path):
         assert abs(x["closure"]) < 1e-10
         assert x["regenerated_J"] > 0 and x["road_J"] > 0
         assert abs(x["heat_over_friction"]) < 1e-9
-        assert abs(x["torque_drift"]) < 0.01
+        # the caliper's pads: wear and the faces' thermal strain move r_eff within a stop
+        # by 1-1.5 % (duty.md: thermal coupling 0.4-1 %, tested below 2 %)
+        assert abs(x["torque_drift"]) < 0.02
     fs = r["first_stop"]
     assert 0.6 < fs["ratio_at_end"] < 1.0
     # the slab keeps all the heat under the band; the ring spreads a third of it beyond
