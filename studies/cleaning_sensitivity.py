@@ -1,6 +1,6 @@
 """What decides the cleaning routine: variance-based sensitivity (Sobol indices with
 bootstrap intervals, SALib) and the tornado, both at the routine's point
-(docs/cleaning.md, "What decides it").
+(docs/cleaning.md, "What decides the routine").
 
 :func:`sobol` samples the inputs of :func:`cleaning_routine.inputs` by SALib's
 Sobol sequence (Saltelli's scheme, ``n_base (D + 2)`` runs for ``D`` inputs)
@@ -125,6 +125,12 @@ CHOICES = {"default": {}, "mesh 3 mm": {"size": 3.0},
            "P2": {"order": 2}, "dp_tol 0.1": {"dp_tol": 0.1}, "dp_tol 0.025": {"dp_tol": 0.025},
            "touch 0.01 MPa": {"touch": 0.01}, "touch 0.05 MPa": {"touch": 0.05}}
 
+#: the same on the floating caliper, whose model takes the mesh size only (its layers
+#: and element order are the geometry file's): the mesh halved instead
+CALIPER_CHOICES = {"default": {}, "mesh 6 mm": {"size": 6.0}, "mesh 4 mm": {"size": 4.0},
+                   "dp_tol 0.1": {"dp_tol": 0.1}, "dp_tol 0.025": {"dp_tol": 0.025},
+                   "touch 0.01 MPa": {"touch": 0.01}, "touch 0.05 MPa": {"touch": 0.05}}
+
 
 def choices(decel: float, speed: float, stops: int, n: int = 100, target: float = 0.9,
             executor: Executor | None = None, out=None, cases=None, seed: int = 37,
@@ -134,7 +140,8 @@ def choices(decel: float, speed: float, stops: int, n: int = 100, target: float 
     within N) for every N and the fewest stops reaching ``target``; writes
     ``data/cleaning_choices.json``."""
     st = {**cr.DEFAULTS, **settings, "stops": stops}
-    cases = CHOICES if cases is None else cases
+    if cases is None:
+        cases = CALIPER_CHOICES if st["brake"] == "caliper" else CHOICES
     xs = cr.draw(n, seed, st["brake"])
     tasks = [dict(st, **ch, **x, decel=decel, speed=speed) for ch in cases.values() for x in xs]
     t0 = time.perf_counter()
@@ -149,6 +156,7 @@ def choices(decel: float, speed: float, stops: int, n: int = 100, target: float 
                                                None),
                       "mean_stops_to_clean": float(np.mean([s for s in s2c if s is not None]))
                       if any(s is not None for s in s2c) else None,
+                      "cleaned_share_mean": float(np.mean(_outputs(rr, stops)["cleaned_share"])),
                       "run_s": float(np.mean([r.get("run_s", np.nan) for r in rr]))}
     result = {"decel": decel, "speed": speed, "stops": stops, "samples": n, "target": target,
               "cases": rows, "wall_s": time.perf_counter() - t0}
@@ -225,6 +233,7 @@ def _cli(argv=None) -> dict:
     ap.add_argument("--stops", type=int, required=True)
     ap.add_argument("--n-base", type=int, default=64)
     ap.add_argument("--brake", choices=("idealised", "caliper"), default=cr.DEFAULTS["brake"])
+    ap.add_argument("--size", type=float, default=cr.DEFAULTS["size"])
     ap.add_argument("--tornado-only", action="store_true")
     ap.add_argument("--choices", type=int, default=0, metavar="N",
                     help="only the non-physical choices at the point, N draws each")
@@ -234,15 +243,16 @@ def _cli(argv=None) -> dict:
     if a.choices:
         with study_executor(a.dask, a.workers) as ex:
             c = choices(a.decel, a.speed, a.stops, a.choices, executor=ex, out=a.out,
-                        brake=a.brake)
+                        brake=a.brake, size=a.size)
         for k, v in c["cases"].items():
             print(f"{k:16s} stops for P >= 0.9: {v['stops_for_target']}  P(last) {v['P'][-1]:.3f}"
-                  f"  {v['run_s']:.1f} s per sample")
+                  f"  mean cleaned share {v['cleaned_share_mean']:.3f}  {v['run_s']:.1f} s per "
+                  "sample")
         return {"choices": c}
     with study_executor(a.dask, a.workers) as ex:
-        t = tornado(a.decel, a.speed, a.stops, ex, a.out, brake=a.brake)
+        t = tornado(a.decel, a.speed, a.stops, ex, a.out, brake=a.brake, size=a.size)
         s = None if a.tornado_only else sobol(a.decel, a.speed, a.stops, a.n_base, ex, a.out,
-                                              brake=a.brake)
+                                              brake=a.brake, size=a.size)
     if s is not None:
         for k, v in sorted(s["indices"]["cleaned_share"].items(), key=lambda kv: -kv[1]["ST"]):
             print(f"{k:22s} S1 {v['S1']:6.3f} +- {v['S1_conf']:.3f}   ST {v['ST']:6.3f} +- "
