@@ -391,7 +391,7 @@ def plot_curve(result: dict, path: Path) -> None:
 
     pts, N = result["points"], result["settings"]["stops"]
     speeds = sorted({p["speed"] for p in pts})
-    fig, axes = plt.subplots(1, len(speeds) + 1, figsize=(4.2 * (len(speeds) + 1), 4))
+    fig, axes = plt.subplots(1, len(speeds) + 2, figsize=(4.2 * (len(speeds) + 2), 4))
     for ax, v in zip(axes, speeds):
         row = [p for p in pts if p["speed"] == v]
         a = [p["decel"] for p in row]
@@ -405,7 +405,16 @@ def plot_curve(result: dict, path: Path) -> None:
         ax.set(xlabel="deceleration (m/s^2)", ylabel="stops",
                title=f"P(clean) (%), stops from {v:g} km/h")
     fig.colorbar(im, ax=axes[len(speeds) - 1])
-    bx = axes[-1]
+    bx, cx = axes[-2], axes[-1]
+    for v in speeds:
+        row = [p for p in pts if p["speed"] == v]
+        a = [p["decel"] for p in row]
+        q = np.array([np.quantile(p["cleaned_last"], (0.1, 0.5, 0.9)) for p in row])
+        ln, = cx.plot(a, q[:, 1], "o-", label=f"{v:g} km/h, median")
+        cx.fill_between(a, q[:, 0], q[:, 2], color=ln.get_color(), alpha=0.15)
+    cx.set(xlabel="deceleration (m/s^2)", ylabel=f"worse face's band cleaned, {N} stops",
+           ylim=(-0.02, 1.02), title="cleaned share (median, 10-90 %)")
+    cx.legend(fontsize=8)
     for v in speeds:
         row = [p for p in pts if p["speed"] == v]
         a = [p["decel"] for p in row]
