@@ -30,6 +30,14 @@ def test_threshold_law_removes_nothing_below_its_threshold():
     assert k[2] == pytest.approx(0.5 * K_IRON, rel=1e-15)     # at the threshold: no rust wear
 
 
+def test_with_no_threshold_the_coefficient_is_k_rust_at_zero_pressure_too():
+    """The limit of k_r (p - 0) / p: an implicit step takes the coefficient at its start
+    pressure, and a node that closes within it must wear on rust."""
+    p = np.array([0.0, 1e3, 1e6])
+    assert RustLaw(k_rust=3e-12).coefficient(p).tolist() == [3e-12] * 3
+    assert RustLaw(k_rust=3e-12, threshold=1.0).coefficient(p)[0] == 0.0
+
+
 @pytest.mark.parametrize("kw, match", [
     (dict(thickness=-1e-6), r"rust\.thickness: -1e-06 m is not allowed"),
     (dict(k_rust=0.0), r"rust\.k_rust"),
@@ -85,6 +93,24 @@ def test_without_threshold_or_factors_the_layer_is_the_layered_archard_law(small
     scale = np.abs(a.rotor_wear).max()
     assert np.abs(b.rotor_wear - a.rotor_wear).max() < 1e-12 * scale
     assert np.abs(b.pad_wear - a.pad_wear).max() < 1e-12 * np.abs(a.pad_wear).max()
+
+
+def test_the_share_of_rust_under_a_node_stays_within_0_and_1(small):
+    """W's rows sum to 1 to rounding: the covered share is clipped, so the iron never
+    gets a negative weight (nor the implicit step's rings a negative compliance)."""
+    from types import SimpleNamespace
+
+    model, itf = small
+    # rows a few ulp over 1, as a condensed or caliper interface's W can have
+    fake = SimpleNamespace(W=itf.W * (1 + 4e-16), ring=itf.ring, area=itf.area)
+    assert (fake.W @ np.ones(fake.W.shape[1])).max() > 1.0
+    layer = RustLayer(fake, RustLaw(thickness=2e-6), K_IRON, WearLaw(1e-15))
+    for frac in (0.0, 0.3, 0.7):
+        wear = np.where(np.arange(itf.ring.size) % 10 < 10 * frac, 3e-6, 0.0)
+        layer.update(wear)
+        assert layer.covered.min() >= 0.0 and layer.covered.max() <= 1.0
+        k = layer.rotor_law.coefficient_at(np.full(layer.covered.size, 1e5), 1.0)
+        assert k.min() >= 0.0
 
 
 def test_a_threshold_above_the_pressure_removes_no_rust_and_pad_wear_rises_on_rust(small):
