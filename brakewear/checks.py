@@ -198,3 +198,21 @@ def check_bool(key: str, value: Any, kind: type[InputError] = SceneError) -> Non
     if not isinstance(value, bool):
         raise fail(key, f"{value!r} is a {type(value).__name__}; expected true or false",
                    kind)
+
+
+def read_csv_rows(path, what: str, kind: type[InputError] = SceneError
+                  ) -> tuple[list[dict], list[str]]:
+    """The rows (dicts) and the header of a CSV file whose lines starting with ``#``
+    are comments; a file that cannot be read is a ``kind`` error naming ``what`` it
+    was to be (``"the drive cycle"``)."""
+    import csv
+    from pathlib import Path
+
+    path = Path(path)
+    try:
+        lines = [ln for ln in path.read_text(encoding="utf-8-sig").splitlines()
+                 if ln.strip() and not ln.lstrip().startswith("#")]
+    except OSError as e:
+        raise kind(f"{path}: cannot read {what} ({e.strerror})") from None
+    rows = list(csv.DictReader(lines))
+    return rows, list(rows[0]) if rows else []

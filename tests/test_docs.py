@@ -142,7 +142,9 @@ def test_the_snippet_check_sees_a_stale_name():
 
 #: what some snippets print, checked beyond "it runs" (the numbers their comments state)
 OUTPUT_CHECKS = {
-    "docs/duty.md#0": lambda out: len(out.strip().splitlines()) == 3
+    "docs/duty.md#0": lambda out: ("blended: 11.2 kJ" in out and "at most 0.89 kJ" in out
+                                   and "friction only: 313.4 kJ" in out),
+    "docs/duty.md#1": lambda out: len(out.strip().splitlines()) == 3
     and all("kJ dissipated" in s for s in out.strip().splitlines()),
     "docs/geometry.md#1": lambda out: "floating [0.126, 0.126]" in out
     and "push 0.0002 hat" in out and "261.5 mm^2 rim" in out,

@@ -5,12 +5,15 @@
 * :mod:`~brakewear.duty.schedule` -- :class:`Stop`, :class:`Drag`,
   :class:`Dwell`; schedules from a table or a drive-cycle CSV;
 * :mod:`~brakewear.duty.runner` -- :func:`run_schedule`: wear, heat and
-  energy per application.
+  energy per application;
+* :mod:`~brakewear.duty.cycle` -- a drive cycle replayed through the
+  vehicle's blending: the friction work ordinary driving gives the rotor.
 """
 
-from . import runner, schedule, vehicle
+from . import cycle, runner, schedule, vehicle
+from .cycle import *  # noqa: F403
 from .runner import *  # noqa: F403
 from .schedule import *  # noqa: F403
 from .vehicle import *  # noqa: F403
 
-__all__ = [*vehicle.__all__, *schedule.__all__, *runner.__all__]
+__all__ = [*vehicle.__all__, *schedule.__all__, *runner.__all__, *cycle.__all__]

@@ -5,8 +5,8 @@ scene with a ``[schedule]`` and writes, into the run's folder,
 
 * ``applications.csv``: per application its kind, start, duration, line
   pressure, deceleration, speeds, effective radius (at its start and its mean
-  over the rotor angle), torque, the vehicle's
-  kinetic and regenerated energy and the demand on each face, the model's
+  over the rotor angle), torque, the vehicle's kinetic energy, the parts
+  regenerated and taken by the road load, and the demand on each face, the model's
   friction work per face, worn volumes, steps and the pad face temperature
   (K); with thermal coupling also the thermal columns of
   :class:`~brakewear.wear.records.HeatTally` (face temperatures of pad and
@@ -48,8 +48,9 @@ __all__ = ["run_schedule_files", "APPLICATION_COLUMNS"]
 #: the columns of applications.csv (SI units, energies per friction face)
 APPLICATION_COLUMNS = ("index", "kind", "t_start", "duration", "line_pressure", "decel", "v0",
                        "v1", "omega0", "omega1", "rotor_angle", "r_eff", "r_eff_mean", "torque",
-                       "kinetic_J", "regenerated_J", "target_face_J", "friction_face_J", "pad_volume_m3",
-                       "rotor_volume_m3", "steps", "pad_temperature_max", "run_s")
+                       "kinetic_J", "regenerated_J", "road_J", "target_face_J", "friction_face_J",
+                       "pad_volume_m3", "rotor_volume_m3", "steps", "pad_temperature_max",
+                       "run_s")
 
 
 def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface,
@@ -167,6 +168,7 @@ def application_figure(rows: list[dict], path: Path, title: str = "") -> Path:
     kJ = lambda key: [1e-3 * (r[key] or 0.0) for r in braked]  # noqa: E731
     ax[0].plot(n, kJ("kinetic_J"), "s-", label="vehicle: kinetic energy")
     ax[0].plot(n, kJ("regenerated_J"), "v-", label="vehicle: regenerated")
+    ax[0].plot(n, kJ("road_J"), "^-", label="vehicle: road load")
     ax[0].plot(n, kJ("target_face_J"), "o-", label="demand on each friction face")
     ax[0].plot(n, kJ("friction_face_J"), "x", ms=9, label="model: friction work per face")
     ax[0].set(xlabel="application", ylabel="energy (kJ)", title="energy per application")

@@ -67,6 +67,7 @@ class ApplicationRecord:
     torque: float | None = None    # N m, at the start
     kinetic_J: float | None = None
     regenerated_J: float | None = None
+    road_J: float | None = None    # taken by the road load (less what the motor drove)
     target_face_J: float | None = None    # the vehicle's demand on each face
     friction_face_J: float = 0.0          # the model's dissipation per face (full model: mean)
     pad_volume_m3: float = 0.0            # worn in this application
@@ -156,7 +157,7 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
         rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
         return ConstantSpeed(w), rec
     if app.decel is not None:          # checked with the schedule (check_schedule)
-        rec.torque = vehicle.brake_torque(app.decel)
+        rec.torque = vehicle.stop_torque(app.v0, app.v1, app.decel)
         guess = line_pressure_for_torque(rec.torque, brake.mu, brake.clamp_area,
                                          float(np.average(brake.itf.r, weights=brake.itf.area)))
         rec.line_pressure, rec.r_eff = brake.pressure_for_torque(rec.torque, guess)
@@ -165,15 +166,19 @@ def _resolve(app, vehicle: Vehicle | None, brake: _Brake, index: int):
         rec.line_pressure = app.line_pressure
         rec.r_eff = brake.r_eff(brake.solve(app.line_pressure).pressure, app.line_pressure)
         rec.torque = brake_torque(app.line_pressure, brake.mu, brake.clamp_area, rec.r_eff)
-        rec.decel = vehicle.deceleration(rec.torque)
+        energy = vehicle.stop_energy(app.v0, app.v1, torque=rec.torque)
         vehicle.check_deceleration(
-            rec.decel, f"{application_name(app, index)}: the deceleration of line pressure "
-                       f"{app.line_pressure / 1e6:g} MPa")
+            energy["decel_max"], f"{application_name(app, index)}: the deceleration of line "
+                                 f"pressure {app.line_pressure / 1e6:g} MPa")
+        # a linear speed profile with the stop's distance: its rotor angle and energy
+        rec.decel = energy["decel"]
     rec.v0, rec.v1 = app.v0, app.v1
     rec.duration = (app.v0 - app.v1) / rec.decel
     rec.omega0, rec.omega1 = vehicle.rotor_speed(app.v0), vehicle.rotor_speed(app.v1)
-    energy = vehicle.stop_energy(app.v0, app.v1, rec.decel)
+    if app.decel is not None:
+        energy = vehicle.stop_energy(app.v0, app.v1, rec.decel)
     rec.kinetic_J, rec.regenerated_J = energy["kinetic_J"], energy["regenerated_J"]
+    rec.road_J = energy["road_J"] - energy["propulsion_J"]
     rec.target_face_J = energy["face_J"]
     return LinearSpeed(rec.omega0, rec.omega1, rec.duration), rec
 

@@ -183,10 +183,11 @@ def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
 
 def stop_decelerations(app: Stop, vehicle, mu: float, geometry) -> tuple[float, float]:
     """The least and the largest deceleration (m/s^2) a stop under a line pressure can
-    give: its whole pressure field at the pad's inner, then outer radius."""
+    give at its start (where the road load is largest): its whole pressure field at
+    the pad's inner, then outer radius."""
     pad = geometry.pad
     return tuple(vehicle.deceleration(brake_torque(app.line_pressure, mu, geometry.clamp_area,
-                                                   r))
+                                                   r), app.v0)
                  for r in (pad.inner_radius, pad.outer_radius))
 
 
@@ -217,10 +218,10 @@ def _check_interval(stop: Stop, dwell: Dwell, vehicle, mu: float, geometry,
 
 def _check_stop_decel(app: Stop, vehicle, where: str) -> None:
     vehicle.check_deceleration(app.decel, f"{where}: deceleration")
-    if not vehicle.brake_torque(app.decel) > 0:
+    if not vehicle.stop_torque(app.v0, app.v1, app.decel) > 0:
         raise DutyError(f"{where}: at deceleration = {app.decel!r} m/s^2 the motor takes all "
-                        f"the braking (regen_share = {vehicle.regen_share:g}): the modelled "
-                        "brake gives no torque")
+                        f"the braking the road load leaves (regen_share = "
+                        f"{vehicle.regen_share:g}): the modelled brake gives no torque")
 
 
 def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | None = None,

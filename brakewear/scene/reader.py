@@ -72,7 +72,11 @@ _SCHEMA: dict[str, dict[str, str]] = {
     "output": {"vtu_every": "int", "checkpoint_every": "int", "figures": "bool"},
     "vehicle": {"mass": "num", "front_share": "num", "tyre_radius": "length",
                 "brakes_per_axle": "int", "regen_share": "num", "regen_torque_limit": "num",
-                "axle": "str", "tyre_mu": "num"},
+                "axle": "str", "tyre_mu": "num", "regen_power_limit": "num",
+                "regen_decel_limit": "num", "regen_cutoff_speed": "num",
+                "regen_full_speed": "num", "inertia_factor": "num",
+                "rolling_resistance": "num", "drag_area": "num", "air_density": "num",
+                "drivetrain_drag": "num"},
     # checked by brakewear.duty.schedule_from_table (its own units: km/h, m/s^2, MPa, s)
     "schedule": {"stops": "raw", "speed_from": "raw", "speed_to": "raw", "deceleration": "raw",
                  "line_pressure": "raw", "interval": "raw", "dwell_speed": "raw",
