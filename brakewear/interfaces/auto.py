@@ -38,6 +38,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .fe import METHOD, FEInterface
+from .registry import InterfaceModel, capabilities_of, register_interface
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["InterfaceChoice", "choose_interface", "condensation_solves", "expected_steps"]
@@ -178,3 +181,31 @@ def choose_interface(model, fe, numerics, *, line_pressure: float, omega: float,
     if steps >= even:
         return InterfaceChoice("condensed", figures, steps, even)
     return InterfaceChoice("fe", figures, steps, even)
+
+
+def _build(request):
+    """The run's FE interface, or the condensed one built on it where it pays
+    (:func:`choose_interface`); with the record of the choice and its reason."""
+    from .condensed import CondensedInterface
+
+    model, n, run = request.model, request.numerics, request.run
+    fe = FEInterface(model, request.line_pressure, request.mu, n.tol)
+    thermal = None if run is None else run.thermal
+    T = None if thermal is None else thermal.T_ambient
+
+    def rate(p, v):
+        return float(np.max(run.pad_law.rate(np.array([p]), np.array([v]), T)))
+
+    choice = choose_interface(model, fe, n, line_pressure=request.line_pressure,
+                              omega=run.omega, duration=run.duration, wear_rate=rate,
+                              applications=len(run.schedule), thermal=thermal is not None,
+                              resume=request.checkpoint)
+    itf = fe if choice.model == "fe" else CondensedInterface(
+        model, fe.line_pressure, request.mu, n.tol, fe=fe)
+    return itf, choice.record()
+
+
+register_interface(InterfaceModel(
+    "auto", _build, keys=(METHOD,), capabilities=capabilities_of(FEInterface),
+    summary="the condensed interface where the run's expected steps pay for its "
+            "condensation, FE contact otherwise"))

@@ -25,16 +25,16 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ContactError
+from ..errors import ContactError, WearError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Interface", "InterfaceSolution", "StepCompliance"]
+__all__ = ["Interface", "InterfaceSolution", "StepCompliance", "check_interface", "capability"]
 
 
 @dataclass(frozen=True)
@@ -161,10 +161,13 @@ class InterfaceSolution:
 
 @runtime_checkable
 class Interface(Protocol):
-    """The interface model of a wear history.
+    """The interface model of a wear history: everything the wear loop, its
+    records and its output ask of it.
 
     Attributes
     ----------
+    x : ndarray
+        (3, n_pad) positions of the pad's friction nodes (m).
     area : ndarray
         (n_pad,) tributary areas of the pad's friction nodes (m^2).
     r : ndarray
@@ -175,23 +178,45 @@ class Interface(Protocol):
         (n_pad, n_rotor) interpolation from the rotor's wear nodes to the
         points under the pad nodes.
     ring, rotor_area, rotor_x
-        Ring number, tributary area (m^2) and position (m) of each rotor wear node.
+        Ring number, tributary area (m^2) and position (3, n_rotor; m) of each
+        rotor wear node (:func:`brakewear.rings.ring_wear_nodes` gives them for
+        an unmeshed rotor).
     rotor_nodes : ndarray or None
         The rotor mesh's node numbers of its wear nodes (None: no rotor mesh).
     normal_stiffness : ndarray
         (n_pad,) row sums of the normal stiffness at the pad's friction nodes
         (N/m): the bound of the pressure's response to a gap change.
-    accepts_load : bool
-        Whether :meth:`solve` takes a nodal load (thermal strain).
+    line_pressure : float
+        The line pressure (Pa) its solves are posed at.
+    settings : dict
+        Its own settings (numbers, strings, arrays): a checkpoint is resumed
+        only by a run whose interface reports the same.
+    accepts_load, follows_geometry, per_node_friction, quadratic, any_line_pressure : bool
+        Its capabilities (:data:`~brakewear.interfaces.registry.CAPABILITIES`;
+        a missing one counts as False): a nodal load (thermal strain) in
+        :meth:`solve`; :meth:`rebuilt` on a moved model; ``mu`` per pad node;
+        quadratic meshes; ``at_line_pressure``.
+
+    Two methods go with capabilities (an interface without the capability
+    needs neither): ``at_line_pressure(line_pressure) -> Interface``, this
+    interface posed at another line pressure (Pa), sharing what it has built;
+    ``rebuilt(model, opening=0.0) -> Interface``, this interface on ``model``,
+    the same brake in a moved geometry whose worn surfaces opened by up to
+    ``opening`` (m).
     """
 
+    x: np.ndarray
     area: np.ndarray
     r: np.ndarray
     pad_nodes: np.ndarray
+    W: Any
     ring: np.ndarray
     rotor_area: np.ndarray
+    rotor_x: np.ndarray
+    rotor_nodes: np.ndarray | None
     normal_stiffness: np.ndarray
-    accepts_load: bool
+    line_pressure: float
+    settings: dict
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
               compliance: "StepCompliance | np.ndarray | None" = None,
@@ -211,3 +236,41 @@ class Interface(Protocol):
         coefficient of this solve (None: the interface's own).  With rings,
         ``info["ring_depth"]`` holds the rings' depths (m) the solve found.
         """
+
+
+#: the members every interface has (the capabilities' methods only where declared)
+REQUIRED = ("x", "area", "r", "pad_nodes", "W", "ring", "rotor_area", "rotor_x",
+            "rotor_nodes", "normal_stiffness", "line_pressure", "settings", "solve")
+
+#: capability -> (the method it promises, what the run asks that needs it)
+_PROMISES = {"any_line_pressure": ("at_line_pressure", "another line pressure"),
+             "follows_geometry": ("rebuilt", "numerics.update = 'geometry'")}
+
+
+def capability(interface, name: str) -> bool:
+    """Whether ``interface`` declares the capability ``name`` (missing: False)."""
+    return getattr(interface, name, False) is True
+
+
+def check_interface(interface, needs=()) -> None:
+    """Refuse (a :class:`~brakewear.errors.WearError` naming what is missing) an
+    interface that lacks a member of :class:`Interface` or a capability in
+    ``needs``; checked once, when a run starts."""
+    name = type(interface).__name__
+    missing = [m for m in REQUIRED if not hasattr(interface, m)]
+    missing += [meth for cap, (meth, _) in _PROMISES.items()
+                if capability(interface, cap) and not callable(getattr(interface, meth, None))]
+    if missing:
+        raise WearError(f"the interface {name} is not a brakewear Interface: it has no "
+                        f"{', '.join(missing)} (brakewear.interfaces.Interface lists what a "
+                        "wear run uses)")
+    if not callable(interface.solve):
+        raise WearError(f"the interface {name}: solve is not a method")
+    if not isinstance(interface.settings, dict):
+        raise WearError(f"the interface {name}: settings is a "
+                        f"{type(interface.settings).__name__}; need a dict")
+    for cap in needs:
+        if not capability(interface, cap):
+            why = _PROMISES.get(cap, (None, cap))[1]
+            raise WearError(f"the interface {name} does not declare {cap} = True, which "
+                            f"{why} needs")
