@@ -302,3 +302,30 @@ def test_a_toy_application_runs_from_a_scene_file(toys, tmp_path):
                                                            rel=0.05)
     with pytest.raises(SceneError, match=r"\[schedule\] runs from its start"):
         run_scene(scene, tmp_path / "out", resume=True)
+
+
+def test_a_decision_entry_builds_the_model_it_chooses(tmp_path):
+    """An entry may decide instead of build (an "auto" choice): the scene names it, its
+    decision sees what the run needs, and the model it names is built with its own
+    keys; names are registered once, and keys are read one way by every model."""
+    from brakewear.interfaces import FEInterface, FoundationInterface
+
+    def cheapest(request):
+        return "fe" if "accepts_load" in request.needs else "winkler"
+
+    register_interface(InterfaceModel("cheapest", decide=cheapest,
+                                      capabilities=frozenset({"accepts_load"})))
+    try:
+        with pytest.raises(SceneError, match=r"'cheapest' is registered already"):
+            register_interface(InterfaceModel("cheapest", decide=cheapest))
+        with pytest.raises(SceneError, match=r"interface\.winkler_rotor: read as 'num'"):
+            register_interface(InterfaceModel("odd", _toy_bed,
+                                              keys=(OptionKey("winkler_rotor", "num"),)))
+        cold = load_scene(_scene(tmp_path, interface='model = "cheapest"'))
+        assert isinstance(cold.build_run().interface, FoundationInterface)
+        hot = load_scene(_scene(tmp_path, interface='model = "cheapest"',
+                                extra="[thermal]\nenabled = true\n"))
+        assert isinstance(hot.build_run().interface, FEInterface)
+    finally:
+        unregister_interface("cheapest")
+    assert "odd" not in interface_models()

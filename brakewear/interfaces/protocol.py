@@ -2,11 +2,14 @@
 
 An *interface model* answers one question for the wear loop: the contact
 pressure at the pad's friction nodes for a given extra gap (the worn depths),
-and it describes the surfaces the wear is booked on.  Three implement it:
-:class:`~brakewear.interfaces.FEInterface` (finite-element contact, elastic or
-rigid rotor), :class:`~brakewear.interfaces.FoundationInterface` (an elastic
-foundation, milliseconds per solve), and any user class with the same
-attributes and :meth:`Interface.solve`.
+and it describes the surfaces the wear is booked on.  The built-in models
+implement it -- :class:`~brakewear.interfaces.FEInterface` (finite-element
+contact, elastic or rigid rotor), :class:`~brakewear.interfaces.FoundationInterface`
+(an elastic foundation, milliseconds per solve),
+:class:`~brakewear.interfaces.CondensedInterface` -- and so may any class with
+the same members, registered by name for scene files
+(:mod:`brakewear.interfaces.registry`).  A run checks its interface against
+the protocol once, when it starts (:func:`check_interface`).
 
 Everything a solve needs comes in as an argument (gap offset, start set,
 the implicit step's compliance, a Krylov start, the thermal load, the
