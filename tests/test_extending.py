@@ -16,7 +16,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pytest
 
-from brakewear import Run, WearLaw
 from brakewear.duty import (ApplicationRecord, application_kinds, register_application,
                             unregister_application)
 from brakewear.errors import SceneError, WearError
@@ -117,7 +116,7 @@ class Turns:
     units = {"line_pressure": ("MPa", 1e6), "turns": ("", 1.0), "omega": ("rad/s", 1.0)}
     needs_vehicle = False
 
-    def check(self, vehicle, where, since_start, mu, geometry):
+    def check(self, ctx):
         return 2.0 * math.pi * self.turns / self.omega
 
     def check_scene(self, vehicle, index):

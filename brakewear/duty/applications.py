@@ -146,6 +146,10 @@ class Application(Protocol):
         Field -> (unit, SI value of one unit) of its fields in a scene file.
     needs_vehicle : bool
         Whether it needs a :class:`~brakewear.duty.Vehicle` (a speed of the car).
+
+    A dataclass field ``source`` (not compared), where it has one, says where it
+    came from (a scene's ``[schedule]``, a drive cycle's rows): messages name it
+    (:func:`application_name`).
     """
 
     kind: ClassVar[str]
@@ -199,9 +203,10 @@ def is_application(app) -> bool:
     return any(isinstance(app, cls) for cls in _KINDS)
 
 
-def application_from_table(table: dict, where: str = "schedule") -> Any:
+def application_from_table(table: dict, where: str = "schedule", source: str = "") -> Any:
     """An application from a scene file's table: ``kind`` and the kind's fields in
-    its :attr:`~Application.units` (a :class:`DutyError` naming ``where``)."""
+    its :attr:`~Application.units` (a :class:`DutyError` naming ``where``); ``source``
+    (where it comes from, for messages) goes to a kind with a ``source`` field."""
     if not isinstance(table, dict) or "kind" not in table:
         raise DutyError(f"{where}: {table!r} is not an application; need a table with "
                         f"kind = one of {', '.join(map(repr, application_kinds()))}")
@@ -224,6 +229,8 @@ def application_from_table(table: dict, where: str = "schedule") -> Any:
         if factor != 1.0 and not _finite(v):
             raise DutyError(f"{where}: {kind}.{k} = {v!r} is not a number ({unit})")
         kw[k] = v * factor if factor != 1.0 else v
+    if source and "source" in {f.name for f in fields(cls)}:
+        kw["source"] = source
     try:
         return cls(**kw)
     except TypeError as exc:

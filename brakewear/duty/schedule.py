@@ -125,8 +125,8 @@ def schedule_from_table(table: dict, source: str = "scene", base: Path | None = 
         if not isinstance(apps, list) or not apps:
             raise DutyError(f"{source}: schedule.applications: {apps!r}; need a list of "
                             "tables, each with kind = ... and its fields")
-        return [replace(application_from_table(a, f"{source}: schedule.applications[{i}]"),
-                        source=TABLE_SOURCE) for i, a in enumerate(apps)]
+        return [application_from_table(a, f"{source}: schedule.applications[{i}]",
+                                       TABLE_SOURCE) for i, a in enumerate(apps)]
     try:
         _check_table(table)
     except DutyError as e:
