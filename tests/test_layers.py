@@ -26,8 +26,8 @@ PKG = ROOT / "brakewear"
 
 #: the layers, bottom first: a module belongs to the first whose prefix it has
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "checks", "registry", "analytic", "materials", "laws", "maps", "map_csv",
-     "cleaning"),
+    ("errors", "checks", "registry", "heartbeat", "analytic", "materials", "laws", "maps",
+     "map_csv", "cleaning"),
     ("geometry",),
     ("mesh", "fem", "solvers", "rings", "caliper_loads"),
     ("contact", "interfaces", "thermal", "motion", "follower"),
