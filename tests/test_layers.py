@@ -29,7 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "checks", "registry", "heartbeat", "analytic", "materials", "laws", "maps",
      "map_csv", "cleaning"),
     ("geometry",),
-    ("mesh", "fem", "solvers", "rings", "caliper_loads"),
+    ("mesh", "fem", "solvers", "rings", "caliper_loads", "rough"),
     ("contact", "interfaces", "thermal", "motion", "follower"),
     ("model", "static", "duty", "wear", "scene", "run"),
     ("output", "cli", "bench", "figures", "verification"),
