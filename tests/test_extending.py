@@ -250,6 +250,37 @@ def test_a_toy_interface_key_is_checked_in_the_files_units(toys, tmp_path):
         load_scene(_scene(tmp_path, extra="[thermal]\nenabled = true\n"))
 
 
+def test_a_toy_interface_without_implicit_rings_takes_the_pads_compliance(toys, tmp_path):
+    """The toy declares no ``implicit_rings``: the implicit scheme with a rotor that wears
+    (its rings solved with the pad) is refused by the scene, naming the models that
+    solve them and ``implicit_pad``, and by a run made in Python; ``implicit_pad`` is
+    taken.  With a rotor that does not wear the implicit scheme hands the toy the pad's
+    compliance alone: one backward Euler step from the flat new pad matches its
+    closed form."""
+    with pytest.raises(SceneError, match=r"numerics\.scheme: 'implicit' .*'implicit_pad'.* "
+                                         r"needs interface\.model = 'fe' or 'winkler' or "
+                                         r"'condensed'"):
+        load_scene(_scene(tmp_path, numerics='scheme = "implicit"'))
+    scene = load_scene(_scene(tmp_path, numerics='scheme = "implicit_pad"\nsteps = 1'))
+    model = scene.build_model()
+    run = scene.build_run(model)
+    with pytest.raises(WearError, match=r"does not declare implicit_rings = True, which "
+                                        r"numerics\.scheme = 'implicit'"):
+        replace(run, numerics=replace(run.numerics, scheme="implicit")).resolved()
+    path = _scene(tmp_path, "still", numerics='scheme = "implicit"\nsteps = 1')
+    path.write_text(path.read_text().replace("[wear.rotor]\nk = 5e-16", ""))
+    summary = run_scene(load_scene(path), tmp_path / "pad")
+    pad = model.meshes["pad"]
+    nodes = surface_nodes(pad, "friction")
+    A, r = tributary_areas(pad, "friction", nodes), np.hypot(*pad.p[:2, nodes])
+    # each node's wear compliance eps = k v dt in series with the bed (modulus K):
+    # p_i = d / (1/K + eps_i) with the approach d that carries the clamp force
+    eps = 5e-15 * 55.0 * r * 60.0
+    d = CLAMP_MPA * 1e6 * model.geometry.clamp_area / np.sum(A / (1 / 2e12 + eps))
+    assert summary["final"]["pad_wear_max_m"] == pytest.approx(
+        np.max(eps * d / (1 / 2e12 + eps)), rel=1e-9)
+
+
 def test_a_toy_wear_law_runs_from_a_scene_file_and_resumes(toys, tmp_path):
     """The toy law, named in [wear.pad] with its own key, gives the numbers of the
     built-in Archard law with the same k (both through one rate function), and

@@ -80,6 +80,8 @@ class CondensedInterface:
     accepts_load = True
     #: mu per node; at another line pressure (the load's share scales); P2 faces
     per_node_friction = any_line_pressure = quadratic = True
+    #: the rings' wear of an implicit step adds its rank-n_ring compliance
+    implicit_rings = True
     #: the condensation is of the unmoved meshes
     follows_geometry = False
 

@@ -49,6 +49,8 @@ class FEInterface:
     accepts_load = True
     #: :meth:`rebuilt` on a moved model; mu per node; P2 meshes; :meth:`at_line_pressure`
     follows_geometry = per_node_friction = quadratic = any_line_pressure = True
+    #: the rings' depths of an implicit step are unknowns of its compliant solve
+    implicit_rings = True
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
         self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol

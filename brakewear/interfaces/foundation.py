@@ -32,6 +32,8 @@ class FoundationInterface:
     accepts_load = False
     #: its nodes are the pad's in place; one mu; linear faces; built at its line pressure
     follows_geometry = per_node_friction = quadratic = any_line_pressure = False
+    #: the rings' depths of an implicit step are iterated around its solve
+    implicit_rings = True
 
     def __init__(self, model, winkler, line_pressure: float, mu: float = 0.0):
         self.model, self.winkler, self.line_pressure, self.mu = model, winkler, line_pressure, mu

@@ -194,11 +194,13 @@ class Interface(Protocol):
     settings : dict
         Its own settings (numbers, strings, arrays): a checkpoint is resumed
         only by a run whose interface reports the same.
-    accepts_load, follows_geometry, per_node_friction, quadratic, any_line_pressure : bool
+    accepts_load, follows_geometry, per_node_friction, quadratic, any_line_pressure, implicit_rings : bool
         Its capabilities (:data:`~brakewear.interfaces.registry.CAPABILITIES`;
         a missing one counts as False): a nodal load (thermal strain) in
         :meth:`solve`; :meth:`rebuilt` on a moved model; ``mu`` per pad node;
-        quadratic meshes; ``at_line_pressure``.
+        quadratic meshes; ``at_line_pressure``; a :class:`StepCompliance`
+        with rings in :meth:`solve` (without it, ``compliance`` is only ever
+        an array, the pad's).
 
     Two methods go with capabilities (an interface without the capability
     needs neither): ``at_line_pressure(line_pressure) -> Interface``, this
@@ -248,6 +250,9 @@ REQUIRED = ("x", "area", "r", "pad_nodes", "W", "ring", "rotor_area", "rotor_x",
 #: capability -> (the method it promises, what the run asks that needs it)
 _PROMISES = {"any_line_pressure": ("at_line_pressure", "another line pressure"),
              "follows_geometry": ("rebuilt", "numerics.update = 'geometry'")}
+#: capability with no method -> what the run asks that needs it
+_ASKED = {"implicit_rings": "numerics.scheme = 'implicit' with a rotor that wears (or use "
+                            "'implicit_pad': the rotor's wear explicit)"}
 
 
 def capability(interface, name: str) -> bool:
@@ -274,6 +279,6 @@ def check_interface(interface, needs=()) -> None:
                         f"{type(interface.settings).__name__}; need a dict")
     for cap in needs:
         if not capability(interface, cap):
-            why = _PROMISES.get(cap, (None, cap))[1]
+            why = _PROMISES.get(cap, (None, _ASKED.get(cap, cap)))[1]
             raise WearError(f"the interface {name} does not declare {cap} = True, which "
                             f"{why} needs")

@@ -44,9 +44,12 @@ __all__ = ["CAPABILITIES", "InterfaceModel", "BuildRequest", "register_interface
 #: ``follows_geometry`` -- :meth:`rebuilt` on a moved model (update = "geometry");
 #: ``per_node_friction`` -- a friction coefficient per pad node (a friction law);
 #: ``quadratic`` -- quadratic (P2) meshes;
-#: ``any_line_pressure`` -- :meth:`at_line_pressure` (a schedule's applications).
+#: ``any_line_pressure`` -- :meth:`at_line_pressure` (a schedule's applications);
+#: ``implicit_rings`` -- its solve takes a :class:`~brakewear.interfaces.StepCompliance`
+#: with rings and solves the rotor's ring wear of the step with the pressure
+#: (``numerics.scheme = "implicit"`` with a rotor that wears).
 CAPABILITIES = ("accepts_load", "follows_geometry", "per_node_friction", "quadratic",
-                "any_line_pressure")
+                "any_line_pressure", "implicit_rings")
 
 
 @dataclass(frozen=True)

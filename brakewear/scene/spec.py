@@ -282,13 +282,16 @@ class Scene:
             why = None if law is None else n.refuses_law(surface, law.a)
             if why:
                 raise fail(f"wear.{surface}.a", f"{law.a!r} is not allowed: {why}")
-        if n.update == "geometry" and not self._can("follows_geometry"):
-            raise fail("numerics.update", "'geometry' moves the FE meshes; it needs "
-                                           f"interface.model = {_models('follows_geometry')}")
-        if self.thermal.enabled and not self._can("accepts_load"):
-            raise fail("thermal.enabled", f"true needs interface.model = "
-                                          f"{_models('accepts_load')}: "
-                                          f"{self.interface.entry.lacks('accepts_load')}")
+        for cap, key, asked, what in (
+                ("follows_geometry", "numerics.update", n.update == "geometry",
+                 "'geometry' moves the FE meshes; it"),
+                ("accepts_load", "thermal.enabled", self.thermal.enabled, "true"),
+                ("implicit_rings", "numerics.scheme", n.scheme == "implicit"
+                 and self.rotor_wear is not None, "'implicit' (the rotor's rings worn with "
+                 "the pad's end pressure; 'implicit_pad': explicit rings)")):
+            if asked and not self._can(cap):
+                raise fail(key, f"{what} needs interface.model = {_models(cap)}: "
+                                f"{self.interface.entry.lacks(cap)}")
         self._check_duty()
         if self.thermal.convection != "constant" and self.rotor != "elastic":
             raise fail("thermal.convection", f"{self.thermal.convection!r} is the convection "
@@ -493,6 +496,5 @@ _RECORD_KEYS = {"duration": "environment.duration", "line_pressure": "environmen
                 "rotor": "components.rotor", "piston": "components.piston",
                 "layout": "components.layout",
                 "mesh_size": "mesh.size", "order": "mesh.order", "mesh_files": "mesh",
-                "resolution": "mesh",
-                "pad_wear": "wear.pad",
-                "rotor_wear": "wear.rotor", "geometry": "geometry"}
+                "resolution": "mesh", "pad_wear": "wear.pad", "rotor_wear": "wear.rotor",
+                "geometry": "geometry"}

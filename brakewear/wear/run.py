@@ -135,7 +135,9 @@ class Run:
             ("accepts_load", self.thermal is not None),
             ("follows_geometry", self.numerics.update == "geometry"),
             ("per_node_friction", self.mu_law is not None),
-            ("any_line_pressure", bool(self.schedule))) if yes)
+            ("any_line_pressure", bool(self.schedule)),
+            ("implicit_rings", self.numerics.scheme == "implicit"
+             and self.rotor_law is not None)) if yes)
 
     # ------------------------------------------------------------- resolve --
     def resolved(self, line_pressure: float | None = None, options: dict | None = None,
