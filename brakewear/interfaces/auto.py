@@ -183,13 +183,13 @@ def choose_interface(model, fe, numerics, *, line_pressure: float, omega: float,
     return InterfaceChoice("fe", figures, steps, even)
 
 
-def _build(request):
-    """The run's FE interface, or the condensed one built on it where it pays
-    (:func:`choose_interface`); with the record of the choice and its reason."""
-    from .condensed import CondensedInterface
-
+def _decide(request) -> tuple[str, dict]:
+    """``"condensed"`` where it pays for the run (:func:`choose_interface`), ``"fe"``
+    otherwise, with the choice's record; the FE interface it weighs is handed to
+    the chosen model's builder (``request.built``), which builds on it."""
     model, n, run = request.model, request.numerics, request.run
     fe = FEInterface(model, request.line_pressure, request.mu, n.tol)
+    request.built["fe"] = fe
     thermal = None if run is None else run.thermal
     T = None if thermal is None else thermal.T_ambient
 
@@ -200,12 +200,10 @@ def _build(request):
                               omega=run.omega, duration=run.duration, wear_rate=rate,
                               applications=len(run.schedule), thermal=thermal is not None,
                               resume=request.checkpoint)
-    itf = fe if choice.model == "fe" else CondensedInterface(
-        model, fe.line_pressure, request.mu, n.tol, fe=fe)
-    return itf, choice.record()
+    return choice.model, choice.record()
 
 
 register_interface(InterfaceModel(
-    "auto", _build, keys=(METHOD,), capabilities=capabilities_of(FEInterface),
+    "auto", decide=_decide, keys=(METHOD,), capabilities=capabilities_of(FEInterface),
     summary="the condensed interface where the run's expected steps pay for its "
             "condensation, FE contact otherwise"))

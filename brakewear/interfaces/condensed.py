@@ -460,7 +460,7 @@ def check_scene_size(scene) -> None:
 register_interface(InterfaceModel(
     "condensed", lambda req: CondensedInterface(
         req.model, req.line_pressure, req.mu, req.numerics.tol,
-        memory_budget=req.numerics.memory_budget),
+        memory_budget=req.numerics.memory_budget, fe=req.built.get("fe")),
     keys=(METHOD,), capabilities=capabilities_of(CondensedInterface),
     check_scene=check_scene_size,
     why_not={"follows_geometry": "the condensation is of the unmoved meshes"},

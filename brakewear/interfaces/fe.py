@@ -206,6 +206,7 @@ METHOD = OptionKey("method", "str", "segment", choices=("segment",),
                       doc="FE contact discretisation")
 
 register_interface(InterfaceModel(
-    "fe", lambda req: FEInterface(req.model, req.line_pressure, req.mu, req.numerics.tol),
+    "fe", lambda req: req.built["fe"] if "fe" in req.built else FEInterface(
+        req.model, req.line_pressure, req.mu, req.numerics.tol),
     keys=(METHOD,), capabilities=capabilities_of(FEInterface),
     summary="node-to-surface finite-element contact (elastic or rigid rotor)"))

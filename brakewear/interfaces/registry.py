@@ -11,8 +11,9 @@ registered once, under its name, with
   law per node, quadratic meshes, a schedule) before anything is meshed;
 * a builder, ``build(request) -> Interface`` (:class:`BuildRequest`: the
   model, the checked keys, the line pressure, mu and the numerics);
-* or, instead of a builder, a decision ``decide(request) -> name``: a
-  choice among the others (e.g. the cheapest model that answers the scene).
+* or, instead of a builder, a decision ``decide(request) -> name`` (or
+  ``(name, record)``, the record saying why): a choice among the others
+  (``"auto"``: the condensed interface where it pays, FE contact otherwise).
 
 A new model is a class answering :class:`~brakewear.interfaces.Interface`
 and one call of :func:`register_interface`, in any module (a package's, a
@@ -79,6 +80,10 @@ class BuildRequest:
     checkpoint
         The checkpoint of a run being resumed (a decision keeps the interface
         it was run on), or None.
+    built
+        Interfaces a decision built to decide, by model name, for the chosen
+        model's builder to use (the ``"auto"`` choice's FE interface, which the
+        condensed interface condenses); a decision fills it.
     """
 
     model: Any
@@ -89,6 +94,7 @@ class BuildRequest:
     needs: frozenset = frozenset()
     run: Any = None
     checkpoint: Any = None
+    built: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -109,7 +115,9 @@ class InterfaceModel:
         What it can do (a subset of :data:`CAPABILITIES`); a model class's
         are :func:`capabilities_of` it.
     decide
-        Instead of ``build``: ``decide(request) -> name`` of the model to build.
+        Instead of ``build``: ``decide(request) -> name`` of the model to build,
+        or ``(name, record)`` with the reasons (``summary.json``'s
+        ``interface``).
     why_not
         Capability -> why this model lacks it (ends the scene's message).
     check_scene
@@ -216,12 +224,14 @@ def build_interface(name: str, request: BuildRequest) -> tuple[Any, dict]:
     checked) and the record of what was asked and built (``{"requested": name,
     "model": ...}``, with a choosing builder's reasons): a decision's choice is
     followed until a model builds."""
-    seen = []
+    seen, why = [], {}
     entry = interface_model(name)
-    request = replace(request, options=entry.options(request.options))
+    request = replace(request, options=entry.options(request.options), built={})
     while entry.decide is not None:
         seen.append(entry.name)
         chosen = entry.decide(request)
+        if isinstance(chosen, tuple):
+            chosen, why = chosen[0], {**why, **chosen[1]}
         if chosen in seen:
             raise fail("interface.model", f"{' -> '.join(seen + [chosen])}: the decisions "
                                           "go round in a circle")
@@ -233,4 +243,4 @@ def build_interface(name: str, request: BuildRequest) -> tuple[Any, dict]:
     built = entry.build(request)
     itf, record = built if isinstance(built, tuple) else (built, {"model": entry.name})
     logger.debug("interface %r built: %s", entry.name, type(itf).__name__)
-    return itf, {"requested": name, **record}
+    return itf, {"requested": name, **record, **why}
