@@ -352,7 +352,7 @@ class BrakeModel:
         F = line_pressure * self.geometry.clamp_area
         nz = self.rotor_normal_z(pad_nodes)
         res = StaticResult(
-            u=self._split(u), interface_nodes=pad_nodes, interface_force=r,
+            u=self.by_body(u), interface_nodes=pad_nodes, interface_force=r,
             interface_pressure=nz * r[2] / area, clamp_force=F, normal_z=nz,
             info={"interface": "tied", "rotor": self.rotor, "dofs": int(self.dofs),
                   "reduced_dofs": int(Kd.shape[0]),
@@ -365,7 +365,8 @@ class BrakeModel:
                     solver.info.iterations, t2 - t0)
         return res
 
-    def _split(self, u: np.ndarray) -> dict:
+    def by_body(self, u: np.ndarray) -> dict:
+        """The displacement ``u`` (all DOFs) of each body: name -> its DOFs."""
         return {b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].p.shape[1])]
                 for b in self.bodies}
 
@@ -478,7 +479,7 @@ class BrakeModel:
                 **{k: v for k, v in cres.info.items() if k != "active_counts"}, **self.timings}
         logger.info("contact solve: %d DOFs, %d active-set iterations", self.dofs,
                     cres.info["active_set_iterations"])
-        return StaticResult(u=self._split(u),
+        return StaticResult(u=self.by_body(u),
                             interface_nodes=face_nodes(self.meshes["pad"], "friction"),
                             interface_force=force, interface_pressure=cres.pressure[0],
                             clamp_force=cs.clamp_force, info=info, active=cres.active[0],

@@ -26,12 +26,12 @@ PKG = ROOT / "brakewear"
 
 #: the layers, bottom first: a module belongs to the first whose prefix it has
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "checks", "registry", "heartbeat", "analytic", "materials", "laws", "maps",
-     "map_csv", "cleaning"),
+    ("errors", "checks", "registry", "heartbeat", "analytic", "analytic_caliper", "materials",
+     "laws", "maps", "map_csv", "cleaning"),
     ("geometry",),
     ("mesh", "fem", "solvers", "rings", "caliper_loads", "rough"),
     ("contact", "interfaces", "thermal", "motion", "follower"),
-    ("model", "static", "duty", "wear", "scene", "run"),
+    ("model", "static", "caliper_static", "duty", "wear", "scene", "run"),
     ("output", "cli", "bench", "figures", "verification"),
 )
 
