@@ -126,7 +126,8 @@ class Turns:
         rec = ApplicationRecord(index, self.kind, 0.0, 2.0 * math.pi * self.turns / self.omega,
                                 line_pressure=self.line_pressure, omega0=self.omega,
                                 omega1=self.omega)
-        rec.r_eff = brake.r_eff(brake.solve(self.line_pressure).pressure)
+        rec.r_eff = brake.r_eff(brake.solve(self.line_pressure).pressure,
+                                self.line_pressure)
         rec.torque = 2 * brake.mu * self.line_pressure * brake.clamp_area * rec.r_eff
         return brake.wear(ConstantSpeed(self.omega), rec)
 
