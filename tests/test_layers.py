@@ -32,7 +32,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("mesh", "fem", "solvers", "rings", "caliper_loads", "rough"),
     ("contact", "interfaces", "thermal", "motion", "follower"),
     ("model", "static", "caliper_static", "duty", "wear", "scene", "run"),
-    ("output", "cli", "bench", "figures", "verification"),
+    ("output", "cli", "bench", "figures", "verification", "accuracy", "face_maps",
+     "run_folder"),
 )
 
 #: the most climbs the path may take (distinct caller -> callee module pairs)

@@ -205,5 +205,6 @@ def _decide(request) -> tuple[str, dict]:
 
 register_interface(InterfaceModel(
     "auto", decide=_decide, keys=(METHOD,), capabilities=capabilities_of(FEInterface),
+    fe_answer=True,
     summary="the condensed interface where the run's expected steps pay for its "
             "condensation, FE contact otherwise"))

@@ -461,7 +461,7 @@ register_interface(InterfaceModel(
     "condensed", lambda req: CondensedInterface(
         req.model, req.line_pressure, req.mu, req.numerics.tol,
         memory_budget=req.numerics.memory_budget, fe=req.built.get("fe")),
-    keys=(METHOD,), capabilities=capabilities_of(CondensedInterface),
+    keys=(METHOD,), capabilities=capabilities_of(CondensedInterface), fe_answer=True,
     check_scene=check_scene_size,
     why_not={"follows_geometry": "the condensation is of the unmoved meshes"},
     summary="the FE contact condensed onto the contact nodes (the FE answer, gap-offset "

@@ -208,5 +208,5 @@ METHOD = OptionKey("method", "str", "segment", choices=("segment",),
 register_interface(InterfaceModel(
     "fe", lambda req: req.built["fe"] if "fe" in req.built else FEInterface(
         req.model, req.line_pressure, req.mu, req.numerics.tol),
-    keys=(METHOD,), capabilities=capabilities_of(FEInterface),
+    keys=(METHOD,), capabilities=capabilities_of(FEInterface), fe_answer=True,
     summary="node-to-surface finite-element contact (elastic or rigid rotor)"))

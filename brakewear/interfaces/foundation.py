@@ -167,5 +167,7 @@ register_interface(InterfaceModel(
              "per_node_friction": "the foundation takes one mu",
              "any_line_pressure": "the foundation is built at one line pressure",
              "follows_geometry": "the foundation does not move with the meshes",
-             "quadratic": "the foundation is built on linear faces"},
+             "quadratic": "the foundation is built on linear faces",
+             "fe_answer": "the Winkler interface: its own modelling error dominates "
+                          "(docs/winkler_running_in.md)"},
     summary="an elastic (Winkler) foundation, milliseconds per solve"))

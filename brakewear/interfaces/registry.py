@@ -120,6 +120,11 @@ class InterfaceModel:
         ``interface``).
     why_not
         Capability -> why this model lacks it (ends the scene's message).
+    fe_answer
+        Whether it gives the FE contact's answer on the same meshes (to its
+        solvers' tolerance), so the FE meshes' measured convergence rates it
+        (:func:`brakewear.accuracy.mesh_accuracy`); ``why_not["fe_answer"]``
+        says why not.
     check_scene
         ``check_scene(scene)``: the scene's demands on this model checked before
         anything is meshed (the condensed interface's memory), raising a
@@ -134,6 +139,7 @@ class InterfaceModel:
     capabilities: frozenset = frozenset()
     decide: Callable[[BuildRequest], str] | None = None
     why_not: Mapping[str, str] = field(default_factory=dict)
+    fe_answer: bool = False
     check_scene: Callable[[Any], None] | None = None
     summary: str = ""
 
