@@ -27,11 +27,11 @@ PKG = ROOT / "brakewear"
 #: the layers, bottom first: a module belongs to the first whose prefix it has
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "checks", "registry", "heartbeat", "analytic", "analytic_caliper", "materials",
-     "laws", "maps", "map_csv", "cleaning"),
+     "laws", "maps", "map_csv", "cleaning", "rust", "rust_fit"),
     ("geometry",),
     ("mesh", "fem", "solvers", "rings", "caliper_loads", "rough"),
     ("contact", "interfaces", "thermal", "motion", "follower"),
-    ("model", "static", "caliper_static", "duty", "wear", "scene", "run"),
+    ("model", "static", "caliper_static", "duty", "routine", "wear", "scene", "run"),
     ("output", "cli", "bench", "figures", "verification", "accuracy", "face_maps",
      "run_folder"),
 )
