@@ -33,7 +33,9 @@ off: an extrapolation), a mesh outside the measured range, runs shorter
 than the hour (rated by the 20-minute figures, which are larger; shorter
 than 20 minutes was not measured), schedules, thermal coupling, the full
 model and a rigid rotor (measured on the half model with an elastic
-rotor).  A Winkler interface and the user's own mesh files are not rated.
+rotor).  An interface model that does not give the FE contact's answer (the
+Winkler foundation; its registry entry's ``fe_answer``) and the user's own
+mesh files are not rated.
 """
 from __future__ import annotations
 
@@ -211,9 +213,11 @@ def mesh_accuracy(scene) -> dict:
     if scene.mesh_files:
         return {**base, "rated": False, "why": "the scene's own mesh files: the measured "
                 "convergence is of the parametric meshes"}
-    if scene.interface.model == "winkler":
-        return {**base, "rated": False, "why": "the Winkler interface: its own modelling "
-                "error dominates (docs/winkler_running_in.md)"}
+    entry = scene.interface.entry
+    if not entry.fe_answer:
+        return {**base, "rated": False, "why": entry.why_not.get(
+            "fe_answer", f"interface.model = {entry.name!r} does not give the FE contact's "
+                         "answer: the measured convergence is of FE contact")}
     mesh = _mesh_of(scene)
     rows = P1_MEASURED if mesh["order"] == 1 else P2_MEASURED
     short = bool(scene.schedule) or scene.duration < 3600.0

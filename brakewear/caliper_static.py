@@ -23,6 +23,7 @@ import time
 
 import numpy as np
 
+from .checks import check_line_pressure
 from .contact.caliper_parts import bracket_springs, part_loads
 from .contact.compliant import constraint_rows, drag_loads
 from .mesh.surface import face_nodes
@@ -42,7 +43,7 @@ def solve_caliper(model, line_pressure: float, mu: float = 0.0, tol: float = 1e-
     :class:`~brakewear.interfaces.CaliperInterface` of ``model`` to reuse."""
     from .interfaces.caliper import CaliperInterface
 
-    model._check_pressure(line_pressure)
+    check_line_pressure(line_pressure)
     t0 = time.perf_counter()
     itf = interface if interface is not None else CaliperInterface(model, line_pressure, mu, tol)
     itf = itf.at_line_pressure(line_pressure)
@@ -72,7 +73,7 @@ def solve_caliper(model, line_pressure: float, mu: float = 0.0, tol: float = 1e-
             "dofs": int(model.dofs), "total_s": time.perf_counter() - t0,
             **{k: v for k, v in sol.info.items() if k != "caliper"},
             "caliper": {**cal, "interface": itf}}
-    return dict(u=model._split(u), interface_nodes=face_nodes(pad, "friction"),
+    return dict(u=model.by_body(u), interface_nodes=face_nodes(pad, "friction"),
                 interface_force=force, interface_pressure=sol.pressure,
                 clamp_force=line_pressure * g.clamp_area, info=info, active=sol.active,
                 normal_z=np.sign(pair.normal[2]), support_force=support)

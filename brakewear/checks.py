@@ -13,6 +13,8 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import Any, Iterator, Mapping
 
+import numpy as np
+
 from .errors import InputError, SceneError
 
 logger = logging.getLogger(__name__)
@@ -180,6 +182,13 @@ def check_plausible(key: str, value: Any, table: str | None = None,
         bound = f"below {wl}" if w_lo is not None and value < w_lo else f"above {wh}"
         logger.warning("%s = %s is unusual (%s; %s); check the value and its unit", key, v,
                        bound, why)
+
+
+def check_line_pressure(line_pressure: Any) -> None:
+    """Refuse a line pressure (Pa) that is not > 0 or is implausible."""
+    if not np.isfinite(line_pressure) or line_pressure <= 0:
+        raise SceneError(f"line_pressure = {line_pressure!r} Pa is not allowed; need > 0")
+    check_plausible("line_pressure", float(line_pressure), "environment.line_pressure")
 
 
 def check_int(key: str, value: Any, lo: int, allow_none: bool = False,

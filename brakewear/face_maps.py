@@ -22,7 +22,7 @@ import numpy as np
 import skfem as fem
 
 from .errors import MeshError
-from .figures import TICK_FORMAT, _quiet_vtk, offscreen_pyvista
+from .figures import TICK_FORMAT, offscreen_pyvista, quiet_vtk
 
 logger = logging.getLogger(__name__)
 
@@ -106,7 +106,7 @@ def _annotate(pl, pv, pad, z: float, front: float, right: np.ndarray, width: flo
                                 justification_vertical="center")
 
 
-@_quiet_vtk()
+@quiet_vtk()
 def plot_face_map(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: str,
                   label: str, pad, *, facets: str = "friction",
                   view: Sequence[float] = (0.0, 0.0, -1.0), cmap: str = "viridis",

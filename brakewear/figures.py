@@ -44,7 +44,7 @@ _VTK_TRIANGLE = 5
 
 
 @contextmanager
-def _quiet_vtk():
+def quiet_vtk():
     """VTK's warnings off stderr while drawing (its errors still show); restored after."""
     try:
         from vtkmodules.vtkCommonCore import vtkLogger, vtkObject
@@ -201,7 +201,7 @@ def visible_named_surfaces(meshes: Mapping[str, fem.Mesh],
     return [(pieces[k][0], pieces[k][1]) for k in sorted(seen)]
 
 
-@_quiet_vtk()
+@quiet_vtk()
 def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
                         title: str | None = None, explode: Mapping[str, float] | None = None,
                         window_size: tuple[int, int] = (2700, 800)) -> Path:
@@ -264,7 +264,7 @@ def plot_named_surfaces(meshes: Mapping[str, fem.Mesh], path: str | PathLike,
     return path
 
 
-@_quiet_vtk()
+@quiet_vtk()
 def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: str,
                label: str | None = None, cmap: str = "viridis",
                clim: tuple[float, float] | None = None, warp: np.ndarray | None = None,

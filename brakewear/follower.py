@@ -16,10 +16,10 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from .contact.quadratic import slave_basis
+from .mesh.quadratic import slave_basis
 from .contact.surface import project_nodes
 from .errors import MotionError
-from .fem.triangle import tri6
+from .mesh.triangle import tri6
 from .mesh.surface import face_nodes, facet_normals, is_quadratic, quadratic_faces
 
 logger = logging.getLogger(__name__)

@@ -10,21 +10,34 @@ and wear law of brakewear answers (:mod:`brakewear.maps` has the tables and
 the other closed forms): ``mu_at(p, v, T)``, ``coefficient_at(p, v, T)`` and
 ``rate(p, v, T)``, each an array over the nodes (:func:`node_inputs` checks
 and broadcasts the nodes' pressure, sliding speed and temperature), and
-``needs_temperature``.
+``needs_temperature``.  :class:`NodeFrictionLaw` and :class:`NodeWearLaw`
+state these calls; a run checks its laws against them once, at its start
+(:func:`check_wear_law`, :func:`friction_law`).  Every wear rate, the laws'
+own and the wear loop's, is :func:`archard_rate` of the law's coefficient.
+
+A scene's ``[wear.pad]`` / ``[wear.rotor]`` table gives the built-in law
+(``k``, ``a``, ``b``, ... or a measured ``k_map``), or names a registered one
+by ``model``, with that law's own keys (:class:`WearLawModel`,
+:func:`register_wear_law`).
 """
 from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from typing import Any, Callable, Mapping, Protocol, runtime_checkable
 
 import numpy as np
 
-from .errors import ThermalError, WearError
+from .errors import LawError, ThermalError, WearError
 from .materials import T_AMBIENT_DEFAULT
+from .registry import OptionKey, Registry, check_options
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearLaw", "FrictionLaw", "node_inputs", "friction_flux", "friction_power"]
+__all__ = ["WearLaw", "FrictionLaw", "node_inputs", "friction_flux", "friction_power",
+           "NodeFrictionLaw", "NodeWearLaw", "archard_rate", "archard_slope", "check_wear_law",
+           "friction_law", "WearLawModel", "register_wear_law", "unregister_wear_law",
+           "wear_law_model", "wear_law_names", "wear_law_keys"]
 
 
 #: Universal gas constant (J/mol K) for the Arrhenius temperature law.
@@ -69,6 +82,98 @@ def node_inputs(p, v, T=None, error: type[Exception] = WearError
             raise error(f"temperature {bad!r} K is not allowed; need a finite T > 0 K")
         shapes.append(T.shape)
     return p, v, T, np.broadcast_shapes(*shapes)
+
+
+@runtime_checkable
+class NodeFrictionLaw(Protocol):
+    """What the wear loop asks of a friction law: ``mu`` per node."""
+
+    needs_temperature: bool
+
+    def mu_at(self, p, v, T=None) -> np.ndarray:
+        """Friction coefficient at pressure ``p`` (Pa), speed ``v`` (m/s), ``T`` (K or None)."""
+
+
+@runtime_checkable
+class NodeWearLaw(Protocol):
+    """What the wear loop asks of a wear law: ``k`` and ``dh/dt`` per node.
+
+    ``dh/dt = k p^a v^b``: the loop takes ``k`` (:meth:`coefficient_at`) at the
+    start of each step and the rate is :func:`archard_rate` of it, the same
+    function the law's :meth:`rate` uses.
+    """
+
+    a: float
+    b: float
+    needs_temperature: bool
+
+    def coefficient_at(self, p, v, T=None) -> np.ndarray:
+        """Wear coefficient ``k`` per node (m^2/N for ``a = b = 1``)."""
+
+    def rate(self, p, v, T=None) -> np.ndarray:
+        """Wear rate ``dh/dt`` per node (m/s)."""
+
+
+def archard_rate(law, k, p, v) -> np.ndarray:
+    """The wear rate ``dh/dt = k p^a v^b`` (m/s) of ``law`` (its exponents ``a``,
+    ``b``) with the coefficients ``k``, at pressure ``p`` (Pa; tension counts as
+    0) and sliding speed ``v`` (m/s): the one rate of every wear law and of the
+    wear loop."""
+    return k * np.clip(p, 0.0, None) ** law.a * v ** law.b
+
+
+def archard_slope(law, k, p, v) -> np.ndarray:
+    """``d(rate)/dp`` of :func:`archard_rate` at ``p`` (for ``a = 1`` simply ``k v^b``)."""
+    if law.a == 1.0:
+        return k * 1.0 ** law.a * v ** law.b
+    pp = np.maximum(p, 1e-300)
+    return law.a * (k * pp ** law.a * v ** law.b) / pp
+
+
+#: the members of a wear law the loop uses, in the order a missing one is named
+_WEAR_MEMBERS = ("coefficient_at", "a", "b", "rate", "needs_temperature")
+
+
+def check_wear_law(name: str, law, thermal) -> None:
+    """A wear law the loop can evaluate per node (:class:`NodeWearLaw`), and its
+    temperature: a law that needs one needs ``thermal``."""
+    if not isinstance(law, NodeWearLaw):
+        attr = next(m for m in _WEAR_MEMBERS if not hasattr(law, m))
+        raise WearError(f"{name} = {law!r} is not a wear law (no {attr!r}); use "
+                        "brakewear.WearLaw or a law of brakewear.maps")
+    if law.needs_temperature and thermal is None:
+        # a WearLaw takes its base coefficient without a temperature; a map with a
+        # temperature axis cannot: try it once, before anything is computed
+        try:
+            law.coefficient_at(np.full(1, 1e6), np.ones(1), None)
+        except Exception as e:
+            raise WearError(f"{name} ({type(law).__name__}) depends on temperature and has no "
+                            "value without one; it needs thermal coupling (thermal="
+                            f"ThermalModel, or thermal.enabled = true): {e}") from None
+
+
+def friction_law(mu, thermal) -> tuple[object | None, float]:
+    """``(law, mu0)`` of a run's ``mu``: a number (no law) or a friction law
+    (:class:`NodeFrictionLaw`); a law that needs a temperature needs ``thermal``.
+    ``mu0`` is a number for the first contact system (the law's values are set
+    once the nodes' state is known)."""
+    if hasattr(mu, "mu_at") and callable(mu.mu_at):
+        if not isinstance(mu, NodeFrictionLaw):
+            raise WearError(f"mu = {mu!r} is not a friction law (no 'needs_temperature'); "
+                            "use brakewear.FrictionLaw or a law of brakewear.maps")
+        if mu.needs_temperature and thermal is None:
+            raise WearError(f"the friction law {type(mu).__name__} depends on temperature; "
+                            "it needs thermal coupling (thermal=ThermalModel, or "
+                            "thermal.enabled = true in a scene)")
+        return mu, 0.0
+    try:
+        ok = np.isfinite(mu) and mu >= 0
+    except TypeError:
+        ok = False
+    if not ok:
+        raise WearError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0 or a "
+                        "friction law (brakewear.laws, brakewear.maps)")
+    return None, float(mu)
 
 
 def _per_node(value, shape: tuple[int, ...]) -> np.ndarray:
@@ -131,7 +236,7 @@ class WearLaw:
                             "(a speed, not a velocity component)")
         # through coefficient_at, which the wear loop reads: a law that changes k per
         # node changes both
-        return self.coefficient_at(p, v, T) * np.clip(p, 0.0, None) ** self.a * v ** self.b
+        return archard_rate(self, self.coefficient_at(p, v, T), p, v)
 
     @property
     def needs_temperature(self) -> bool:
@@ -202,3 +307,64 @@ def friction_power(p: np.ndarray, v: np.ndarray, mu, area: np.ndarray) -> float:
     an application's is the sum of its steps'.
     """
     return float(friction_flux(p, v, mu) @ np.asarray(area, dtype=float))
+
+
+@dataclass(frozen=True)
+class WearLawModel:
+    """A wear law a scene names by ``model`` in its ``[wear.pad]`` or ``[wear.rotor]`` table.
+
+    Parameters
+    ----------
+    name
+        What ``model`` says.
+    build
+        ``build(options, material) -> law``: the law (a :class:`NodeWearLaw`) of
+        its checked keys (SI) and the worn surface's material
+        (:class:`~brakewear.materials.Material`: its ``wear_k``).
+    keys
+        Its own keys of the table (:class:`~brakewear.registry.OptionKey`).
+    summary
+        One line for the documentation.
+    """
+
+    name: str
+    build: Callable[[Mapping[str, Any], Any], Any]
+    keys: tuple[OptionKey, ...] = ()
+    summary: str = ""
+
+    def options(self, given: Mapping[str, Any], table: str) -> dict[str, Any]:
+        """``given`` (this law's keys of ``table``, e.g. ``"wear.pad"``) checked, with
+        the defaults of the others."""
+        return check_options(self.keys, given, table, f"{table}.model = {self.name!r}")
+
+
+_WEAR_LAWS = Registry("wear law", "wear.pad.model")
+
+
+def register_wear_law(entry: WearLawModel, *, replace: bool = False) -> WearLawModel:
+    """Add ``entry`` to the wear laws a scene names (``replace=True``: over one of the
+    same name)."""
+    if not isinstance(entry, WearLawModel):
+        raise LawError(f"{entry!r} is not a WearLawModel")
+    return _WEAR_LAWS.register(entry.name, entry, replace)
+
+
+def unregister_wear_law(name: str) -> None:
+    """Take the law ``name`` out of the table (registered for a while, by a test)."""
+    _WEAR_LAWS.unregister(name)
+
+
+def wear_law_model(name: str, key: str = "wear.pad.model") -> WearLawModel:
+    """The entry of ``name`` (a :class:`~brakewear.errors.SceneError` naming ``key``
+    and the registered names if there is none)."""
+    return _WEAR_LAWS.get(name, key)
+
+
+def wear_law_names() -> tuple[str, ...]:
+    """The registered wear laws' names."""
+    return _WEAR_LAWS.names()
+
+
+def wear_law_keys() -> dict[str, str]:
+    """Every registered law's keys: name -> kind (for the scene reader)."""
+    return {k.name: k.kind for m in _WEAR_LAWS for k in m.keys}

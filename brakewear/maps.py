@@ -12,8 +12,9 @@ from a mild to a severe wear coefficient above a ``p v`` or temperature
 threshold).
 
 Every law answers the same per-node calls, the wear loop's protocol
-(:class:`NodeFrictionLaw`, :class:`NodeWearLaw`; :class:`~brakewear.laws.FrictionLaw`
-and :class:`~brakewear.laws.WearLaw` answer them too): arrays ``p`` (Pa,
+(:class:`~brakewear.laws.NodeFrictionLaw`, :class:`~brakewear.laws.NodeWearLaw`;
+:class:`~brakewear.laws.FrictionLaw` and :class:`~brakewear.laws.WearLaw` answer
+them too): arrays ``p`` (Pa,
 tension counts as 0), ``v`` (m/s, >= 0) and ``T`` (K, or None when the law
 does not need it) in, one value per node out.  All are frozen dataclasses
 of numbers, strings, tuples and arrays, so that a run's fingerprint
@@ -24,13 +25,13 @@ from __future__ import annotations
 import logging
 import os
 from dataclasses import dataclass, field
-from typing import ClassVar, Protocol, runtime_checkable
+from typing import ClassVar
 
 import numpy as np
 from scipy.special import expit
 
 from .errors import LawError, MapError
-from .laws import node_inputs
+from .laws import NodeFrictionLaw, NodeWearLaw, archard_rate, node_inputs
 from .map_csv import AXES, AXIS_UNITS, BOUNDS, check_range, parse_table, read_table
 
 logger = logging.getLogger(__name__)
@@ -44,31 +45,6 @@ EXAMPLE_MAP = "data/maps/resin_pad_illustrative.csv"
 #: unit shown -> (factor to SI, offset) for the messages of a map's look-up
 _SHOWN = {name: (f, o) for units in AXIS_UNITS.values() for name, f, o in units.values()}
 _SI_UNIT = {"p": "Pa", "v": "m/s", "T": "K"}
-
-
-@runtime_checkable
-class NodeFrictionLaw(Protocol):
-    """What the wear loop asks of a friction law: ``mu`` per node."""
-
-    needs_temperature: bool
-
-    def mu_at(self, p, v, T=None) -> np.ndarray:
-        """Friction coefficient at pressure ``p`` (Pa), speed ``v`` (m/s), ``T`` (K or None)."""
-
-
-@runtime_checkable
-class NodeWearLaw(Protocol):
-    """What the wear loop asks of a wear law: ``k`` and ``dh/dt`` per node."""
-
-    a: float
-    b: float
-    needs_temperature: bool
-
-    def coefficient_at(self, p, v, T=None) -> np.ndarray:
-        """Wear coefficient ``k`` per node (m^2/N for ``a = b = 1``)."""
-
-    def rate(self, p, v, T=None) -> np.ndarray:
-        """Wear rate ``dh/dt`` per node (m/s)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -336,7 +312,7 @@ class WearMap(_TableLaw):
     def rate(self, p, v, T=None) -> np.ndarray:
         """Wear rate ``k p v`` per node (m/s)."""
         p, v, T, _ = node_inputs(p, v, T, MapError)
-        return self.table.evaluate(p, v, T) * p * v
+        return archard_rate(self, self.table.evaluate(p, v, T), p, v)
 
 
 def _check_law(owner: str, name: str, value, lo: float, hi: float, unit: str = "",
@@ -475,4 +451,4 @@ class MildSevereWear:
     def rate(self, p, v, T=None) -> np.ndarray:
         """Wear rate ``k p v`` per node (m/s)."""
         p, v, T, _ = node_inputs(p, v, T, LawError)
-        return self.coefficient_at(p, v, T) * p * v
+        return archard_rate(self, self.coefficient_at(p, v, T), p, v)

@@ -23,14 +23,15 @@ import numpy as np
 import scipy.sparse as sp
 
 from .caliper_static import solve_caliper
-from .checks import check_plausible
+from .checks import check_line_pressure, check_plausible
 from .contact.lagrange import solve_contact
 from .contact.basis import check_supports
-from .contact.pairs import ContactPair, merge_pairs, pair_to_rigid, pair_to_surface
+from .contact.pairs import (ContactPair, ContactSystem, merge_pairs, pair_to_rigid,
+                            pair_to_surface, plane_height, rotor_drag)
 from .contact.supports import support_forces, with_supports
-from .contact.quadratic import face_values, quadratic_face_areas, slave_basis
+from .contact.quadratic import face_values
 from .contact.surface import project_nodes, tie_prolongation
-from .errors import MotionError, SceneError
+from .errors import MeshError, MotionError, SceneError
 from .fem.assembly import BlockPattern, assemble_stiffness
 from .fem.boundary import apply_dirichlet, boundary_dofs
 from .geometry.files import load_geometry
@@ -51,13 +52,14 @@ from .mesh.brake import (
 from .mesh.estimate import check_model_size
 from .mesh.io import read_body_mesh
 from .mesh.mirror import mirrored_pads, whole_thickness_meshes
+from .mesh.quadratic import quadratic_face_areas, slave_basis
 from .mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from .solvers.amg import amg_solver
 from .static import body_stresses, static_summary
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["BrakeModel", "StaticResult", "ContactSystem"]
+__all__ = ["BrakeModel", "StaticResult"]
 
 _MESHERS = {"rotor": rotor_mesh, "pad": pad_mesh, "piston": piston_mesh}
 
@@ -81,21 +83,6 @@ class StaticResult:
         """Total normal force the rotor exerts on the pads (N), both faces."""
         nz = 1.0 if self.normal_z is None else self.normal_z
         return float((self.interface_force[2] * nz).sum())
-
-
-@dataclass
-class ContactSystem:
-    """An assembled contact problem (retained-node numbering after ties)."""
-
-    K: sp.csr_matrix
-    f: np.ndarray
-    fixed: np.ndarray
-    coords: np.ndarray
-    pair: ContactPair
-    P: sp.csr_matrix       # retained DOFs -> all DOFs
-    col: np.ndarray        # global node -> retained node (-1: eliminated)
-    clamp_force: float
-    supports: list = field(default_factory=list)  # rigid stops (abutments), no friction
 
 
 class BrakeModel:
@@ -147,6 +134,8 @@ class BrakeModel:
         self.rotor = rotor
         self.geometry = geometry if isinstance(geometry, BrakeGeometry) else load_geometry(geometry)
         self.layout = resolve_layout(self.geometry, layout, rotor, strict=True)
+        #: whether both pads and the whole rotor thickness are modelled
+        self.full = self.layout == "full"
         order = self.geometry.mesh.order if order is None else order
         if isinstance(order, bool) or order not in (1, 2):
             raise SceneError(f"order = {order!r} is not allowed; allowed: 1, 2")
@@ -175,18 +164,9 @@ class BrakeModel:
         mats = component_materials(self.geometry)
         self.materials = {b: element_materials(self.meshes[b], mats[b]) for b in self.bodies}
         self.timings = {"mesh_s": time.perf_counter() - t0}
-        offs, n = {}, 0
-        for b in self.bodies:
-            offs[b] = n
-            n += self.meshes[b].p.shape[1]
-        self.offsets, self.n_nodes = offs, n
+        self._number()
         self._K: dict[str, sp.spmatrix] = {}
         self._patterns: dict[str, BlockPattern] = {}
-
-    @property
-    def full(self) -> bool:
-        """Whether both pads and the whole rotor thickness are modelled."""
-        return self.layout == "full"
 
     def _mesh(self, body: str, size, order):
         if body == "rotor" and self.full:
@@ -235,6 +215,24 @@ class BrakeModel:
         new._K.update(stiffness or {})
         new._patterns = dict(self._patterns)   # the block patterns follow the topology
         return new
+
+    def remeshed(self, meshes: dict, order: int) -> "BrakeModel":
+        """The same brake (geometry, bodies, layout, element materials) on other meshes
+        of every body, of element ``order`` (renumbered, nothing assembled)."""
+        if set(meshes) != set(self.bodies):
+            raise MeshError(f"remeshed: need a mesh of every body: {', '.join(self.bodies)}")
+        new = copy.copy(self)
+        new.order, new.meshes = int(order), dict(meshes)
+        new._number()
+        new._K, new._patterns = {}, {}
+        return new
+
+    def _number(self) -> None:
+        """The global node numbering: the bodies' nodes stacked in ``bodies`` order."""
+        self.offsets, self.n_nodes = {}, 0
+        for b in self.bodies:
+            self.offsets[b] = self.n_nodes
+            self.n_nodes += self.meshes[b].p.shape[1]
 
     def _gdofs(self, body: str, local: np.ndarray) -> np.ndarray:
         return np.asarray(local) + 3 * self.offsets[body]
@@ -301,8 +299,9 @@ class BrakeModel:
         return np.unique(np.concatenate(parts))
 
     # ------------------------------------------------------------- solve --
-    def _reduced(self, tie_interface: bool):
-        """Global K, f-independent tie elimination: (K, P, retained nodes, node -> retained)."""
+    def tie_reduction(self, tie_interface: bool):
+        """The stiffness and the elimination of the ties (``tie_interface``: the pad's
+        friction face to the rotor too): ``(K, P, retained nodes, node -> retained)``."""
         K = sp.block_diag([self.stiffness(b).tocsr() for b in self.bodies], format="csr")
         ties = self.ties(interface=tie_interface)
         if ties:
@@ -316,7 +315,10 @@ class BrakeModel:
         col[retained] = np.arange(retained.size)
         return K, P, retained, col
 
-    def _reduced_fixed(self, col: np.ndarray, extra: np.ndarray | None = None) -> np.ndarray:
+    def reduced_fixed_dofs(self, col: np.ndarray, extra: np.ndarray | None = None
+                           ) -> np.ndarray:
+        """The supported DOFs (:meth:`fixed_dofs`, and ``extra``) in the retained
+        numbering ``col`` of :meth:`tie_reduction`."""
         fixed = self.fixed_dofs() if extra is None else np.union1d(self.fixed_dofs(), extra)
         node, comp = fixed // 3, fixed % 3
         if np.any(col[node] < 0):
@@ -324,27 +326,21 @@ class BrakeModel:
                              "supports and ties must not overlap")
         return 3 * col[node] + comp
 
-    @staticmethod
-    def _check_pressure(line_pressure: float) -> None:
-        if not np.isfinite(line_pressure) or line_pressure <= 0:
-            raise SceneError(f"line_pressure = {line_pressure!r} Pa is not allowed; need > 0")
-        check_plausible("line_pressure", float(line_pressure), "environment.line_pressure")
-
     def solve_tied(self, line_pressure: float = 1e6, tol: float = 1e-10) -> StaticResult:
         """Static solve with the pad tied to the rotor under ``line_pressure`` (Pa).
 
         With a rigid rotor the pad's friction face is held fixed instead.
         """
-        self._check_pressure(line_pressure)
+        check_line_pressure(line_pressure)
         t0 = time.perf_counter()
-        K, P, retained, col = self._reduced(tie_interface=True)
+        K, P, retained, col = self.tie_reduction(tie_interface=True)
         f = self.loads(line_pressure)
         pad_nodes = face_nodes(self.meshes["pad"], "friction")
         pad_nodes = pad_nodes[np.abs(self.meshes["pad"].p[2, pad_nodes]) < 1e-12]
         extra = None
         if self.rotor == "rigid":
             extra = (3 * (pad_nodes + self.offsets["pad"])[:, None] + np.arange(3)).ravel()
-        fixed_r = self._reduced_fixed(col, extra)
+        fixed_r = self.reduced_fixed_dofs(col, extra)
         Kd, fd = apply_dirichlet((P.T @ K @ P).tobsr(blocksize=(3, 3)), P.T @ f, fixed_r)
         t1 = time.perf_counter()
         solver = amg_solver(Kd, coords=self.coordinates()[:, retained], fixed=fixed_r, tol=tol)
@@ -356,7 +352,7 @@ class BrakeModel:
         F = line_pressure * self.geometry.clamp_area
         nz = self.rotor_normal_z(pad_nodes)
         res = StaticResult(
-            u=self._split(u), interface_nodes=pad_nodes, interface_force=r,
+            u=self.by_body(u), interface_nodes=pad_nodes, interface_force=r,
             interface_pressure=nz * r[2] / area, clamp_force=F, normal_z=nz,
             info={"interface": "tied", "rotor": self.rotor, "dofs": int(self.dofs),
                   "reduced_dofs": int(Kd.shape[0]),
@@ -369,14 +365,15 @@ class BrakeModel:
                     solver.info.iterations, t2 - t0)
         return res
 
-    def _split(self, u: np.ndarray) -> dict:
+    def by_body(self, u: np.ndarray) -> dict:
+        """The displacement ``u`` (all DOFs) of each body: name -> its DOFs."""
         return {b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].p.shape[1])]
                 for b in self.bodies}
 
     def _friction_forces(self, r: np.ndarray):
         """The pad's friction nodes, the nodal forces (3, n) of the residual ``r``
         (all DOFs) on them and their areas.  On a quadratic face, in the
-        transformed basis of its contact pair (:mod:`brakewear.contact.basis`):
+        transformed basis of its contact pair (:mod:`brakewear.mesh.quadratic`):
         there a uniform pressure gives every node its share of the area."""
         pad, off = self.meshes["pad"], self.offsets["pad"]
         nodes = face_nodes(pad, "friction")
@@ -410,10 +407,10 @@ class BrakeModel:
         still be paired (default twice the mesh size; a worn geometry needs
         more: the worn depths open the gap).
         """
-        drag = lambda x: np.vstack([-x[1], x[0], np.zeros_like(x[0])])  # noqa: E731
+        drag = rotor_drag
         pad, off = self.meshes["pad"], self.offsets["pad"]
         if self.rotor == "rigid":
-            return pair_to_rigid(pad, "friction", off, height=lambda x, y: np.zeros_like(x),
+            return pair_to_rigid(pad, "friction", off, height=plane_height,
                                  side=1, mu=mu, drag=drag, name="pad-rotor")
         radius = 2.0 * self.geometry.mesh.size + 1e-9 if search_radius is None else search_radius
         faces = ("friction_in", "friction_out") if self.full else ("friction",)
@@ -431,11 +428,11 @@ class BrakeModel:
         Ties (piston) are already eliminated; node numbers are the retained
         ones.  A wear loop keeps this and only changes ``pair.g0``.
         """
-        self._check_pressure(line_pressure)
+        check_line_pressure(line_pressure)
         if not (np.isfinite(mu) and mu >= 0):
             raise SceneError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0")
         check_plausible("mu", float(mu), "interface.mu")
-        K, P, retained, col = self._reduced(tie_interface=False)
+        K, P, retained, col = self.tie_reduction(tie_interface=False)
         f = self.loads(line_pressure)
         pair = self.contact_pair(mu, method, search_radius)
         if pair.basis is not None:
@@ -447,7 +444,7 @@ class BrakeModel:
         pair.slave = col[pair.slave]
         if pair.coupling is not None:
             pair.coupling = pair.coupling[:, retained].tocsr()
-        cs = ContactSystem(K=(P.T @ K @ P).tocsr(), f=P.T @ f, fixed=self._reduced_fixed(col),
+        cs = ContactSystem(K=(P.T @ K @ P).tocsr(), f=P.T @ f, fixed=self.reduced_fixed_dofs(col),
                            coords=self.coordinates()[:, retained], pair=pair, P=P,
                            col=col, clamp_force=line_pressure * self.geometry.clamp_area)
         g = self.geometry
@@ -482,7 +479,7 @@ class BrakeModel:
                 **{k: v for k, v in cres.info.items() if k != "active_counts"}, **self.timings}
         logger.info("contact solve: %d DOFs, %d active-set iterations", self.dofs,
                     cres.info["active_set_iterations"])
-        return StaticResult(u=self._split(u),
+        return StaticResult(u=self.by_body(u),
                             interface_nodes=face_nodes(self.meshes["pad"], "friction"),
                             interface_force=force, interface_pressure=cres.pressure[0],
                             clamp_force=cs.clamp_force, info=info, active=cres.active[0],

@@ -28,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from .contact.quadratic import quadratic_face_areas
+from .mesh.quadratic import quadratic_face_areas
 from .contact.surface import mortar_coupling
 from .errors import MeshError, MeshQualityError, MotionError
 from .fem.assembly import assemble_stiffness, stiffness_update

@@ -26,19 +26,18 @@ import os
 
 import time
 from pathlib import Path
-from typing import Any, Callable
+from typing import Callable
 
 import numpy as np
 
 from .accuracy import mesh_accuracy
 from .checks import file_messages, shown_value
 from .errors import SceneError, SolverError, WearError, WornThroughError
-from .interfaces.fe import FEInterface
 from .mesh.series import SeriesWriter, cell_nodes, face_fields
 from .rings import ring_profile
-from .scene.spec import _first_difference
-from .wear.numerics import Numerics
+from .scene.spec import first_difference
 from .wear.records import end_record, step_figures, temperature_field, thermal_record
+from .wear.run import as_run
 from .wear.state import checkpoint_progress
 from .wear.stepper import WearStep, check_resume, wear_history
 
@@ -110,23 +109,24 @@ def law_record(law):
             **{k: v for k, v in vars(law).items() if not isinstance(v, np.ndarray)}}
 
 
-def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
-             duration: float, pad_law, rotor_law=None, mu: float = 0.0, *,
-             numerics: Numerics | None = None, vtu_every: int = 10, resume: bool = False,
-             progress=None, **kwargs) -> dict:
+def run_wear(run, out: str | os.PathLike, *args, vtu_every: int = 10, resume: bool = False,
+             progress=None, every: int = 10, **kwargs) -> dict:
     """Run a wear history and write it to ``out`` (see the module docstring).
 
-    ``numerics`` and ``kwargs`` go to :func:`~brakewear.wear.wear_history`
-    (``interface``, ``thermal``, ``initial_gap``, ``every``, ``limits``).
-    ``progress`` is called with each :class:`WearStep` (e.g. to advance a
-    progress bar).  Returns the summary.  A surface worn to its limit, a face
+    ``run`` is a :class:`~brakewear.wear.Run` (a drag), or the model followed
+    by the arguments of one, as for :func:`~brakewear.wear.wear_history`:
+    ``run_wear(model, out, line_pressure, omega, duration, pad_law,
+    rotor_law=None, mu=0.0, numerics=..., interface=..., thermal=...,
+    initial_gap=..., limits=...)``.  ``every``: a checkpoint every that many
+    steps.  ``progress`` is called with each :class:`WearStep` (e.g. to
+    advance a progress bar).  Returns the summary.  A surface worn to its limit, a face
     past ``T_max``, a solver error or Ctrl-C ends the run: the files and
     ``summary.json`` (its ``status`` and the reason, ``ended``:
     :func:`~brakewear.wear.records.end_record`) are written, then the error
     is raised with the summary as its ``summary`` attribute.
     """
+    run = as_run(run, args, kwargs)
     out = Path(out)
-    numerics = Numerics() if numerics is None else numerics
     ck = out / "checkpoint.npz"
     start = None
     if resume:
@@ -135,11 +135,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         start, _ = checkpoint_progress(ck)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    # a friction law's values are set per node before the first solve; any mu > 0 builds
-    # the pair's sliding directions
-    itf = kwargs.pop("interface", None) or FEInterface(
-        model, line_pressure, mu if np.ndim(mu) == 0 and not hasattr(mu, "mu_at") else 1.0,
-        numerics.tol)
+    run = run.resolved()
+    model, itf, duration = run.model, run.interface, run.duration
     pad, rotor = model.meshes["pad"], model.meshes.get("rotor")
     pad_series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad), start)
     rot_series = (SeriesWriter(out, "rotor", rotor.p, cell_nodes(rotor), start)
@@ -150,7 +147,7 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         with open(csv_path, newline="") as fh:
             rows = [r for r in csv.DictReader(fh) if int(r["step"]) <= start]
     # every node of the mesh (with the mid-edge nodes of a quadratic one)
-    n_pad, last, thermal = pad.p.shape[1], None, kwargs.get("thermal")
+    n_pad, last, thermal = pad.p.shape[1], None, run.thermal
     setup_s = time.perf_counter() - t0
 
     def write_vtu(s: WearStep) -> None:
@@ -165,10 +162,8 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
 
     worn = None     # what ended the run before its end (None: it finished)
     try:
-        for s in wear_history(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
-                              numerics=numerics, checkpoint=ck, resume=resume,
-                              interface=itf, **kwargs):
-            rows.append(step_figures(s, itf, mu))
+        for s in wear_history(run, checkpoint=ck, resume=resume, every=every):
+            rows.append(step_figures(s, itf, run.mu))
             final = s.time >= duration * (1 - 1e-12)
             if s.step % vtu_every == 0 or s.step == 1 or final:
                 write_vtu(s)
@@ -180,7 +175,7 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
         worn = exc      # the run's end: its last step is written, the summary says why
         if last is None:
             raise ended_early(out, exc, {"steps": start or 0, "duration_s": duration,
-                                         "line_pressure_Pa": line_pressure}) from None
+                                         "line_pressure_Pa": run.line_pressure}) from None
         if not (last.step % vtu_every == 0 or last.step == 1
                 or last.time >= duration * (1 - 1e-12)):
             write_vtu(last)
@@ -191,9 +186,10 @@ def run_wear(model, out: str | os.PathLike, line_pressure: float, omega: float,
     summary = {
         **end_record(worn),
         "worn_through": worn.record() if isinstance(worn, WornThroughError) else None,
-        "line_pressure_Pa": line_pressure, "omega_rad_s": omega, "duration_s": duration,
-        "mu": law_record(mu), "rotor": model.rotor, "dofs": int(model.dofs),
-        "pad_law": law_record(pad_law), "rotor_law": law_record(rotor_law),
+        "line_pressure_Pa": run.line_pressure, "omega_rad_s": run.omega,
+        "duration_s": duration, "mu": law_record(run.mu), "rotor": model.rotor,
+        "dofs": int(model.dofs), "pad_law": law_record(run.pad_law),
+        "rotor_law": law_record(run.rotor_law),
         "steps": last.step, "final": rows[-1],
         "contact_solves": int(sum(int(r["contact_solves"]) for r in rows)),
         "rejected": int(sum(int(r["rejected"]) for r in rows)),
@@ -259,65 +255,34 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
         raise SceneError("--resume: a scene with a [schedule] runs from its start (its "
                          "applications are not checkpointed); run it again without --resume")
     done = _resumable(scene, out, record, rec_path) if resume else None
-    # every input is checked (and the model built) before anything is written to out
-    pad_law, rotor_law = scene.wear_laws()
-    model = scene.build_model()
-    n = scene.numerics
-    from .wear.limits import WearLimits
-    kw: dict[str, Any] = dict(numerics=n, every=scene.output.checkpoint_every,
-                              limits=WearLimits.for_model(
-                                  model, scene.pad_wear.limit,
-                                  None if scene.rotor_wear is None else scene.rotor_wear.limit,
-                                  update=n.update))
-    if scene.interface.model == "winkler":
-        from .interfaces.foundation import FoundationInterface
-        from .interfaces.winkler_bed import WinklerInterface
-        winkler = WinklerInterface.from_model(model, modulus=scene.interface.winkler_modulus,
-                                              rotor=scene.interface.winkler_rotor)
-        kw["interface"] = FoundationInterface(model, winkler, scene.line_pressure,
-                                              scene.interface.mu)
-    if scene.interface.model == "condensed":
-        from .interfaces.condensed import CondensedInterface
-        kw["interface"] = CondensedInterface(model, scene.line_pressure or 1e6,
-                                             scene.build_mu(), n.tol)
-    choice = _auto_interface(scene, model, pad_law, kw, out / "checkpoint.npz" if resume
-                             else None) if scene.interface.model == "auto" else None
-    if choice is not None and announce is not None:
-        announce(f"interface: {choice.model} (auto): {choice.reason}")
-    if scene.interface.nonconforming:
-        if "interface" not in kw:
-            kw["interface"] = FEInterface(model, scene.line_pressure, scene.build_mu(), n.tol)
-        kw["initial_gap"] = scene.initial_gap(kw["interface"].x)
-    if scene.thermal.enabled:
-        from .thermal.model import ThermalModel
-        t = scene.thermal
-        kw["thermal"] = ThermalModel(model, partition=t.partition, h_conv=t.convection_law(),
-                                     T_ambient=scene.ambient, T_ref=t.T_ref, mass=t.mass,
-                                     T_initial=t.T_initial,
-                                     contact_conductance=t.conductance(scene.geometry,
-                                                                       scene.line_pressure),
-                                     T_max=t.T_max, emissivity=t.emissivity)
+    # every input is checked (and the run built) before anything is written to out
+    run = scene.build_run(checkpoint=out / "checkpoint.npz" if resume else None)
+    model, n = run.model, scene.numerics
+    every = scene.output.checkpoint_every
+    chosen = run.interface_record
+    if chosen.get("reason"):
+        logger.info("interface: %s (%s): %s", chosen["model"], chosen["requested"],
+                    chosen["reason"])
+        if announce is not None:
+            announce(f"interface: {chosen['model']} ({chosen['requested']}): "
+                     f"{chosen['reason']}")
     if done is not None:      # finished: nothing to run, once its inputs are the same
-        check_resume(model, scene.line_pressure, scene.omega, scene.duration, pad_law,
-                     rotor_law, scene.friction(), checkpoint=out / "checkpoint.npz", **kw)
+        check_resume(run, checkpoint=out / "checkpoint.npz", every=every)
         logger.info("run in %s already finished (step %d)", out, done["steps"])
         return done
     out.mkdir(parents=True, exist_ok=True)
     rec_path.write_text(json.dumps(record, indent=2))
     if scene.schedule:
-        return _run_schedule_scene(scene, model, out, pad_law, rotor_law, kw, progress,
-                                   choice)
+        return _run_schedule_scene(scene, run, out, progress)
     worn = None
     try:
-        summary = run_wear(model, out, scene.line_pressure, scene.omega, scene.duration,
-                           pad_law, rotor_law, scene.friction(),
-                           vtu_every=scene.output.vtu_every, resume=resume, progress=progress,
-                           **kw)
+        summary = run_wear(run, out, vtu_every=scene.output.vtu_every, resume=resume,
+                           progress=progress, every=every)
     except (WornThroughError, SolverError, KeyboardInterrupt) as exc:
         if getattr(exc, "summary", None) is None:
             raise
         worn, summary = exc, exc.summary
-    summary["interface"] = _interface_record(scene, choice)
+    summary["interface"] = chosen
     summary["scene"] = {"name": scene.name, "source": scene.source,
                         "interface": scene.interface.model, "scheme": n.scheme,
                         "update": n.update, "mesh_size_m": model.geometry.mesh.size
@@ -331,52 +296,19 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
     return summary
 
 
-def _auto_interface(scene, model, pad_law, kw: dict, resume=None):
-    """``interface.model = "auto"``: FE or condensed for this run
-    (:func:`~brakewear.interfaces.auto.choose_interface`), put in ``kw``."""
-    from .interfaces.auto import choose_interface
-    from .interfaces.condensed import CondensedInterface
-
-    n = scene.numerics
-    fe = FEInterface(model, scene.line_pressure or 1e6, scene.build_mu(), n.tol)
-
-    def rate(p, v):
-        return float(np.max(pad_law.rate(np.array([p]), np.array([v]), scene.ambient)))
-
-    choice = choose_interface(model, fe, n, line_pressure=scene.line_pressure or 1e6,
-                              omega=scene.omega, duration=scene.duration, wear_rate=rate,
-                              applications=len(scene.schedule),
-                              thermal=scene.thermal.enabled, resume=resume)
-    logger.info("interface: %s (auto): %s", choice.model, choice.reason)
-    kw["interface"] = fe if choice.model == "fe" else CondensedInterface(
-        model, fe.line_pressure, scene.build_mu(), n.tol, fe=fe)
-    return choice
-
-
-def _interface_record(scene, choice) -> dict:
-    """``summary.json``'s ``interface``: the one asked for, the one taken and why."""
-    if choice is None:
-        return {"requested": scene.interface.model, "model": scene.interface.model}
-    return choice.record()
-
-
-def _run_schedule_scene(scene, model, out: Path, pad_law, rotor_law, kw: dict,
-                        progress=None, choice=None) -> dict:
+def _run_schedule_scene(scene, run, out: Path, progress=None) -> dict:
     """A scene's [schedule]: applications.csv, the pad per application, summary.json
     (also when the schedule ends early: its status and the reason)."""
     from .duty.report import run_schedule_files
-    itf = kw.get("interface") or FEInterface(model, 1e6, scene.interface.mu,
-                                             scene.numerics.tol)
-    ended = None
+    model, ended = run.model, None
     try:
-        summary = run_schedule_files(scene, model, out, pad_law, rotor_law, interface=itf,
-                                     thermal=kw.get("thermal"),
-                                     initial_gap=kw.get("initial_gap"), progress=progress)
+        summary = run_schedule_files(run, out, title=scene.name, figures=scene.output.figures,
+                                     progress=progress)
     except (WornThroughError, SolverError, KeyboardInterrupt) as exc:
         if getattr(exc, "summary", None) is None:
             raise
         ended, summary = exc, exc.summary
-    summary["interface"] = _interface_record(scene, choice)
+    summary["interface"] = run.interface_record
     summary["scene"] = {"name": scene.name, "source": scene.source, "scheme":
                         scene.numerics.scheme, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}
@@ -401,7 +333,7 @@ def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
     ignore = {"output"} | ({"duration"} if scene.numerics.steps is None else set())
     if rec_path.exists():
         old = json.loads(rec_path.read_text())
-        diff = _first_difference({k: v for k, v in old.items() if k not in ignore},
+        diff = first_difference({k: v for k, v in old.items() if k not in ignore},
                                  {k: v for k, v in record.items() if k not in ignore})
         if diff is not None:
             raise SceneError(f"--resume: {out} holds a run of a different scene "

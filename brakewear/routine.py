@@ -139,7 +139,7 @@ def run_routine(model, interface, schedule, vehicle, rust, mu_iron: float, *, nu
     pad_w, rot_w = np.zeros(n), np.zeros(itf.rotor_area.size)
     last_p, t, last_u = None, 0.0, None
     for i, app in enumerate(schedule):
-        if isinstance(app, Dwell):
+        if not app.braked:              # a pause: the bodies cool
             res = _dwell(app, model, itf, rust, mu_iron, numerics, heat, thermal, vehicle)
         elif isinstance(app, Stop):
             mu = rust.friction(mu_iron, last_p)

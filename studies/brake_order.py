@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.contact.quadratic import quadratic_face_areas
+from brakewear.mesh.quadratic import quadratic_face_areas
 from brakewear.mesh.surface import tributary_areas
 from brakewear.model import BrakeModel
 

@@ -26,7 +26,7 @@ then the lowest speed, that reach the probability.  Sensitivity:
 :mod:`cleaning_sensitivity` (Sobol indices from SALib, the tornado).
 
 The brake (``brake``): ``"caliper"`` (the default) -- the model of
-:func:`cleaning_stops._interface`, the floating caliper as it holds its pads (rigid
+:func:`cleaning_stops.task_interface`, the floating caliper as it holds its pads (rigid
 piston in its bore, fingers, abutments; the hat rotor; both faces judged), with its
 load-path keys as inputs; or ``"idealised"`` -- the default brake's pad on a rigid
 rotor (one face), condensed (:class:`brakewear.CondensedInterface`), the only one
@@ -161,11 +161,11 @@ def _brake(task: dict):
         import cleaning_stops as cs
         t = dict(geometry="floating", size=task["size"], pad_modulus=level, mu=0.4,
                  interface="condensed", load_path=lp or None)
-        return cs._interface(t)
+        return cs.task_interface(t)
     if key not in _BUILT:
         from brakewear import BrakeModel, CondensedInterface
         import cleaning_stops as cs
-        g = cs._geometry(level, "default")
+        g = cs.task_geometry(level, "default")
         mesh = replace(g.mesh, order=task["order"],
                        friction_layers=task["friction_layers"],
                        backplate_layers=task["backplate_layers"])

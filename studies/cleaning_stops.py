@@ -117,7 +117,7 @@ def run_decel(task: dict) -> dict:
         return {"decel": task["decel"], "error": f"{type(e).__name__}: {e}"}
 
 
-def _geometry(pad_modulus: float, name: str = "default", support: str | None = None,
+def task_geometry(pad_modulus: float, name: str = "default", support: str | None = None,
               load_path: dict | None = None):
     """The brake of geometry file ``name`` (default: the default brake), its friction
     layer's moduli scaled by ``pad_modulus``; ``support = "bilateral"``: both
@@ -155,14 +155,14 @@ def _geometry(pad_modulus: float, name: str = "default", support: str | None = N
 _BUILT: dict = {}
 
 
-def _interface(task: dict):
+def task_interface(task: dict):
     """The study's model and its interface: the FE contact, or its condensation
     (the same answer; read from the cache when a run of this model made it); the
     rigid piston's caliper interface for the floating caliper."""
     from brakewear import CaliperInterface
 
     piston, rotor, _ = brake_kind(task)
-    geometry = _geometry(task.get("pad_modulus", 1.0), task.get("geometry", "default"),
+    geometry = task_geometry(task.get("pad_modulus", 1.0), task.get("geometry", "default"),
                          task.get("support"), task.get("load_path"))
     kind = task.get("interface", "fe")
     _check("interface", kind, kind in ("fe", "condensed"), "allowed: 'fe', 'condensed'")
@@ -174,7 +174,7 @@ def _interface(task: dict):
         key = (task.get("geometry"), task["size"], task.get("pad_modulus", 1.0),
                task.get("support"), rotor)
         if key not in _BUILT:
-            base = BrakeModel(_geometry(task.get("pad_modulus", 1.0), task.get("geometry"),
+            base = BrakeModel(task_geometry(task.get("pad_modulus", 1.0), task.get("geometry"),
                                         task.get("support")),
                               size=task["size"] * 1e-3, rotor=rotor, piston=piston)
             _BUILT.clear()
@@ -189,7 +189,7 @@ def _interface(task: dict):
 
 def _run_decel(task: dict) -> dict:
     t0 = time.perf_counter()
-    model, itf = _interface(task)
+    model, itf = task_interface(task)
     g = model.geometry
     r_in, r_out = g.pad.inner_radius, g.pad.outer_radius
     rotor = CorrodedRotor(itf, r_in, r_out, task["corrosion"] * 1e-6, task["k_corrosion"],
@@ -261,7 +261,7 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
     _check("settings", sorted(unknown), not unknown, f"allowed: {', '.join(DEFAULTS)}")
     st = {**DEFAULTS, **settings, "decels": sorted(float(a) for a in decels), "stops": stops}
     _check("stops", stops, isinstance(stops, int) and stops >= 1, "need a whole number >= 1")
-    support = _geometry(1.0, st["geometry"], st["support"], st["load_path"]).support.type
+    support = task_geometry(1.0, st["geometry"], st["support"], st["load_path"]).support.type
     piston, _, label = brake_kind(st)
     _check("interface", st["interface"], st["interface"] != "condensed" or support == "bilateral"
            or piston == "rigid",
@@ -292,7 +292,7 @@ def main(decels=DEFAULTS["decels"], stops: int = DEFAULTS["stops"], out=None,
 def _map_runs(tasks: list, executor: Executor | None) -> list:
     """:func:`run_decel` of every task on ``executor`` (default: two processes)."""
     if tasks and tasks[0].get("interface") == "condensed" and run_decel.__module__ == __name__:
-        _interface(tasks[0])    # condensed once here: the workers read it from the cache
+        task_interface(tasks[0])    # condensed once here: the workers read it from the cache
     own = executor is None
     executor = ProcessPoolExecutor(max_workers=2) if own else executor
     try:

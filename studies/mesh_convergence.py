@@ -305,7 +305,7 @@ def _errors(res: dict, grid: dict) -> None:
 
 
 # --------------------------------------------------------------- output --
-def _json_record(result: dict) -> dict:
+def json_record(result: dict) -> dict:
     rec = dict(result)
     rec["orders"] = {}
     for name, res in result["orders"].items():
@@ -323,14 +323,14 @@ def write(result: dict, out: Path, figures: bool = True) -> None:
     """``out/data/mesh_convergence.json`` and ``out/figures/mesh_convergence.png``."""
     (out / "data").mkdir(parents=True, exist_ok=True)
     (out / "data" / "mesh_convergence.json").write_text(
-        json.dumps(_json_record(result), indent=1,
+        json.dumps(json_record(result), indent=1,
                    default=lambda x: x.tolist() if hasattr(x, "tolist") else float(x)))
     if figures and result["orders"]:
         (out / "figures").mkdir(parents=True, exist_ok=True)
         plot(result, out / "figures" / "mesh_convergence.png")
 
 
-def _label(r: dict) -> str:
+def label(r: dict) -> str:
     m = r["mesh"]
     lay = "/".join(str(m.get(k, "-")) for k in ("friction_layers", "backplate_layers",
                                                 "rotor_layers"))
@@ -355,7 +355,7 @@ def plot(result: dict, path: Path) -> None:
     th = np.degrees(np.array(grid["theta"]))
     for r in runs:
         a.plot(th, np.array(r["end"]["pad_wear_arc"]) * 1e6, label=f"n={r['level']:g}: "
-               + _label(r))
+               + label(r))
     f0 = est["pad_wear"]["field"]
     if f0 is not None:
         arc = interpolate(np.array(f0), np.array(grid["xy"]), np.array(grid["arc_xy"]))
@@ -418,7 +418,7 @@ def _plot_errors(a, name: str, runs: list, cands: list) -> None:
                      if i == 1 else None)
             a.annotate(f"c{i}", (r["cpu_s"], e), textcoords="offset points",
                        xytext=(-4, -12), fontsize=8)
-            key.append(f"c{i}: {_label(r)}")
+            key.append(f"c{i}: {label(r)}")
     a.axhline(0.02, color="0.6", lw=0.8, ls=":")
     if key:
         a.text(0.02, 0.02, "\n".join(key), transform=a.transAxes, fontsize=7,
@@ -446,7 +446,7 @@ def table(result: dict, order: str = "P1", when: str = "end") -> str:
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in res["runs"] + res["candidates"]:
         q, e = r[when], r["errors"][when]
-        name = ("candidate " if r["level"] is None else f"n={r['level']:g}: ") + _label(r)
+        name = ("candidate " if r["level"] is None else f"n={r['level']:g}: ") + label(r)
         l2 = "-" if e["pad_wear"] is None else f"{e['pad_wear']:.2%}"
         rw = "-" if e["rotor_wear"] is None else f"{e['rotor_wear']:.2%}"
         lines.append(

@@ -66,7 +66,7 @@ def reference(record: dict, order: str = "P1", when: str = "end") -> dict:
         fields[q] = None if f is None else np.asarray(f, dtype=float)
     return {"order": order, "when": when, "scalars": {q: est[q]["estimate"] for q in mc.SCALARS},
             "fields": fields, "shift_rate1": est["pad_wear"].get("shift_rate1"),
-            "finest": res["runs"][-1][when], "finest_label": mc._label(res["runs"][-1])}
+            "finest": res["runs"][-1][when], "finest_label": mc.label(res["runs"][-1])}
 
 
 def matching_state(case: dict, p1_case: dict) -> str:
@@ -195,11 +195,11 @@ def error_rows(p1_record: dict, p2: dict, when: str = "end") -> list:
     p1 = p1_record["orders"]["P1"]
     for kind, runs in (("level", p1["runs"]), ("candidate", p1["candidates"])):
         for r in runs:
-            rows.append({"order": 1, "kind": kind, "level": r["level"], "mesh": mc._label(r),
+            rows.append({"order": 1, "kind": kind, "level": r["level"], "mesh": mc.label(r),
                          "dofs": r["dofs"], "wall_s": r["wall_s"], "cpu_s": r["cpu_s"],
                          "err_pad_wear": r["errors"][when]["pad_wear"]})
     for r in p2["runs"]:
-        rows.append({"order": 2, "kind": "level", "level": r["level"], "mesh": mc._label(r),
+        rows.append({"order": 2, "kind": "level", "level": r["level"], "mesh": mc.label(r),
                      "dofs": r["dofs"], "wall_s": r["wall_s"], "cpu_s": r["cpu_s"],
                      "err_pad_wear": r["errors"]["p1_estimate"].get("pad_wear"),
                      "err_pad_wear_own": r["errors"]["end"]["pad_wear"]})
@@ -222,7 +222,7 @@ def write(result: dict, out: Path, figures: bool = True) -> None:
     """``out/data/mesh_convergence_p2.json`` and ``out/figures/mesh_convergence_p2.png``."""
     (out / "data").mkdir(parents=True, exist_ok=True)
     (out / "data" / "mesh_convergence_p2.json").write_text(json.dumps(
-        mc._json_record(result), indent=1,
+        mc.json_record(result), indent=1,
         default=lambda x: x.tolist() if hasattr(x, "tolist") else float(x)))
     if figures and "error_vs_time" in result:
         (out / "figures").mkdir(parents=True, exist_ok=True)
@@ -290,7 +290,7 @@ def _plot_arc(a, result: dict) -> None:
     p2 = result["orders"]["P2"]
     for i, r in enumerate(p2["runs"]):
         a.plot(th, np.asarray(r["end"]["pad_wear_arc"]) * 1e6, color=f"C{i}", lw=1.2,
-               label=f"P2 n={r['level']:g}: {mc._label(r)}")
+               label=f"P2 n={r['level']:g}: {mc.label(r)}")
     f2 = p2["end"]["pad_wear"]["field"]
     if f2 is not None:
         a.plot(th, mc.interpolate(np.asarray(f2), xy, arc) * 1e6, "r--", lw=2,
@@ -321,7 +321,7 @@ def p2_table(result: dict) -> str:
         q, own = r["end"], r["errors"]["end"]
         e1 = r["errors"].get("p1_estimate", {})
         lines.append(
-            f"| n={r['level']:g}: {mc._label(r)} | {r['dofs']} | {r['wall_s']:.1f} | "
+            f"| n={r['level']:g}: {mc.label(r)} | {r['dofs']} | {r['wall_s']:.1f} | "
             f"{r['cpu_s']:.1f} | "
             f"{q['pad_wear_max'] * 1e6:.2f} | {q['pad_wear_volume'] * 1e9:.1f} | "
             f"{q['pressure_max'] / 1e6:.3f} | {q['r_eff'] * 1e3:.2f} | "

@@ -125,7 +125,7 @@ def test_what_the_rating_does_not_cover_is_said():
         "backplate_layers": 20, "rotor_size": 4.5e-3}))
     assert any("outside the measured range" in c for c in fine["caveats"])
     winkler = replace(load_scene("default"), interface=replace(
-        load_scene("default").interface, model="winkler"))
+        load_scene("default").interface, model="winkler", options={}))
     assert mesh_accuracy(winkler)["rated"] is False
     assert "not rated" in accuracy_lines(mesh_accuracy(winkler))[0]
 

@@ -272,3 +272,34 @@ def test_another_load_path_on_the_same_condensation_is_a_fresh_interface(solved)
     assert not np.allclose(a.pressure, itf.solve(offset, None, mu=0.4).pressure, rtol=1e-6)
     with pytest.raises(Exception, match="load-path parameters only"):
         itf.with_load_path(replace(g, pad=replace(g.pad, slot_width=0.0)))
+
+
+def test_the_caliper_is_a_registered_interface_model(solved):
+    """``interface="caliper"`` names the caliper in a run (the registry builds it and
+    the run checks its capabilities: no geometry update, no quadratic meshes), and its
+    first contact solve is the interface's own; a scene without a rigid piston
+    is refused naming components.piston."""
+    from brakewear import Run
+    from brakewear.errors import SceneError, WearError
+    from brakewear.interfaces import interface_model
+    from brakewear.laws import WearLaw
+    from brakewear.scene import InterfaceSpec, Scene
+    from brakewear.wear import Numerics
+
+    model, itf, offset, _ = solved
+    entry = interface_model("caliper")
+    assert {"accepts_load", "implicit_rings"} <= entry.capabilities
+    assert not {"follows_geometry", "quadratic"} & entry.capabilities
+    run = Run(model, 1e6, 55.0, 10.0, WearLaw(k=5e-15), mu=0.4,
+              interface="caliper").resolved()
+    assert isinstance(run.interface, CaliperInterface)
+    assert run.interface_record == {"requested": "caliper", "model": "caliper"}
+    a = run.interface.solve(offset, None, mu=0.4)
+    b = itf.solve(offset, None, mu=0.4)
+    assert np.abs(a.pressure - b.pressure).max() <= 1e-12 * np.abs(b.pressure).max()
+    with pytest.raises(WearError, match="follows_geometry"):
+        Run(model, 1e6, 55.0, 10.0, WearLaw(k=5e-15), mu=0.4, interface="caliper",
+            numerics=Numerics(update="geometry")).resolved()
+    with pytest.raises(SceneError, match=r"interface\.model: 'caliper' .*components\.piston "
+                                         r"= 'traction'"):
+        Scene(geometry="floating", interface=InterfaceSpec(model="caliper"))

@@ -8,9 +8,10 @@ from test_contact_solve import P_APPLIED, block, check_solution
 
 from brakewear.contact import (compliant_preconditioner, contact_preconditioner, pair_to_rigid,
                                pair_to_surface, solve_compliant_contact, solve_contact)
-from brakewear.contact.basis import SlaveBasis, in_slave_basis
-from brakewear.contact.quadratic import (face_quadrature, quadratic_face_areas, slave_basis,
-                                         transformed, tri6)
+from brakewear.contact.basis import in_slave_basis
+from brakewear.mesh.quadratic import (SlaveBasis, face_quadrature, quadratic_face_areas,
+                                      slave_basis, transformed)
+from brakewear.mesh.triangle import tri6
 from brakewear.errors import ContactLostError, SceneError, ThermalError, WearError
 from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.fem.boundary import _vector_facet_basis

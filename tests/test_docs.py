@@ -58,10 +58,15 @@ def test_the_history_patterns_catch_what_they_should():
 
 
 def test_citations_point_to_the_shipped_references():
-    """The closed forms and typical data are cited as docs/references.md, which ships."""
+    """The closed forms and typical data are cited as docs/references.md, which ships
+    (in the package's modules, the docs, the studies and tests, and the packaged
+    geometry and scene files)."""
     assert (ROOT / "docs" / "references.md").is_file()
+    shipped = sorted([*(ROOT / "geometry").glob("*.toml"),
+                      *(ROOT / "geometry" / "scenes").glob("*.toml")])
+    assert shipped, "no packaged geometry or scene files found"
     hits = [f"{p.relative_to(ROOT)}:{n}: {line.strip()[:100]}"
-            for p in [*FILES, *sorted((ROOT / "tests").glob("*.py"))]
+            for p in [*FILES, *shipped, *sorted((ROOT / "tests").glob("*.py"))]
             for n, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
             if re.search(r"REFERENCES\.md|shared/", line) and p.name != "test_docs.py"]
     assert not hits, "cite docs/references.md instead:\n" + "\n".join(hits)

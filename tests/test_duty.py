@@ -59,12 +59,12 @@ def test_a_bad_schedule_is_refused_whole_before_any_solve(model, monkeypatch):
     """run_schedule checks every application when called: a third stop beyond the
     tyres' grip is refused, naming its index and value, before the interface is
     built or anything solved (a spy on the model's contact system sees no call)."""
-    import brakewear.duty.runner as runner
+    import brakewear.wear.run as runs
 
     built = []
     monkeypatch.setattr(type(model), "contact_system",
                         lambda self, *a, **k: built.append(a) or pytest.fail("assembled"))
-    monkeypatch.setattr(runner, "FEInterface",
+    monkeypatch.setattr(runs, "build_interface",
                         lambda *a, **k: built.append(a) or pytest.fail("interface built"))
     laws = (WearLaw(K_PAD), WearLaw(K_ROT), 0.4)
     ok = Stop(50 / 3.6, decel=1.5)

@@ -13,7 +13,7 @@ import skfem as fem
 
 from brakewear.errors import SceneError
 from brakewear.fem.footprint import annulus, footprint_load
-from brakewear.fem.triangle import subdivided_rule, tri6
+from brakewear.mesh.triangle import subdivided_rule, tri6
 from brakewear.geometry import CaliperGeometry, FingerGeometry, load_geometry
 from brakewear.interfaces import FEInterface
 from brakewear.mesh.brake import pad_mesh, rotor_mesh

@@ -170,9 +170,9 @@ def test_the_conductance_and_hertz_studies_on_small_settings(tmp_path):
 def test_a_record_without_the_roughness_keys_resumes_as_before():
     """The new [thermal] keys default to None: a run's scene.json written without them
     reads the same as the scene now (resume compares the two records)."""
-    from brakewear.scene.spec import _first_difference
+    from brakewear.scene.spec import first_difference
     now = load_scene("thermal").to_dict()
     before = {**now, "thermal": {k: v for k, v in now["thermal"].items() if k not in (
         "pad_rms_height", "rotor_rms_height", "pad_rms_slope", "rotor_rms_slope",
         "conductance_law")}}
-    assert _first_difference(before, now) is None
+    assert first_difference(before, now) is None

@@ -258,9 +258,9 @@ def test_a_different_scene_is_named_in_the_files_units():
     """The first difference between a folder's scene.json (SI) and the scene resumed into it
     is shown under the file's key, in its unit."""
     from brakewear.checks import user_units
-    from brakewear.scene.spec import _first_difference
+    from brakewear.scene.spec import first_difference
     old, new = {"duration": 600.0, "omega": 55.0}, {"duration": 1200.0, "omega": 55.0}
-    assert _first_difference(old, new) == "environment.duration: 600.0 then, 1200.0 now"
+    assert first_difference(old, new) == "environment.duration: 600.0 then, 1200.0 now"
     with user_units({"environment.duration": ("min", 60.0, 0.0, 20.0)}):
-        assert _first_difference(old, new) == ("environment.duration: 10.0 min then, "
+        assert first_difference(old, new) == ("environment.duration: 10.0 min then, "
                                                "20.0 min now")

@@ -310,15 +310,15 @@ def test_wear_tol_is_a_length_passed_to_the_loop(tmp_path, monkeypatch):
     import brakewear.output as history
     seen = {}
 
-    def fake_run_wear(*args, **kw):
-        seen.update(kw)
+    def fake_run_wear(run, *args, **kw):
+        seen.update(run=run, **kw)
         raise RuntimeError("stop")
     monkeypatch.setattr(history, "run_wear", fake_run_wear)
     small = Scene(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0,
                   numerics=Numerics(wear_tol=2e-6), output=OutputSpec(figures=False))
     with pytest.raises(RuntimeError, match="stop"):
         run_scene(small, tmp_path / "w")
-    assert seen["numerics"].wear_tol == 2e-6
+    assert seen["run"].numerics.wear_tol == 2e-6
 
 
 def test_coning_and_taper_give_the_loops_initial_gap(tmp_path, monkeypatch):
@@ -351,18 +351,18 @@ def test_coning_and_taper_give_the_loops_initial_gap(tmp_path, monkeypatch):
     import brakewear.output as history
     seen = {}
 
-    def fake_run_wear(*args, **kw):
-        seen.update(kw)
+    def fake_run_wear(run, *args, **kw):
+        seen.update(run=run, **kw)
         raise RuntimeError("stop")
     monkeypatch.setattr(history, "run_wear", fake_run_wear)
     small = Scene(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0, interface=s.interface,
                   output=OutputSpec(figures=False))
     with pytest.raises(RuntimeError, match="stop"):
         run_scene(small, tmp_path / "w")
-    itf = seen["interface"]
-    assert seen["initial_gap"] == pytest.approx(
+    itf, gap = seen["run"].interface, seen["run"].initial_gap
+    assert gap == pytest.approx(
         coning_gap(itf.r, pad.inner_radius, pad.outer_radius, 20e-6), abs=1e-18)
-    assert seen["initial_gap"].max() == pytest.approx(20e-6 * (itf.r.max() - pad.inner_radius)
+    assert gap.max() == pytest.approx(20e-6 * (itf.r.max() - pad.inner_radius)
                                                       / (pad.outer_radius - pad.inner_radius))
 
 

@@ -197,16 +197,8 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
                 "mu": BRAKE_MU, "line_pressure_pa": BRAKE_PRESSURE})
     # exactly BrakeModel.solve_contact's steps, kept apart to reach K, the pair and the result
     t0 = time.perf_counter()
-    K, P, retained, col = model._reduced(tie_interface=False)
-    f = model.loads(BRAKE_PRESSURE)
-    fixed_r = model._reduced_fixed(col)
-    pair = model.contact_pair(BRAKE_MU, "segment")
-    pair.slave = col[pair.slave]
-    if pair.coupling is not None:
-        pair.coupling = pair.coupling[:, retained].tocsr()
-    Kr = (P.T @ K @ P).tocsr()
-    fr = P.T @ f
-    coords = model.coordinates()[:, retained]
+    cs = model.contact_system(BRAKE_PRESSURE, BRAKE_MU, "segment")
+    Kr, fr, fixed_r, coords, pair = cs.K, cs.f, cs.fixed, cs.coords, cs.pair
     row["assemble_s"] = time.perf_counter() - t0
     row["slave_nodes"] = int(pair.slave.size)
     row["contact_solve_s"], row["contact_solve_s_pair"], res = _faster_of_two(

@@ -6,8 +6,9 @@
 * :mod:`~brakewear.contact.pairs` -- :class:`ContactPair` (slave nodes against a
   master surface, with its gaps);
 * :mod:`~brakewear.contact.quadratic` -- the pairs of quadratic (P2) slave faces:
-  dual mortar coupling, and :mod:`~brakewear.contact.basis`, the transformed
-  basis their solves run in (:class:`SlaveBasis`);
+  dual mortar coupling, and :mod:`~brakewear.contact.basis`, their solves in the
+  transformed basis (:class:`~brakewear.mesh.quadratic.SlaveBasis`; the surface
+  geometry of P2 faces is in :mod:`brakewear.mesh.quadratic`);
 * :mod:`~brakewear.contact.elimination` -- the eliminated operator of one active set;
 * :mod:`~brakewear.contact.active_set` -- the one active-set driver (its policy and
   tuning in :class:`ActiveSetOptions`);

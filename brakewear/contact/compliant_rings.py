@@ -45,9 +45,9 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import lu_factor, lu_solve
-from scipy.sparse.linalg import LinearOperator
 
 from ..errors import ContactError
+from ..solvers.operators import Bordered, BorderedPreconditioner
 
 logger = logging.getLogger(__name__)
 
@@ -118,19 +118,9 @@ class RingBlock:
               rtol0: float | None) -> np.ndarray:
         """The set's displacements ``x`` and ring depths (kept in :attr:`d`):
         FGMRES on the bordered system with the block preconditioner."""
-        n, m = b.size, self.m
-        U, Rx, sig, lu, Dm = self.U, self.Rx, self.sigma, self.lu, self.Dm
-
-        def matvec(y):
-            x_, d_ = y[:n], y[n:]
-            return np.concatenate([op @ x_ + U @ d_, sig * (Rx @ x_ + Dm @ d_)])
-
-        def precond(r):
-            zx = amg.M @ r[:n]
-            return np.concatenate([zx, lu_solve(lu, r[n:] / sig - Rx @ zx, check_finite=False)])
-
-        Aop = LinearOperator((n + m, n + m), matvec=matvec, dtype=float)
-        M = LinearOperator((n + m, n + m), matvec=precond, dtype=float)
+        n, sig = b.size, self.sigma
+        Aop = Bordered(op, self.U, self.Rx, self.Dm, sig)
+        M = BorderedPreconditioner(amg.M, self.Rx, self.lu, sig)
         d0 = self.d if self.d is not None and x is not None else self.start(x)
         y0 = np.concatenate([np.zeros(n) if x is None else x, d0])
         amg.tol = tol

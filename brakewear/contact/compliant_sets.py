@@ -29,6 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ContactError
+from ..solvers.operators import ProductSum
 from .active_set import Margins
 from .elimination import _mask_fixed, _prolongation, _reduced_start, _set_delta
 
@@ -55,8 +56,6 @@ class CompliantSets:
         return self.x
 
     def _new_set(self, active: np.ndarray) -> None:
-        from scipy.sparse.linalg import LinearOperator
-
         pair, C = self.pair, self.C
         Ca = C[active]
         ka = self.kappa[active]
@@ -69,10 +68,7 @@ class CompliantSets:
             Ga = self.G[:, active]
             E = (Ga @ sp.diags(ka) @ Ca).tocsr()
             self.b = self.b - Ga @ (ka * pair.g0[active])
-            A = self.amg.A
-            N = A.shape[0]
-            self.Aop = LinearOperator((N, N), matvec=lambda v, A=A, E=E: A @ v + E @ v,
-                                      dtype=float)
+            self.Aop = ProductSum(self.amg.A, [(1, E, None)])
         if self.rings is not None:
             self.rings.for_set(active, Ca, None if self.G is None else self.G[:, active])
 
@@ -131,8 +127,6 @@ class SupportedSets(CompliantSets):
         return flat[:self.ns], [flat[a:b] for a, b in zip(self.offsets[:-1], self.offsets[1:])]
 
     def _new_set(self, active: np.ndarray) -> None:
-        from scipy.sparse.linalg import LinearOperator
-
         N = self.Kd.shape[0]
         if self.x is not None:
             self.u_last = self.u
@@ -164,8 +158,7 @@ class SupportedSets(CompliantSets):
         self.Aop = None
         if E is not None:
             PtE = (P.T @ E).tocsr()
-            self.Aop = LinearOperator((N, N), matvec=lambda v, A=A: A @ v + PtE @ (P @ v),
-                                      dtype=float)
+            self.Aop = ProductSum(A, [(1, PtE, P)])
         # warm start: the last displacement in this set's unknowns
         self.x = None if self.u_last is None else _reduced_start(self.u_last, self.supports,
                                                                  a_s)

@@ -21,9 +21,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..errors import ActiveSetError, ContactError
+from ..solvers.operators import ProductSum
 from .active_set import LAGRANGE, ActiveSetDriver, ActiveSetOptions, Margins
 from .basis import in_slave_basis
 from .elimination import (
@@ -306,8 +306,7 @@ class _LagrangeSets:
         elif self.linear == "direct":
             self.Aop = (A - E[0] @ E[1]).tocsr()
         else:
-            self.Aop = spla.LinearOperator(
-                A.shape, matvec=lambda v, A=A, G=E[0], S=E[1]: A @ v - G @ (S @ v), dtype=float)
+            self.Aop = ProductSum(A, [(-1, E[0], E[1])])
         if self.linear != "amg":
             return
         work = self.work

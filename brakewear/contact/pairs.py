@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -10,13 +10,15 @@ import skfem as fem
 
 from ..errors import ContactError
 from ..mesh.surface import surface_nodes, tributary_areas
-from .basis import SlaveBasis
-from .quadratic import dual_rigid_pair, dual_surface_pair, is_quadratic, slave_basis
+from ..mesh.quadratic import SlaveBasis, slave_basis
+from ..mesh.surface import is_quadratic
+from .quadratic import dual_rigid_pair, dual_surface_pair
 from .surface import mortar_coupling, project_nodes
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["ContactPair", "pair_to_surface", "pair_to_rigid", "merge_pairs"]
+__all__ = ["ContactPair", "ContactSystem", "pair_to_surface", "pair_to_rigid", "merge_pairs",
+           "rotor_drag", "plane_height"]
 
 
 @dataclass
@@ -36,7 +38,7 @@ class ContactPair:
 
     A quadratic slave face (:mod:`~brakewear.contact.quadratic`) has its
     nodes -- vertices and mid-edge nodes -- in a transformed displacement
-    basis: ``basis`` (:class:`~brakewear.contact.basis.SlaveBasis`; None for a
+    basis: ``basis`` (:class:`~brakewear.mesh.quadratic.SlaveBasis`; None for a
     linear face) says how, and the solvers carry the problem into it.
     ``area`` then holds the integrals of the transformed functions (the
     consistent nodal loads of a unit pressure, all positive), so that
@@ -105,6 +107,22 @@ class ContactPair:
         us = u.reshape(-1, 3)[self.slave].T
         rel = us if self.rigid else us - (self.coupling @ u.reshape(-1, 3)).T
         return self.g0 + np.einsum("ij,ij->j", self.normal, rel)
+
+
+@dataclass
+class ContactSystem:
+    """An assembled contact problem (retained-node numbering after ties), as
+    :meth:`brakewear.model.BrakeModel.contact_system` builds it."""
+
+    K: sp.csr_matrix
+    f: np.ndarray
+    fixed: np.ndarray
+    coords: np.ndarray
+    pair: ContactPair
+    P: sp.csr_matrix       # retained DOFs -> all DOFs
+    col: np.ndarray        # global node -> retained node (-1: eliminated)
+    clamp_force: float
+    supports: list = field(default_factory=list)  # rigid stops (abutments), no friction
 
 
 def pair_to_surface(slave_mesh: fem.Mesh, slave_facets, slave_offset: int,
@@ -210,6 +228,17 @@ def _quadratic_pair(slave_mesh, q: dict, offset: int, W, exclude, mu, drag,
     d = _unit_tangential(drag(slave_mesh.p[:, slave]), normal) if mu > 0 else None
     return ContactPair(slave + offset, area, normal, g0, W, mu, d, name,
                        basis=slave_basis(q["nodes"], offset))
+
+
+def rotor_drag(x: np.ndarray) -> np.ndarray:
+    """The direction a rotor turning in +theta (about z) drags points ``x`` (3, n):
+    ``(-y, x, 0)`` (unit after :func:`_unit_tangential`)."""
+    return np.vstack([-x[1], x[0], np.zeros_like(x[0])])
+
+
+def plane_height(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The height of the plane z = 0 (a rigid rotor's face) at ``(x, y)``."""
+    return np.zeros_like(x)
 
 
 def _unit_tangential(v: np.ndarray, n: np.ndarray) -> np.ndarray:

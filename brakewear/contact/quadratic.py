@@ -45,88 +45,14 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from ..errors import MeshError
-from ..mesh.surface import FACE_EDGES as _EDGES
+from ..mesh.quadratic import ALPHA, face_numbering, face_quadrature
 from ..mesh.surface import is_quadratic, quadratic_faces
-from ..fem.triangle import subdivided_rule as _subdivided_rule
-from ..fem.triangle import tri6
-from .basis import ALPHA, SlaveBasis
+from ..mesh.triangle import tri6
 from .surface import Projection, project_nodes
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["tri6", "transformed", "face_quadrature", "quadratic_face_areas", "face_values",
-           "dual_surface_pair", "dual_rigid_pair", "slave_basis"]
-
-
-def _tri6_derivatives(lam: np.ndarray) -> np.ndarray:
-    """d N / d(xi, eta) (2, 6, nq) with ``lam = (1 - xi - eta, xi, eta)``."""
-    l0, l1, l2 = lam
-    z = np.zeros_like(l0)
-    dxi = np.stack([1 - 4 * l0, 4 * l1 - 1, z, 4 * (l0 - l1), 4 * l2, -4 * l2])
-    deta = np.stack([1 - 4 * l0, z, 4 * l2 - 1, -4 * l1, 4 * l1, 4 * (l0 - l2)])
-    return np.stack([dxi, deta])
-
-
-def transformed(N: np.ndarray, alpha: float = ALPHA) -> np.ndarray:
-    """The transformed functions ``phi~`` (6, ...) from the standard ones (6, ...)."""
-    out = np.empty_like(N)
-    for v in range(3):
-        out[v] = N[v] + alpha * sum(N[3 + k] for k, ab in enumerate(_EDGES) if v in ab)
-    out[3:] = (1.0 - 2.0 * alpha) * N[3:]
-    return out
-
-
-def face_quadrature(mesh: fem.Mesh, facets, level: int = 1, alpha: float = ALPHA) -> dict:
-    """Quadrature of quadratic facets and their transformed and dual functions.
-
-    Returns a dict: ``nodes`` (6, nf), ``x`` (3, nf, nq) points, ``w`` (nf, nq)
-    weights (area), ``lam`` (3, nq) barycentric points, ``phi`` (6, nq)
-    transformed functions, ``psi`` (6, nf, nq) dual functions and ``D`` (6, nf)
-    the element integrals of ``phi~``.
-    """
-    nodes = quadratic_faces(mesh, facets)
-    X = mesh.p[:, nodes]                                          # (3, 6, nf)
-    lam, wr = _subdivided_rule(level)
-    N = tri6(lam)
-    dN = _tri6_derivatives(lam)                                   # (2, 6, nq)
-    x = np.einsum("akf,kq->afq", X, N)
-    t = np.einsum("akf,dkq->dafq", X, dN)                         # tangents (2, 3, nf, nq)
-    jac = np.linalg.norm(np.cross(t[0], t[1], axis=0), axis=0)    # (nf, nq), 2 x area scale
-    w = 0.5 * jac * wr
-    phi = transformed(N, alpha)
-    M = np.einsum("iq,jq,fq->fij", phi, phi, w)
-    D = M.sum(axis=2)                                             # (nf, 6)
-    if np.any(D <= 0):
-        raise MeshError(f"a quadratic facet has a non-positive basis integral "
-                        f"({D.min():.3g}): the face is too distorted for alpha = {alpha}")
-    A = D[:, :, None] * np.linalg.inv(M)                          # psi = A phi~ per facet
-    psi = np.einsum("fij,jq->ifq", A, phi)
-    return {"nodes": nodes, "x": x, "w": w, "lam": lam, "phi": phi, "psi": psi, "D": D.T}
-
-
-def _slave_numbering(nodes: np.ndarray):
-    slave = np.unique(nodes)
-    col = -np.ones(int(nodes.max()) + 1, dtype=np.int64)
-    col[slave] = np.arange(slave.size)
-    return slave, col[nodes]
-
-
-def _basis(nodes: np.ndarray, offset: int, alpha: float) -> SlaveBasis:
-    """The face's :class:`SlaveBasis` in global numbering (each mid-edge node once)."""
-    edge = nodes[3:].ravel()
-    ends = np.vstack([nodes[[a for a, _ in _EDGES]].ravel(), nodes[[b for _, b in _EDGES]].ravel()])
-    edge, first = np.unique(edge, return_index=True)
-    return SlaveBasis(edge + offset, ends[:, first] + offset, alpha)
-
-
-def quadratic_face_areas(mesh: fem.Mesh, facets, alpha: float = ALPHA):
-    """``(nodes, D)``: the face's nodes (vertices and mid-edge nodes, sorted) and
-    the integrals of their transformed functions (m^2, all positive, summing
-    to the face's area)."""
-    q = face_quadrature(mesh, facets, level=0, alpha=alpha)
-    slave, local = _slave_numbering(q["nodes"])
-    return slave, np.bincount(local.ravel(), weights=q["D"].ravel(), minlength=slave.size)
+__all__ = ["face_values", "dual_surface_pair", "dual_rigid_pair"]
 
 
 def _assemble(q: dict, local: np.ndarray, ns: int, cols: np.ndarray, vals: np.ndarray,
@@ -184,7 +110,7 @@ def dual_surface_pair(slave_mesh: fem.Mesh, slave_facets, master_mesh: fem.Mesh,
     (the master's normal under each slave node) and ``nodes`` (6, nf).
     """
     q = face_quadrature(slave_mesh, slave_facets, level, alpha)
-    slave, local = _slave_numbering(q["nodes"])
+    slave, local = face_numbering(q["nodes"])
     ns = slave.size
     nf, nq = q["w"].shape
     pr = _projected(q["x"].reshape(3, -1), master_mesh, master_facets, search_radius)
@@ -208,7 +134,7 @@ def dual_rigid_pair(slave_mesh: fem.Mesh, slave_facets, height, side: int, level
     :func:`~brakewear.contact.pair_to_rigid`); the dict of :func:`dual_surface_pair`
     without ``W``."""
     q = face_quadrature(slave_mesh, slave_facets, level, alpha)
-    slave, local = _slave_numbering(q["nodes"])
+    slave, local = face_numbering(q["nodes"])
     ns = slave.size
     x = q["x"]
     gap = side * (x[2] - np.asarray(height(x[0], x[1]), dtype=float))
@@ -218,9 +144,3 @@ def dual_rigid_pair(slave_mesh: fem.Mesh, slave_facets, height, side: int, level
     normal[2] = side
     return {"slave": slave, "area": D, "g0": g0.toarray().ravel() / D, "normal": normal,
             "nodes": q["nodes"]}
-
-
-def slave_basis(nodes: np.ndarray, offset: int, alpha: float = ALPHA) -> SlaveBasis:
-    """The :class:`~brakewear.contact.basis.SlaveBasis` of facets ``nodes`` (6, nf),
-    in global numbers (``offset`` = the slave body's first global node)."""
-    return _basis(nodes, offset, alpha)

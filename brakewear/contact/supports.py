@@ -129,7 +129,7 @@ def _stop(mesh, facets, offset, normal, g0, name) -> ContactPair:
     """A unilateral stop: the nodes of ``facets`` against a rigid plane parallel
     to them at gap ``g0``, along ``normal`` (stop -> pad)."""
     if is_quadratic(mesh):
-        from .quadratic import quadratic_face_areas, slave_basis
+        from ..mesh.quadratic import quadratic_face_areas, slave_basis
 
         nodes, area = quadratic_face_areas(mesh, facets)
         basis = slave_basis(quadratic_faces(mesh, facets), offset)
@@ -229,7 +229,7 @@ def _node_springs(nodes: np.ndarray, k: np.ndarray, d: np.ndarray,
 
 def with_supports(system, mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry,
                   support: SupportGeometry):
-    """A contact system (:class:`~brakewear.model.ContactSystem`) with its pads held
+    """A contact system (:class:`~brakewear.contact.ContactSystem`) with its pads held
     by ``support`` instead of the bilateral support.
 
     ``system`` is in its retained numbering (``P``: retained -> all DOFs,

@@ -2,18 +2,22 @@
 
 * :mod:`~brakewear.duty.vehicle` -- :class:`Vehicle`: a deceleration as the
   brake's torque and back; the brake's torque against its line pressure;
-* :mod:`~brakewear.duty.schedule` -- :class:`Stop`, :class:`Drag`,
-  :class:`Dwell`; schedules from a table or a drive-cycle CSV;
+* :mod:`~brakewear.duty.applications` -- :class:`Stop`, :class:`Drag`,
+  :class:`Dwell`, each resolving itself against a vehicle and the brake;
+  :func:`register_application` adds a kind;
+* :mod:`~brakewear.duty.schedule` -- schedules from a table or a drive-cycle CSV;
 * :mod:`~brakewear.duty.runner` -- :func:`run_schedule`: wear, heat and
   energy per application;
 * :mod:`~brakewear.duty.cycle` -- a drive cycle replayed through the
   vehicle's blending: the friction work ordinary driving gives the rotor.
 """
 
-from . import cycle, runner, schedule, vehicle
+from . import applications, cycle, runner, schedule, vehicle
+from .applications import *  # noqa: F403
 from .cycle import *  # noqa: F403
 from .runner import *  # noqa: F403
 from .schedule import *  # noqa: F403
 from .vehicle import *  # noqa: F403
 
-__all__ = [*vehicle.__all__, *schedule.__all__, *runner.__all__, *cycle.__all__]
+__all__ = [*vehicle.__all__, *applications.__all__, *schedule.__all__, *runner.__all__,
+           *cycle.__all__]

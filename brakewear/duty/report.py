@@ -3,10 +3,10 @@
 :func:`run_schedule_files` runs :func:`brakewear.duty.run_schedule` for a
 scene with a ``[schedule]`` and writes, into the run's folder,
 
-* ``applications.csv``: per application its kind, start, duration, line
-  pressure, deceleration, speeds, effective radius (at its start and its mean
-  over the rotor angle), torque, the vehicle's kinetic energy, the parts
-  regenerated and taken by the road load, and the demand on each face, the model's
+* ``applications.csv``: per application its kind, whether it braked, start,
+  duration, line pressure, deceleration, speeds, effective radius (at its start
+  and its mean over the rotor angle), torque, the vehicle's kinetic energy, the
+  parts regenerated and taken by the road load, and the demand on each face, the model's
   friction work per face, worn volumes, steps and the pad face temperature
   (K); with thermal coupling also the thermal columns of
   :class:`~brakewear.wear.records.HeatTally` (face temperatures of pad and
@@ -46,16 +46,19 @@ logger = logging.getLogger(__name__)
 __all__ = ["run_schedule_files", "APPLICATION_COLUMNS"]
 
 #: the columns of applications.csv (SI units, energies per friction face)
-APPLICATION_COLUMNS = ("index", "kind", "t_start", "duration", "line_pressure", "decel", "v0",
-                       "v1", "omega0", "omega1", "rotor_angle", "r_eff", "r_eff_mean", "torque",
-                       "kinetic_J", "regenerated_J", "road_J", "target_face_J", "friction_face_J",
+APPLICATION_COLUMNS = ("index", "kind", "braked", "t_start", "duration", "line_pressure", "decel",
+                       "v0", "v1", "omega0", "omega1", "rotor_angle", "r_eff", "r_eff_mean",
+                       "torque", "kinetic_J", "regenerated_J", "road_J", "target_face_J",
+                       "friction_face_J",
                        "pad_volume_m3", "rotor_volume_m3", "steps", "pad_temperature_max",
                        "run_s")
 
 
-def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface,
-                       thermal=None, initial_gap=None, progress=None) -> dict:
-    """Run ``scene.schedule`` on ``model`` and write the files above; the summary.
+def run_schedule_files(run, out: Path, *, title: str = "", figures: bool = False,
+                       progress=None) -> dict:
+    """Run the schedule of ``run`` (a :class:`~brakewear.wear.Run` with a schedule and
+    its interface built) and write the files above; the summary.  ``figures``:
+    ``applications.png`` too, titled ``title``.
 
     A schedule that ends early (a worn-through surface, a face past ``T_max``,
     a solver error, Ctrl-C) writes the summary of the applications it finished,
@@ -63,17 +66,15 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
     :func:`~brakewear.wear.records.end_record`), then raises the error with that
     summary as its ``summary`` attribute."""
     t0 = time.perf_counter()
-    write = _Frames(model, out, interface, thermal)
+    interface, thermal = run.interface, run.thermal
+    write = _Frames(run.model, out, interface, thermal)
     rows, final = [], None
     try:
-        for rec in run_schedule(model, list(scene.schedule), pad_law, rotor_law,
-                                scene.interface.mu, vehicle=scene.vehicle,
-                                numerics=scene.numerics, interface=interface, thermal=thermal,
-                                initial_gap=initial_gap):
+        for rec in run_schedule(run):
             rows.append({**{k: getattr(rec, k) for k in APPLICATION_COLUMNS},
                          **(rec.heat or {})})
             _write_csv(out / "applications.csv", rows)
-            if rec.kind != "dwell" or thermal is not None:  # a dwell changes temperatures only
+            if rec.braked or thermal is not None:    # a pause changes temperatures only
                 write(rec)
             final = rec
             if progress is not None:
@@ -86,9 +87,9 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
         exc.summary = summary
         raise
     summary = _summary(rows, final, interface, thermal, write, t0)
-    if getattr(scene.output, "figures", False):
+    if figures:
         summary["files"]["figure"] = str(application_figure(rows, out / "applications.png",
-                                                            scene.name))
+                                                            title))
     logger.info("schedule: %d applications, %.4g J demanded and %.4g J dissipated per face",
                 len(rows), summary["energy"]["demanded_per_face_J"],
                 summary["energy"]["dissipated_per_face_J"])
@@ -97,7 +98,7 @@ def run_schedule_files(scene, model, out: Path, pad_law, rotor_law, *, interface
 
 def _summary(rows: list, final, interface, thermal, write, t0: float) -> dict:
     """The summary of the applications in ``rows`` (``final``: the last one's record)."""
-    braked = [r for r in rows if r["kind"] != "dwell"]
+    braked = [r for r in rows if r["braked"]]
     demand = sum(r["target_face_J"] for r in braked)
     dissipated = sum(r["friction_face_J"] for r in braked)
     wear = (final.pad_wear, final.rotor_wear) if final is not None else None
@@ -161,7 +162,7 @@ def application_figure(rows: list[dict], path: Path, title: str = "") -> Path:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    braked = [r for r in rows if r["kind"] != "dwell"]
+    braked = [r for r in rows if r["braked"]]
     n = np.array([r["index"] for r in braked])
     hot = "pad_T_max_peak_C" in braked[0]
     fig, ax = plt.subplots(1, 3 if hot else 2, figsize=(15 if hot else 10, 4))

@@ -1,15 +1,8 @@
-"""Applications of the brake and schedules of them (SI units throughout).
+"""Schedules of applications of the brake (SI units throughout).
 
-An application is one of
-
-* :class:`Stop` -- the vehicle slows from ``v0`` to ``v1`` at a given
-  deceleration, or under a given line pressure (the deceleration then
-  follows from the brake's torque); the speed falls linearly within it;
-* :class:`Drag` -- constant speed and line pressure for a time;
-* :class:`Dwell` -- no contact for a time (the bodies cool when thermal
-  coupling is on).
-
-A schedule is a list of applications: :func:`repeated_stops` ("20 stops
+An application (:mod:`brakewear.duty.applications`) is a :class:`Stop`, a
+:class:`Drag`, a :class:`Dwell` or any registered kind.  A schedule is a list
+of applications: :func:`repeated_stops` ("20 stops
 from 50 km/h at 1.5 m/s^2, 120 s apart"), :func:`schedule_from_table` (the
 same from a scene's ``[schedule]`` table, in its units) or
 :func:`read_schedule_csv` (a drive cycle: time, speed and line pressure or
@@ -20,116 +13,32 @@ from __future__ import annotations
 import csv
 import logging
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from os import PathLike
 from pathlib import Path
 
 from ..checks import check_int, check_number, check_order, check_plausible, fail, user_units
 from ..errors import DutyError
-from .vehicle import G, _check, _finite, brake_torque
+from .applications import (KMH, TABLE_SOURCE, Drag, Dwell, ScheduleCheck, Stop,
+                           application_from_table, application_kinds, application_name,
+                           is_application)
+from .vehicle import _check, _finite
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Stop", "Drag", "Dwell", "repeated_stops", "schedule_from_table",
-           "read_schedule_csv", "check_schedule", "application_name", "stop_decelerations",
-           "KMH", "TABLE_SOURCE"]
-
-#: One km/h in m/s.
-KMH = 1.0 / 3.6
-
-
-@dataclass(frozen=True)
-class Stop:
-    """Slow from ``v0`` to ``v1`` (m/s) at ``decel`` (m/s^2) or under ``line_pressure`` (Pa)."""
-
-    v0: float
-    v1: float = 0.0
-    decel: float | None = None
-    line_pressure: float | None = None
-    #: where the application comes from in the user's words (a scene's ``[schedule]``,
-    #: a drive cycle's rows), named in messages; not compared
-    source: str = field(default="", compare=False)
-
-    def __post_init__(self):
-        _check("stop.v0", self.v0, _finite(self.v0) and 0 < self.v0 <= 100,
-               "need 0 < v0 <= 100 m/s", "m/s")
-        _check("stop.v1", self.v1, _finite(self.v1) and 0 <= self.v1 < self.v0,
-               f"need 0 <= v1 < v0 = {self.v0:g} m/s", "m/s")
-        if (self.decel is None) == (self.line_pressure is None):
-            raise DutyError("a stop needs exactly one of decel (m/s^2) and line_pressure (Pa)")
-        if self.decel is not None:
-            _check("stop.decel", self.decel, _finite(self.decel) and self.decel > 0,
-                   "need a deceleration > 0", "m/s^2")
-        else:
-            _check("stop.line_pressure", self.line_pressure,
-                   _finite(self.line_pressure) and self.line_pressure > 0, "need > 0", "Pa")
-
-
-@dataclass(frozen=True)
-class Drag:
-    """Constant ``line_pressure`` (Pa) for ``duration`` (s) at a vehicle speed ``speed``
-    (m/s) or, without a vehicle (a dynamometer), a rotor speed ``omega`` (rad/s)."""
-
-    line_pressure: float
-    duration: float
-    speed: float | None = None
-    omega: float | None = None
-    source: str = field(default="", compare=False)
-
-    def __post_init__(self):
-        _check("drag.line_pressure", self.line_pressure,
-               _finite(self.line_pressure) and self.line_pressure > 0, "need > 0", "Pa")
-        _check("drag.duration", self.duration, _finite(self.duration) and self.duration > 0,
-               "need > 0", "s")
-        if (self.speed is None) == (self.omega is None):
-            raise DutyError("a drag needs exactly one of speed (m/s) and omega (rad/s)")
-        v = self.speed if self.speed is not None else self.omega
-        _check("drag.speed" if self.speed is not None else "drag.omega", v,
-               _finite(v) and v > 0, "need > 0", "m/s" if self.speed is not None else "rad/s")
-
-
-@dataclass(frozen=True)
-class Dwell:
-    """No contact for ``duration`` (s); with ``from_start`` until ``duration`` after
-    the previous application's start (a stop's length is known only once the
-    brake's torque is).  The car drives on at ``speed`` (m/s; needs a vehicle)
-    or the rotor spins at ``omega`` (rad/s): a speed-dependent convection
-    (:class:`~brakewear.thermal.SpeedConvection`) cools at that speed; neither
-    given: at rest."""
-
-    duration: float
-    from_start: bool = False
-    speed: float | None = None
-    omega: float | None = None
-    source: str = field(default="", compare=False)
-
-    def __post_init__(self):
-        _check("dwell.duration", self.duration, _finite(self.duration) and self.duration > 0,
-               "need > 0", "s")
-        if self.speed is not None and self.omega is not None:
-            raise DutyError("a dwell takes at most one of speed (m/s) and omega (rad/s)")
-        for key, unit in (("speed", "m/s"), ("omega", "rad/s")):
-            v = getattr(self, key)
-            if v is not None:
-                _check(f"dwell.{key}", v, _finite(v) and v >= 0, "need >= 0", unit)
-
-
-def application_name(app, index: int) -> str:
-    """How messages name application ``index``: its index from 0 and, when it came from
-    a file, where (``"application 3 (cycle.csv, rows 5-6)"``, ``"application 1 of the
-    [schedule]"``)."""
-    src = getattr(app, "source", "")
-    return f"application {index}" + (f" of {src}" if src.startswith("the [") else
-                                      f" ({src})" if src else "")
+__all__ = ["repeated_stops", "schedule_from_table", "read_schedule_csv", "check_schedule",
+           "KMH"]
 
 
 def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
                    geometry=None) -> list:
     """Check a whole schedule before anything is computed; returns it as a list.
 
-    Every application must be a :class:`Stop`, :class:`Drag` or :class:`Dwell`;
-    stops, and drags or dwells at a vehicle speed, need ``vehicle``.  A line
-    pressure must be plausible (at most 100 MPa).  A stop at a deceleration must be
+    Every application must be of a registered kind (:class:`Stop`, :class:`Drag`,
+    :class:`Dwell`, or one added by :func:`~brakewear.duty.register_application`),
+    and each checks itself (:meth:`~brakewear.duty.Application.check`): stops,
+    and drags or dwells at a vehicle speed, need ``vehicle``.  A line pressure
+    must be plausible (at most 100 MPa).  A stop at a deceleration must be
     within the tyres' grip (``tyre_mu g``) and leave the modelled brake some torque
     (not all regenerated).  With ``mu`` and ``geometry``, a stop under a line
     pressure whose deceleration exceeds the grip even with the pressure at the
@@ -139,89 +48,19 @@ def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
     outlast it where that application's length is known (a drag, or a stop at a
     deceleration), and outlast the shortest a stop under a line pressure can be
     (its pressure field at the pad's outer radius, with ``mu`` and ``geometry``).
-    Errors name the application (:func:`application_name`) and its values, line
-    pressures in MPa (a schedule's unit).
+    Errors name the application (:func:`~brakewear.duty.application_name`) and
+    its values, line pressures in MPa (a schedule's unit).
     """
     apps = list(schedule)
     since_start = None      # s since the last braked application's start, where known
     for i, app in enumerate(apps):
         where = application_name(app, i)
-        if not isinstance(app, (Stop, Drag, Dwell)):
-            raise DutyError(f"{where}: {app!r} is not a Stop, Drag or Dwell")
-        if isinstance(app, Dwell):
-            if app.speed is not None and vehicle is None:
-                raise DutyError(f"{where}: a dwell at a vehicle speed needs a vehicle")
-            if app.from_start and since_start is not None:
-                _check(f"{where}: dwell.duration", app.duration, app.duration > since_start,
-                       f"a dwell from the previous application's start must outlast its "
-                       f"{since_start:.4g} s", "s")
-            since_start = None if since_start is None or app.from_start else \
-                since_start + app.duration
-            continue
-        with user_units({f"{where}: line_pressure": ("MPa", 1e6, 0.0, None)}):
-            check_plausible(f"{where}: line_pressure", app.line_pressure,
-                            "environment.line_pressure", kind=DutyError)
-        if isinstance(app, Drag):
-            if app.speed is not None and vehicle is None:
-                raise DutyError(f"{where}: a drag at a vehicle speed needs a vehicle (or give "
-                                "the rotor speed omega)")
-            since_start = app.duration
-            continue
-        if vehicle is None:
-            raise DutyError(f"{where}: a stop needs a vehicle (mass, tyre radius, brake share)")
-        since_start = None
-        if app.decel is not None:
-            _check_stop_decel(app, vehicle, where)
-            since_start = (app.v0 - app.v1) / app.decel
-        elif mu is not None and geometry is not None:
-            _check_stop_pressure(app, vehicle, mu, geometry, where)
-            nxt = apps[i + 1] if i + 1 < len(apps) else None
-            if isinstance(nxt, Dwell) and nxt.from_start:
-                _check_interval(app, nxt, vehicle, mu, geometry, i + 1)
+        if not is_application(app):
+            raise DutyError(f"{where}: {app!r} is not an application; registered kinds: "
+                            f"{', '.join(application_kinds())} (brakewear.duty.Application)")
+        since_start = app.check(ScheduleCheck(vehicle, mu, geometry, i, where, since_start,
+                                              apps[i + 1] if i + 1 < len(apps) else None))
     return apps
-
-
-def stop_decelerations(app: Stop, vehicle, mu: float, geometry) -> tuple[float, float]:
-    """The least and the largest deceleration (m/s^2) a stop under a line pressure can
-    give at its start (where the road load is largest): its whole pressure field at
-    the pad's inner, then outer radius."""
-    pad = geometry.pad
-    return tuple(vehicle.deceleration(brake_torque(app.line_pressure, mu, geometry.clamp_area,
-                                                   r), app.v0)
-                 for r in (pad.inner_radius, pad.outer_radius))
-
-
-def _check_stop_pressure(app: Stop, vehicle, mu: float, geometry, where: str) -> None:
-    least = stop_decelerations(app, vehicle, mu, geometry)[0]
-    limit = vehicle.tyre_mu * G
-    if not least <= limit:
-        raise DutyError(f"{where}: line_pressure = {app.line_pressure / 1e6:g} MPa is not "
-                        f"allowed; it decelerates the vehicle by at least {least:.3g} m/s^2 "
-                        f"(the least torque it can give: its whole pressure field at the pad's "
-                        f"inner radius, {geometry.pad.inner_radius * 1e3:g} mm), beyond "
-                        f"tyre_mu g = {limit:.3g} m/s^2 (what the tyres can give)")
-
-
-def _check_interval(stop: Stop, dwell: Dwell, vehicle, mu: float, geometry,
-                    index: int) -> None:
-    """A dwell from the start of a stop under a line pressure outlasts the shortest
-    that stop can be (the run checks it against the stop's own pressure field)."""
-    shortest = (stop.v0 - stop.v1) / stop_decelerations(stop, vehicle, mu, geometry)[1]
-    if not dwell.duration > shortest:
-        raise DutyError(f"{application_name(dwell, index)}: an interval of "
-                        f"{dwell.duration:g} s (start to start) is not allowed; the stop "
-                        f"before it ({stop.v0 / KMH:.4g} to {stop.v1 / KMH:.4g} km/h "
-                        f"under {stop.line_pressure / 1e6:g} MPa) lasts at least "
-                        f"{shortest:.4g} s (its pressure field at the pad's outer radius, "
-                        f"{geometry.pad.outer_radius * 1e3:g} mm); give a longer interval")
-
-
-def _check_stop_decel(app: Stop, vehicle, where: str) -> None:
-    vehicle.check_deceleration(app.decel, f"{where}: deceleration")
-    if not vehicle.stop_torque(app.v0, app.v1, app.decel) > 0:
-        raise DutyError(f"{where}: at deceleration = {app.decel!r} m/s^2 the motor takes all "
-                        f"the braking the road load leaves (regen_share = "
-                        f"{vehicle.regen_share:g}): the modelled brake gives no torque")
 
 
 def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | None = None,
@@ -249,14 +88,18 @@ def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | Non
 
 _TABLE_KEYS = {"stops": "count", "speed_from": "km/h", "speed_to": "km/h",
                "deceleration": "m/s^2", "line_pressure": "MPa", "interval": "s",
-               "dwell_speed": "km/h", "file": "path"}
+               "dwell_speed": "km/h", "file": "path", "applications": "list"}
 
 
 def schedule_from_table(table: dict, source: str = "scene", base: Path | None = None) -> list:
     """A schedule from a scene's ``[schedule]`` table (its units: km/h, m/s^2, MPa, s).
 
     Either ``file = "cycle.csv"`` (:func:`read_schedule_csv`, relative to
-    ``base``) or repeated stops: ``stops``, ``speed_from``, ``speed_to``
+    ``base``), or ``applications``: a list of tables, each an application by
+    its ``kind`` with its fields in the kind's units
+    (:func:`~brakewear.duty.application_from_table`: ``{kind = "drag",
+    line_pressure = 0.5, duration = 20.0, omega = 40.0}`` in MPa, s, rad/s),
+    or repeated stops: ``stops``, ``speed_from``, ``speed_to``
     (default 0), one of ``deceleration`` and ``line_pressure``, and
     optionally ``interval`` (start to start) and ``dwell_speed`` (the speed the
     car drives on at between the stops: the rotor's convection follows it).
@@ -268,14 +111,22 @@ def schedule_from_table(table: dict, source: str = "scene", base: Path | None = 
     if unknown:
         raise DutyError(f"{source}: schedule.{unknown[0]}: unknown key; allowed: "
                         f"{', '.join(f'{k} ({u})' for k, u in _TABLE_KEYS.items())}")
+    for key in ("file", "applications"):
+        if key in table and len(table) > 1:
+            raise DutyError(f"{source}: schedule.{key}: replaces the other keys; give either "
+                            "a file, a list of applications or stops")
     if "file" in table:
-        if len(table) > 1:
-            raise DutyError(f"{source}: schedule.file: replaces the other keys; give either "
-                            "a file or stops")
         if not isinstance(table["file"], str):
             raise DutyError(f"{source}: schedule.file: {table['file']!r} is not a file name")
         path = Path(table["file"])
         return read_schedule_csv(path if base is None or path.is_absolute() else base / path)
+    if "applications" in table:
+        apps = table["applications"]
+        if not isinstance(apps, list) or not apps:
+            raise DutyError(f"{source}: schedule.applications: {apps!r}; need a list of "
+                            "tables, each with kind = ... and its fields")
+        return [application_from_table(a, f"{source}: schedule.applications[{i}]",
+                                       TABLE_SOURCE) for i, a in enumerate(apps)]
     try:
         _check_table(table)
     except DutyError as e:
@@ -324,9 +175,6 @@ def _check_table(table: dict) -> None:
                                      "schedule.interval (without one the stops run back to "
                                      "back)", DutyError)
 
-
-#: the ``source`` of the applications of a scene's ``[schedule]`` table of stops
-TABLE_SOURCE = "the [schedule]"
 
 _CSV_SPEED = {"speed_kmh": KMH, "speed_m_s": 1.0}
 _CSV_UNIT = {"speed_kmh": "km/h", "speed_m_s": "m/s"}
@@ -384,7 +232,7 @@ def read_schedule_csv(path: str | PathLike) -> list:
             raise DutyError(f"{path}, row {i}: time_s = {t[-1]:g} does not increase (the row "
                             f"before has {t[-2]:g}); the rows must be in time order")
     apps = _applications(t, v, p, str(path))
-    if all(isinstance(a, Dwell) for a in apps):
+    if not any(a.braked for a in apps):
         raise DutyError(f"{path}: no interval brakes (line_pressure_MPa > 0 at a speed that "
                         "falls or holds); the drive cycle gives the brake nothing to do")
     return apps
@@ -392,7 +240,7 @@ def read_schedule_csv(path: str | PathLike) -> list:
 
 def _applications(t, v, p, path: str) -> list:
     out: list = []
-    first = 0                     # the first interval of the dwell being merged
+    first = None                  # the first interval of the dwell being merged (if any)
     for k in range(len(t) - 1):
         dt = t[k + 1] - t[k]
         if p[k] > 0 and v[k + 1] > v[k]:
@@ -402,11 +250,14 @@ def _applications(t, v, p, path: str) -> list:
             app = Stop(v[k], v[k + 1], line_pressure=p[k], source=_rows(path, k, k))
         elif p[k] > 0 and v[k + 1] == v[k] and v[k] > 0:
             app = Drag(p[k], dt, speed=v[k], source=_rows(path, k, k))
+        elif first is not None:      # consecutive pauses are one dwell
+            out[-1] = Dwell(out[-1].duration + dt, source=_rows(path, first, k))
+            continue
         else:
-            if out and isinstance(out[-1], Dwell):
-                out[-1] = Dwell(out[-1].duration + dt, source=_rows(path, first, k))
-                continue
             first, app = k, Dwell(dt, source=_rows(path, k, k))
+            out.append(app)
+            continue
+        first = None
         out.append(app)
     return out
 

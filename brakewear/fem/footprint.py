@@ -5,7 +5,7 @@ backplate acts over a footprint (an annulus, a disc) whose edge does not
 follow the mesh.  :func:`footprint_load` integrates the consistent nodal
 loads of a uniform traction times the footprint's indicator over the named
 facets, each facet cut into ``4**level`` sub-triangles with a 7-point rule
-on each (:func:`brakewear.fem.triangle.subdivided_rule`), so the footprint's
+on each (:func:`brakewear.mesh.triangle.subdivided_rule`), so the footprint's
 area and centre are mesh-independent to a small share of the element size at
 its edge, and scales the result so its resultant is exactly the given force.  Linear facets use the
 P1 shape functions, quadratic ones (``MeshTet2``) the six of the P2 triangle
@@ -22,7 +22,7 @@ import skfem as fem
 from ..errors import GeometryError
 from ..mesh.surface import is_quadratic, quadratic_faces
 from ..mesh.topology import ensure_topology, facet_indices
-from .triangle import subdivided_rule, tri6
+from ..mesh.triangle import subdivided_rule, tri6
 
 logger = logging.getLogger(__name__)
 

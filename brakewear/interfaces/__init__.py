@@ -12,11 +12,15 @@ and the pads held by the caliper's rigid piston, fingers and abutments
 (:class:`CaliperInterface`, condensed with the caliper's rows), all
 behind the :class:`Interface` protocol of the wear loop
 (:mod:`~brakewear.interfaces.protocol`); :func:`choose_interface` picks FE or
-condensed for a run (``interface.model = "auto"``).
+condensed for a run (``interface.model = "auto"``).  Each registers itself by
+name in the table a scene chooses from (:mod:`~brakewear.interfaces.registry`).
 """
 
-from . import (auto, caliper, caliper_condensation, caliper_sets, calibration, compliance,
-               condensed, fe, foundation, protocol, winkler_bed)
+# the models register themselves in this order: "fe", "winkler", "condensed", "auto",
+# "caliper"
+from . import fe, foundation, condensed, auto, caliper  # noqa: I001
+from . import (caliper_condensation, caliper_sets, calibration, compliance, protocol,
+               registry, winkler_bed)
 from .auto import *  # noqa: F403
 from .caliper import *  # noqa: F403
 from .caliper_condensation import *  # noqa: F403
@@ -27,8 +31,9 @@ from .condensed import *  # noqa: F403
 from .fe import *  # noqa: F403
 from .foundation import *  # noqa: F403
 from .protocol import *  # noqa: F403
+from .registry import *  # noqa: F403
 from .winkler_bed import *  # noqa: F403
 
 __all__ = [*auto.__all__, *caliper.__all__, *caliper_condensation.__all__, *caliper_sets.__all__,
            *calibration.__all__, *compliance.__all__, *condensed.__all__, *fe.__all__,
-           *foundation.__all__, *protocol.__all__, *winkler_bed.__all__]
+           *foundation.__all__, *protocol.__all__, *registry.__all__, *winkler_bed.__all__]

@@ -38,6 +38,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .fe import METHOD, FEInterface
+from .registry import InterfaceModel, capabilities_of, register_interface
+
 logger = logging.getLogger(__name__)
 
 __all__ = ["InterfaceChoice", "choose_interface", "condensation_solves", "expected_steps"]
@@ -178,3 +181,30 @@ def choose_interface(model, fe, numerics, *, line_pressure: float, omega: float,
     if steps >= even:
         return InterfaceChoice("condensed", figures, steps, even)
     return InterfaceChoice("fe", figures, steps, even)
+
+
+def _decide(request) -> tuple[str, dict]:
+    """``"condensed"`` where it pays for the run (:func:`choose_interface`), ``"fe"``
+    otherwise, with the choice's record; the FE interface it weighs is handed to
+    the chosen model's builder (``request.built``), which builds on it."""
+    model, n, run = request.model, request.numerics, request.run
+    fe = FEInterface(model, request.line_pressure, request.mu, n.tol)
+    request.built["fe"] = fe
+    thermal = None if run is None else run.thermal
+    T = None if thermal is None else thermal.T_ambient
+
+    def rate(p, v):
+        return float(np.max(run.pad_law.rate(np.array([p]), np.array([v]), T)))
+
+    choice = choose_interface(model, fe, n, line_pressure=request.line_pressure,
+                              omega=run.omega, duration=run.duration, wear_rate=rate,
+                              applications=len(run.schedule), thermal=thermal is not None,
+                              resume=request.checkpoint)
+    return choice.model, choice.record()
+
+
+register_interface(InterfaceModel(
+    "auto", decide=_decide, keys=(METHOD,), capabilities=capabilities_of(FEInterface),
+    fe_answer=True,
+    summary="the condensed interface where the run's expected steps pay for its "
+            "condensation, FE contact otherwise"))

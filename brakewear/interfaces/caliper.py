@@ -27,12 +27,14 @@ import numpy as np
 from ..contact.caliper import caliper_rows
 from ..contact.caliper_parts import bracket_springs
 from ..contact.supports import support_springs
+from ..checks import fail
 from ..errors import ContactError, WearError
 from .caliper_condensation import condense_caliper
 from .caliper_sets import RowSets
 from .condensed import CondensedInterface
-from .fe import FEInterface
+from .fe import METHOD, FEInterface
 from .protocol import InterfaceSolution, StepCompliance
+from .registry import InterfaceModel, capabilities_of, register_interface
 
 logger = logging.getLogger(__name__)
 
@@ -57,7 +59,10 @@ class CaliperInterface(CondensedInterface):
         The solver; its ``state`` (the rows' last state) starts the next solve.
     """
 
+    #: the thermal-strain load enters as a gap change of the contact nodes and the rows
     accepts_load = True
+    #: built on linear meshes (the caliper's rows are node rows of linear faces)
+    quadratic = False
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9, *,
                  cache=None, valid_fraction: float = 0.25, memory_budget: float | None = None):
@@ -201,3 +206,24 @@ def _with_bracket_springs(model, cs):
     K = (cs.K - cs.P.T @ node @ cs.P + cs.P.T @ mean @ cs.P).tocsr()
     K.eliminate_zeros()
     return dataclasses.replace(cs, K=K)
+
+
+def _rigid_piston(piston: str) -> None:
+    """A scene's ``interface.model = "caliper"`` needs the model's piston rigid."""
+    if piston != "rigid":
+        raise fail("interface.model", f"'caliper' holds the pads by a rigid piston in its bore "
+                                      f"(BrakeModel(piston='rigid')); components.piston = "
+                                      f"{piston!r} builds none: run it from Python "
+                                      "(brakewear.Run(model, interface='caliper'))")
+
+
+register_interface(InterfaceModel(
+    "caliper", lambda req: CaliperInterface(
+        req.model, req.line_pressure, req.mu, req.numerics.tol,
+        memory_budget=req.numerics.memory_budget),
+    keys=(METHOD,), capabilities=capabilities_of(CaliperInterface),
+    check_scene=lambda scene: _rigid_piston(scene.piston),
+    why_not={"follows_geometry": "the condensation is of the unmoved meshes",
+             "quadratic": "the caliper's rows are built on linear meshes"},
+    summary="the pads held by the caliper's rigid piston, fingers and abutments, condensed "
+            "with the caliper's rows (BrakeModel(piston='rigid'))"))

@@ -35,14 +35,16 @@ from scipy.linalg import lu_factor, lu_solve
 
 from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver, Margins
 from ..errors import CondensedRangeError, ContactError, WearError
+from ..checks import fail, shown_value
 from ..solvers.threads import blas_threads
-from .compliance import condense
-from .fe import FEInterface
+from .compliance import condensation_memory, condense
+from .fe import METHOD, FEInterface
 from .protocol import InterfaceSolution, StepCompliance
+from .registry import InterfaceModel, capabilities_of, register_interface
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["CondensedInterface"]
+__all__ = ["CondensedInterface", "check_scene_size"]
 
 #: factorisations kept per interface (friction x compliance, or sets x friction x
 #: compliance), and the Schur systems of the sets solved from them
@@ -76,6 +78,12 @@ class CondensedInterface:
 
     #: the thermal-strain load enters as a gap change (one linear solve per load)
     accepts_load = True
+    #: mu per node; at another line pressure (the load's share scales); P2 faces
+    per_node_friction = any_line_pressure = quadratic = True
+    #: the rings' wear of an implicit step adds its rank-n_ring compliance
+    implicit_rings = True
+    #: the condensation is of the unmoved meshes
+    follows_geometry = False
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9, *,
                  cache=None, valid_fraction: float = 0.25, fe: FEInterface | None = None,
@@ -117,6 +125,12 @@ class CondensedInterface:
         new.fe = self.fe.at_line_pressure(line_pressure)
         new.line_pressure = line_pressure
         return new
+
+    @property
+    def settings(self) -> dict:
+        """Its own settings: the contact solves' tolerance and the range of gap
+        offsets it answers (a share of the face elements' height)."""
+        return {"tol": float(self.tol), "valid_fraction": self.valid_fraction}
 
     def rebuilt(self, model, opening: float = 0.0):
         raise WearError("the condensed interface is for gap-offset wear: the geometry update "
@@ -412,3 +426,43 @@ class _DenseSets:
         force = -self.g / self.c
         fmax = max(float(force[active].max()) if active.any() else 0.0, 1e-300)
         return Margins(force, band * fmax, force, band * fmax)
+
+
+def check_scene_size(scene) -> None:
+    """``interface.model = "condensed"``: the condensation of the pad's contact nodes (two
+    dense ``n x n`` compliances, :func:`~brakewear.interfaces.compliance.condensation_memory`)
+    fits the memory budget; estimated from the geometry like the model's size (a scene
+    with its own pad mesh is checked when the run condenses)."""
+    if "pad" in scene.mesh_files:
+        return
+    import math
+
+    from ..caliper_loads import resolve_layout
+    from ..mesh.estimate import estimate_model, memory_budget
+    g = scene.meshed_geometry
+    full = resolve_layout(scene.geometry, scene.layout, scene.rotor) == "full"
+    est = estimate_model(g, scene.mesh_size, scene.rotor, scene.piston, full=full)
+    pad, h = g.pad, g.mesh.pad_size or est.size
+    nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
+    nth = max(2, math.ceil(pad.arc_angle * 0.5 * (pad.inner_radius + pad.outer_radius) / h))
+    n = (nr + 1) * (nth + 1) * (2 if full else 1)
+    need = condensation_memory(n, est.dofs)
+    avail, source = memory_budget(scene.numerics.memory_budget)
+    if need > avail:
+        raise fail("interface.model", f"'condensed' condenses about {n} pad contact nodes of "
+                                      f"a {est.dofs}-DOF model at mesh.size = "
+                                      f"{shown_value('mesh.size', est.size, 'm')}: about "
+                                      f"{need / 1e9:.1f} GB, beyond {source} "
+                                      f"({avail / 1e9:.1f} GB); use a coarser mesh or "
+                                      "interface.model = 'fe'")
+
+
+register_interface(InterfaceModel(
+    "condensed", lambda req: CondensedInterface(
+        req.model, req.line_pressure, req.mu, req.numerics.tol,
+        memory_budget=req.numerics.memory_budget, fe=req.built.get("fe")),
+    keys=(METHOD,), capabilities=capabilities_of(CondensedInterface), fe_answer=True,
+    check_scene=check_scene_size,
+    why_not={"follows_geometry": "the condensation is of the unmoved meshes"},
+    summary="the FE contact condensed onto the contact nodes (the FE answer, gap-offset "
+            "wear only)"))

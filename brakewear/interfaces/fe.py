@@ -9,10 +9,13 @@ import numpy as np
 
 from ..contact.compliant import compliant_preconditioner, solve_compliant_contact
 from ..contact.lagrange import contact_preconditioner, solve_contact
-from ..contact.quadratic import quadratic_face_areas, slave_basis
+from ..mesh.quadratic import quadratic_face_areas, slave_basis
 from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from ..rings import face_rings, ring_wear_nodes
+from ..checks import check_line_pressure
 from .protocol import InterfaceSolution, StepCompliance
+from ..registry import OptionKey
+from .registry import InterfaceModel, capabilities_of, register_interface
 
 logger = logging.getLogger(__name__)
 
@@ -33,7 +36,7 @@ class FEInterface:
 
     On quadratic meshes (``BrakeModel(order=2)``) the friction nodes are the
     faces' vertices and mid-edge nodes, their areas the integrals of the
-    transformed basis (:mod:`brakewear.contact.basis`; all positive, summing
+    transformed basis (:mod:`brakewear.mesh.quadratic`; all positive, summing
     to the face's area), the pressure the dual multiplier's nodal coefficient
     (contact force / area) and a nodal depth -- pad wear, gap offset -- the
     coefficient of that basis.  The rotor's wear nodes are its face's nodes in
@@ -44,6 +47,10 @@ class FEInterface:
 
     #: the thermal-strain load enters its solves
     accepts_load = True
+    #: :meth:`rebuilt` on a moved model; mu per node; P2 meshes; :meth:`at_line_pressure`
+    follows_geometry = per_node_friction = quadratic = any_line_pressure = True
+    #: the rings' depths of an implicit step are unknowns of its compliant solve
+    implicit_rings = True
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
         self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
@@ -113,13 +120,19 @@ class FEInterface:
     def at_line_pressure(self, line_pressure: float) -> "FEInterface":
         """This interface under another line pressure (Pa): the load scaled, the
         assembled system, its hierarchies and the geometry shared (no assembly)."""
-        self.model._check_pressure(line_pressure)
+        check_line_pressure(line_pressure)
         scale = line_pressure / self.line_pressure
         new = copy.copy(self)
         new.line_pressure = line_pressure
         new.cs = dataclasses.replace(self.cs, f=self.cs.f * scale,
                                      clamp_force=self.cs.clamp_force * scale)
         return new
+
+    @property
+    def settings(self) -> dict:
+        """Its own settings (the contact solves' tolerance): the rest of its
+        system is the model's and the run's."""
+        return {"tol": float(self.tol)}
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
               compliance: StepCompliance | np.ndarray | None = None,
@@ -186,3 +199,14 @@ def _face_areas(mesh, nodes: np.ndarray) -> np.ndarray:
     if is_quadratic(mesh):
         return quadratic_face_areas(mesh, "friction")[1]
     return tributary_areas(mesh, "friction", nodes)
+
+
+#: the FE contact discretisation (a key of the models built on FE contact)
+METHOD = OptionKey("method", "str", "segment", choices=("segment",),
+                      doc="FE contact discretisation")
+
+register_interface(InterfaceModel(
+    "fe", lambda req: req.built["fe"] if "fe" in req.built else FEInterface(
+        req.model, req.line_pressure, req.mu, req.numerics.tol),
+    keys=(METHOD,), capabilities=capabilities_of(FEInterface), fe_answer=True,
+    summary="node-to-surface finite-element contact (elastic or rigid rotor)"))

@@ -10,6 +10,8 @@ from ..errors import ContactLostError, FoundationSolveError, WearError
 from ..mesh.surface import surface_nodes
 from ..rings import ring_wear_nodes
 from .protocol import InterfaceSolution, StepCompliance
+from ..registry import OptionKey
+from .registry import InterfaceModel, capabilities_of, register_interface
 
 logger = logging.getLogger(__name__)
 
@@ -28,6 +30,10 @@ class FoundationInterface:
 
     #: a nodal load (thermal strain) has no place in a foundation
     accepts_load = False
+    #: its nodes are the pad's in place; one mu; linear faces; built at its line pressure
+    follows_geometry = per_node_friction = quadratic = any_line_pressure = False
+    #: the rings' depths of an implicit step are iterated around its solve
+    implicit_rings = True
 
     def __init__(self, model, winkler, line_pressure: float, mu: float = 0.0):
         self.model, self.winkler, self.line_pressure, self.mu = model, winkler, line_pressure, mu
@@ -42,6 +48,11 @@ class FoundationInterface:
         self.rotor_nodes = None
         self.W, self.ring, self.rotor_area, self.rotor_x = ring_wear_nodes(self.r)
         self.normal_stiffness = np.asarray(winkler.modulus) * self.area
+
+    @property
+    def settings(self) -> dict:
+        """Its own settings: the foundation modulus per node (Pa/m)."""
+        return {"modulus": np.asarray(self.winkler.modulus, dtype=float)}
 
     def solve(self, offset: np.ndarray, active, *, compliance=None, x0=None, load=None,
               mu: float | None = None) -> InterfaceSolution:
@@ -132,3 +143,31 @@ def ring_fixed_point(pressure, comp: StepCompliance, area: np.ndarray,
     raise FoundationSolveError(
         f"foundation contact: the rings' wear of the implicit step did not settle in "
         f"{max_iter} solves (last change {change:.2e} m of {size:.2e} m)")
+
+
+def _build(request) -> FoundationInterface:
+    """The foundation of a scene: Johnson's layer modulus unless ``winkler_modulus``."""
+    from .winkler_bed import WinklerInterface
+    opt = request.options
+    winkler = WinklerInterface.from_model(request.model, modulus=opt["winkler_modulus"],
+                                          rotor=opt["winkler_rotor"])
+    return FoundationInterface(request.model, winkler, request.line_pressure, request.mu)
+
+
+register_interface(InterfaceModel(
+    "winkler", _build,
+    keys=(OptionKey("winkler_modulus", "num", None, lo=0.0, unit="Pa/m", allow_none=True,
+                       doc="foundation modulus; none: Johnson's layer modulus of the "
+                           "friction layer"),
+          OptionKey("winkler_rotor", "str", "rigid", choices=("rigid", "foundation"),
+                       doc="the rotor's half thickness as a second layer in series")),
+    capabilities=capabilities_of(FoundationInterface),
+    why_not={"accepts_load": "the foundation takes no thermal-strain load (it would be "
+                             "dropped)",
+             "per_node_friction": "the foundation takes one mu",
+             "any_line_pressure": "the foundation is built at one line pressure",
+             "follows_geometry": "the foundation does not move with the meshes",
+             "quadratic": "the foundation is built on linear faces",
+             "fe_answer": "the Winkler interface: its own modelling error dominates "
+                          "(docs/winkler_running_in.md)"},
+    summary="an elastic (Winkler) foundation, milliseconds per solve"))

@@ -2,11 +2,14 @@
 
 An *interface model* answers one question for the wear loop: the contact
 pressure at the pad's friction nodes for a given extra gap (the worn depths),
-and it describes the surfaces the wear is booked on.  Three implement it:
-:class:`~brakewear.interfaces.FEInterface` (finite-element contact, elastic or
-rigid rotor), :class:`~brakewear.interfaces.FoundationInterface` (an elastic
-foundation, milliseconds per solve), and any user class with the same
-attributes and :meth:`Interface.solve`.
+and it describes the surfaces the wear is booked on.  The built-in models
+implement it -- :class:`~brakewear.interfaces.FEInterface` (finite-element
+contact, elastic or rigid rotor), :class:`~brakewear.interfaces.FoundationInterface`
+(an elastic foundation, milliseconds per solve),
+:class:`~brakewear.interfaces.CondensedInterface` -- and so may any class with
+the same members, registered by name for scene files
+(:mod:`brakewear.interfaces.registry`).  A run checks its interface against
+the protocol once, when it starts (:func:`check_interface`).
 
 Everything a solve needs comes in as an argument (gap offset, start set,
 the implicit step's compliance, a Krylov start, the thermal load, the
@@ -25,16 +28,16 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ContactError
+from ..errors import ContactError, WearError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Interface", "InterfaceSolution", "StepCompliance"]
+__all__ = ["Interface", "InterfaceSolution", "StepCompliance", "check_interface", "capability"]
 
 
 @dataclass(frozen=True)
@@ -161,10 +164,13 @@ class InterfaceSolution:
 
 @runtime_checkable
 class Interface(Protocol):
-    """The interface model of a wear history.
+    """The interface model of a wear history: everything the wear loop, its
+    records and its output ask of it.
 
     Attributes
     ----------
+    x : ndarray
+        (3, n_pad) positions of the pad's friction nodes (m).
     area : ndarray
         (n_pad,) tributary areas of the pad's friction nodes (m^2).
     r : ndarray
@@ -175,23 +181,47 @@ class Interface(Protocol):
         (n_pad, n_rotor) interpolation from the rotor's wear nodes to the
         points under the pad nodes.
     ring, rotor_area, rotor_x
-        Ring number, tributary area (m^2) and position (m) of each rotor wear node.
+        Ring number, tributary area (m^2) and position (3, n_rotor; m) of each
+        rotor wear node (:func:`brakewear.rings.ring_wear_nodes` gives them for
+        an unmeshed rotor).
     rotor_nodes : ndarray or None
         The rotor mesh's node numbers of its wear nodes (None: no rotor mesh).
     normal_stiffness : ndarray
         (n_pad,) row sums of the normal stiffness at the pad's friction nodes
         (N/m): the bound of the pressure's response to a gap change.
-    accepts_load : bool
-        Whether :meth:`solve` takes a nodal load (thermal strain).
+    line_pressure : float
+        The line pressure (Pa) its solves are posed at.
+    settings : dict
+        Its own settings (numbers, strings, arrays): a checkpoint is resumed
+        only by a run whose interface reports the same.
+    accepts_load, follows_geometry, per_node_friction, quadratic, any_line_pressure, implicit_rings : bool
+        Its capabilities (:data:`~brakewear.interfaces.registry.CAPABILITIES`;
+        a missing one counts as False): a nodal load (thermal strain) in
+        :meth:`solve`; :meth:`rebuilt` on a moved model; ``mu`` per pad node;
+        quadratic meshes; ``at_line_pressure``; a :class:`StepCompliance`
+        with rings in :meth:`solve` (without it, ``compliance`` is only ever
+        an array, the pad's).
+
+    Two methods go with capabilities (an interface without the capability
+    needs neither): ``at_line_pressure(line_pressure) -> Interface``, this
+    interface posed at another line pressure (Pa), sharing what it has built;
+    ``rebuilt(model, opening=0.0) -> Interface``, this interface on ``model``,
+    the same brake in a moved geometry whose worn surfaces opened by up to
+    ``opening`` (m).
     """
 
+    x: np.ndarray
     area: np.ndarray
     r: np.ndarray
     pad_nodes: np.ndarray
+    W: Any
     ring: np.ndarray
     rotor_area: np.ndarray
+    rotor_x: np.ndarray
+    rotor_nodes: np.ndarray | None
     normal_stiffness: np.ndarray
-    accepts_load: bool
+    line_pressure: float
+    settings: dict
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
               compliance: "StepCompliance | np.ndarray | None" = None,
@@ -211,3 +241,44 @@ class Interface(Protocol):
         coefficient of this solve (None: the interface's own).  With rings,
         ``info["ring_depth"]`` holds the rings' depths (m) the solve found.
         """
+
+
+#: the members every interface has (the capabilities' methods only where declared)
+REQUIRED = ("x", "area", "r", "pad_nodes", "W", "ring", "rotor_area", "rotor_x",
+            "rotor_nodes", "normal_stiffness", "line_pressure", "settings", "solve")
+
+#: capability -> (the method it promises, what the run asks that needs it)
+_PROMISES = {"any_line_pressure": ("at_line_pressure", "another line pressure"),
+             "follows_geometry": ("rebuilt", "numerics.update = 'geometry'")}
+#: capability with no method -> what the run asks that needs it
+_ASKED = {"implicit_rings": "numerics.scheme = 'implicit' with a rotor that wears (or use "
+                            "'implicit_pad': the rotor's wear explicit)"}
+
+
+def capability(interface, name: str) -> bool:
+    """Whether ``interface`` declares the capability ``name`` (missing: False)."""
+    return getattr(interface, name, False) is True
+
+
+def check_interface(interface, needs=()) -> None:
+    """Refuse (a :class:`~brakewear.errors.WearError` naming what is missing) an
+    interface that lacks a member of :class:`Interface` or a capability in
+    ``needs``; checked once, when a run starts."""
+    name = type(interface).__name__
+    missing = [m for m in REQUIRED if not hasattr(interface, m)]
+    missing += [meth for cap, (meth, _) in _PROMISES.items()
+                if capability(interface, cap) and not callable(getattr(interface, meth, None))]
+    if missing:
+        raise WearError(f"the interface {name} is not a brakewear Interface: it has no "
+                        f"{', '.join(missing)} (brakewear.interfaces.Interface lists what a "
+                        "wear run uses)")
+    if not callable(interface.solve):
+        raise WearError(f"the interface {name}: solve is not a method")
+    if not isinstance(interface.settings, dict):
+        raise WearError(f"the interface {name}: settings is a "
+                        f"{type(interface.settings).__name__}; need a dict")
+    for cap in needs:
+        if not capability(interface, cap):
+            why = _PROMISES.get(cap, (None, _ASKED.get(cap, cap)))[1]
+            raise WearError(f"the interface {name} does not declare {cap} = True, which "
+                            f"{why} needs")

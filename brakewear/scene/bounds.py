@@ -13,9 +13,11 @@ itself makes the run absurd or stop at its first step:
 * ``interface.gap_file``: the map covers the whole pad face;
 * a friction or wear map that refuses look-ups outside its grid
   (``map_outside = "error"``) covers the sliding speeds of the pad face at
-  ``environment.omega`` and the starting temperature;
-* the condensed interface's dense compliance fits the memory budget
-  (:func:`check_condensed_size`, after the model's own size is checked).
+  ``environment.omega`` and the starting temperature.
+
+An interface model checks the scene's demands on itself (the condensed
+interface's dense compliance against the memory budget) through its entry's
+``check_scene`` (:mod:`brakewear.interfaces.registry`).
 
 Every message names the keys and shows the values in the scene file's units.  A
 ``[thermal]`` value given while ``thermal.enabled = false`` is not used; it is logged
@@ -36,7 +38,7 @@ from ..checks import check_order, fail, shown_value
 logger = logging.getLogger(__name__)
 
 __all__ = ["check_bounds", "check_thermal_bounds", "check_wear_limits", "check_gap_map",
-           "check_map_ranges", "check_condensed_size"]
+           "check_map_ranges"]
 
 
 def check_bounds(scene) -> None:
@@ -162,33 +164,3 @@ def check_map_ranges(scene) -> None:
                      if axis == "v" else f"the starting temperature {start_key} = {given}")
             raise fail(f"{sec}.{key}", f"{path!r}: {where}: {what}; extend the map, or set "
                                        f"{sec}.map_outside = 'clamp' to take its edge values")
-
-
-def check_condensed_size(scene) -> None:
-    """``interface.model = "condensed"``: the condensation of the pad's contact nodes (two
-    dense ``n x n`` compliances, :func:`~brakewear.interfaces.compliance.condensation_memory`)
-    fits the memory budget; estimated from the geometry like the model's size (a scene
-    with its own pad mesh is checked when the run condenses)."""
-    if scene.interface.model != "condensed" or "pad" in scene.mesh_files:
-        return
-    import math
-
-    from ..caliper_loads import resolve_layout
-    from ..interfaces.compliance import condensation_memory
-    from ..mesh.estimate import estimate_model, memory_budget
-    g = scene.meshed_geometry
-    full = resolve_layout(scene.geometry, scene.layout, scene.rotor) == "full"
-    est = estimate_model(g, scene.mesh_size, scene.rotor, scene.piston, full=full)
-    pad, h = g.pad, g.mesh.pad_size or est.size
-    nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
-    nth = max(2, math.ceil(pad.arc_angle * 0.5 * (pad.inner_radius + pad.outer_radius) / h))
-    n = (nr + 1) * (nth + 1) * (2 if full else 1)
-    need = condensation_memory(n, est.dofs)
-    avail, source = memory_budget(scene.numerics.memory_budget)
-    if need > avail:
-        raise fail("interface.model", f"'condensed' condenses about {n} pad contact nodes of "
-                                      f"a {est.dofs}-DOF model at mesh.size = "
-                                      f"{shown_value('mesh.size', est.size, 'm')}: about "
-                                      f"{need / 1e9:.1f} GB, beyond {source} "
-                                      f"({avail / 1e9:.1f} GB); use a coarser mesh or "
-                                      "interface.model = 'fe'")

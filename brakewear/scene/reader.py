@@ -21,6 +21,8 @@ from ..checks import fail, file_messages, user_units
 from ..errors import GeometryError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
 from ..geometry.parts import MESH_BODY_KEYS
+from ..interfaces.registry import model_keys
+from ..laws import wear_law_keys
 from ..wear.numerics import Numerics
 from .spec import Scene
 from .tables import UNITS, InterfaceSpec, OutputSpec, ThermalSpec, WearSpec
@@ -48,16 +50,16 @@ _SCHEMA: dict[str, dict[str, str]] = {
              "friction_layers": "int", "backplate_layers": "int", "rotor_layers": "int"},
     "environment": {"line_pressure": "pressure", "omega": "angular_speed", "duration": "time",
                     "ambient": "temperature"},
-    "interface": {"model": "str", "surfaces": "surfaces", "mu": "num", "method": "str",
-                  "winkler_modulus": "num", "winkler_rotor": "str",
+    # and the keys of the registered interface models (:func:`_schema`)
+    "interface": {"model": "str", "surfaces": "surfaces", "mu": "num",
                   "coning": "face_length", "pad_taper": "signed_length", "gap_file": "path",
                   "mu_map": "path", "map_outside": "str"},
     "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
                  "activation_energy": "num", "limit": "length", "k_map": "path",
-                 "map_outside": "str"},
+                 "map_outside": "str", "model": "str"},
     "wear.rotor": {"enabled": "bool", "k": "k", "a": "num", "b": "num",
                    "T_threshold": "temperature", "activation_energy": "num", "limit": "length",
-                   "k_map": "path", "map_outside": "str"},
+                   "k_map": "path", "map_outside": "str", "model": "str"},
     "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
                 "T_initial": "temperature", "T_ref": "temperature",
                 "contact_conductance": "conductance", "mass": "str", "T_max": "temperature",
@@ -80,7 +82,7 @@ _SCHEMA: dict[str, dict[str, str]] = {
     # checked by brakewear.duty.schedule_from_table (its own units: km/h, m/s^2, MPa, s)
     "schedule": {"stops": "raw", "speed_from": "raw", "speed_to": "raw", "deceleration": "raw",
                  "line_pressure": "raw", "interval": "raw", "dwell_speed": "raw",
-                 "file": "raw"},
+                 "file": "raw", "applications": "raw"},
 }
 
 
@@ -100,6 +102,16 @@ _TOP = ("units", "scene", "geometry", "components", "mesh", "environment", "inte
 
 # what a [schedule] replaces: its applications set the loads and the durations
 _SCHEDULED = {"line_pressure", "omega", "duration"}
+
+
+def _schema(table: str) -> dict[str, str]:
+    """The keys of ``table`` and their kinds; ``[interface]`` holds those of every
+    registered interface model too (:mod:`brakewear.interfaces.registry`)."""
+    if table == "interface":
+        return {**_SCHEMA[table], **model_keys()}
+    if table.startswith("wear."):
+        return {**_SCHEMA[table], **wear_law_keys()}
+    return _SCHEMA[table]
 
 
 def scene_dir():
@@ -210,7 +222,7 @@ def _tables(d: Any) -> dict[str, dict]:
         if b in wear:
             tables[f"wear.{b}"] = _table(wear[b], f"wear.{b}")
     for t, tab in tables.items():
-        allowed = _SCHEMA[t]
+        allowed = _schema(t)
         unknown = sorted(set(tab) - set(allowed))
         if unknown:
             raise fail(f"{t}.{unknown[0]}", f"unknown key {unknown[0]!r} in [{t}]; allowed "
@@ -277,7 +289,7 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
         tab = tables.get(t, {})
         if k not in tab:
             return default
-        kind = _SCHEMA[t][k]
+        kind = _schema(t)[k]
         out = _convert(f"{t}.{k}", tab[k], kind, units)
         if kind == "face_length" and isinstance(tab[k], Mapping):
             u = units["length"]
@@ -308,6 +320,9 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
             ikw[key] = str(base / ikw[key])                 # relative to the scene file
     if "surfaces" in ikw:
         ikw["surfaces"] = tuple(ikw["surfaces"])
+    # the chosen model's own keys (each model checks its own)
+    ikw = {k: v for k, v in ikw.items() if k in _SCHEMA["interface"]} | {
+        "options": {k: v for k, v in ikw.items() if k not in _SCHEMA["interface"]}}
 
     def wear_spec(b: str) -> WearSpec | None:
         t = f"wear.{b}"
@@ -320,6 +335,9 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
         kw = {k: val(t, k) for k in tab}
         if "k_map" in kw and base is not None and not Path(kw["k_map"]).is_absolute():
             kw["k_map"] = str(base / kw["k_map"])           # relative to the scene file
+        # a registered law's own keys (each law checks its own)
+        kw = {k: v for k, v in kw.items() if k in _SCHEMA[t]} | {
+            "options": {k: v for k, v in kw.items() if k not in _SCHEMA[t]}}
         return WearSpec(**kw)
 
     with user_units(shown):

@@ -31,8 +31,9 @@ from ..checks import (
 )
 from ..geometry.files import load_geometry
 from ..geometry.parts import MAX_LAYERS, MESH_BODY_KEYS, BrakeGeometry
+from ..interfaces.registry import allowed_for
 from ..wear.numerics import Numerics
-from .bounds import check_bounds, check_condensed_size
+from .bounds import check_bounds
 from .tables import (
     _WEAR_INTERFACE,
     SURFACES,
@@ -44,7 +45,7 @@ from .tables import (
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Scene"]
+__all__ = ["Scene", "first_difference"]
 
 
 @dataclass(frozen=True)
@@ -174,7 +175,9 @@ class Scene:
                          user_value=shown_value("mesh.size", self.mesh_size, "m")
                          if user_unit("mesh.size") else None,
                          budget_gb=self.numerics.memory_budget)
-        check_condensed_size(self)
+        entry = self.interface.entry
+        if entry.check_scene is not None:       # the interface model's own (its size)
+            entry.check_scene(self)
 
     # ------------------------------------------------------------ checks --
     @property
@@ -192,11 +195,16 @@ class Scene:
                                           "with mesh.order = 2 is not supported (the "
                                           "thermal model of a P2 mesh does not move); use "
                                           "numerics.update = 'gap', or mesh.order = 1")
-        if order == 2 and self.interface.model == "winkler":
-            raise fail("interface.model", "interface.model = 'winkler' with mesh.order = 2 is "
-                                          "not supported (quadratic meshes: FE contact or its "
-                                          "condensation); use interface.model = 'fe', "
-                                          "'condensed' or 'auto', or mesh.order = 1")
+        if order == 2 and not self._can("quadratic"):
+            why = self.interface.entry.lacks("quadratic")
+            raise fail("interface.model", f"interface.model = {self.interface.model!r} with "
+                                          "mesh.order = 2 is not supported (quadratic meshes: "
+                                          f"{why}); use interface.model = "
+                                          f"{_models('quadratic')}, or mesh.order = 1")
+
+    def _can(self, capability: str) -> bool:
+        """Whether the scene's interface model has ``capability`` (its registry entry)."""
+        return capability in self.interface.entry.capabilities
 
     def _check_resolution(self) -> None:
         """Check the per-body mesh keys (names, types, ranges)."""
@@ -270,24 +278,20 @@ class Scene:
 
     def _check_consistency(self) -> None:
         n = self.numerics
-        if n.scheme != "explicit" and self.pad_wear.a != 1.0:
-            raise fail("wear.pad.a", f"{self.pad_wear.a!r} is not allowed with numerics.scheme "
-                                      f"= {n.scheme!r} (backward Euler needs a law linear in "
-                                      "p): allowed 1, or use scheme = 'explicit'")
-        rot = self.rotor_wear
-        if n.scheme == "implicit" and rot is not None and rot.a != 1.0:
-            raise fail("wear.rotor.a", f"{rot.a!r} is not allowed with numerics.scheme = "
-                                       "'implicit' (backward Euler needs a law linear in p): "
-                                       "allowed 1, or use scheme = 'implicit_pad' (the rotor's "
-                                       "wear explicit) or 'explicit'")
-        if n.update == "geometry" and self.interface.model not in ("fe", "auto"):
-            raise fail("numerics.update", "'geometry' moves the FE meshes; it needs "
-                                           "interface.model = 'fe' (or 'auto', which takes "
-                                           "FE with it)")
-        if self.thermal.enabled and self.interface.model == "winkler":
-            raise fail("thermal.enabled", "true needs interface.model = 'fe' or 'condensed': "
-                                          "the foundation takes no thermal-strain load (it "
-                                          "would be dropped)")
+        for surface, law in zip(("pad", "rotor"), self.wear_laws()):
+            why = None if law is None else n.refuses_law(surface, law.a)
+            if why:
+                raise fail(f"wear.{surface}.a", f"{law.a!r} is not allowed: {why}")
+        for cap, key, asked, what in (
+                ("follows_geometry", "numerics.update", n.update == "geometry",
+                 "'geometry' moves the FE meshes; it"),
+                ("accepts_load", "thermal.enabled", self.thermal.enabled, "true"),
+                ("implicit_rings", "numerics.scheme", n.scheme == "implicit"
+                 and self.rotor_wear is not None, "'implicit' (the rotor's rings worn with "
+                 "the pad's end pressure; 'implicit_pad': explicit rings)")):
+            if asked and not self._can(cap):
+                raise fail(key, f"{what} needs interface.model = {_models(cap)}: "
+                                f"{self.interface.entry.lacks(cap)}")
         self._check_duty()
         if self.thermal.convection != "constant" and self.rotor != "elastic":
             raise fail("thermal.convection", f"{self.thermal.convection!r} is the convection "
@@ -316,8 +320,7 @@ class Scene:
             raise fail("interface.gap_file", str(exc)) from None
 
     def _check_duty(self) -> None:
-        from ..duty import Drag, Stop, Vehicle, application_name, check_schedule
-        from ..duty.schedule import TABLE_SOURCE
+        from ..duty import Vehicle, application_kinds, check_schedule, is_application
         if not self.schedule:
             if self.vehicle is not None:
                 raise fail("vehicle", "a [vehicle] is used by a [schedule] of stops; add one or "
@@ -330,21 +333,22 @@ class Scene:
             raise fail("numerics.update", "a [schedule] runs in gap-offset mode, which "
                                            "carries the wear from one application to the "
                                            "next; allowed: 'gap'")
-        if self.interface.model == "winkler":
-            raise fail("interface.model", "a [schedule] needs the FE interface or its "
-                                           "condensation (its torque equation uses the "
-                                           "contact's pressure field); allowed: 'fe', "
-                                           "'condensed'")
-        needs = [a for a in self.schedule if isinstance(a, Stop)
-                 or (isinstance(a, Drag) and a.speed is not None)]
-        if needs and self.vehicle is None:
+        if not self._can("any_line_pressure"):
+            why = self.interface.entry.lacks("any_line_pressure")
+            allowed = ", ".join(map(repr, allowed_for("any_line_pressure")))
+            raise fail("interface.model", "a [schedule] needs an interface that solves at "
+                                           "each application's line pressure (its torque "
+                                           f"equation uses the contact's pressure field; {why}); "
+                                           f"allowed: {allowed}")
+        for i, a in enumerate(self.schedule):
+            if not is_application(a):
+                raise fail("schedule", f"application {i}: {a!r} is not an application; "
+                                       f"registered kinds: {', '.join(application_kinds())}")
+        if any(a.needs_vehicle for a in self.schedule) and self.vehicle is None:
             raise fail("vehicle", "missing: the [schedule]'s stops need a [vehicle] table "
                                   "(mass, front_share, tyre_radius, ...)")
         for i, a in enumerate(self.schedule):
-            if isinstance(a, Stop) and a.decel is not None:
-                self.vehicle.check_deceleration(a.decel, key="schedule.deceleration"
-                                                if a.source == TABLE_SOURCE else
-                                                f"{application_name(a, i)}: deceleration")
+            a.check_scene(self.vehicle, i)
         if self.interface.mu <= 0:
             raise fail("interface.mu", f"{self.interface.mu!r}: a [schedule] turns brake "
                                         "torque into line pressure through mu; need mu > 0")
@@ -358,6 +362,12 @@ class Scene:
         return BrakeModel(self.meshed_geometry, piston=self.piston, size=self.mesh_size,
                           order=self.order, rotor=self.rotor, meshes=dict(self.mesh_files),
                           memory_budget=self.numerics.memory_budget, layout=self.layout)
+
+    def build_run(self, model=None, checkpoint=None):
+        """The :class:`~brakewear.wear.Run` of the scene (:func:`brakewear.scene.build_run`;
+        this meshes unless ``model`` is given; ``checkpoint``: of a run being resumed)."""
+        from .build import build_run
+        return build_run(self, model, checkpoint)
 
     def initial_gap(self, x):
         """The initial gap (m) at pad friction nodes at ``x`` (3, n; m) from the
@@ -409,10 +419,10 @@ class Scene:
                 raise fail(key, "the map varies with temperature (a T column); it needs "
                                 "thermal.enabled = true, or a map without a T column")
         if self.interface.mu_map is not None:
-            if self.interface.model == "winkler":
+            if not self._can("per_node_friction"):
+                why = self.interface.entry.lacks("per_node_friction")
                 raise fail("interface.mu_map", "a friction map per node needs interface.model "
-                                               "= 'fe' or 'condensed' (the foundation takes "
-                                               "one mu)")
+                                               f"= {_models('per_node_friction')} ({why})")
             if self.schedule:
                 raise fail("interface.mu_map", "a [schedule] turns torque into line pressure "
                                                "through one mu; give interface.mu instead")
@@ -432,7 +442,7 @@ class Scene:
         if self.schedule:
             d["vehicle"] = None if self.vehicle is None else {
                 k: v for k, v in asdict(self.vehicle).items() if k != "source"}
-            d["schedule"] = [{"kind": type(a).__name__.lower(),
+            d["schedule"] = [{"kind": a.kind,
                               **{k: v for k, v in asdict(a).items() if k != "source"}}
                              for a in self.schedule]
         for k in ("interface", "pad_wear", "rotor_wear", "thermal", "numerics", "output"):
@@ -450,17 +460,22 @@ class Scene:
         return json.loads(json.dumps(d, default=str))
 
 
+def _models(capability: str) -> str:
+    """The registered interface models with ``capability``: ``'fe' or 'condensed'``."""
+    return " or ".join(map(repr, allowed_for(capability))) or "(none registered)"
+
+
 def _geom_record(obj) -> dict:
     return {k: (v.name if hasattr(v, "elastic") else v) for k, v in vars(obj).items()}
 
 
-def _first_difference(a: Any, b: Any, path: str = "") -> str | None:
+def first_difference(a: Any, b: Any, path: str = "") -> str | None:
     """The first key where two JSON records differ (None if equal)."""
     if isinstance(a, dict) and isinstance(b, dict):
         for k in sorted(set(a) | set(b)):
             if k in ("name", "description", "source"):
                 continue
-            d = _first_difference(a.get(k), b.get(k), f"{path}.{k}" if path else k)
+            d = first_difference(a.get(k), b.get(k), f"{path}.{k}" if path else k)
             if d is not None:
                 return d
         return None
@@ -481,6 +496,5 @@ _RECORD_KEYS = {"duration": "environment.duration", "line_pressure": "environmen
                 "rotor": "components.rotor", "piston": "components.piston",
                 "layout": "components.layout",
                 "mesh_size": "mesh.size", "order": "mesh.order", "mesh_files": "mesh",
-                "resolution": "mesh",
-                "pad_wear": "wear.pad",
-                "rotor_wear": "wear.rotor", "geometry": "geometry"}
+                "resolution": "mesh", "pad_wear": "wear.pad", "rotor_wear": "wear.rotor",
+                "geometry": "geometry"}

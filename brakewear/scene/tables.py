@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass
-from typing import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Mapping
 
 from ..checks import check_bool, check_choice, check_int, check_number, check_plausible, fail
+from ..interfaces.registry import interface_model
 
 logger = logging.getLogger(__name__)
 
@@ -67,25 +68,29 @@ class InterfaceSpec:
     Parameters
     ----------
     model
-        ``"auto"`` (default): the condensed interface where the run's expected
-        steps pay for its condensation, FE otherwise
-        (:func:`brakewear.interfaces.auto.choose_interface`; the same answer
-        either way); ``"fe"``: node-to-surface FE contact; ``"winkler"``: an
-        elastic foundation (:class:`brakewear.interfaces.WinklerInterface`);
-        ``"condensed"``: the FE contact condensed onto the contact nodes
+        A registered interface model
+        (:func:`brakewear.interfaces.interface_models`): ``"auto"`` (default):
+        the condensed interface where the run's expected steps pay for its
+        condensation, FE otherwise (:func:`brakewear.interfaces.auto.choose_interface`;
+        the same answer either way); ``"fe"``: node-to-surface FE contact;
+        ``"winkler"``: an elastic foundation
+        (:class:`brakewear.interfaces.WinklerInterface`); ``"condensed"``: the
+        FE contact condensed onto the contact nodes
         (:class:`brakewear.interfaces.CondensedInterface`: the FE answer,
-        gap-offset wear only).
+        gap-offset wear only); or one registered from outside
+        (:func:`brakewear.interfaces.register_interface`).
     surfaces
         The two surfaces it joins, ``"body.surface"`` (see :data:`SURFACES`).
     mu
         Sliding friction coefficient (>= 0).
-    method
-        FE contact discretisation (``"segment"``; FE only).
-    winkler_modulus
-        Foundation modulus (Pa/m); ``None``: Johnson's layer modulus of the
-        friction layer (Winkler only).
-    winkler_rotor
-        ``"rigid"`` or ``"foundation"`` (rotor half thickness in series; Winkler only).
+    options
+        The model's own keys (each model declares and checks them, and
+        fills in their defaults): ``method`` (FE contact discretisation,
+        ``"segment"``; FE and condensed); ``winkler_modulus`` (Pa/m; None:
+        Johnson's layer modulus of the friction layer) and ``winkler_rotor``
+        (``"rigid"`` or ``"foundation"``: the rotor's half thickness in
+        series) of the foundation.  In a scene file they are keys of the
+        ``[interface]`` table.
     coning, pad_taper
         The initial non-conformity (m), each the gap it opens across the pad's
         radial extent, linear in radius (:func:`brakewear.cleaning.nonconformity_gap`).
@@ -111,9 +116,7 @@ class InterfaceSpec:
     model: str = "auto"
     surfaces: tuple[str, str] = _WEAR_INTERFACE
     mu: float = 0.0
-    method: str = "segment"
-    winkler_modulus: float | None = None
-    winkler_rotor: str = "rigid"
+    options: Mapping[str, Any] = field(default_factory=dict)
     coning: float | Mapping[str, float] = 0.0
     pad_taper: float = 0.0
     gap_file: str | None = None
@@ -121,7 +124,7 @@ class InterfaceSpec:
     map_outside: str = "clamp"
 
     def __post_init__(self):
-        check_choice("interface.model", self.model, ("auto", "fe", "winkler", "condensed"))
+        entry = interface_model(self.model)
         check_choice("interface.map_outside", self.map_outside, ("clamp", "error"))
         if (not isinstance(self.surfaces, (tuple, list)) or len(self.surfaces) != 2
                 or not all(isinstance(s, str) for s in self.surfaces)):
@@ -131,12 +134,16 @@ class InterfaceSpec:
         object.__setattr__(self, "surfaces", tuple(self.surfaces))
         check_number("interface.mu", self.mu, 0.0, lo_open=False)
         check_plausible("interface.mu", self.mu)
-        check_choice("interface.method", self.method, ("segment",))
-        check_number("interface.winkler_modulus", self.winkler_modulus, 0.0, unit="Pa/m",
-                      allow_none=True)
-        check_choice("interface.winkler_rotor", self.winkler_rotor, ("rigid", "foundation"))
         object.__setattr__(self, "coning", _face_lengths("interface.coning", self.coning))
         _check_nonconformity("interface.pad_taper", self.pad_taper)
+        if not isinstance(self.options, Mapping):
+            raise fail("interface", f"options = {self.options!r}; expected key -> value")
+        object.__setattr__(self, "options", entry.options(self.options))
+
+    @property
+    def entry(self):
+        """The registered interface model (:class:`~brakewear.interfaces.InterfaceModel`)."""
+        return interface_model(self.model)
 
     @property
     def per_face(self) -> bool:
@@ -197,7 +204,10 @@ class WearSpec:
     ``k_map`` is a measured map of the specific wear rate ``k(p, v, T)``
     (CSV, :func:`brakewear.maps.read_map`; Archard: ``a = b = 1``) used
     instead of ``k`` and its temperature law; ``map_outside`` is ``"clamp"``
-    or ``"error"`` outside its grid.
+    or ``"error"`` outside its grid.  ``model`` names a registered wear law
+    (:func:`brakewear.laws.register_wear_law`) instead: it is built from its
+    own keys, ``options`` (in a scene file, keys of the same table), and the
+    surface's material, and takes none of the keys above but ``limit``.
     """
 
     k: float | None = None
@@ -208,8 +218,16 @@ class WearSpec:
     limit: float | None = None
     k_map: str | None = None
     map_outside: str = "clamp"
+    model: str | None = None
+    options: Mapping[str, Any] = field(default_factory=dict)
 
     def check(self, sec: str) -> None:
+        if self.model is not None:
+            self._check_registered(sec)
+            return
+        if self.options:
+            raise fail(f"{sec}.{next(iter(self.options))}", "is a key of a registered wear "
+                                                             f"law; name the law ({sec}.model)")
         check_choice(f"{sec}.map_outside", self.map_outside, ("clamp", "error"))
         if self.k_map is not None and (self.k is not None or self.a != 1.0 or self.b != 1.0
                                        or self.activation_energy != 0.0):
@@ -224,10 +242,30 @@ class WearSpec:
         check_number(f"{sec}.limit", self.limit, 0.0, unit="m", allow_none=True)
         check_plausible(f"{sec}.T_threshold", self.T_threshold, "T_threshold")
 
+    def _check_registered(self, sec: str) -> None:
+        """A registered law: its own keys checked, none of the built-in law's given."""
+        from ..laws import wear_law_model
+        entry = wear_law_model(self.model, f"{sec}.model")
+        builtin = {"k": None, "a": 1.0, "b": 1.0, "T_threshold": 503.15,
+                   "activation_energy": 0.0, "k_map": None, "map_outside": "clamp"}
+        for key, default in builtin.items():
+            if getattr(self, key) != default:
+                raise fail(f"{sec}.{key}", f"{getattr(self, key)!r} is not allowed with "
+                                           f"{sec}.model = {self.model!r} (it builds itself "
+                                           "from "
+                                           f"its own keys: "
+                                           f"{', '.join(k.name for k in entry.keys) or 'none'})")
+        check_number(f"{sec}.limit", self.limit, 0.0, unit="m", allow_none=True)
+        if not isinstance(self.options, Mapping):
+            raise fail(sec, f"options = {self.options!r}; expected key -> value")
+        object.__setattr__(self, "options", entry.options(self.options, sec))
+
     def law(self, material, sec: str, geometry_source: str = "<python>"):
-        """The :class:`~brakewear.laws.WearLaw` (``material`` supplies a missing k), or the
-        :class:`~brakewear.maps.WearMap` of ``k_map``."""
-        from ..laws import WearLaw
+        """The :class:`~brakewear.laws.WearLaw` (``material`` supplies a missing k), the
+        :class:`~brakewear.maps.WearMap` of ``k_map``, or the registered ``model``."""
+        from ..laws import WearLaw, wear_law_model
+        if self.model is not None:
+            return wear_law_model(self.model, f"{sec}.model").build(self.options, material)
         if self.k_map is not None:
             return read_law(f"{sec}.k_map", self.k_map, "k", self.map_outside)
         k = self.k

@@ -31,7 +31,6 @@ built.
 """
 from __future__ import annotations
 
-import copy
 import logging
 from typing import Mapping
 
@@ -39,7 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from ..contact.quadratic import quadratic_face_areas
+from ..mesh.quadratic import quadratic_face_areas
 from ..errors import ThermalError
 from ..mesh.surface import face_nodes, surface_nodes
 from .partition import heat_flux
@@ -76,16 +75,7 @@ def vertex_interpolation(mesh: fem.MeshTet2) -> sp.csr_matrix:
 def linear_twin(model):
     """The order-1 model on the vertices of a P2 ``model``'s meshes: the same brake,
     bodies, layout and materials, each body's mesh its :func:`vertex_mesh`."""
-    twin = copy.copy(model)
-    twin.order = 1
-    twin.meshes = {b: vertex_mesh(m) for b, m in model.meshes.items()}
-    twin.offsets, n = {}, 0
-    for b in twin.bodies:
-        twin.offsets[b] = n
-        n += twin.meshes[b].p.shape[1]
-    twin.n_nodes = n
-    twin._K, twin._patterns = {}, {}
-    return twin
+    return model.remeshed({b: vertex_mesh(m) for b, m in model.meshes.items()}, order=1)
 
 
 class QuadraticThermal:

@@ -10,7 +10,8 @@ temperatures) and keeps them through the step,
 
 so the implicit (backward Euler) step stays linear in the end pressure, and
 a law without pressure dependence (:class:`~brakewear.laws.WearLaw`) gives
-the same numbers as when it is called directly.  The friction coefficient
+the same numbers as when it is called directly: both are
+:func:`~brakewear.laws.archard_rate` of the law's coefficient.  The friction coefficient
 per node ``mu_i = mu(p_i, v_i, T_i)`` goes into the friction operator of the
 contact solve (one traction ``mu_i p_i`` per node) and into the heat flux.
 """
@@ -20,50 +21,11 @@ import logging
 
 import numpy as np
 
-from ..errors import WearError
+from ..laws import archard_rate, archard_slope
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["NodalLaws", "friction_law"]
-
-
-def friction_law(mu, thermal) -> tuple[object | None, float]:
-    """``(law, mu0)`` of the wear loop's ``mu`` argument: a number (no law) or a
-    friction law with ``mu_at(p, v, T)`` (:mod:`brakewear.maps`); a law that
-    needs a temperature needs ``thermal``.  ``mu0`` is a number for the first
-    contact system (the law's largest value at its reference state is set
-    once the nodes' state is known)."""
-    if hasattr(mu, "mu_at") and callable(mu.mu_at):
-        if getattr(mu, "needs_temperature", False) and thermal is None:
-            raise WearError(f"the friction law {type(mu).__name__} depends on temperature; "
-                            "it needs thermal coupling (thermal=ThermalModel, or "
-                            "thermal.enabled = true in a scene)")
-        return mu, 0.0
-    try:
-        ok = np.isfinite(mu) and mu >= 0
-    except TypeError:
-        ok = False
-    if not ok:
-        raise WearError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0 or a "
-                        "friction law (brakewear.laws, brakewear.maps)")
-    return None, float(mu)
-
-
-def check_wear_law(name: str, law, thermal) -> None:
-    """A wear law the loop can evaluate per node, and its temperature."""
-    for attr in ("coefficient_at", "a", "b"):
-        if not hasattr(law, attr):
-            raise WearError(f"{name} = {law!r} is not a wear law (no {attr!r}); use "
-                            "brakewear.WearLaw or a law of brakewear.maps")
-    if getattr(law, "needs_temperature", False) and thermal is None:
-        # a WearLaw takes its base coefficient without a temperature; a map with a
-        # temperature axis cannot: try it once, before anything is computed
-        try:
-            law.coefficient_at(np.full(1, 1e6), np.ones(1), None)
-        except Exception as e:
-            raise WearError(f"{name} ({type(law).__name__}) depends on temperature and has no "
-                            "value without one; it needs thermal coupling (thermal="
-                            f"ThermalModel, or thermal.enabled = true): {e}") from None
+__all__ = ["NodalLaws"]
 
 
 class NodalLaws:
@@ -84,36 +46,23 @@ class NodalLaws:
         self.k_rot = (None if self.rotor_law is None
                       else self.rotor_law.coefficient_at(p, v, T_rot))
 
-    @staticmethod
-    def _rate(law, k, p, v) -> np.ndarray:
-        # the operations of WearLaw.rate, in its order: the same numbers
-        return k * np.clip(p, 0.0, None) ** law.a * v ** law.b
-
     def pad_rate(self, p, v) -> np.ndarray:
         """Pad wear rate (m/s) at pressure ``p``."""
-        return self._rate(self.pad_law, self.k_pad, p, v)
+        return archard_rate(self.pad_law, self.k_pad, p, v)
 
     def rotor_rate(self, p, v) -> np.ndarray:
         """Rotor wear rate (m/s) under each pad node at pressure ``p`` (0 without a law)."""
         if self.rotor_law is None:
             return np.zeros_like(np.asarray(p, dtype=float))
-        return self._rate(self.rotor_law, self.k_rot, p, v)
-
-    @staticmethod
-    def _slope(law, k, p, v) -> np.ndarray:
-        """d(rate)/dp at ``p`` (for a = 1 simply k v^b)."""
-        if law.a == 1.0:
-            return k * 1.0 ** law.a * v ** law.b
-        pp = np.maximum(p, 1e-300)
-        return law.a * (k * pp ** law.a * v ** law.b) / pp
+        return archard_rate(self.rotor_law, self.k_rot, p, v)
 
     def pad_slope(self, p, v) -> np.ndarray:
-        return self._slope(self.pad_law, self.k_pad, p, v)
+        return archard_slope(self.pad_law, self.k_pad, p, v)
 
     def rotor_slope(self, p, v) -> np.ndarray:
         if self.rotor_law is None:
             return np.zeros_like(np.asarray(p, dtype=float))
-        return self._slope(self.rotor_law, self.k_rot, p, v)
+        return archard_slope(self.rotor_law, self.k_rot, p, v)
 
     def mu(self, p, v, T_pad):
         """The friction coefficient of a solve: the number, or the law's value at each

@@ -143,3 +143,14 @@ class Numerics:
         check_int("numerics.max_steps", self.max_steps, 1)
         check_number("numerics.memory_budget", self.memory_budget, 0.0, unit="GB",
                      allow_none=True)
+
+    def refuses_law(self, surface: str, a: float) -> str | None:
+        """Why this scheme cannot wear ``surface`` (``"pad"`` or ``"rotor"``) by a law
+        of exponent ``a`` (backward Euler needs a law linear in p); None where it can."""
+        implicit = self.scheme != "explicit" if surface == "pad" else self.scheme == "implicit"
+        if not implicit or a == 1.0:
+            return None
+        other = ("'explicit'" if surface == "pad" else
+                 "'implicit_pad' (the rotor's wear explicit) or 'explicit'")
+        return (f"numerics.scheme = {self.scheme!r} needs a {surface} wear law linear in p "
+                f"(a = 1, backward Euler): allowed 1, or use scheme = {other}")

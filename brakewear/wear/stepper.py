@@ -22,27 +22,25 @@ import logging
 import os
 import time as _time
 from collections.abc import Iterator
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, SolverError,
                       StepSizeError, WearError)
-from ..interfaces import FEInterface, StepCompliance
-from ..laws import WearLaw, friction_power
+from ..interfaces import StepCompliance
+from ..laws import friction_power
 from ..rings import ring_coupling, rotor_wear_rate
 from .control import StepControl
 from .limits import WearLimits, check_temperature
-from .inputs import at_pressure, check_inputs
 from .nodal import NodalLaws
-from .numerics import Numerics
 from .records import thermal_state
-from .speed import ConstantSpeed, as_speed
+from .run import Run, as_run
 from .state import WearState, check_fingerprint, fingerprint
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearStep", "wear_history"]
+__all__ = ["WearStep", "wear_history", "check_resume"]
 
 
 @dataclass
@@ -81,81 +79,75 @@ class WearStep:
                                 # pressure and the mean speed, times dt (the heat put in)
 
 
-def wear_history(model, line_pressure: float, omega: float, duration: float,
-                 pad_law: WearLaw, rotor_law: WearLaw | None = None, mu=0.0, *,
-                 numerics: Numerics | None = None, interface=None, thermal=None,
-                 initial_gap: np.ndarray | None = None,
-                 checkpoint: str | os.PathLike | None = None, every: int = 10,
-                 resume: bool = False, limits=None) -> Iterator[WearStep]:
+def wear_history(run=None, *args, checkpoint: str | os.PathLike | None = None, every: int = 10,
+                 resume: bool = False, **kwargs) -> Iterator[WearStep]:
     """Run a wear history of the brake under constant line pressure.
 
     Parameters
     ----------
-    model
-        A :class:`brakewear.model.BrakeModel` (elastic or rigid rotor).
-    line_pressure, omega, duration
-        Pa; rotor speed: rad/s (> 0) or a profile
-        (:class:`~brakewear.wear.LinearSpeed` for a stop; each step runs at
-        its mean speed, so wear and heat are integrated exactly over
-        ``omega(t)``, :mod:`brakewear.wear.speed`); s.
-    pad_law, rotor_law
-        Wear laws of pad and rotor (``rotor_law=None``: the rotor does not
-        wear): :class:`~brakewear.laws.WearLaw` or a law of
-        :mod:`brakewear.maps` (``k(p, v, T)`` per node, taken at the start of
-        each step: :mod:`brakewear.wear.nodal`).
-    mu
-        Friction coefficient (sliding friction drags the pad along the rotor),
-        or a friction law (:class:`brakewear.laws.FrictionLaw`, a law of
-        :mod:`brakewear.maps`): ``mu(p, v, T)`` at each pad node, updated every
-        step; a law of temperature needs ``thermal``.
-    numerics
-        How the loop integrates (:class:`~brakewear.wear.Numerics`: scheme,
-        update mode, fixed steps or the step control's tolerances and limits;
-        the same defaults as a scene's ``[numerics]`` table).
-    interface
-        The interface model (default: :class:`~brakewear.interfaces.FEInterface`
-        of ``model``), any :class:`~brakewear.interfaces.Interface`.
-    thermal
-        A :class:`brakewear.thermal.ThermalModel` of ``model`` (default None:
-        nothing thermal is built or computed).  Staggered, one thermal update
-        per step: the frictional heat of the step's starting pressure heats
-        the bodies over ``dt`` (implicit Euler), then the contact is solved
-        with the thermal-strain load of the new temperatures, and the wear
-        laws use ``k(T)`` at the pad face and the rotor under it.  Its state
-        goes into the checkpoints.
-    initial_gap
-        Extra gap (m) at each pad friction node before any wear (a non-conformal
-        start: rotor coning, pad taper, thickness variation, or the worn state
-        ``pad_wear + W @ rotor_wear`` of an earlier history); it never wears.
+    run
+        A :class:`~brakewear.wear.Run` (a drag: its line pressure, speed and
+        duration), or the model followed by the arguments of a :class:`Run`:
+        ``wear_history(model, line_pressure, omega, duration, pad_law,
+        rotor_law=None, mu=0.0, *, numerics=None, interface=None,
+        thermal=None, initial_gap=None, limits=None)``.  What each means:
+
+        * ``line_pressure, omega, duration``: Pa; rotor speed: rad/s (> 0) or
+          a profile (:class:`~brakewear.wear.LinearSpeed` for a stop; each
+          step runs at its mean speed, so wear and heat are integrated exactly
+          over ``omega(t)``, :mod:`brakewear.wear.speed`); s.
+        * ``pad_law, rotor_law``: wear laws of pad and rotor
+          (``rotor_law=None``: the rotor does not wear), each answering
+          :class:`~brakewear.laws.NodeWearLaw` (``k(p, v, T)`` per node, taken
+          at the start of each step: :mod:`brakewear.wear.nodal`).
+        * ``mu``: friction coefficient (sliding friction drags the pad along
+          the rotor), or a friction law (:class:`~brakewear.laws.NodeFrictionLaw`):
+          ``mu(p, v, T)`` at each pad node, updated every step; a law of
+          temperature needs ``thermal``.
+        * ``numerics``: how the loop integrates (:class:`~brakewear.wear.Numerics`:
+          scheme, update mode, fixed steps or the step control's tolerances and
+          limits; the same defaults as a scene's ``[numerics]`` table).
+        * ``interface``: the interface model, any
+          :class:`~brakewear.interfaces.Interface` or a registered model's name
+          (default: FE contact of ``model``).
+        * ``thermal``: a :class:`brakewear.thermal.ThermalModel` of ``model`` (or
+          any :class:`~brakewear.wear.coupling.ThermalCoupling`; default None:
+          nothing thermal is built or computed).  Staggered, one thermal update
+          per step: the frictional heat of the step's starting pressure heats
+          the bodies over ``dt`` (implicit Euler), then the contact is solved
+          with the thermal-strain load of the new temperatures, and the wear
+          laws use ``k(T)`` at the pad face and the rotor under it.  Its state
+          goes into the checkpoints.
+        * ``initial_gap``: extra gap (m) at each pad friction node before any
+          wear (a non-conformal start: rotor coning, pad taper, thickness
+          variation, or the worn state ``pad_wear + W @ rotor_wear`` of an
+          earlier history); it never wears.
+        * ``limits``: a :class:`brakewear.wear.WearLimits` (default: the model's,
+          :meth:`~brakewear.wear.WearLimits.for_model`).  The step that wears a
+          surface past its limit is yielded, then
+          :class:`~brakewear.errors.WornThroughError` is raised (naming the
+          time, the node and the depth); with ``update = "geometry"`` the meshes
+          are not moved by that step.
     checkpoint, every, resume
         ``.npz`` file written every ``every`` accepted steps (and at the end);
         ``resume=True`` continues from it (with a freshly built model), after
         checking that every input is the one it was written with
-        (:mod:`brakewear.wear.state`).
-    limits
-        A :class:`brakewear.wear.WearLimits` (default: the model's,
-        :meth:`~brakewear.wear.WearLimits.for_model`).  The step that wears a
-        surface past its limit is yielded, then
-        :class:`~brakewear.errors.WornThroughError` is raised (naming the time,
-        the node and the depth); with ``update = "geometry"`` the meshes are
-        not moved by that step.
+        (:meth:`Run.settings`, :mod:`brakewear.wear.state`).
 
     Yields
     ------
     WearStep
         One record per accepted step.
     """
-    loop = _checked_loop(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
-                         numerics, interface, thermal, initial_gap, checkpoint, every, resume,
-                         limits)
-    numerics = loop.numerics
-    control = StepControl(numerics, duration, loop.dh_limit(), loop.speed, loop.A_pad)
-    prints = loop.fingerprint(duration)
+    loop = _checked_loop(as_run(run, args, kwargs), checkpoint, every, resume)
+    run, duration = loop.run, loop.run.duration
+    control = StepControl(loop.numerics, duration, loop.dh_limit(), loop.speed, loop.A_pad)
+    prints = loop.fingerprint()
     n_pad, n_rot = loop.A_pad.size, loop.A_rot.size
     extra: dict = {}
     if resume:
         state, extra = WearState.load(checkpoint, prints, n_pad, n_rot,
-                                      model.geometry.units)
+                                      run.model.geometry.units)
     else:
         state = WearState.fresh(n_pad, n_rot, control.initial_dt())
     with SolverError.located(step=f"{state.step} (the contact solve of the start)"):
@@ -177,30 +169,27 @@ def wear_history(model, line_pressure: float, omega: float, duration: float,
             raise loop.worn
 
 
-def check_resume(model, line_pressure: float, omega, duration: float, pad_law,
-                 rotor_law=None, mu=0.0, *, checkpoint, numerics: Numerics | None = None,
-                 interface=None, thermal=None, initial_gap=None, every: int = 10,
-                 limits=None) -> None:
+def check_resume(run=None, *args, checkpoint, every: int = 10, **kwargs) -> None:
     """The check :func:`wear_history` makes before it resumes, without running: refuse
     ``checkpoint`` (a :class:`~brakewear.errors.WearError` naming what changed) unless
-    it was written with these inputs (the arguments of :func:`wear_history`).  A run
-    that has already finished is checked this way before it is reported as done."""
-    loop = _checked_loop(model, line_pressure, omega, duration, pad_law, rotor_law, mu,
-                         numerics, interface, thermal, initial_gap, checkpoint, every, True,
-                         limits)
-    check_fingerprint(checkpoint, loop.fingerprint(duration), model.geometry.units)
+    it was written with the inputs of ``run`` (a :class:`~brakewear.wear.Run`, or the
+    arguments of :func:`wear_history`).  A run that has already finished is checked
+    this way before it is reported as done."""
+    loop = _checked_loop(as_run(run, args, kwargs), checkpoint, every, True)
+    check_fingerprint(checkpoint, loop.fingerprint(), loop.model.geometry.units)
 
 
-def _checked_loop(model, line_pressure, omega, duration, pad_law, rotor_law, mu, numerics,
-                  interface, thermal, initial_gap, checkpoint, every, resume, limits):
-    """The inputs checked, and the loop of a history built from them."""
-    numerics = Numerics() if numerics is None else numerics
-    omega = as_speed(omega)
-    mu_law, mu = check_inputs(model, omega, duration, pad_law, rotor_law, mu, numerics,
-                               interface, thermal, initial_gap, checkpoint, every, resume)
-    limits = WearLimits.for_model(model, update=numerics.update) if limits is None else limits
-    return _WearLoop(model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
-                     interface, thermal, initial_gap, limits)
+def _checked_loop(run: Run, checkpoint, every, resume) -> "_WearLoop":
+    """The runner's own inputs checked, and the loop of ``run`` (a drag)."""
+    if run.schedule:
+        raise WearError("this Run is a schedule; run it with brakewear.duty.run_schedule")
+    if resume and checkpoint is None:
+        raise WearError("resume=True needs a checkpoint file")
+    if resume and not os.path.exists(checkpoint):
+        raise WearError(f"resume=True but the checkpoint {checkpoint} does not exist")
+    if isinstance(every, bool) or int(every) != every or every < 1:
+        raise WearError(f"every = {every!r} is not allowed; need a whole number >= 1")
+    return _WearLoop(run.resolved())
 
 
 class _WearLoop:
@@ -208,32 +197,34 @@ class _WearLoop:
     speeds, areas) and the ones the loop replaces (the model and its interface
     after a geometry update, the thermal load and mu(T) of the temperatures)."""
 
-    def __init__(self, model, line_pressure, omega, pad_law, rotor_law, mu, mu_law, numerics,
-                 interface, thermal, initial_gap, limits):
-        self.model, self.line_pressure, self.speed = model, line_pressure, omega
-        self.omega = omega.at(0.0)          # the speed of the step being taken
-        self.limits, self.worn = limits, None
-        self.pad_law, self.rotor_law, self.mu, self.mu_law = pad_law, rotor_law, mu, mu_law
-        self.laws = NodalLaws(pad_law, rotor_law, mu_law, mu)
-        self.numerics, self.thermal = numerics, thermal
-        # a friction law's values are set before the first solve; any mu > 0 builds the
-        # pair's sliding directions
-        self.itf = FEInterface(model, line_pressure, mu if mu_law is None else 1.0,
-                               numerics.tol) if interface is None else at_pressure(
-                                   interface, line_pressure)
+    def __init__(self, run: Run):
+        model, numerics = run.model, run.numerics
+        self.run, self.model, self.line_pressure, self.speed = run, model, run.line_pressure, \
+            run.speed
+        self.omega = self.speed.at(0.0)          # the speed of the step being taken
+        self.limits = (WearLimits.for_model(model, update=numerics.update)
+                       if run.limits is None else run.limits)
+        self.worn = None
+        mu_law = run.mu_law
+        self.pad_law, self.rotor_law, self.mu_law = run.pad_law, run.rotor_law, mu_law
+        self.mu = 0.0 if mu_law is not None else float(run.mu)
+        self.laws = NodalLaws(run.pad_law, run.rotor_law, mu_law, self.mu)
+        self.numerics, self.thermal = numerics, run.thermal
+        self.itf = run.interface
         self.motion = None
         if numerics.update == "geometry":
             from ..motion import BrakeMotion
             self.motion = BrakeMotion(model)
         self.A_pad, self.ring, self.A_rot = self.itf.area, self.itf.ring, self.itf.rotor_area
         self.W = self.itf.W
+        initial_gap = run.initial_gap
         if initial_gap is not None and np.shape(initial_gap) != self.A_pad.shape:
             raise WearError(f"initial_gap has {np.size(initial_gap)} values; the pad has "
                             f"{self.A_pad.size} friction nodes")
-        self.initial_gap = None if initial_gap is None else np.asarray(initial_gap, dtype=float)
+        self.initial_gap = initial_gap
         self.v = self.omega * self.itf.r                    # sliding speed at each pad node
         # the uniform pressure of the clamp force: a friction law's state before any solve
-        self.p_nominal = np.full(self.A_pad.size, line_pressure
+        self.p_nominal = np.full(self.A_pad.size, run.line_pressure
                                  * model.geometry.clamp_area / self.A_pad.sum())
         g = model.geometry
         self.r_mean = 0.5 * (g.pad.inner_radius + g.pad.outer_radius)
@@ -250,26 +241,9 @@ class _WearLoop:
         from ..motion import surface_element_height
         return n.dh_fraction * surface_element_height(self.model.meshes["pad"], "friction")
 
-    def fingerprint(self, duration: float) -> dict:
+    def fingerprint(self) -> dict:
         """Every resolved input of this run (a checkpoint is resumed only by the same)."""
-        g = self.model.geometry
-        geometry = {k: getattr(g, k) for k in ("rotor", "pad", "piston", "mesh", "caliper",
-                                               "support", "extra_pistons")}
-        itf = {"type": type(self.itf).__name__}
-        winkler = getattr(self.itf, "winkler", None)
-        if winkler is not None:
-            itf["modulus"] = np.asarray(winkler.modulus, dtype=float)
-        return fingerprint(
-            geometry=geometry, rotor=self.model.rotor, piston=self.model.piston,
-            dofs=int(self.model.dofs), line_pressure=self.line_pressure,
-            omega=self.speed.omega if isinstance(self.speed, ConstantSpeed) else asdict(self.speed),
-            # a longer duration extends a run under automatic step control
-            duration=duration if self.numerics.steps is not None else None,
-            pad_law=self.pad_law, rotor_law=self.rotor_law,
-            mu=self.mu_law if self.mu_law is not None else self.mu,
-            numerics=asdict(self.numerics), interface=itf,
-            thermal=None if self.thermal is None else self.thermal.settings,
-            initial_gap=self.initial_gap, limits=self.limits)
+        return fingerprint(**self.run.settings(self.limits))
 
     def start(self, state: WearState, extra: dict) -> float | None:
         """Bring the loop to ``state`` (a fresh or a resumed one); returns the time

@@ -1,0 +1,167 @@
+"""The path of a run from a scene file to one wear step keeps to the layers.
+
+The layers are those of the package's design (bottom to top): data and laws;
+geometry; meshes, forms and solvers; contact, interfaces, thermal and motion;
+the model, duties, the wear loop and scenes; output, the command line and
+figures.  A call from a module of one layer into a module of a higher layer
+*climbs back* (a callback, or a method of an object of the higher layer);
+:func:`climbs` follows short runs of scene files call by call
+(``sys.setprofile``: load the file, build, one wear step, write), one with
+linear meshes and one with quadratic meshes and thermal coupling, and lists
+each (caller module, callee module) pair that climbs, once.  Run this file as
+a script to print them::
+
+    python tests/test_layers.py
+"""
+from __future__ import annotations
+
+import sys
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PKG = ROOT / "brakewear"
+
+#: the layers, bottom first: a module belongs to the first whose prefix it has
+LAYERS: tuple[tuple[str, ...], ...] = (
+    ("errors", "checks", "registry", "heartbeat", "analytic", "analytic_caliper", "materials",
+     "laws", "maps", "map_csv", "cleaning", "rust", "rust_fit"),
+    ("geometry",),
+    ("mesh", "fem", "solvers", "rings", "caliper_loads", "rough"),
+    ("contact", "interfaces", "thermal", "motion", "follower"),
+    ("model", "static", "caliper_static", "duty", "routine", "wear", "scene", "run"),
+    ("output", "cli", "bench", "figures", "verification", "accuracy", "face_maps",
+     "run_folder"),
+)
+
+#: the most climbs the path may take (distinct caller -> callee module pairs)
+MAX_CLIMBS = 3
+
+SCENE = """
+[units]
+length = "mm"
+pressure = "MPa"
+time = "s"
+angular_speed = "rad/s"
+temperature = "C"
+
+[scene]
+name = "layers"
+geometry = "default"
+
+[components]
+rotor = "elastic"
+pad = "elastic"
+piston = "traction"
+
+[mesh]
+size = 12.0
+
+[environment]
+line_pressure = 1.0
+omega = 55.0
+duration = 10.0
+
+[interface]
+model = "fe"
+mu = 0.4
+
+[wear.pad]
+k = "material"
+
+[wear.rotor]
+k = "material"
+
+[numerics]
+steps = 1
+
+[output]
+figures = false
+"""
+
+#: the same scene on quadratic meshes, with thermal coupling
+SCENE_P2_THERMAL = SCENE.replace("size = 12.0", "size = 12.0\norder = 2").replace(
+    "[numerics]", "[thermal]\nenabled = true\n\n[numerics]")
+
+
+def layer(module: str) -> int | None:
+    """The layer of a ``brakewear`` module (None: not one of the package's)."""
+    parts = module.split(".")
+    if parts[0] != "brakewear" or len(parts) < 2:
+        return None
+    for i, names in enumerate(LAYERS):
+        if parts[1] in names:
+            return i
+    return None
+
+
+def _module(frame) -> str | None:
+    path = Path(frame.f_code.co_filename)
+    try:
+        rel = path.resolve().relative_to(PKG)
+    except ValueError:
+        return None
+    parts = ("brakewear",) + rel.with_suffix("").parts
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def climbs(tmp: Path, scenes=(SCENE, SCENE_P2_THERMAL)) -> Counter:
+    """(caller module, callee module) -> calls, for every call of the short runs of
+    ``scenes`` (load the file, build, one wear step, write) that climbs to a higher
+    layer."""
+    from brakewear.output import run_scene
+    from brakewear.scene import load_scene
+
+    seen: Counter = Counter()
+
+    def profile(frame, event, arg):
+        if event != "call":
+            return
+        callee = _module(frame)
+        if callee is None:
+            return
+        up = frame.f_back
+        while up is not None and _module(up) is None:
+            up = up.f_back          # through numpy, scipy and the standard library
+        if up is None:
+            return
+        caller = _module(up)
+        lo, hi = layer(caller), layer(callee)
+        if lo is not None and hi is not None and hi > lo:
+            seen[(caller, callee)] += 1
+
+    for i, text in enumerate(scenes):
+        path = tmp / f"layers{i}.toml"
+        path.write_text(text)
+        sys.setprofile(profile)
+        try:
+            run_scene(load_scene(path), tmp / f"out{i}")
+        finally:
+            sys.setprofile(None)
+    return seen
+
+
+def test_every_module_has_a_layer():
+    names = {".".join(("brakewear",) + p.relative_to(PKG).with_suffix("").parts)
+             for p in PKG.rglob("*.py") if p.name not in ("__init__.py", "__main__.py")}
+    assert not sorted(n for n in names if layer(n) is None)
+
+
+@pytest.mark.slow
+def test_a_scene_run_climbs_back_at_most_three_times(tmp_path):
+    found = climbs(tmp_path)
+    assert len(found) <= MAX_CLIMBS, "\n".join(
+        f"{a} -> {b} ({n} calls)" for (a, b), n in sorted(found.items()))
+
+
+if __name__ == "__main__":
+    import tempfile
+    with tempfile.TemporaryDirectory() as d:
+        found = climbs(Path(d))
+    for (a, b), n in sorted(found.items()):
+        print(f"{a} (layer {layer(a)}) -> {b} (layer {layer(b)}): {n} calls")
+    print(f"{len(found)} climbs")
