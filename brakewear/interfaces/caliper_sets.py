@@ -39,14 +39,13 @@ from __future__ import annotations
 import logging
 import warnings
 from collections import OrderedDict
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import LinAlgWarning, lu_factor, lu_solve
 
-from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver
 from ..errors import SolverError
-from .condensed import _DenseSets
+from .condensed import _DenseSets, solve_dense_sets
 
 logger = logging.getLogger(__name__)
 
@@ -254,16 +253,8 @@ class RowSets:
 
     def _contact(self, problem, g, cc, active):
         """The inner active-set solve of the contact nodes (the FE solves' start)."""
-        if active is not None:
-            start = np.asarray(active, dtype=bool)
-        else:
-            start = g <= (self.gap_tol if cc is None else 0.0)
-            if not start.any():
-                start = g <= g.min() + (self.gap_tol if cc is None
-                                        else 1e-12 * max(np.abs(g).max(), 1e-300))
-        options = EXACT if cc is None else replace(COMPLIANT, loose_tol=None)
-        driver = ActiveSetDriver(options, self.tol, exact=True, name="pad-rotor (caliper)")
-        return driver.run(problem, start)
+        return solve_dense_sets(problem, g, active, self.gap_tol, cc is not None, self.tol,
+                                "pad-rotor (caliper)")[0]
 
     def _tolerances(self, lam, F: float):
         fmax = max(float(np.abs(lam).max()) if lam.size else 0.0, F, 1e-300)

@@ -54,6 +54,24 @@ _SETS = 16
 _BLOCK = 64
 
 
+def solve_dense_sets(problem, g: np.ndarray, active, gap_tol: float, compliant: bool,
+                     tol: float, name: str) -> tuple[np.ndarray, dict]:
+    """The exact active-set solve of a dense contact problem (``_DenseSets``),
+    from ``active`` or else the FE solves' start: the closed nodes (within
+    ``gap_tol`` without a compliance), else the closest ones.  Returns the
+    active set and the driver's report."""
+    if active is not None:
+        start = np.asarray(active, dtype=bool)
+    else:
+        start = g <= (0.0 if compliant else gap_tol)
+        if not start.any():
+            start = g <= g.min() + (1e-12 * max(np.abs(g).max(), 1e-300) if compliant
+                                    else gap_tol)
+    options = replace(COMPLIANT, loose_tol=None) if compliant else EXACT
+    driver = ActiveSetDriver(options, tol, exact=True, name=name)
+    return driver.run(problem, start), driver.report()
+
+
 class CondensedInterface:
     """The FE contact interface condensed onto the pad's friction nodes.
 
@@ -171,21 +189,12 @@ class CondensedInterface:
         problem = _DenseSets(self, H, D, q, rhs, c,
                              comp.rotor.tobytes() + comp.ring_area.tobytes() if rings else b"")
         g = self.g0 + offset
-        if active is not None:
-            start = np.asarray(active, dtype=bool)
-        else:
-            # the FE solves' start: the closed nodes, else the closest ones
-            start = g <= (self.gap_tol if c is None else 0.0)
-            if not start.any():
-                start = g <= g.min() + (self.gap_tol if c is None
-                                        else 1e-12 * max(np.abs(g).max(), 1e-300))
-        options = EXACT if c is None else replace(COMPLIANT, loose_tol=None)
-        driver = ActiveSetDriver(options, self.tol, exact=True, name="pad-rotor (condensed)")
         with blas_threads(1):
-            act = driver.run(problem, start)
+            act, report = solve_dense_sets(problem, g, active, self.gap_tol, c is not None, self.tol,
+                                   "pad-rotor (condensed)")
         lam = problem.lam
         pressure = (lam if c is None else np.maximum(lam, 0.0)) / self.area
-        info = {**driver.report(), "factorisations": problem.factorised,
+        info = {**report, "factorisations": problem.factorised,
                 "updates": problem.updated,
                 "normal_force": float(lam.sum()), "min_gap": float(problem.g.min()),
                 "time_s": time.perf_counter() - t0}
