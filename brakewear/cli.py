@@ -4,7 +4,7 @@
 or a scene file, docs/scenes.md): the wear history with a progress bar in
 simulated time, checkpoints in the output folder, ``--resume`` to continue;
 a folder that already holds a run is refused unless ``--resume`` or
-``--overwrite`` (:mod:`brakewear.run_folder`).
+``--overwrite`` (:mod:`brakewear.output.folder`).
 ``brakewear demo`` runs the main job on the default brake: mesh, solve under
 a line pressure with the pad tied to the rotor, write figures, VTU files and
 a JSON summary; then the default scene (running-in under drag) into
@@ -32,7 +32,7 @@ import threading
 import time
 from pathlib import Path
 
-from .heartbeat import listening
+from .solvers.heartbeat import listening
 
 logger = logging.getLogger(__name__)
 
@@ -57,14 +57,14 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     import numpy as np
 
     from .checks import check_number, check_plausible, user_units
-    from .face_maps import plot_face_map
-    from .figures import plot_field, plot_named_surfaces
+    from .output.face_maps import plot_face_map
+    from .output.figures import plot_field, plot_named_surfaces
     from .geometry.files import load_geometry
     from .mesh.estimate import check_model_size
     from .mesh.io import write_mesh
     from .model import BrakeModel
-    from .output import check_out
-    from .run_folder import check_new_out, clear_run
+    from .output.runs import check_out
+    from .output.folder import check_new_out, clear_run
 
     # the whole input is checked before anything is meshed or written
     out = check_new_out(check_out(out, "--out"), overwrite=overwrite, can_resume=False)
@@ -114,7 +114,7 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
 class _Progress:
     """A progress bar (tqdm on stderr): a wear history's in simulated time, fed by
     its steps; a schedule's in applications, fed by their records.  Between them
-    it shows that the run is alive: the solvers' beats (:mod:`brakewear.heartbeat`:
+    it shows that the run is alive: the solvers' beats (:mod:`brakewear.solvers.heartbeat`:
     the contact solve's active-set iteration and set size) in its postfix, and a
     clock that ticks every :data:`TICK_S` seconds while one solve runs.
 
@@ -154,7 +154,7 @@ class _Progress:
                 bar.refresh()
 
     def beat(self, what: str, figures: dict) -> None:
-        """A solver's sign of life (a :func:`brakewear.heartbeat.listening` listener)."""
+        """A solver's sign of life (a :func:`brakewear.solvers.heartbeat.listening` listener)."""
         if "iteration" in figures:
             self.alive = (f"{what} iteration {figures['iteration']}"
                           + (f" ({figures['active']} active)" if "active" in figures else ""))
@@ -270,8 +270,8 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     once and draws none.
     """
     from .errors import SolverError, WornThroughError
-    from .output import check_out, run_scene
-    from .run_folder import check_new_out, clear_run, finished_run
+    from .output.runs import check_out, run_scene
+    from .output.folder import check_new_out, clear_run, finished_run
     from .scene import load_scene
 
     if out is not None:
@@ -306,8 +306,8 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
 
 def _print_accuracy(what: str, scene) -> None:
     """The first lines of a run: its mesh and the estimated error of its pad wear
-    (:func:`brakewear.accuracy.mesh_accuracy`); a warning (stderr) for a coarse mesh."""
-    from .accuracy import accuracy_lines, mesh_accuracy
+    (:func:`brakewear.mesh.accuracy.mesh_accuracy`); a warning (stderr) for a coarse mesh."""
+    from .mesh.accuracy import accuracy_lines, mesh_accuracy
 
     lines = accuracy_lines(mesh_accuracy(scene))
     print(f"{what}: " + "\n  ".join(s for s in lines if not s.startswith("warning:")),
@@ -322,7 +322,7 @@ def run_demo_wear(out: str | Path, duration: float | None = None, quiet: bool = 
     """The demo's second half: the default scene (running-in under drag) into ``out``."""
     import dataclasses
 
-    from .output import run_scene
+    from .output.runs import run_scene
     from .scene import load_scene
 
     sc = load_scene("default")

@@ -3,7 +3,7 @@
 :class:`BrakeModel` builds only what it is asked for: the half model (one pad,
 the rotor's inboard half) or the full one (both pads, the whole rotor), the
 piston as a body tied to the backplate or as the caliper's footprint loads
-(:mod:`brakewear.caliper_loads`); stiffness matrices are assembled once and kept.
+(:mod:`brakewear.caliper.loads`); stiffness matrices are assembled once and kept.
 Global numbering: the scalar DOFs of the bodies are stacked in the order of
 ``bodies``; vector DOF ``3 s + i``.  With quadratic meshes (``order=2``) a
 body's nodes are its vertices, then its mid-edge nodes; the pad's friction
@@ -22,7 +22,7 @@ from os import PathLike
 import numpy as np
 import scipy.sparse as sp
 
-from .caliper_static import solve_caliper
+from .caliper.static import solve_caliper
 from .checks import check_line_pressure, check_plausible
 from .contact.lagrange import solve_contact
 from .contact.basis import check_supports
@@ -36,7 +36,7 @@ from .fem.assembly import BlockPattern, assemble_stiffness
 from .fem.boundary import apply_dirichlet, boundary_dofs
 from .geometry.files import load_geometry
 from .geometry.parts import BrakeGeometry
-from .caliper_loads import (
+from .caliper.loads import (
     clamp_loads,
     pad_support_dofs,
     resolve_layout,
@@ -100,7 +100,7 @@ class BrakeModel:
         backplate's piston footprint), ``"body"`` (the piston meshed, tied to
         the backplate) or ``"rigid"`` (a rigid piston in its bore and seal,
         rim, fingers and abutments one-sided with friction: the caliper's
-        load path, :mod:`brakewear.contact.caliper`).
+        load path, :mod:`brakewear.caliper.rows`).
     size, order
         Mesh size (m) and element order; default from the geometry file.
         The size is checked before meshing: in (0, half the radial pad width]
@@ -198,7 +198,7 @@ class BrakeModel:
 
     def with_geometry(self, meshes: dict, stiffness: dict | None = None) -> "BrakeModel":
         """The same brake with some bodies' meshes replaced by moved ones (same
-        topology, e.g. worn faces, :class:`~brakewear.motion.BrakeMotion`).
+        topology, e.g. worn faces, :class:`~brakewear.motion.brake.BrakeMotion`).
 
         ``stiffness`` holds the moved bodies' stiffness where it is known; the
         others are assembled on first use.  Unchanged bodies share their
@@ -265,7 +265,7 @@ class BrakeModel:
 
     def loads(self, line_pressure: float) -> np.ndarray:
         """Global load vector for a line pressure (Pa): the clamp force
-        ``p x clamp_area`` on each pad's back (:func:`~brakewear.caliper_loads.clamp_loads`);
+        ``p x clamp_area`` on each pad's back (:func:`~brakewear.caliper.loads.clamp_loads`);
         with a meshed piston its inboard share on the piston's back face."""
         f = np.zeros(self.dofs)
         g = self.geometry

@@ -1,7 +1,7 @@
 """Named parts a scene chooses from, and the keys each part reads (:class:`Registry`).
 
 The tables of brakewear's swappable parts share this: interface models
-(:mod:`brakewear.interfaces.registry`), wear laws (:mod:`brakewear.laws`)
+(:mod:`brakewear.interfaces.registry`), wear laws (:mod:`brakewear.laws.base`)
 and applications of a schedule (:mod:`brakewear.duty.applications`).  Each
 entry is registered once under its name; a scene file names it and gives
 its own keys (:class:`OptionKey`: how the scene reader reads each, its
@@ -11,6 +11,7 @@ that names the key and the value in the user's units.
 """
 from __future__ import annotations
 
+import importlib
 import logging
 from dataclasses import dataclass
 from typing import Any, Iterator, Mapping
@@ -99,11 +100,22 @@ class Registry:
         What an entry is (``"interface model"``), for messages.
     key
         The scene key that names one (``"interface.model"``).
+    modules
+        Modules of the package that register entries of this table when they
+        are imported, loaded on the first lookup (parts that sit above the
+        table's own package, such as the caliper's interface model).
     """
 
-    def __init__(self, what: str, key: str):
+    def __init__(self, what: str, key: str, modules: tuple[str, ...] = ()):
         self.what, self.key = what, key
         self._entries: dict[str, Any] = {}
+        self._modules, self._loaded = tuple(modules), not modules
+
+    def _load(self) -> None:
+        if not self._loaded:
+            self._loaded = True
+            for module in self._modules:
+                importlib.import_module(module)
 
     def register(self, name: str, entry: Any, replace: bool = False) -> Any:
         """Add ``entry`` under ``name`` (``replace=True``: over one of the same name)."""
@@ -129,11 +141,19 @@ class Registry:
         check_choice(key or self.key, name, self.names())
         return self._entries[name]
 
+    def registered(self) -> tuple[Any, ...]:
+        """The entries registered so far, without loading the table's modules (for
+        a registration's own checks against the others)."""
+        return tuple(self._entries.values())
+
     def names(self) -> tuple[str, ...]:
+        self._load()
         return tuple(self._entries)
 
     def __iter__(self) -> Iterator[Any]:
-        return iter(self._entries.values())
+        self._load()
+        return iter(list(self._entries.values()))
 
     def __contains__(self, name: str) -> bool:
+        self._load()
         return name in self._entries

@@ -145,7 +145,7 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
     force times the pad's outer radius).  Needs ``piston = "traction"`` or
     ``"rigid"``.  In the full model also the caliper (:func:`caliper_balance`);
     with the rigid piston every rigid part
-    (:func:`brakewear.caliper_static.part_balance`).
+    (:func:`brakewear.caliper.static.part_balance`).
 
     Returns
     -------
@@ -154,7 +154,7 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
         {"inboard_force_N": ..., "outboard_force_N": ..., "force": rel,
         "pin_moment_Nm": [mx, my, mz]}}``.
     """
-    from .caliper_loads import pad_support_dofs      # caliper_loads sits beside model, above static
+    from .caliper.loads import pad_support_dofs      # caliper_loads sits beside model, above static
 
     _traction_only(model)
     pad, off = model.meshes["pad"], model.offsets["pad"]
@@ -182,7 +182,7 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
         out[side] = {"force": float(np.linalg.norm(e.sum(axis=0)) / F),
                      "moment": float(np.linalg.norm(m) / (F * R))}
     if model.piston == "rigid":
-        from .caliper_static import part_balance     # each piston, the housing, the bracket
+        from .caliper.static import part_balance     # each piston, the housing, the bracket
 
         out.update(part_balance(result, line_pressure))
     elif model.full:

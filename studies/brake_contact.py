@@ -68,7 +68,7 @@ def main(line_pressure_mpa: float = 1.0, mu: float = 0.4, size_mm: float | None 
         with open(out / "brake_contact.json", "w") as fh:
             json.dump(result, fh, indent=2, default=lambda o: o.item() if hasattr(o, "item") else str(o))
         if figures:
-            from brakewear.figures import plot_field
+            from brakewear.output.figures import plot_field
             pad = model.meshes["pad"]
             vmax = max(run["p_max_Pa"] for run in runs.values()) / 1e6
             for label, run in runs.items():

@@ -3,7 +3,7 @@
 Under the clamp force a floating caliper's bridge spreads and the fingers'
 jaw turns about a tangential axis, away from the outboard backplate at its
 inner radius (``caliper.bridge_tilt``, mrad per kN of clamp force; the
-finger pressure follows :func:`brakewear.caliper_loads.jaw_pressure`).  The
+finger pressure follows :func:`brakewear.caliper.loads.jaw_pressure`).  The
 outboard pad's load moves toward the bridge, the classic cause of radially
 tapered outboard wear.  For ``geometry/floating.toml`` with bridge tilts from
 rigid to soft:

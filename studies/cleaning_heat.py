@@ -44,10 +44,10 @@ import numpy as np
 from brakewear import (MATERIALS, BrakeModel, CaliperInterface, FEInterface, Numerics, WearLaw,
                        load_geometry)
 from brakewear import analytic as an
-from brakewear.cleaning import nonconformity_gap
+from brakewear.cleaning.corrosion import nonconformity_gap
 from brakewear.duty import KMH, repeated_stops, study_car
-from brakewear.routine import run_routine
-from brakewear.rust import RustLaw, RustLayer
+from brakewear.cleaning.routine import run_routine
+from brakewear.cleaning.rust import RustLaw, RustLayer
 from brakewear.thermal import SpeedConvection, ThermalModel
 from brakewear.thermal.coning import RotorConing
 from brakewear.thermal.reduced import HAT_CONING_PER_K, ReducedRotorHeat, hat_nodes

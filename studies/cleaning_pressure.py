@@ -55,8 +55,8 @@ from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
 from brakewear.interfaces import CondensedInterface, FEInterface
 from brakewear.wear import wear_history
-from brakewear.laws import WearLaw
-from brakewear.cleaning import LayeredWearLaw
+from brakewear.laws.base import WearLaw
+from brakewear.cleaning.corrosion import LayeredWearLaw
 from brakewear import Numerics
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

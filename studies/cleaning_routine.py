@@ -6,16 +6,16 @@ Each sample is one routine run on the brake: ``stops`` friction-only stops
 (:meth:`brakewear.duty.Vehicle.with_friction_share`) of :func:`brakewear.duty.study_car`
 from ``speed`` km/h to rest at ``decel`` m/s^2, ``interval`` s apart, the car
 driving on at ``speed`` in between (the rotor cools at that speed); the rust law
-(:class:`brakewear.rust.RustLayer`: removal above its threshold, friction and pad
+(:class:`brakewear.cleaning.rust.RustLayer`: removal above its threshold, friction and pad
 wear on rust) and the stops' own heat (:class:`brakewear.thermal.reduced.ReducedRotorHeat`
 of the floating caliper's hat rotor: the elastic rotor's thermal coning under its
 temperatures, times ``thermal_coning_factor``, added to the static ``coning`` stop by
 stop)
-enter every stop (:func:`brakewear.routine.run_routine`).  The band is cleaned when
+enter every stop (:func:`brakewear.cleaning.routine.run_routine`).  The band is cleaned when
 every ring of every modelled face has worn through its layer
-(:mod:`brakewear.cleaning`'s criterion).
+(:mod:`brakewear.cleaning.corrosion`'s criterion).
 
-The uncertain inputs (:func:`inputs`) are the rust law's (:data:`brakewear.rust.RUST_PRIORS`),
+The uncertain inputs (:func:`inputs`) are the rust law's (:data:`brakewear.cleaning.rust.RUST_PRIORS`),
 the friction coefficient on iron, the static coning and the thermal coning per
 kelvin, the pad's modulus, the car's mass and road load, and the load path's
 parameters where the brake has them (``brake = "caliper"``).  The design curve
@@ -49,10 +49,10 @@ from pathlib import Path
 import numpy as np
 
 from brakewear import MATERIALS, SolverError, WearLaw, load_geometry
-from brakewear.cleaning import nonconformity_gap
+from brakewear.cleaning.corrosion import nonconformity_gap
 from brakewear.duty import KMH, repeated_stops, study_car
-from brakewear.routine import run_routine
-from brakewear.rust import RUST_PRIORS, Prior, RustLaw, RustLayer
+from brakewear.cleaning.routine import run_routine
+from brakewear.cleaning.rust import RUST_PRIORS, Prior, RustLaw, RustLayer
 from brakewear.thermal.reduced import HAT_CONING_PER_K
 from brakewear.wear import Numerics
 
@@ -98,7 +98,7 @@ OTHER_PRIORS = {
 
 
 def inputs(brake: str = "caliper") -> dict:
-    """The uncertain inputs: name -> :class:`~brakewear.rust.Prior` (the rust law's, the
+    """The uncertain inputs: name -> :class:`~brakewear.cleaning.rust.Prior` (the rust law's, the
     others of :data:`OTHER_PRIORS`, and for ``brake = "caliper"`` the load path's keys,
     uniform over their plausible ranges)."""
     out = {**RUST_PRIORS, **OTHER_PRIORS}
@@ -198,7 +198,7 @@ def _reduced(task: dict):
 
 def _judge(itf, r_in, r_out, thickness, threshold):
     """The cleaning criterion: per face where the brake models both."""
-    import brakewear.cleaning as cl
+    import brakewear.cleaning.corrosion as cl
     if hasattr(cl, "BandCriterion"):
         return cl.BandCriterion(itf, r_in, r_out, thickness, threshold)
     c = cl.CorrodedRotor(itf, r_in, r_out, thickness, 1.0, 1.0, threshold)

@@ -12,7 +12,7 @@ of the band the pad touches -- the pad and rotor start non-conformal (a
 coning of ``coning`` um across the band).
 
 Per deceleration: the cleaned fraction of the band's *area* after each stop
-(:class:`brakewear.cleaning.CorrodedRotor`; a ring counts as touched only
+(:class:`brakewear.cleaning.corrosion.CorrodedRotor`; a ring counts as touched only
 where the pad presses with at least ``threshold`` MPa), the line pressure,
 the energy per face (the vehicle's demand and the model's friction work).
 The answer: the lowest deceleration of the sweep that cleans within
@@ -27,9 +27,9 @@ fingers and the abutments one-sided with friction;
 :class:`brakewear.CaliperInterface`, condensed onto the contact nodes and the
 caliper's rows); each rotor face has its own corrosion layer and its own
 wear, the coning opens the inboard face's gap at the outer radius and the
-outboard face's at the inner one (:func:`brakewear.cleaning.nonconformity_gap`),
+outboard face's at the inner one (:func:`brakewear.cleaning.corrosion.nonconformity_gap`),
 and the band counts as cleaned when both faces are: the answer is the worse
-face's (:class:`brakewear.cleaning.BandCriterion`).  ``load_path`` overrides
+face's (:class:`brakewear.cleaning.corrosion.BandCriterion`).  ``load_path`` overrides
 load-path keys of the geometry file (``{"support.abutment_friction": 0.4}``,
 in the file's units, checked as the file is).
 
@@ -68,7 +68,7 @@ import numpy as np
 
 from brakewear import (MATERIALS, BrakeModel, CondensedInterface, FEInterface, Numerics,
                        SolverError, Vehicle, WearLaw)
-from brakewear.cleaning import CorrodedRotor, nonconformity_gap, outboard_nodes
+from brakewear.cleaning.corrosion import CorrodedRotor, nonconformity_gap, outboard_nodes
 from brakewear.duty import KMH, repeated_stops, run_schedule
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

@@ -19,7 +19,7 @@ import numpy as np
 import skfem as fem
 
 from brakewear.analytic import thick_cylinder_displacement
-from brakewear.figures import label_log_axis
+from brakewear.output.figures import label_log_axis
 from brakewear.fem import apply_dirichlet, assemble_pressure, assemble_stiffness, boundary_dofs, scalar_element
 from brakewear.materials import Isotropic
 from brakewear.mesh import annulus_mesh

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 
 logger = logging.getLogger(__name__)
 

@@ -1,7 +1,7 @@
 """Hertz: a rigid sphere pressed into an elastic half-space, 3D quarter model.
 
 The model (set-up, far-field conditions, mesh, measured errors) lives in
-:mod:`brakewear.verification`, so that ``brakewear bench contact`` can use it
+:mod:`brakewear.contact.hertz`, so that ``brakewear bench contact`` can use it
 from an installed package; its names are re-exported here.  This script
 runs the convergence study.
 
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.analytic import hertz_sphere_pressure
-from brakewear.verification import (A0, DELTA, ES, FINE_XY, FINE_Z, FIT_R, GAP_TOL,  # noqa: F401
+from brakewear.contact.hertz import (A0, DELTA, ES, FINE_XY, FINE_Z, FIT_R, GAP_TOL,  # noqa: F401
                                     GROWTH, L_OVER_A, MATERIAL, RECOVERY, R, HertzProblem,
                                     axis, block_mesh, boussinesq, hertz_dofs, hertz_problem,
                                     hertz_resolution, measure, mirrored_tets,
@@ -74,7 +74,7 @@ def _plot_convergence(result: dict, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from brakewear.figures import label_log_axis
+    from brakewear.output.figures import label_log_axis
 
     rows = result["rows"]
     h = np.array([x["h_over_a"] for x in rows])

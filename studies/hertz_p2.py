@@ -1,6 +1,6 @@
 """Hertz with quadratic (P2) against linear (P1) tetrahedra: errors, DOFs and run time.
 
-The model is :mod:`brakewear.verification`'s (a rigid sphere on the quarter
+The model is :mod:`brakewear.contact.hertz`'s (a rigid sphere on the quarter
 half-space, Boussinesq far field, mirrored split), solved with P1 and with P2
 elements of the same size ``h`` at the patch.  P1's peak pressure is the
 tent-window recovery of the nodal forces (its nodal values carry the node-type
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.verification import solve
+from brakewear.contact.hertz import solve
 
 logger = logging.getLogger(__name__)
 
@@ -120,7 +120,7 @@ def _figure(rows: list, path: Path) -> None:
         axis.axhline(A_TARGET, color="k", lw=0.6, ls=":")
         axis.grid(True, which="both", alpha=0.3)
         axis.set_ylabel("|relative error|")
-    from brakewear.figures import label_log_axis
+    from brakewear.output.figures import label_log_axis
 
     label_log_axis(ax.xaxis, sorted({r["h_over_a"] for r in rows}))
     ax.set_xlabel("element size at the patch h / a")

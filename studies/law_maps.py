@@ -1,9 +1,9 @@
 """The illustrative resin-pad map: mu and k over pressure and speed at two temperatures
 (the figure of docs/laws.md).
 
-The map shipped with the package (:func:`brakewear.maps.example_map`, ILLUSTRATIVE
+The map shipped with the package (:func:`brakewear.laws.maps.example_map`, ILLUSTRATIVE
 numbers, not a measurement) is evaluated through the per-node laws
-:class:`brakewear.maps.FrictionMap` and :class:`brakewear.maps.WearMap` over the
+:class:`brakewear.laws.maps.FrictionMap` and :class:`brakewear.laws.maps.WearMap` over the
 sliding speed at three pressures and two temperatures, one below the wear
 transition (100 C) and one above it and in the friction fade (450 C).  Between
 the grid's speeds (1, 3, 10, 30 m/s) the curves are the map's linear
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.maps import FrictionMap, WearMap, example_map
+from brakewear.laws.maps import FrictionMap, WearMap, example_map
 
 logger = logging.getLogger(__name__)
 

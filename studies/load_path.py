@@ -193,7 +193,7 @@ MAPPED = ("idealised", "floating", "floating_hot")
 
 def draw_maps(runs: dict, mu: float, pressures, path: Path) -> Path:
     """Pressure over nominal on every face (rows) at every pressure (columns)."""
-    from brakewear.figures import offscreen_pyvista
+    from brakewear.output.figures import offscreen_pyvista
 
     pv = offscreen_pyvista()
     faces = [("idealised", "in", "idealised (half model)"),

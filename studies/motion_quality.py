@@ -1,7 +1,7 @@
 """Moving worn faces: cost of the geometry update and mesh quality against wear
 (the numbers of docs/motion.md).
 
-Three measurements on the default brake (:class:`brakewear.motion.BrakeMotion`):
+Three measurements on the default brake (:class:`brakewear.motion.brake.BrakeMotion`):
 
 * **cost** -- :meth:`BrakeMotion.apply` with partial reassembly (only the
   elements that moved are reintegrated) against full reassembly, at one or
@@ -10,7 +10,7 @@ Three measurements on the default brake (:class:`brakewear.motion.BrakeMotion`):
   pad's radial track; steps alternate partial / full, each slightly deeper,
   and medians are reported;
 * **quality** -- the smallest pad element quality
-  (:func:`brakewear.motion.element_quality`) with the pad worn uniformly, and
+  (:func:`brakewear.motion.brake.element_quality`) with the pad worn uniformly, and
   tapered from 0 at the leading edge, to a fraction of its friction layer;
 * **figure** -- the pad's mesh in the (arc length, z) plane at mid radius,
   new and worn to a taper of half the friction layer.
@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.model import BrakeModel
-from brakewear.motion import BrakeMotion, element_quality
+from brakewear.motion.brake import BrakeMotion, element_quality
 
 FRACTIONS = (0.0, 0.25, 0.5, 0.75, 0.9, 0.95)
 

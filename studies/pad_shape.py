@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import skfem as fem
 
-from brakewear.figures import facets_to_pyvista, offscreen_pyvista
+from brakewear.output.figures import facets_to_pyvista, offscreen_pyvista
 from brakewear.geometry import load_geometry
 from brakewear.mesh import pad_mesh
 

@@ -43,7 +43,7 @@ import numpy as np
 
 from brakewear.contact import solve_contact, with_supports
 from brakewear.contact.supports import abutment_faces
-from brakewear.geometry.caliper import SupportGeometry
+from brakewear.caliper.geometry import SupportGeometry
 from brakewear.mesh.surface import surface_nodes
 from brakewear.model import BrakeModel
 

@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from brakewear import BrakeModel, CaliperInterface
-from brakewear.cleaning import nonconformity_gap
+from brakewear.cleaning.corrosion import nonconformity_gap
 from brakewear.geometry import geometry_file, geometry_from_dict
 from brakewear.geometry.sections import LOAD_PATH_KEYS
 from brakewear.mesh.surface import face_nodes
@@ -80,7 +80,7 @@ def floating(overrides: dict | None = None):
 def pad_tilt_and_moment(model, itf, gap, line_pressure: float, mu: float) -> dict:
     """Per pad: its tilt (rad, outer edge off its face positive) and the caliper's
     moment on it (N m, in the tilt's sense) of one solve with the gap ``gap``."""
-    from brakewear.caliper_static import solve_caliper
+    from brakewear.caliper.static import solve_caliper
 
     res = solve_caliper(model, line_pressure, mu, interface=itf, offset=gap)
     g = model.geometry
@@ -148,7 +148,7 @@ def lining_tilt_stiffness(g) -> float:
 def main(size: float = 6.0, pressure: float = 1.0, mu: float = 0.4,
          coning: tuple = CONING_UM, parameters: tuple = PARAMETERS, out=None) -> dict:
     """Moment against tilt of both pads, nominal and at each end of each parameter's range."""
-    from brakewear.contact.caliper_parts import seal_springs
+    from brakewear.caliper.parts import seal_springs
 
     t0 = time.perf_counter()
     p = pressure * 1e6

@@ -36,7 +36,7 @@ import numpy as np
 import skfem as fem
 
 from brakewear.geometry import load_geometry
-from brakewear.geometry.caliper import VentGeometry
+from brakewear.caliper.geometry import VentGeometry
 from brakewear.mesh.rotor import full_rotor_mesh, rotor_volume
 
 #: the vented ring of geometry/floating.toml's commented [rotor.vents] table (m)
@@ -115,7 +115,7 @@ def cutaway(m: fem.Mesh, geom) -> list:
     its quarter ``x < 0`` only what lies outboard of the ring's mid-plane
     ``z = -t / 2`` (so the channels and vanes of a vented ring show); each named
     facet group in that region, and the cut faces as ``"cut"``."""
-    from brakewear.figures import facets_to_pyvista, skfem_to_pyvista
+    from brakewear.output.figures import facets_to_pyvista, skfem_to_pyvista
 
     zc = -0.5 * geom.rotor.thickness
     o = (0.0, 0.0, zc)
@@ -140,7 +140,7 @@ def cutaway(m: fem.Mesh, geom) -> list:
 def draw(meshes: dict, path: Path) -> None:
     """The P1 meshes cut open (:func:`cutaway`), each facet group in its colour,
     the cut faces grey; from both sides."""
-    from brakewear.figures import offscreen_pyvista
+    from brakewear.output.figures import offscreen_pyvista
 
     pv = offscreen_pyvista()
     pl = pv.Plotter(off_screen=True, shape=(2, 2), window_size=[2000, 1400], border=False,

@@ -29,12 +29,12 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.analytic import uniform_wear_torque
-from brakewear.output import step_figures
+from brakewear.output.runs import step_figures
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
 from brakewear.wear import wear_history
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear import Numerics
 
 logger = logging.getLogger(__name__)
@@ -191,7 +191,7 @@ def field_figures(model, itf, kept: list[dict], outdir: Path) -> list[Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from brakewear.figures import plot_field
+    from brakewear.output.figures import plot_field
 
     pad, rotor = model.meshes["pad"], model.meshes["rotor"]
     fields = {

@@ -2,7 +2,7 @@
 
 Reads a record (``--record``, default the packaged *synthetic* one,
 ``brakewear/data/dyno/synthetic_rust_record.csv``), fits the rust law's
-parameters with their 95 % intervals (:func:`brakewear.rust_fit.calibrate`)
+parameters with their 95 % intervals (:func:`brakewear.cleaning.rust_fit.calibrate`)
 and draws the record against the fit.  ``--make-synthetic`` writes the
 synthetic record first: the forward model with known parameters (:data:`TRUTH`),
 30 stops cycling through 0.15, 0.3, 0.6 and 1.0 MPa of contact pressure, 35 m
@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.rust import RustLaw
-from brakewear.rust_fit import (calibrate, predict_record, read_dyno_record, synthetic_record,
+from brakewear.cleaning.rust import RustLaw
+from brakewear.cleaning.rust_fit import (calibrate, predict_record, read_dyno_record, synthetic_record,
                                 write_dyno_record)
 
 #: the synthetic record's known parameters (SI units) and its design
@@ -47,7 +47,7 @@ def make_synthetic(path: Path) -> Path:
                            PAD_ARC_DEG / 360.0, seed=SEED)
     header = (f"SYNTHETIC dynamometer record, not a measurement: made by "
               f"studies/rust_calibration.py --make-synthetic\n"
-              f"(brakewear.rust_fit.synthetic_record, seed {SEED}) with the known parameters "
+              f"(brakewear.cleaning.rust_fit.synthetic_record, seed {SEED}) with the known parameters "
               f"thickness 25 um, k_rust 1.2e-12 1/Pa,\nthreshold 0.06 MPa, mu_factor 1.15, "
               f"mu_iron 0.40; a {PAD_ARC_DEG:g} degree pad; noise: friction 0.01, "
               f"removed depth 0.2 um.")

@@ -62,7 +62,7 @@ from brakewear.interfaces import WinklerInterface, calibrate
 from brakewear.model import BrakeModel
 from brakewear.interfaces import CondensedInterface, FEInterface, FoundationInterface
 from brakewear.wear import wear_history
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear import Numerics
 
 logger = logging.getLogger(__name__)
@@ -441,7 +441,7 @@ def plot(result: dict, path: Path) -> None:
                 ax2.annotate(f"{r['dofs']} dofs", (r["run_s"], r["energy_error"]),
                              textcoords="offset points", xytext=(4, 3), fontsize=7)
     if eo:
-        from brakewear.figures import label_log_axis
+        from brakewear.output.figures import label_log_axis
         lo, hi = min(r["run_s"] for r in eo), max(r["run_s"] for r in eo)
         label_log_axis(ax2.xaxis, [t for t in (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10)
                                    if lo / 2 <= t <= hi * 2])

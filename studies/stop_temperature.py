@@ -34,7 +34,7 @@ import skfem as fem
 from brakewear import analytic as an
 from brakewear.duty import KMH, Stop, Vehicle, brake_torque, effective_radius
 from brakewear.fem import HeatConduction
-from brakewear.figures import label_log_axis
+from brakewear.output.figures import label_log_axis
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
 from brakewear.thermal import ThermalModel

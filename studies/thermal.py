@@ -31,7 +31,7 @@ import skfem as fem
 
 from brakewear import analytic as an
 from brakewear.contact import solve_contact
-from brakewear.figures import label_log_axis
+from brakewear.output.figures import label_log_axis
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
 from brakewear.fem import HeatConduction
@@ -163,7 +163,7 @@ def plot_half_space(rows: list[dict], path: Path) -> None:
 def plot_drag(model: BrakeModel, th: ThermalModel, path: Path) -> None:
     """Rotor and pad surface temperatures after the drag, each on its own scale,
     both seen from the pad's side (+z), the pad's friction face from below."""
-    from brakewear.figures import facets_to_pyvista, offscreen_pyvista
+    from brakewear.output.figures import facets_to_pyvista, offscreen_pyvista
 
     pv = offscreen_pyvista()
     pl = pv.Plotter(off_screen=True, window_size=[1400, 760], shape=(1, 2))

@@ -52,7 +52,7 @@ from brakewear.fem import apply_dirichlet, assemble_stiffness, boundary_dofs, sc
 from brakewear.fem.forms import lame_parameters
 from brakewear.fem.heat import thermal_coupling
 from brakewear.geometry import load_geometry
-from brakewear.geometry.caliper import HatGeometry
+from brakewear.caliper.geometry import HatGeometry
 from brakewear.mesh import full_rotor_mesh, rotor_mesh
 from brakewear.solvers.amg import amg_solver
 from brakewear.solvers.direct import direct_solve

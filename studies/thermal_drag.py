@@ -57,8 +57,8 @@ from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.model import BrakeModel
 from brakewear.wear import Numerics, wear_history
 from brakewear.thermal import ThermalModel
-from brakewear.laws import WearLaw
-from brakewear.rings import rotor_rings
+from brakewear.laws.base import WearLaw
+from brakewear.mesh.rings import rotor_rings
 
 logger = logging.getLogger("thermal_drag")
 
@@ -73,7 +73,7 @@ import brakewear
 from brakewear import BrakeModel
 from brakewear import FEInterface, wear_history
 from brakewear import WearLaw
-from brakewear.rings import rotor_rings
+from brakewear.mesh.rings import rotor_rings
 from brakewear import Numerics
 a = json.loads(sys.argv[1])
 m = BrakeModel(size=a["size"])
@@ -193,7 +193,7 @@ def fixed_partition(size: float = 6e-3, duration: float = 30.0, steps: int = 10,
 
 # ------------------------------------------------------------------ figures --
 def plot_temperatures(model, th, duration, fig_dir: Path) -> list[Path]:
-    from brakewear.figures import plot_field
+    from brakewear.output.figures import plot_field
 
     paths = []
     for body, view, what in (("pad", (0.5, -0.8, -1.0), "friction face from below"),
@@ -208,7 +208,7 @@ def plot_temperatures(model, th, duration, fig_dir: Path) -> list[Path]:
 
 def plot_pressure(model, panels, path: Path) -> Path:
     """Pad friction-face pressure maps side by side, one colour scale, seen from the rotor."""
-    from brakewear.figures import facets_to_pyvista, offscreen_pyvista
+    from brakewear.output.figures import facets_to_pyvista, offscreen_pyvista
 
     pv = offscreen_pyvista()
     pad = model.meshes["pad"]

@@ -3,7 +3,7 @@ and of the geometry update.
 
 Runs the default brake's drag (1 MPa, 55 rad/s, 90 s in fixed steps, default
 thermal settings) without thermal coupling, with it, with the illustrative
-friction and wear maps of :mod:`brakewear.maps`, and with the geometry
+friction and wear maps of :mod:`brakewear.laws.maps`, and with the geometry
 update; each ``repeats`` times in one process, and reports the last
 repetition's wall and CPU time, the pad face's peak temperature and the pad
 wear.  ``python studies/thermal_variants.py [--size MM] [--out DIR]`` writes
@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 import brakewear as bw
-from brakewear.maps import example_map
+from brakewear.laws.maps import example_map
 
 
 def cases():

@@ -4,13 +4,13 @@ The default brake (rigid rotor, ``--size`` mm) wears its pad under 1 MPa,
 55 rad/s, mu = 0.4 with the implicit scheme, once with ``update="gap"``
 (the worn depth offsets the contact gap, meshes stay) and once with
 ``update="geometry"`` (the worn face moves and the friction layer beneath is
-compressed, :class:`brakewear.motion.BrakeMotion`).  Each history is run in
+compressed, :class:`brakewear.motion.brake.BrakeMotion`).  Each history is run in
 segments that stop where the pad's mean worn depth is 1 %, 10 % and 50 % of
 the friction layer's thickness (resumed from the loop's checkpoint, with a
 freshly built model, as the loop requires); at each stop the two modes'
 pressure (at the end of the last step: the checkpoint's state) and wear
 profile are compared, and the worn pad mesh's smallest element quality
-(:func:`brakewear.motion.element_quality`) is reported.
+(:func:`brakewear.motion.brake.element_quality`) is reported.
 
 The pad's k is 100 x a resin pad's (5e-13 1/Pa): only k times the sliding
 distance sets the worn shape, so this is the same history in 1/100 of the
@@ -31,11 +31,11 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.motion import element_quality
+from brakewear.motion.brake import element_quality
 from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
 from brakewear.wear import wear_history
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear import Numerics
 
 logger = logging.getLogger(__name__)

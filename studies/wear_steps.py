@@ -46,7 +46,7 @@ import numpy as np
 from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
 from brakewear.wear import WEAR_TOL_GROWTH, Numerics, wear_history
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 
 logger = logging.getLogger(__name__)
 

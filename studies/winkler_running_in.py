@@ -39,11 +39,11 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.interfaces import WinklerInterface, calibrate, compare
-from brakewear.rings import ring_profile
+from brakewear.mesh.rings import ring_profile
 from brakewear.model import BrakeModel
 from brakewear.interfaces import FoundationInterface
 from brakewear.wear import wear_history
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear import Numerics
 
 logger = logging.getLogger(__name__)

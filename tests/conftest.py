@@ -2,7 +2,7 @@
 temporary directory, not in the user's home; shared fixtures."""
 import pytest
 
-from brakewear.interfaces.compliance import CACHE_ENV
+from brakewear.interfaces.condensation import CACHE_ENV
 
 
 @pytest.fixture(autouse=True, scope="session")

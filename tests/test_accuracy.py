@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from brakewear import accuracy as acc
-from brakewear.accuracy import accuracy_lines, mesh_accuracy
+from brakewear.mesh import accuracy as acc
+from brakewear.mesh.accuracy import accuracy_lines, mesh_accuracy
 from brakewear.cli import main
 from brakewear.geometry import load_geometry
 from brakewear.mesh import mesh_layers, pad_mesh
@@ -153,7 +153,7 @@ def test_a_run_prints_its_accuracy_first_and_writes_it(tmp_path, capsys):
 
 def test_the_default_run_prints_within_two_percent_first(tmp_path, monkeypatch, capsys):
     """The default scene's first printed lines (the run itself replaced: an hour)."""
-    import brakewear.output as output
+    import brakewear.output.runs as output
 
     monkeypatch.chdir(tmp_path)
     def stop(scene, out, **kw):

@@ -10,7 +10,7 @@ import pytest
 from brakewear import BrakeModel, FEInterface
 from brakewear.interfaces import auto
 from brakewear.interfaces.auto import choose_interface, condensation_solves
-from brakewear.output import run_scene
+from brakewear.output.runs import run_scene
 from brakewear.scene import InterfaceSpec, OutputSpec, Scene, load_scene
 from brakewear.wear import Numerics
 

@@ -165,7 +165,7 @@ def test_contact_direct_skipped_above_limit():
 def hertz_kkt():
     """A coarse Hertz contact solve and the KKT system at its converged set."""
     from brakewear.contact import solve_contact
-    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
 
     prob = hertz_problem(0.5)
     vals = prob.fixed_values(hertz_force())
@@ -213,7 +213,7 @@ def test_direct_active_set_finds_the_contact_solution():
     solve_contact's set and forces; a budget it cannot meet raises."""
     pytest.importorskip("pypardiso")
     from brakewear.contact import solve_contact
-    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
 
     prob = hertz_problem(0.5)
     vals = prob.fixed_values(hertz_force())
@@ -236,7 +236,7 @@ def test_direct_active_set_runs_on_the_shared_driver_with_any_factorisation():
 
     from brakewear.contact import solve_contact
     from brakewear.errors import ActiveSetError
-    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
 
     prob = hertz_problem(0.5)
     vals = prob.fixed_values(hertz_force())

@@ -14,7 +14,7 @@ import pytest
 
 from brakewear.errors import SceneError
 from brakewear.geometry import load_geometry
-from brakewear.caliper_loads import clamp_loads, jaw_pressure
+from brakewear.caliper.loads import clamp_loads, jaw_pressure
 from brakewear.mesh.brake import pad_mesh
 from brakewear.mesh.mirror import mirrored_pads
 from brakewear.model import BrakeModel

@@ -1,6 +1,6 @@
 """The pad as the caliper holds it: a rigid piston in its bore and seal, rim, fingers
-and abutments one-sided with Coulomb friction (brakewear.contact.caliper,
-brakewear.interfaces.caliper).
+and abutments one-sided with Coulomb friction (brakewear.caliper.rows,
+brakewear.caliper.interface).
 
 Every body in balance with friction on; the condensed answer is the FE answer of
 the same rows' state (a sparse direct solve of the whole saddle-point system);
@@ -15,12 +15,13 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from brakewear import BrakeModel, CaliperInterface, analytic_caliper as analytic, load_geometry
-from brakewear.caliper_static import abutment_friction_work, part_balance
-from brakewear.contact.caliper import caliper_rows
-from brakewear.contact.caliper_parts import CaliperParts, rigid_map, seal_springs
+from brakewear import BrakeModel, CaliperInterface, load_geometry
+from brakewear.caliper import analytic
+from brakewear.caliper.static import abutment_friction_work, part_balance
+from brakewear.caliper.rows import caliper_rows
+from brakewear.caliper.parts import CaliperParts, rigid_map, seal_springs
 from brakewear.contact.compliant import constraint_rows, drag_loads
-from brakewear.interfaces.caliper_sets import CLOSED, SLIP_DOWN, SLIP_UP, STICK, RowSets
+from brakewear.caliper.sets import CLOSED, SLIP_DOWN, SLIP_UP, STICK, RowSets
 from brakewear.static import pad_balance
 
 SIZE = 12e-3
@@ -141,7 +142,7 @@ def test_seal_springs_are_the_bonded_ring_closed_forms():
     assert k["torsion"] == pytest.approx(kt, rel=1e-12)
     # what the ring of springs gives the rigid piston (about the centre of its face)
     P = CaliperParts(g, full=False)
-    from brakewear.contact.caliper_parts import seal_stiffness
+    from brakewear.caliper.parts import seal_stiffness
     K, f = seal_stiffness(P)
     d = guide.stand_out + guide.seal_position            # the seal's plane above the face
     assert K[2, 2] == pytest.approx(ka, rel=1e-12)
@@ -282,7 +283,7 @@ def test_the_caliper_is_a_registered_interface_model(solved):
     from brakewear import Run
     from brakewear.errors import SceneError, WearError
     from brakewear.interfaces import interface_model
-    from brakewear.laws import WearLaw
+    from brakewear.laws.base import WearLaw
     from brakewear.scene import InterfaceSpec, Scene
     from brakewear.wear import Numerics
 

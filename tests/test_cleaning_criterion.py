@@ -6,7 +6,7 @@ import pytest
 from studyload import load_study
 
 from brakewear import FEInterface, WearError
-from brakewear.cleaning import CorrodedRotor, coning_gap
+from brakewear.cleaning.corrosion import CorrodedRotor, coning_gap
 from brakewear.model import BrakeModel
 
 study = load_study("cleaning_stops")

@@ -11,8 +11,8 @@ import scipy.sparse.linalg as spla
 
 from brakewear import MATERIALS, BrakeModel, FEInterface, Numerics, WearLaw, load_geometry
 from brakewear.duty import KMH, Dwell, Stop, repeated_stops, run_schedule, study_car
-from brakewear.routine import run_routine
-from brakewear.rust import RustLaw, RustLayer
+from brakewear.cleaning.routine import run_routine
+from brakewear.cleaning.rust import RustLaw, RustLayer
 from brakewear.thermal import SpeedConvection, ThermalModel
 from brakewear.thermal.coning import RotorConing
 from brakewear.thermal.reduced import HAT_CONING_PER_K, ReducedRotorHeat, hat_nodes
@@ -43,7 +43,7 @@ def test_reduced_rotor_follows_the_full_heat_conduction(hat):
     """Two stops and a dwell: the ring's and the hat's capacity-weighted means within 2 %
     of the ring's rise of the full implicit-Euler solution on the same mesh; the steady
     state under a constant input is the full one (the basis holds A^-1 B) to 1e-9."""
-    from brakewear.rings import rotor_wear_rate
+    from brakewear.mesh.rings import rotor_wear_rate
     from brakewear.thermal.convection import rounded
 
     g, m, th, band = hat
@@ -106,7 +106,7 @@ def test_the_routine_run_stop_by_stop_is_the_schedule_run_whole():
     """Without heat and with the plain layered law the routine's stop-by-stop calls (each
     from the wear before it, the friction of the layer, a warm start) wear as one
     run_schedule call (1e-9)."""
-    from brakewear.cleaning import CorrodedRotor
+    from brakewear.cleaning.corrosion import CorrodedRotor
 
     model = BrakeModel("default", size=12e-3, rotor="rigid")
     itf = FEInterface(model, 1e6, 0.4)

@@ -71,7 +71,7 @@ def test_sobol_indices_of_the_ishigami_function():
     function's first-order and total indices (a = 7, b = 0.1: S1 = 0.314, 0.442, 0;
     ST = 0.558, 0.442, 0.244) lie within three of their bootstrap half-widths."""
     pytest.importorskip("SALib")
-    from brakewear.rust import Prior
+    from brakewear.cleaning.rust import Prior
 
     pri = {n: Prior("uniform", -np.pi, np.pi, "", "test") for n in ("x1", "x2", "x3")}
 

@@ -156,12 +156,12 @@ def test_unknown_scene_name_exits_2(capsys):
 
 
 def test_solver_failure_exits_3(tmp_path, capsys, monkeypatch):
-    import brakewear.output
+    import brakewear.output.runs
     from brakewear.errors import StepSizeError
 
     def fail(scene, out, resume=False, progress=None, **kw):
         raise StepSizeError("step 7: no acceptable wear step after 13 halvings")
-    monkeypatch.setattr(brakewear.output, "run_scene", fail)
+    monkeypatch.setattr(brakewear.output.runs, "run_scene", fail)
     assert main(["run", "default", "--out", str(tmp_path), "--quiet"]) == 3
     err = capsys.readouterr().err
     assert "solver failed (StepSizeError): step 7" in err

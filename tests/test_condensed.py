@@ -8,7 +8,7 @@ import pytest
 
 from brakewear import (BrakeModel, CondensedInterface, CondensedRangeError, FEInterface,
                        Numerics, SolverError, ThermalModel, WearError, WearLaw, wear_history)
-from brakewear.interfaces.compliance import condense, free_modes
+from brakewear.interfaces.condensation import condense, free_modes
 
 TOL = 1e-8      # relative agreement with the FE solves (which run to 1e-12)
 
@@ -285,7 +285,7 @@ def test_the_condensation_and_the_set_solves_run_on_one_blas_thread(monkeypatch)
     sparse LU of the condensation and the dense set solves take one thread."""
     from threadpoolctl import threadpool_info
 
-    import brakewear.interfaces.compliance as compliance
+    import brakewear.interfaces.condensation as compliance
     import brakewear.interfaces.condensed as condensed
 
     seen = []
@@ -296,7 +296,7 @@ def test_the_condensation_and_the_set_solves_run_on_one_blas_thread(monkeypatch)
             return fn(*a, **kw)
         return wrapped
     monkeypatch.setattr(condensed, "lu_factor", spy(condensed.lu_factor))
-    monkeypatch.setattr(compliance, "_body_solves", spy(compliance._body_solves))
+    monkeypatch.setattr(compliance, "body_solves", spy(compliance.body_solves))
     model = BrakeModel(size=12e-3, rotor="rigid")
     cd = CondensedInterface(model, 1e6, 0.4, cache=False)
     cd.solve(np.zeros(cd.area.size), None, compliance=1e-12 * np.ones(cd.area.size))

@@ -15,7 +15,7 @@ from brakewear.mesh.triangle import tri6
 from brakewear.errors import ContactLostError, SceneError, ThermalError, WearError
 from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.fem.boundary import _vector_facet_basis
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear.materials import Isotropic
 from brakewear.mesh import annulus_mesh
 from brakewear.mesh.surface import quadratic_faces
@@ -300,7 +300,7 @@ def test_p2_brake_with_the_piston_tied_to_the_backplate():
 
 
 def test_p2_brake_refuses_what_it_cannot_do(brake2):
-    from brakewear.motion import BrakeMotion
+    from brakewear.motion.brake import BrakeMotion
     from brakewear.thermal import ThermalModel
     from brakewear.wear import Numerics, wear_history
 
@@ -365,7 +365,7 @@ def test_hertz_p2_coarse_mesh():
     """Two P2 elements across the contact radius (h = a/2, 39k DOFs, ~5 s).  Observed:
     peak pressure -7.3 %, contact radius -1.6 %, approach -0.62 % (P1 at this size:
     -10.7 %, +6.4 %, -2.5 %)."""
-    from brakewear.verification import solve
+    from brakewear.contact.hertz import solve
 
     r = solve(0.5, order=2, linear="amg")
     assert r["order"] == 2 and r["dofs"] == 39375

@@ -241,7 +241,7 @@ def test_node_flipping_twice_under_loose_solves_turns_them_tight(monkeypatch):
     the first time the set would repeat, its least loaded node is released by hand; the
     primal-dual rule takes it back -- its second flip, which turns every later solve
     tight.  The answer is the one of exact (direct) solves: the same set and forces."""
-    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
 
     real = aset.pdas_update
     nudged = []
@@ -277,7 +277,7 @@ def test_stale_rule_reference_is_a_solve_of_at_least_four_iterations(monkeypatch
     far faster per iteration than any long tight solve, which then all looked stale (at
     491k DOFs: a 9 s rebuild per active set)."""
     from brakewear.solvers import AMGSolver
-    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
 
     solves, refs = [], []
     real_solve, real_stale = AMGSolver.solve, bc._stale
@@ -314,7 +314,7 @@ def test_after_the_loose_phase_medium_solves_then_one_tight_confirmation(monkeyp
     the sets settle before the medium solves could save anything: 25 either way, and
     at most one iteration apart on the brake and Hertz up to 490k DOFs.)"""
     from brakewear.solvers import AMGSolver
-    from brakewear.verification import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
 
     tols = []
     real_solve = AMGSolver.solve

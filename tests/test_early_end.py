@@ -10,7 +10,7 @@ from brakewear import Numerics
 from brakewear.contact.lagrange import solve_contact
 from brakewear.errors import ActiveSetError, TemperatureLimitError
 from brakewear.interfaces import fe
-from brakewear.output import run_scene
+from brakewear.output.runs import run_scene
 from brakewear.scene import InterfaceSpec, OutputSpec, Scene, load_scene
 from brakewear.scene import ThermalSpec
 
@@ -119,7 +119,7 @@ def test_a_schedule_stopped_by_ctrl_c_writes_the_applications_done(small, tmp_pa
     def stop_after_first(rec):
         raise KeyboardInterrupt
     out = tmp_path / "run"
-    from brakewear.output import run_scene as rs
+    from brakewear.output.runs import run_scene as rs
     with pytest.raises(KeyboardInterrupt):
         rs(_stops(small), out, progress=stop_after_first)
     s = _summary(out)

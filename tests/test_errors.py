@@ -16,7 +16,7 @@ import brakewear
 from brakewear import errors
 from brakewear.analytic import inerfc
 from brakewear.mesh import facet_indices, graded
-from brakewear.motion import check_quality
+from brakewear.motion.brake import check_quality
 from brakewear.solvers import direct_solve
 
 PKG = Path(__file__).resolve().parents[1] / "brakewear"

@@ -21,11 +21,11 @@ from brakewear.duty import (ApplicationRecord, application_kinds, register_appli
 from brakewear.errors import SceneError, WearError
 from brakewear.interfaces import (InterfaceModel, InterfaceSolution, interface_models,
                                   register_interface, unregister_interface)
-from brakewear.laws import WearLawModel, archard_rate, register_wear_law, unregister_wear_law
+from brakewear.laws.base import WearLawModel, archard_rate, register_wear_law, unregister_wear_law
 from brakewear.mesh.surface import surface_nodes, tributary_areas
-from brakewear.output import run_scene
+from brakewear.output.runs import run_scene
 from brakewear.registry import OptionKey
-from brakewear.rings import ring_wear_nodes
+from brakewear.mesh.rings import ring_wear_nodes
 from brakewear.scene import load_scene
 from brakewear.wear import ConstantSpeed, check_resume
 

@@ -7,7 +7,7 @@ import pytest
 pytest.importorskip("pyvista")
 import matplotlib.image as mpimg
 
-from brakewear.figures import plot_field, plot_named_surfaces, skfem_to_pyvista
+from brakewear.output.figures import plot_field, plot_named_surfaces, skfem_to_pyvista
 from brakewear.geometry import load_geometry
 from brakewear.mesh import brake_meshes
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from brakewear.output import run_scene
+from brakewear.output.runs import run_scene
 from brakewear.scene import OutputSpec, available_scenes, load_scene, scene_file
 
 if sys.version_info >= (3, 11):

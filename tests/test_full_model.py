@@ -198,7 +198,7 @@ def test_a_full_scene_runs_and_pictures_both_faces(tmp_path):
     the outboard one further out (the fingers), one figure per face."""
     import meshio
 
-    from brakewear.output import run_scene
+    from brakewear.output.runs import run_scene
     from brakewear.scene import Scene
     from brakewear.scene.spec import InterfaceSpec
 
@@ -304,7 +304,7 @@ def test_opposite_coning_mirrors_the_coverage_of_the_two_faces(rim):
     images, so the two contact problems are the same problem with the nodes
     numbered differently: the active sets match exactly and the centres of
     pressure to the contact solve's tolerance."""
-    from brakewear.cleaning import outboard_nodes
+    from brakewear.cleaning.corrosion import outboard_nodes
     from brakewear.scene import Scene
     from brakewear.scene.spec import InterfaceSpec
 

@@ -299,7 +299,7 @@ def test_version_and_python_m():
 
 def test_offscreen_figures_keep_vtk_warnings_off_the_terminal(tmp_path):
     pytest.importorskip("pyvista")
-    code = ("from brakewear.figures import plot_named_surfaces\n"
+    code = ("from brakewear.output.figures import plot_named_surfaces\n"
             "from brakewear.geometry import load_geometry\n"
             "from brakewear.mesh import brake_meshes\n"
             f"plot_named_surfaces(brake_meshes(load_geometry(), size=12e-3), r'{tmp_path}/s.png')\n")
@@ -378,7 +378,7 @@ def test_a_scene_with_a_gmsh_pad_gives_the_built_in_pressure(tmp_path):
     ref = _write_scene(tmp_path, "ref.toml", **base)
     sc = load_scene(own)
     assert sc.mesh_files == {"pad": str(tmp_path / "pad.msh")}
-    from brakewear.output import run_scene
+    from brakewear.output.runs import run_scene
     a = run_scene(sc, tmp_path / "a")
     b = run_scene(load_scene(ref), tmp_path / "b")
     pa, pb = a["final"]["pressure_max_Pa"], b["final"]["pressure_max_Pa"]

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from brakewear.mesh.surface import surface_nodes, tributary_areas
-from brakewear.output import run_wear
+from brakewear.output.runs import run_wear
 from brakewear.model import BrakeModel
 from brakewear.errors import WearError
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear.wear import Numerics
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)

@@ -24,16 +24,17 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "brakewear"
 
-#: the layers, bottom first: a module belongs to the first whose prefix it has
+#: the layers, bottom first: a module belongs to the layer of the longest dotted
+#: prefix (below ``brakewear``) that names it
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "checks", "registry", "heartbeat", "analytic", "analytic_caliper", "materials",
-     "laws", "maps", "map_csv", "cleaning", "rust", "rust_fit"),
-    ("geometry",),
-    ("mesh", "fem", "solvers", "rings", "caliper_loads", "rough"),
-    ("contact", "interfaces", "thermal", "motion", "follower"),
-    ("model", "static", "caliper_static", "duty", "routine", "wear", "scene", "run"),
-    ("output", "cli", "bench", "figures", "verification", "accuracy", "face_maps",
-     "run_folder"),
+    ("errors", "checks", "registry", "analytic", "materials", "laws", "caliper.analytic",
+     "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit"),
+    ("geometry", "caliper.geometry"),
+    ("mesh", "fem", "solvers", "rough", "caliper.loads", "caliper.parts"),
+    ("contact", "interfaces", "thermal", "motion", "caliper.rows", "caliper.condensation",
+     "caliper.sets", "caliper.interface"),
+    ("model", "static", "caliper.static", "duty", "cleaning.routine", "wear", "scene"),
+    ("output", "cli", "bench"),
 )
 
 #: the most climbs the path may take (distinct caller -> callee module pairs)
@@ -91,9 +92,11 @@ def layer(module: str) -> int | None:
     parts = module.split(".")
     if parts[0] != "brakewear" or len(parts) < 2:
         return None
-    for i, names in enumerate(LAYERS):
-        if parts[1] in names:
-            return i
+    for n in range(len(parts) - 1, 0, -1):
+        prefix = ".".join(parts[1:n + 1])
+        for i, names in enumerate(LAYERS):
+            if prefix in names:
+                return i
     return None
 
 
@@ -113,7 +116,7 @@ def climbs(tmp: Path, scenes=(SCENE, SCENE_P2_THERMAL)) -> Counter:
     """(caller module, callee module) -> calls, for every call of the short runs of
     ``scenes`` (load the file, build, one wear step, write) that climbs to a higher
     layer."""
-    from brakewear.output import run_scene
+    from brakewear.output.runs import run_scene
     from brakewear.scene import load_scene
 
     seen: Counter = Counter()

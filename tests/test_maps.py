@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from brakewear.errors import InputError, LawError, MapError
-from brakewear.laws import FrictionLaw, WearLaw
-from brakewear.maps import (EXAMPLE_MAP, FrictionMap, MildSevereWear, NodeFrictionLaw,
+from brakewear.laws.base import FrictionLaw, WearLaw
+from brakewear.laws.maps import (EXAMPLE_MAP, FrictionMap, MildSevereWear, NodeFrictionLaw,
                             NodeWearLaw, StribeckFriction, TableMap, WearMap, example_map,
                             read_map)
 from studyload import load_study
@@ -59,7 +59,7 @@ def test_existing_laws_answer_per_node_with_their_own_numbers():
 
 
 def test_a_layered_rotor_law_gives_the_coefficient_its_rate_uses():
-    from brakewear.cleaning import LayeredWearLaw
+    from brakewear.cleaning.corrosion import LayeredWearLaw
 
     law = LayeredWearLaw(2e-14, factor=np.array([1.0, 1.0, 0.05, 0.05, 1.0, 0.05]))
     k = law.coefficient_at(P, V)

@@ -1,4 +1,4 @@
-"""Geometry update of worn surfaces (brakewear.motion)."""
+"""Geometry update of worn surfaces (brakewear.motion.brake)."""
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -9,7 +9,7 @@ from brakewear.errors import MeshError
 from brakewear.contact.surface import mortar_coupling
 from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.fem import assemble_stiffness, stiffness_update
-from brakewear.motion import (BrakeMotion, MeshQualityError, SurfaceFollower, check_quality,
+from brakewear.motion.brake import (BrakeMotion, MeshQualityError, SurfaceFollower, check_quality,
                               element_quality, element_volumes, surface_element_height)
 from brakewear.model import BrakeModel
 

@@ -61,9 +61,9 @@ def test_benchmarks_import_nothing_private_from_the_package(path):
 def test_the_check_sees_a_private_import(tmp_path):
     f = tmp_path / "probe.py"
     f.write_text("from brakewear.contact import elimination\n"
-                 "from brakewear.figures import facets_to_pyvista, _not_public\n")
+                 "from brakewear.output.figures import facets_to_pyvista, _not_public\n")
     found = [(m, n) for _, m, n in _imports(f, "studies") if _private(m, n)]
-    assert found == [("brakewear.figures", "_not_public")]
+    assert found == [("brakewear.output.figures", "_not_public")]
 
 
 # --- no module reaches into another's private attributes ---------------------------------

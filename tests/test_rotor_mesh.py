@@ -9,7 +9,7 @@ import pytest
 import skfem as fem
 
 from brakewear.geometry import load_geometry
-from brakewear.geometry.caliper import HatGeometry, VentGeometry
+from brakewear.caliper.geometry import HatGeometry, VentGeometry
 from brakewear.mesh import rotor_mesh
 from brakewear.mesh.rotor import full_rotor_mesh, rotor_volume, vane_edges
 from brakewear.mesh.topology import ensure_topology
@@ -221,7 +221,7 @@ def test_packaged_hat_rotor_has_no_zero_width_cells():
     # floating.toml puts the hat wall's outer surface exactly at the ring's inner
     # radius (87 + 6/2 = 90 mm): round-off must not leave a cell of zero width there
     from brakewear.geometry import load_geometry
-    from brakewear.motion import element_volumes
+    from brakewear.motion.brake import element_volumes
 
     g = load_geometry("floating")
     m = rotor_mesh(g, size=8e-3, full=True)

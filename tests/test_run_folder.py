@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from brakewear.cli import _Progress, main
-from brakewear.run_folder import check_new_out, clear_run, finished_run, held_run
+from brakewear.output.folder import check_new_out, clear_run, finished_run, held_run
 from brakewear.scene import scene_file
 
 

@@ -1,15 +1,15 @@
-"""The rust law (brakewear.rust) and its calibration on a dynamometer record
-(brakewear.rust_fit): the threshold law against its definition, the layer in a
+"""The rust law (brakewear.cleaning.rust) and its calibration on a dynamometer record
+(brakewear.cleaning.rust_fit): the threshold law against its definition, the layer in a
 wear history against the layered Archard law it generalises, and the fit
 recovering known parameters within its stated intervals."""
 import numpy as np
 import pytest
 
 from brakewear import MATERIALS, Numerics, WearError, WearLaw
-from brakewear.cleaning import CorrodedRotor
+from brakewear.cleaning.corrosion import CorrodedRotor
 from brakewear.duty import Drag, run_schedule
-from brakewear.rust import RUST_PRIORS, RustedRotorLaw, RustLaw, RustLayer
-from brakewear.rust_fit import (calibrate, predict_record, read_dyno_record, synthetic_record,
+from brakewear.cleaning.rust import RUST_PRIORS, RustedRotorLaw, RustLaw, RustLayer
+from brakewear.cleaning.rust_fit import (calibrate, predict_record, read_dyno_record, synthetic_record,
                                 write_dyno_record)
 
 K_IRON = MATERIALS["grey_cast_iron"].wear_k

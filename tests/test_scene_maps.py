@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from brakewear.errors import SceneError
-from brakewear.output import run_scene
+from brakewear.output.runs import run_scene
 from brakewear.scene import InterfaceSpec, OutputSpec, Scene, ThermalSpec, WearSpec, load_scene
 from brakewear.wear import Numerics
 

@@ -200,7 +200,7 @@ def test_resume_differences_are_shown_in_the_files_units(tmp_path):
 def test_input_errors_of_a_scene_run_name_the_scene_file(tmp_path, monkeypatch):
     """An input error raised while a scene runs (a gap map checked on the pad's nodes)
     names the scene file; a Python scene's does not get a made-up name."""
-    import brakewear.output as output
+    import brakewear.output.runs as output
     from brakewear.checks import file_messages
     with pytest.raises(InputError, match=r"^s\.toml: a: b"):
         with file_messages("s.toml", {}):

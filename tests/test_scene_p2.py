@@ -10,7 +10,7 @@ import pytest
 
 from brakewear.errors import SceneError
 from brakewear.mesh.series import cell_nodes
-from brakewear.output import run_scene
+from brakewear.output.runs import run_scene
 from brakewear.scene import InterfaceSpec, OutputSpec, Scene, ThermalSpec, load_scene
 from brakewear.wear import Numerics
 

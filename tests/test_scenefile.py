@@ -11,7 +11,7 @@ import pytest
 from brakewear.errors import GeometryError
 from brakewear.geometry import geometry_file
 from brakewear.mesh import pad_mesh, piston_mesh, rotor_mesh
-from brakewear.output import run_scene
+from brakewear.output.runs import run_scene
 from brakewear.scene import SURFACES, InterfaceSpec, OutputSpec, Scene, WearSpec, available_scenes, load_scene, scene_file, scene_from_dict
 from brakewear.wear import Numerics
 from brakewear.errors import SceneError
@@ -307,7 +307,7 @@ def test_wear_tol_is_a_length_passed_to_the_loop(tmp_path, monkeypatch):
     s = scene_from_dict(d)
     assert s.numerics.wear_tol == pytest.approx(2e-6)
     assert load_scene("default").numerics.wear_tol is None
-    import brakewear.output as history
+    import brakewear.output.runs as history
     seen = {}
 
     def fake_run_wear(run, *args, **kw):
@@ -325,7 +325,7 @@ def test_coning_and_taper_give_the_loops_initial_gap(tmp_path, monkeypatch):
     """interface.coning and interface.pad_taper are signed lengths in the file's unit;
     they add into one gap, linear in radius across the pad, that reaches the wear
     loop as its initial_gap (zero at the touching edge)."""
-    from brakewear.cleaning import coning_gap
+    from brakewear.cleaning.corrosion import coning_gap
     d = _default_dict()
     d["interface"].update(coning=0.030, pad_taper=-0.010)          # mm
     s = scene_from_dict(d)
@@ -348,7 +348,7 @@ def test_coning_and_taper_give_the_loops_initial_gap(tmp_path, monkeypatch):
     gap = full.initial_gap(np.hstack([x, x_out]))
     assert gap[:5] == pytest.approx(np.linspace(0.0, 20e-6, 5), rel=1e-12)
     assert np.abs(gap[5:]).max() <= 1e-12 * 30e-6        # 10 um coning less 10 um taper
-    import brakewear.output as history
+    import brakewear.output.runs as history
     seen = {}
 
     def fake_run_wear(run, *args, **kw):
@@ -568,7 +568,7 @@ def test_a_gap_map_from_a_csv_is_interpolated_onto_the_pad(tmp_path):
     """interface.gap_file (relative to the scene file): a map linear in radius gives
     the coning's gap; a map that does not cover the pad, or a bad row, is refused
     naming the key, the file and the row."""
-    from brakewear.cleaning import coning_gap, map_gap, read_gap_map
+    from brakewear.cleaning.corrosion import coning_gap, map_gap, read_gap_map
     from brakewear.errors import InputError
     pad = load_scene("default").geometry.pad
     r_in, r_out = pad.inner_radius * 1e3, pad.outer_radius * 1e3

@@ -6,7 +6,7 @@ from brakewear.model import BrakeModel
 from brakewear.errors import StepSizeError
 from brakewear.wear import wear_history
 from brakewear.errors import WearError
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear.wear import Numerics
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)

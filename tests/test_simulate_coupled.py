@@ -9,10 +9,10 @@ from brakewear.interfaces import WinklerInterface
 from brakewear.model import BrakeModel
 from brakewear.interfaces import FoundationInterface
 from brakewear.wear import wear_history
-from brakewear.laws import FrictionLaw
+from brakewear.laws.base import FrictionLaw
 from brakewear.thermal import ThermalModel
 from brakewear.errors import WearError
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear.wear import Numerics
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)

@@ -20,7 +20,7 @@ from brakewear.contact.supports import (
     with_supports,
 )
 from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
-from brakewear.geometry.caliper import SupportGeometry
+from brakewear.caliper.geometry import SupportGeometry
 from brakewear.materials import Isotropic
 from brakewear.mesh import mapped_mesh, structured_tets
 from brakewear.model import BrakeModel

@@ -20,7 +20,7 @@ from brakewear.fem import apply_dirichlet, assemble_stiffness, boundary_dofs, th
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
 from brakewear.solvers import direct_solve
-from brakewear.laws import FrictionLaw
+from brakewear.laws.base import FrictionLaw
 from brakewear.fem import HeatConduction
 from brakewear.errors import ThermalError
 from brakewear.thermal import ThermalModel, heat_flux, partition_effusivity, staggered_amplification, thermal_load_matrix, thermal_stress

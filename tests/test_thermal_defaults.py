@@ -2,7 +2,7 @@
 energy allows, and the fixed partition of old refused by the plausibility bound."""
 import pytest
 
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear.model import BrakeModel
 from brakewear.thermal import H_CONTACT_DEFAULT, ThermalModel
 from brakewear.wear import Numerics, wear_history

@@ -7,8 +7,8 @@ from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.geometry import load_geometry
 from brakewear.mesh import pad_mesh, rotor_mesh
 from brakewear.errors import WearError
-from brakewear.laws import WearLaw
-from brakewear.rings import rotor_rings, rotor_wear_rate
+from brakewear.laws.base import WearLaw
+from brakewear.mesh.rings import rotor_rings, rotor_wear_rate
 
 
 def test_archard_is_k_p_v_and_rhee_exponents():
@@ -69,7 +69,7 @@ def test_a_law_that_sets_k_per_node_sets_its_rate_too():
     changes k per node (a corroded ring's layer) changes both alike."""
     import numpy as np
 
-    from brakewear.cleaning import LayeredWearLaw
+    from brakewear.cleaning.corrosion import LayeredWearLaw
     factor = np.array([1.0, 5e-4, 1.0])
     law = LayeredWearLaw(1e-12, factor=factor)
     p, v = np.array([1e6, 1e6, 2e6]), np.array([10.0, 10.0, 5.0])

@@ -14,9 +14,9 @@ import pytest
 
 from brakewear.interfaces import (CondensedInterface, FEInterface, FoundationInterface,
                                   StepCompliance, WinklerInterface)
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear.model import BrakeModel
-from brakewear.rings import ring_coupling, rotor_wear_rate
+from brakewear.mesh.rings import ring_coupling, rotor_wear_rate
 from brakewear.wear import Numerics, wear_history
 from test_wear_steady import stiff_backing_model
 

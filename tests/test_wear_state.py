@@ -7,7 +7,7 @@ import pytest
 from brakewear.errors import StepSizeError, WearError
 from brakewear.geometry import SupportGeometry, load_geometry
 from brakewear.interfaces import FEInterface, FoundationInterface, Interface, WinklerInterface
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear.model import BrakeModel
 from brakewear.wear import (Numerics, StepControl, WearState, check_fingerprint, fingerprint,
                             wear_history)
@@ -176,9 +176,9 @@ def test_run_wear_resumed_after_its_end_says_so_in_the_hierarchy(tmp_path):
     """Resuming a finished run from Python is an input error (exit code 2) that says
     the run is finished, not a bare RuntimeError."""
     from brakewear.errors import WearError
-    from brakewear.laws import WearLaw
+    from brakewear.laws.base import WearLaw
     from brakewear.model import BrakeModel
-    from brakewear.output import run_wear
+    from brakewear.output.runs import run_wear
     from brakewear.wear import Numerics
     model = BrakeModel("default", size=1.2e-2)
     args = (model, tmp_path, 1e6, 55.0, 20.0, WearLaw(5e-15), WearLaw(5e-16), 0.4)

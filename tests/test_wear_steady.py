@@ -18,7 +18,7 @@ from brakewear.geometry import load_geometry
 from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
 from brakewear.wear import wear_history
-from brakewear.laws import WearLaw
+from brakewear.laws.base import WearLaw
 from brakewear.wear import Numerics
 
 P_LINE, OMEGA, MU = 1e6, 55.0, 0.4

@@ -39,8 +39,8 @@ from brakewear.interfaces import FEInterface
 from brakewear.errors import StepSizeError
 from brakewear.wear import wear_history
 from brakewear.errors import WearError
-from brakewear.laws import WearLaw
-from brakewear.rings import rotor_wear_rate
+from brakewear.laws.base import WearLaw
+from brakewear.mesh.rings import rotor_wear_rate
 from brakewear.wear import Numerics
 
 

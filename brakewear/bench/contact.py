@@ -99,7 +99,7 @@ def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     from ..contact.lagrange import solve_contact
     from ..fem.boundary import apply_dirichlet
     from ..solvers.amg import amg_solver
-    from ..verification import (
+    from ..contact.hertz import (
         DELTA,
         GAP_TOL,
         hertz_force,

@@ -115,9 +115,9 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     ``"winkler"`` (the elastic foundation).
     """
     from ..interfaces.fe import FEInterface
-    from ..laws import WearLaw
+    from ..laws.base import WearLaw
     from ..materials import MATERIALS
-    from ..motion import BrakeMotion
+    from ..motion.brake import BrakeMotion
     from ..wear import Numerics, wear_history
 
     _check_case(steps, update, interface)

@@ -34,7 +34,7 @@ from typing import Literal, NamedTuple, Protocol
 import numpy as np
 
 from ..errors import ActiveSetError, ContactError, ContactLostError
-from ..heartbeat import beat
+from ..solvers.heartbeat import beat
 
 logger = logging.getLogger(__name__)
 

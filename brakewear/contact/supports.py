@@ -52,7 +52,7 @@ from ..mesh.surface import is_quadratic, quadratic_faces, surface_nodes, tributa
 from .pairs import ContactPair
 
 if TYPE_CHECKING:
-    from ..geometry.caliper import SupportGeometry
+    from ..caliper.geometry import SupportGeometry
     from ..geometry.parts import PadGeometry
 
 logger = logging.getLogger(__name__)
@@ -106,7 +106,7 @@ def abutment_faces(mesh: fem.Mesh, end: str) -> dict:
     return {k: v for k, v in out.items() if v.size}
 
 
-def _face_weights(mesh: fem.Mesh, facets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def face_weights(mesh: fem.Mesh, facets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Nodes of ``facets`` and the integral of each node's shape function over
     them (m^2; a linear face: tributary areas; a quadratic one: its mid-edge
     nodes carry a third of each flat triangle, its vertices nothing)."""
@@ -191,11 +191,11 @@ def support_springs(mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry,
     nodes, k, d = [], [], []
     for ends in pads:
         for facets in ends:   # a rail per end face
-            n, w = _face_weights(mesh, facets)
+            n, w = face_weights(mesh, facets)
             nodes.append(n)
             k.append(support.rail_stiffness * w / w.sum())
             d.append(np.repeat(radial[:, None], n.size, axis=1))
-        n, w = _face_weights(mesh, np.concatenate(ends))   # the spring over both
+        n, w = face_weights(mesh, np.concatenate(ends))   # the spring over both
         nodes.append(n)
         k.append(support.spring_stiffness * w / w.sum())
         d.append(np.repeat(tangential[:, None], n.size, axis=1))
@@ -254,7 +254,7 @@ def with_supports(system, mesh: fem.Mesh, offset: int, pad_geometry: PadGeometry
     ends = [f for end in SUPPORT_ENDS for f in abutment_faces(mesh, end).values()]
     # every node of the end faces (vertices and mid-edge nodes): what the bilateral
     # support held in the plane
-    nodes = col[_face_weights(mesh, np.concatenate(ends))[0] + offset]
+    nodes = col[face_weights(mesh, np.concatenate(ends))[0] + offset]
     held = (3 * nodes[:, None] + np.arange(2)).ravel()
     return dataclasses.replace(system, K=(system.K + P.T @ Ks @ P).tocsr(),
                                fixed=np.setdiff1d(system.fixed, held),

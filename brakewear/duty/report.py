@@ -37,7 +37,7 @@ import numpy as np
 
 from ..errors import BrakewearError, InputError
 from ..mesh.series import SeriesWriter, cell_nodes, face_fields
-from ..rings import ring_profile
+from ..mesh.rings import ring_profile
 from ..wear.records import end_record, temperature_field, thermal_record
 from .runner import run_schedule
 

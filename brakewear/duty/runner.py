@@ -187,7 +187,7 @@ def run_schedule(run, *args, on_step=None, **kwargs):
         Called as ``on_step(record, step, pad_wear, rotor_wear)`` with each
         accepted :class:`~brakewear.wear.WearStep` of a braked application
         and the wear since the schedule's start (e.g. to update a
-        :class:`~brakewear.cleaning.CorrodedRotor`).
+        :class:`~brakewear.cleaning.corrosion.CorrodedRotor`).
 
     Returns
     -------

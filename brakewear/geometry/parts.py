@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from typing import Mapping
 
 from ..materials import Material
-from .caliper import CaliperGeometry, HatGeometry, PistonGuide, SupportGeometry, VentGeometry
+from ..caliper.geometry import CaliperGeometry, HatGeometry, PistonGuide, SupportGeometry, VentGeometry
 
 logger = logging.getLogger(__name__)
 
@@ -269,7 +269,7 @@ class BrakeGeometry:
         The components and the mesh controls.
     caliper, support
         The caliper (fixed or floating, fingers) and the pads' support in the
-        bracket (:mod:`brakewear.geometry.caliper`).
+        bracket (:mod:`brakewear.caliper.geometry`).
     extra_pistons
         Further pistons of a multi-piston caliper beside :attr:`piston`
         (same side; a fixed caliper mirrors all of them).

@@ -3,7 +3,7 @@
 :func:`brakewear.geometry.geometry_from_dict` calls these after the basic
 parts are read.  Each function takes one table of the parsed TOML (in the
 file's units) and returns the dataclass of :mod:`brakewear.geometry.parts`
-or :mod:`brakewear.geometry.caliper` in SI units, or raises
+or :mod:`brakewear.caliper.geometry` in SI units, or raises
 :class:`~brakewear.errors.GeometryError` naming the file, the field, the
 value in the file's units and the allowed range.  Every key is optional;
 absent, the idealised brake is kept exactly (a fixed caliper, bilateral
@@ -23,7 +23,7 @@ import logging
 import math
 from typing import Any, Mapping
 
-from .caliper import (
+from ..caliper.geometry import (
     CALIPER_TYPES,
     ROTOR_MOUNTS,
     SUPPORT_TYPES,

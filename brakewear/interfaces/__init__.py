@@ -16,17 +16,13 @@ condensed for a run (``interface.model = "auto"``).  Each registers itself by
 name in the table a scene chooses from (:mod:`~brakewear.interfaces.registry`).
 """
 
-# the models register themselves in this order: "fe", "winkler", "condensed", "auto",
-# "caliper"
-from . import fe, foundation, condensed, auto, caliper  # noqa: I001
-from . import (caliper_condensation, caliper_sets, calibration, compliance, protocol,
-               registry, winkler_bed)
+# the models register themselves in this order: "fe", "winkler", "condensed", "auto";
+# "caliper" (brakewear.caliper.interface, above this package) on the table's first lookup
+from . import fe, foundation, condensed, auto  # noqa: I001
+from . import calibration, condensation, protocol, registry, winkler_bed
 from .auto import *  # noqa: F403
-from .caliper import *  # noqa: F403
-from .caliper_condensation import *  # noqa: F403
-from .caliper_sets import *  # noqa: F403
 from .calibration import *  # noqa: F403
-from .compliance import *  # noqa: F403
+from .condensation import *  # noqa: F403
 from .condensed import *  # noqa: F403
 from .fe import *  # noqa: F403
 from .foundation import *  # noqa: F403
@@ -34,6 +30,6 @@ from .protocol import *  # noqa: F403
 from .registry import *  # noqa: F403
 from .winkler_bed import *  # noqa: F403
 
-__all__ = [*auto.__all__, *caliper.__all__, *caliper_condensation.__all__, *caliper_sets.__all__,
-           *calibration.__all__, *compliance.__all__, *condensed.__all__, *fe.__all__,
-           *foundation.__all__, *protocol.__all__, *registry.__all__, *winkler_bed.__all__]
+__all__ = [*auto.__all__, *calibration.__all__, *condensation.__all__,
+           *condensed.__all__, *fe.__all__, *foundation.__all__, *protocol.__all__,
+           *registry.__all__, *winkler_bed.__all__]

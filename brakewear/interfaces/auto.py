@@ -138,8 +138,8 @@ def choose_interface(model, fe, numerics, *, line_pressure: float, omega: float,
     factorisation of each body).  ``resume``: the checkpoint of a run being
     resumed, which keeps the interface it was run on."""
     from ..mesh.estimate import memory_budget
-    from ..motion import surface_element_height
-    from .compliance import cache_dir, condensation_key, condensation_memory
+    from ..motion.brake import surface_element_height
+    from .condensation import cache_dir, condensation_key, condensation_memory
 
     kept = _resumed(resume)
     if kept is not None:

@@ -2,7 +2,7 @@
 
 :class:`CondensedInterface` answers the wear loop's question (the pressure at
 the pad's friction nodes for a gap offset) from the FE model condensed onto
-those nodes (:mod:`brakewear.interfaces.compliance`).  Each contact solve is an
+those nodes (:mod:`brakewear.interfaces.condensation`).  Each contact solve is an
 active-set iteration on a dense system of the active nodes,
 
     [Hn + mu Ht + diag(c)]_AA lam_A + E_A alpha = -q_A,
@@ -12,7 +12,7 @@ with ``q = g0 + offset + hf p_line`` (plus the thermal load's gap) and ``c``
 the implicit step's wear compliance per newton (``eps / area``; zero for a
 rigid contact).  The system of every node in contact is factorised once per
 friction coefficient and compliance, and each set is solved from it with
-its open nodes held by a small Schur system (:class:`_DenseSets`; a wear
+its open nodes held by a small Schur system (:class:`DenseSets`; a wear
 history with fixed steps reuses both step after step), on one BLAS thread.
 The active-set policy is the FE solves' (:mod:`brakewear.contact.active_set`),
 so the answer is the FE answer.
@@ -37,7 +37,7 @@ from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver, Margins
 from ..errors import CondensedRangeError, ContactError, WearError
 from ..checks import fail, shown_value
 from ..solvers.threads import blas_threads
-from .compliance import condensation_memory, condense
+from .condensation import condensation_memory, condense
 from .fe import METHOD, FEInterface
 from .protocol import InterfaceSolution, StepCompliance
 from .registry import InterfaceModel, capabilities_of, register_interface
@@ -56,7 +56,7 @@ _BLOCK = 64
 
 def solve_dense_sets(problem, g: np.ndarray, active, gap_tol: float, compliant: bool,
                      tol: float, name: str) -> tuple[np.ndarray, dict]:
-    """The exact active-set solve of a dense contact problem (``_DenseSets``),
+    """The exact active-set solve of a dense contact problem (``DenseSets``),
     from ``active`` or else the FE solves' start: the closed nodes (within
     ``gap_tol`` without a compliance), else the closest ones.  Returns the
     active set and the driver's report."""
@@ -82,7 +82,7 @@ class CondensedInterface:
         or takes as ``fe``, for the contact geometry and the thermal load).
     cache
         Where the condensed compliance is kept (a directory; None: the default
-        of :func:`~brakewear.interfaces.compliance.cache_dir`; False: nowhere).
+        of :func:`~brakewear.interfaces.condensation.cache_dir`; False: nowhere).
     valid_fraction
         The largest gap offset (worn depths and initial gap) allowed, as a
         share of the height of the pad's elements at its friction face.
@@ -125,7 +125,7 @@ class CondensedInterface:
         self.condense_s = time.perf_counter() - t0
         coords = fe.cs.coords
         self.gap_tol = 1e-10 * float(np.linalg.norm(coords.max(axis=1) - coords.min(axis=1)))
-        from ..motion import surface_element_height
+        from ..motion.brake import surface_element_height
 
         self.valid_fraction = float(valid_fraction)
         self.max_offset = self.valid_fraction * surface_element_height(
@@ -168,9 +168,9 @@ class CondensedInterface:
         m/Pa per pad node), ``mu`` a number or one per pad friction node."""
         t0 = time.perf_counter()
         offset = np.asarray(offset, dtype=float)
-        self._check_range(offset)
+        self.check_range(offset)
         if mu is not None:
-            self._set_mu(mu)
+            self.set_mu(mu)
         cond, p = self.cond, self.line_pressure
         q = self.g0 + offset + cond.hf * p
         rhs = -cond.zf * p
@@ -186,7 +186,7 @@ class CondensedInterface:
         if rings:
             # the rings' wear over the step: the gap per newton, W diag(1/A_ring) W^T diag(eps_rot)
             H = H + comp.ring_compliance()
-        problem = _DenseSets(self, H, D, q, rhs, c,
+        problem = DenseSets(self, H, D, q, rhs, c,
                              comp.rotor.tobytes() + comp.ring_area.tobytes() if rings else b"")
         g = self.g0 + offset
         with blas_threads(1):
@@ -203,7 +203,9 @@ class CondensedInterface:
         return InterfaceSolution(pressure, act, None, info)
 
     # --------------------------------------------------------------- helpers --
-    def _check_range(self, offset: np.ndarray) -> None:
+    def check_range(self, offset: np.ndarray) -> None:
+        """Refuse a gap offset (m) beyond the range where the condensation holds
+        (:class:`~brakewear.errors.CondensedRangeError`); subclasses call it too."""
         over = np.abs(offset) - self.max_offset
         i = int(np.argmax(over))
         if over[i] > 0:
@@ -214,7 +216,7 @@ class CondensedInterface:
                 "the height of the elements at the face): the worn geometry is no longer the "
                 "condensed one. Use interface.model = 'fe' with numerics.update = 'geometry'")
 
-    def _set_mu(self, mu) -> None:
+    def set_mu(self, mu) -> None:
         """A number, or one friction coefficient per pad node (a friction law's)."""
         n = self.area.size
         mu = float(mu) if np.ndim(mu) == 0 else np.array(mu, dtype=float)
@@ -251,7 +253,7 @@ class CondensedInterface:
     def thermal_gap(self, load: np.ndarray):
         """``(gap change per contact node, the free modes' share)`` of a nodal load."""
         if self._thermal is None:
-            from .compliance import LoadGap
+            from .condensation import LoadGap
 
             self._thermal = LoadGap(self.fe.cs)
         return self._thermal(self.fe.cs.P.T @ load)
@@ -282,12 +284,12 @@ class _Base:
         return self.columns[:, nodes]
 
 
-class _DenseSets:
+class DenseSets:
     """One condensed contact solve as a :class:`~brakewear.contact.active_set.SetProblem`.
 
     The system of a set ``A`` (the rows of ``H + diag(c)`` of its nodes and
     the ``m`` free modes, their block ``Q`` zero unless the caliper's rows
-    hold them, :mod:`brakewear.interfaces.caliper_sets`) is the system of every node (the *base*, factorised
+    hold them, :mod:`brakewear.caliper.sets`) is the system of every node (the *base*, factorised
     once per friction and compliance) with the open nodes ``R`` held at
     ``lam = 0`` by multipliers: ``z = y - X w`` with ``y = base^-1 b``, the
     base's solved unit columns ``X`` of ``R`` (each solved once per base)
@@ -303,7 +305,7 @@ class _DenseSets:
     def __init__(self, itf, H, D, q, rhs, c, ring_key: bytes = b"", E=None, Q=None):
         self.itf, self.H, self.D, self.q, self.rhs, self.c = itf, H, D, q, rhs, c
         # the modes' columns and, where the caliper's rows hold the modes, their own
-        # block (:mod:`brakewear.interfaces.caliper_sets`); else the condensation's, 0
+        # block (:mod:`brakewear.caliper.sets`); else the condensation's, 0
         self.E = itf.cond.E if E is None else E
         self.Q = Q
         self.alpha = np.zeros(self.E.shape[1])
@@ -439,14 +441,14 @@ class _DenseSets:
 
 def check_scene_size(scene) -> None:
     """``interface.model = "condensed"``: the condensation of the pad's contact nodes (two
-    dense ``n x n`` compliances, :func:`~brakewear.interfaces.compliance.condensation_memory`)
+    dense ``n x n`` compliances, :func:`~brakewear.interfaces.condensation.condensation_memory`)
     fits the memory budget; estimated from the geometry like the model's size (a scene
     with its own pad mesh is checked when the run condenses)."""
     if "pad" in scene.mesh_files:
         return
     import math
 
-    from ..caliper_loads import resolve_layout
+    from ..caliper.loads import resolve_layout
     from ..mesh.estimate import estimate_model, memory_budget
     g = scene.meshed_geometry
     full = resolve_layout(scene.geometry, scene.layout, scene.rotor) == "full"

@@ -11,7 +11,7 @@ from ..contact.compliant import compliant_preconditioner, solve_compliant_contac
 from ..contact.lagrange import contact_preconditioner, solve_contact
 from ..mesh.quadratic import quadratic_face_areas, slave_basis
 from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
-from ..rings import face_rings, ring_wear_nodes
+from ..mesh.rings import face_rings, ring_wear_nodes
 from ..checks import check_line_pressure
 from .protocol import InterfaceSolution, StepCompliance
 from ..registry import OptionKey
@@ -109,7 +109,7 @@ class FEInterface:
 
     def rebuilt(self, model, opening: float = 0.0) -> "FEInterface":
         """This interface on ``model``, the same brake in a moved (worn) geometry
-        (:class:`~brakewear.motion.BrakeMotion`): the reference areas, radii and
+        (:class:`~brakewear.motion.brake.BrakeMotion`): the reference areas, radii and
         rotor rings stay, the contact system is the moved model's.  ``opening``
         (m): the largest gap the worn surfaces have opened."""
         new = copy.copy(self)

@@ -8,7 +8,7 @@ import scipy.sparse as sp
 
 from ..errors import ContactLostError, FoundationSolveError, WearError
 from ..mesh.surface import surface_nodes
-from ..rings import ring_wear_nodes
+from ..mesh.rings import ring_wear_nodes
 from .protocol import InterfaceSolution, StepCompliance
 from ..registry import OptionKey
 from .registry import InterfaceModel, capabilities_of, register_interface

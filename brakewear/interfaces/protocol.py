@@ -57,7 +57,7 @@ class StepCompliance:
     ring_gap : sparse matrix or None
         (n_pad, n_ring): the gap of each pad node per metre of each ring's
         depth (the interface's ``W`` summed over each ring's nodes,
-        :func:`brakewear.rings.ring_coupling`).
+        :func:`brakewear.mesh.rings.ring_coupling`).
     ring_area : ndarray or None
         (n_ring,) m^2: the area of each ring's rotor wear nodes.
 
@@ -182,7 +182,7 @@ class Interface(Protocol):
         points under the pad nodes.
     ring, rotor_area, rotor_x
         Ring number, tributary area (m^2) and position (3, n_rotor; m) of each
-        rotor wear node (:func:`brakewear.rings.ring_wear_nodes` gives them for
+        rotor wear node (:func:`brakewear.mesh.rings.ring_wear_nodes` gives them for
         an unmeshed rotor).
     rotor_nodes : ndarray or None
         The rotor mesh's node numbers of its wear nodes (None: no rotor mesh).

@@ -123,7 +123,7 @@ class InterfaceModel:
     fe_answer
         Whether it gives the FE contact's answer on the same meshes (to its
         solvers' tolerance), so the FE meshes' measured convergence rates it
-        (:func:`brakewear.accuracy.mesh_accuracy`); ``why_not["fe_answer"]``
+        (:func:`brakewear.mesh.accuracy.mesh_accuracy`); ``why_not["fe_answer"]``
         says why not.
     check_scene
         ``check_scene(scene)``: the scene's demands on this model checked before
@@ -173,7 +173,7 @@ class InterfaceModel:
                              others)
 
 
-_TABLE = Registry("interface model", "interface.model")
+_TABLE = Registry("interface model", "interface.model", modules=("brakewear.caliper.interface",))
 
 
 def register_interface(entry: InterfaceModel, *, replace: bool = False) -> InterfaceModel:
@@ -183,7 +183,7 @@ def register_interface(entry: InterfaceModel, *, replace: bool = False) -> Inter
     ``kind``): the scene reader reads a key before it knows the model."""
     if not isinstance(entry, InterfaceModel):
         raise fail("interface.model", f"{entry!r} is not an InterfaceModel")
-    for other in _TABLE:
+    for other in _TABLE.registered():
         if other.name == entry.name:
             continue
         for k in entry.keys:

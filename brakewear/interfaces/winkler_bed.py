@@ -255,7 +255,7 @@ class WinklerInterface:
             source += f" in series with the rotor half thickness (k_rotor = {k_rot:.4g} Pa/m)"
         # the FE model's clamp load (the piston footprints integrated on the back
         # facets): its nodal shares, and its resultant's point
-        from ..caliper_loads import clamp_loads
+        from ..caliper.loads import clamp_loads
 
         fz = -clamp_loads(g, pad, 1.0, full=False, sides=("in",))[2::3]
         lnodes = np.flatnonzero(fz)

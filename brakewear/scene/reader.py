@@ -22,7 +22,7 @@ from ..errors import GeometryError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
 from ..geometry.parts import MESH_BODY_KEYS
 from ..interfaces.registry import model_keys
-from ..laws import wear_law_keys
+from ..laws.base import wear_law_keys
 from ..wear.numerics import Numerics
 from .spec import Scene
 from .tables import UNITS, InterfaceSpec, OutputSpec, ThermalSpec, WearSpec

@@ -8,7 +8,7 @@ laws** of pad and rotor, optional **thermal** coupling, the **numerics** of
 the wear loop and the **output**.  :class:`Scene` and its tables check their
 values on construction and raise :class:`~brakewear.errors.SceneError`
 naming the key; files are read by :mod:`brakewear.scene.reader` and run by
-:func:`brakewear.output.run_scene`.
+:func:`brakewear.output.runs.run_scene`.
 """
 from __future__ import annotations
 
@@ -165,7 +165,7 @@ class Scene:
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
         from ..mesh.estimate import check_model_size
-        from ..caliper_loads import resolve_layout
+        from ..caliper.loads import resolve_layout
         check_model_size(self.meshed_geometry, self.mesh_size, self.rotor, self.piston,
                          nodes=nodes,
                          full=resolve_layout(self.geometry, self.layout, self.rotor) == "full",
@@ -264,7 +264,7 @@ class Scene:
                                                   f"{body} surfaces: "
                                                   f"{', '.join(SURFACES[body])}")
         if self.interface.per_face:
-            from ..caliper_loads import resolve_layout
+            from ..caliper.loads import resolve_layout
             if resolve_layout(self.geometry, self.layout, self.rotor) == "half":
                 raise fail("interface.coning", "a table per face needs both faces: "
                                                "components.layout = 'full' (the half model "
@@ -307,7 +307,7 @@ class Scene:
                                                        "application: give a number (W/m^2 K)")
 
     def _check_gap_file(self) -> None:
-        from ..cleaning import read_gap_map
+        from ..cleaning.corrosion import read_gap_map
         from ..errors import InputError
         f = self.interface.gap_file
         if f is None:
@@ -372,9 +372,9 @@ class Scene:
     def initial_gap(self, x):
         """The initial gap (m) at pad friction nodes at ``x`` (3, n; m) from the
         interface's coning and pad taper on each face
-        (:func:`~brakewear.cleaning.nonconformity_gap`) and its gap map; None if
+        (:func:`~brakewear.cleaning.corrosion.nonconformity_gap`) and its gap map; None if
         there is none."""
-        from ..cleaning import map_gap, nonconformity_gap
+        from ..cleaning.corrosion import map_gap, nonconformity_gap
         itf = self.interface
         if not itf.nonconforming:
             return None
@@ -394,7 +394,7 @@ class Scene:
 
     def friction(self):
         """The friction of the interface: ``interface.mu``, or the map of
-        ``interface.mu_map`` (a :class:`~brakewear.maps.FrictionMap`, read once)."""
+        ``interface.mu_map`` (a :class:`~brakewear.laws.maps.FrictionMap`, read once)."""
         itf = self.interface
         if itf.mu_map is None:
             return itf.mu

@@ -53,7 +53,7 @@ def read_law(key: str, path: str, quantity: str, outside: str):
     """The friction (``quantity = "mu"``) or wear (``"k"``) law of a map file; a bad
     file is refused naming ``key`` and the file's row and column."""
     from ..errors import InputError
-    from ..maps import FrictionMap, WearMap, read_map
+    from ..laws.maps import FrictionMap, WearMap, read_map
     try:
         table = read_map(path, quantity, outside)
     except (InputError, OSError) as exc:
@@ -93,7 +93,7 @@ class InterfaceSpec:
         ``[interface]`` table.
     coning, pad_taper
         The initial non-conformity (m), each the gap it opens across the pad's
-        radial extent, linear in radius (:func:`brakewear.cleaning.nonconformity_gap`).
+        radial extent, linear in radius (:func:`brakewear.cleaning.corrosion.nonconformity_gap`).
         On a face, positive opens the gap at the outer radius, negative at the
         inner.  ``coning`` a number ``c``: a coned rotor, whose dishing opens the
         gap at the outer radius on one face and at the inner radius on the
@@ -104,11 +104,11 @@ class InterfaceSpec:
         every pad.  Coning and taper add on each face (:meth:`Scene.initial_gap`).
     gap_file
         An initial-gap map, a CSV with columns ``r_mm``, ``theta_deg``,
-        ``gap_um`` (:func:`brakewear.cleaning.read_gap_map`), added to the
+        ``gap_um`` (:func:`brakewear.cleaning.corrosion.read_gap_map`), added to the
         coning and taper on every face at the node's (r, theta) (a tangential
         taper is given this way); read and checked when the scene is made.
     mu_map, map_outside
-        A friction map ``mu(p, v, T)`` (CSV, :func:`brakewear.maps.read_map`)
+        A friction map ``mu(p, v, T)`` (CSV, :func:`brakewear.laws.maps.read_map`)
         used at each pad node instead of ``mu``; outside its grid ``"clamp"``
         (default) or ``"error"``.  Read and checked when the scene is made.
     """
@@ -193,7 +193,7 @@ def _face_lengths(key: str, value):
 
 @dataclass(frozen=True)
 class WearSpec:
-    """A wear law ``dh/dt = k(T) p^a v^b`` (see :class:`brakewear.laws.WearLaw`).
+    """A wear law ``dh/dt = k(T) p^a v^b`` (see :class:`brakewear.laws.base.WearLaw`).
 
     ``k = None`` takes the material's ``wear_k`` (pad: the friction
     material, rotor: the rotor material).  ``k`` is in SI units
@@ -202,10 +202,10 @@ class WearSpec:
     (:mod:`brakewear.wear.limits`; None: the friction layer's thickness for
     the pad, :data:`~brakewear.wear.limits.ROTOR_LIMIT` for the rotor).
     ``k_map`` is a measured map of the specific wear rate ``k(p, v, T)``
-    (CSV, :func:`brakewear.maps.read_map`; Archard: ``a = b = 1``) used
+    (CSV, :func:`brakewear.laws.maps.read_map`; Archard: ``a = b = 1``) used
     instead of ``k`` and its temperature law; ``map_outside`` is ``"clamp"``
     or ``"error"`` outside its grid.  ``model`` names a registered wear law
-    (:func:`brakewear.laws.register_wear_law`) instead: it is built from its
+    (:func:`brakewear.laws.base.register_wear_law`) instead: it is built from its
     own keys, ``options`` (in a scene file, keys of the same table), and the
     surface's material, and takes none of the keys above but ``limit``.
     """
@@ -244,7 +244,7 @@ class WearSpec:
 
     def _check_registered(self, sec: str) -> None:
         """A registered law: its own keys checked, none of the built-in law's given."""
-        from ..laws import wear_law_model
+        from ..laws.base import wear_law_model
         entry = wear_law_model(self.model, f"{sec}.model")
         builtin = {"k": None, "a": 1.0, "b": 1.0, "T_threshold": 503.15,
                    "activation_energy": 0.0, "k_map": None, "map_outside": "clamp"}
@@ -261,9 +261,9 @@ class WearSpec:
         object.__setattr__(self, "options", entry.options(self.options, sec))
 
     def law(self, material, sec: str, geometry_source: str = "<python>"):
-        """The :class:`~brakewear.laws.WearLaw` (``material`` supplies a missing k), the
-        :class:`~brakewear.maps.WearMap` of ``k_map``, or the registered ``model``."""
-        from ..laws import WearLaw, wear_law_model
+        """The :class:`~brakewear.laws.base.WearLaw` (``material`` supplies a missing k), the
+        :class:`~brakewear.laws.maps.WearMap` of ``k_map``, or the registered ``model``."""
+        from ..laws.base import WearLaw, wear_law_model
         if self.model is not None:
             return wear_law_model(self.model, f"{sec}.model").build(self.options, material)
         if self.k_map is not None:

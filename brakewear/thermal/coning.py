@@ -6,7 +6,7 @@ under the load of its thermal strain (the same ``G (T - T_ref)`` the contact
 solves take, :meth:`brakewear.thermal.ThermalModel.thermal_load`).  On each
 friction face the axial displacement is averaged ring by ring; the coning
 across the pad is the change of the gap it opens from the pad's inner to its
-outer radius, in the sense of :func:`brakewear.cleaning.nonconformity_gap`'s
+outer radius, in the sense of :func:`brakewear.cleaning.corrosion.nonconformity_gap`'s
 ``coning`` (positive: the inboard face's gap opens at the outer radius and the
 outboard face's at the inner one).
 """

@@ -4,7 +4,7 @@ The pad (friction layer and backplate) and the rotor (if elastic) each get a
 temperature field (:class:`~brakewear.fem.HeatConduction`); the pad's share
 of ``q = mu p v`` enters the pad at its friction nodes, the rotor's share is
 spread over whole rings of the rotor's friction face (the revolution average
-of :mod:`brakewear.rings`), free surfaces convect, and the thermal-strain
+of :mod:`brakewear.mesh.rings`), free surfaces convect, and the thermal-strain
 load enters the elasticity in the :class:`~brakewear.model.BrakeModel`'s
 global numbering.  Temperatures are in kelvin; the equations, the partition
 formula and the stability of the staggered coupling are in the thermal
@@ -24,7 +24,7 @@ from ..errors import ThermalError
 from ..fem.heat import THERMAL_FIELDS, HeatConduction, body_label, check_thermal
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
 from ..mesh.topology import ensure_topology
-from ..rings import face_rings, rotor_wear_rate
+from ..mesh.rings import face_rings, rotor_wear_rate
 from .convection import SpeedConvection, radiation_coefficient, rounded
 from .partition import heat_flux, partition_effusivity
 from .strain import model_thermal_load, thermal_stress
@@ -358,7 +358,7 @@ class ThermalModel:
 
     def follow(self, model) -> None:
         """Move onto ``model``, the same brake with moved (worn) faces
-        (:class:`~brakewear.motion.BrakeMotion`: the same nodes, new
+        (:class:`~brakewear.motion.brake.BrakeMotion`: the same nodes, new
         coordinates): everything assembled again on the moved meshes with the
         same settings, the temperatures carried on the nodes, which move with
         the faces.  In place, so every holder of this model sees the moved one."""

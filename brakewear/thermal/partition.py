@@ -7,7 +7,7 @@ import numpy as np
 
 from ..errors import ThermalError
 from ..fem.heat import check_thermal
-from ..laws import friction_flux
+from ..laws.base import friction_flux
 
 logger = logging.getLogger(__name__)
 
@@ -51,7 +51,7 @@ def partition_effusivity(mat_pad, mat_rotor, area_ratio: float | None = None) ->
 
 def heat_flux(p: np.ndarray, v: np.ndarray, mu) -> np.ndarray:
     """Frictional heat flux ``q = mu p v`` (W/m^2) at the contact nodes
-    (:func:`brakewear.laws.friction_flux`, with its inputs checked).
+    (:func:`brakewear.laws.base.friction_flux`, with its inputs checked).
 
     ``p`` (Pa; tension counts as zero), ``v`` sliding speed (m/s, >= 0),
     ``mu`` a number or an array per node (e.g. :meth:`FrictionLaw.mu` of the

@@ -1,7 +1,7 @@
 """The friction and wear laws at the pad's friction nodes, step by step.
 
 A law may depend on the pressure, the sliding speed and the temperature of
-each node (:mod:`brakewear.laws`, :mod:`brakewear.maps`).  The wear loop is
+each node (:mod:`brakewear.laws.base`, :mod:`brakewear.laws.maps`).  The wear loop is
 staggered in them as it is in the temperatures: each step takes the
 coefficients of its start state (pressure, the step's mean speed, the
 temperatures) and keeps them through the step,
@@ -9,9 +9,9 @@ temperatures) and keeps them through the step,
     dh/dt = k_i p^a v_i^b,   k_i = k(p_i, v_i, T_i) at the start of the step,
 
 so the implicit (backward Euler) step stays linear in the end pressure, and
-a law without pressure dependence (:class:`~brakewear.laws.WearLaw`) gives
+a law without pressure dependence (:class:`~brakewear.laws.base.WearLaw`) gives
 the same numbers as when it is called directly: both are
-:func:`~brakewear.laws.archard_rate` of the law's coefficient.  The friction coefficient
+:func:`~brakewear.laws.base.archard_rate` of the law's coefficient.  The friction coefficient
 per node ``mu_i = mu(p_i, v_i, T_i)`` goes into the friction operator of the
 contact solve (one traction ``mu_i p_i`` per node) and into the heat flux.
 """
@@ -21,7 +21,7 @@ import logging
 
 import numpy as np
 
-from ..laws import archard_rate, archard_slope
+from ..laws.base import archard_rate, archard_slope
 
 logger = logging.getLogger(__name__)
 

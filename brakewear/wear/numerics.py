@@ -41,7 +41,7 @@ class Numerics:
     update : {"gap", "geometry"}
         ``"gap"`` (the worn depths offset the contact gap; meshes stay) or
         ``"geometry"`` (after every accepted step both worn faces move and the
-        layers beneath follow, :class:`brakewear.motion.BrakeMotion`).
+        layers beneath follow, :class:`brakewear.motion.brake.BrakeMotion`).
     steps : int or None
         A number of equal steps (no step control); None: automatic control.
     dp_tol : float

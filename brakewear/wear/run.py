@@ -1,15 +1,15 @@
 """One run, described once: what every runner takes (:class:`Run`).
 
 A scene builds it (:func:`brakewear.scene.build_run`), or Python does; a
-drag (:func:`~brakewear.wear.wear_history`, :func:`brakewear.output.run_wear`),
+drag (:func:`~brakewear.wear.wear_history`, :func:`brakewear.output.runs.run_wear`),
 a schedule (:func:`brakewear.duty.run_schedule`) and a resume
 (:func:`~brakewear.wear.check_resume`) all take it, and its
 :meth:`Run.settings` are what a checkpoint's fingerprint holds, the
 interface model's own settings among them (for any model).
 
 Its inputs are checked when it is made, before anything is built or solved:
-the laws against their protocols (:func:`~brakewear.laws.check_wear_law`,
-:func:`~brakewear.laws.friction_law`), the thermal coupling against
+the laws against their protocols (:func:`~brakewear.laws.base.check_wear_law`,
+:func:`~brakewear.laws.base.friction_law`), the thermal coupling against
 :class:`~brakewear.wear.coupling.ThermalCoupling`, an interface against
 :class:`~brakewear.interfaces.Interface` and the capabilities the run needs
 (:meth:`Run.needs`).  The interface is built once, by :meth:`Run.resolved`:
@@ -27,7 +27,7 @@ import numpy as np
 from ..errors import WearError
 from ..interfaces.protocol import capability, check_interface
 from ..interfaces.registry import BuildRequest, build_interface, interface_model
-from ..laws import check_wear_law, friction_law
+from ..laws.base import check_wear_law, friction_law
 from .coupling import check_thermal
 from .limits import WearLimits
 from .numerics import Numerics
@@ -52,10 +52,10 @@ class Run:
         schedule, whose applications set them.
     pad_law, rotor_law
         Wear laws of pad and rotor (``rotor_law=None``: the rotor does not
-        wear), each a :class:`~brakewear.laws.NodeWearLaw`.
+        wear), each a :class:`~brakewear.laws.base.NodeWearLaw`.
     mu
         Friction coefficient, or a friction law
-        (:class:`~brakewear.laws.NodeFrictionLaw`) evaluated per pad node.
+        (:class:`~brakewear.laws.base.NodeFrictionLaw`) evaluated per pad node.
     numerics
         A :class:`~brakewear.wear.Numerics` (default: its defaults).
     interface

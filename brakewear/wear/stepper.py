@@ -10,7 +10,7 @@
    pad's); the rotor wears by the revolution average of its rings;
 4. solves the contact of the worn state (the :class:`~brakewear.interfaces.Interface`),
    with the thermal load when coupled, and accepts the step or retries it smaller;
-5. in geometry-update mode moves the worn faces (:class:`~brakewear.motion.BrakeMotion`),
+5. in geometry-update mode moves the worn faces (:class:`~brakewear.motion.brake.BrakeMotion`),
    which gives a new model, and solves the contact of the moved geometry.
 
 In *gap-offset* mode the meshes stay, and the worn depths of pad and rotor
@@ -29,8 +29,8 @@ import numpy as np
 from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, SolverError,
                       StepSizeError, WearError)
 from ..interfaces import StepCompliance
-from ..laws import friction_power
-from ..rings import ring_coupling, rotor_wear_rate
+from ..laws.base import friction_power
+from ..mesh.rings import ring_coupling, rotor_wear_rate
 from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .nodal import NodalLaws
@@ -98,10 +98,10 @@ def wear_history(run=None, *args, checkpoint: str | os.PathLike | None = None, e
           over ``omega(t)``, :mod:`brakewear.wear.speed`); s.
         * ``pad_law, rotor_law``: wear laws of pad and rotor
           (``rotor_law=None``: the rotor does not wear), each answering
-          :class:`~brakewear.laws.NodeWearLaw` (``k(p, v, T)`` per node, taken
+          :class:`~brakewear.laws.base.NodeWearLaw` (``k(p, v, T)`` per node, taken
           at the start of each step: :mod:`brakewear.wear.nodal`).
         * ``mu``: friction coefficient (sliding friction drags the pad along
-          the rotor), or a friction law (:class:`~brakewear.laws.NodeFrictionLaw`):
+          the rotor), or a friction law (:class:`~brakewear.laws.base.NodeFrictionLaw`):
           ``mu(p, v, T)`` at each pad node, updated every step; a law of
           temperature needs ``thermal``.
         * ``numerics``: how the loop integrates (:class:`~brakewear.wear.Numerics`:
@@ -213,7 +213,7 @@ class _WearLoop:
         self.itf = run.interface
         self.motion = None
         if numerics.update == "geometry":
-            from ..motion import BrakeMotion
+            from ..motion.brake import BrakeMotion
             self.motion = BrakeMotion(model)
         self.A_pad, self.ring, self.A_rot = self.itf.area, self.itf.ring, self.itf.rotor_area
         self.W = self.itf.W
@@ -238,7 +238,7 @@ class _WearLoop:
         n = self.numerics
         if n.max_dh is not None:
             return np.full(self.A_pad.size, float(n.max_dh))
-        from ..motion import surface_element_height
+        from ..motion.brake import surface_element_height
         return n.dh_fraction * surface_element_height(self.model.meshes["pad"], "friction")
 
     def fingerprint(self) -> dict:

@@ -7,7 +7,7 @@ condensation's own generalised inverse), and a
 :class:`~brakewear.model.StaticResult` whose ``support_force`` carries every
 force on the pads but the rotor's: the caliper's rows (rim, fingers,
 abutments, with their friction) and the bracket's rails and clip
-(:func:`~brakewear.contact.caliper.bracket_springs`).
+(:func:`~brakewear.caliper.rows.bracket_springs`).
 
 :func:`part_balance` sums the forces on every rigid part -- each piston, the
 housing, the bracket -- from the rows' forces, the seal's springs (ring point
@@ -23,10 +23,10 @@ import time
 
 import numpy as np
 
-from .checks import check_line_pressure
-from .contact.caliper_parts import bracket_springs, part_loads
-from .contact.compliant import constraint_rows, drag_loads
-from .mesh.surface import face_nodes
+from ..checks import check_line_pressure
+from .parts import bracket_springs, part_loads
+from ..contact.compliant import constraint_rows, drag_loads
+from ..mesh.surface import face_nodes
 
 logger = logging.getLogger(__name__)
 
@@ -41,7 +41,7 @@ def solve_caliper(model, line_pressure: float, mu: float = 0.0, tol: float = 1e-
     forces, gaps and state, the rigid DOFs and the interface).  ``offset``: a gap
     offset per pad friction node (m); ``interface``: a
     :class:`~brakewear.interfaces.CaliperInterface` of ``model`` to reuse."""
-    from .interfaces.caliper import CaliperInterface
+    from .interface import CaliperInterface
 
     check_line_pressure(line_pressure)
     t0 = time.perf_counter()

@@ -40,7 +40,7 @@ side and ``-n_k lam_k`` on the minus side.  A normal row is unilateral
 layer's compliance); a friction row ``k`` of normal row ``j`` is Coulomb's
 law along ``n_k``: ``|lam_k| <= mu_k lam_j``, sticking (no slip) below it.
 The slip is measured from the unloaded brake: each solve is one application
-from rest.  The rows' solution is :mod:`brakewear.interfaces.caliper`'s.
+from rest.  The rows' solution is :mod:`brakewear.caliper.interface`'s.
 """
 from __future__ import annotations
 
@@ -52,9 +52,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ContactError
-from .caliper_parts import CaliperParts, ring_points, seal_springs, seal_stiffness
-from .supports import SUPPORT_ENDS, _face_weights, abutment_faces, end_normal
-from .surface import project_nodes
+from .parts import CaliperParts, ring_points, seal_springs, seal_stiffness
+from ..contact.supports import SUPPORT_ENDS, face_weights, abutment_faces, end_normal
+from ..contact.surface import project_nodes
 
 logger = logging.getLogger(__name__)
 
@@ -314,7 +314,7 @@ def _abutments(rows: _Rows, mesh, offset: int) -> None:
         normal = e if (sup.type == "push" and end == "leading") else -e
         g0 = 0.0 if end == bearing else sup.clearance
         for pad_side, facets in abutment_faces(mesh, end).items():
-            nodes, w = _face_weights(mesh, facets)
+            nodes, w = face_weights(mesh, facets)
             r = np.hypot(mesh.p[0, nodes], mesh.p[1, nodes])
             edges = np.linspace(r.min(), r.max(), ROW_COUNTS["abutment_bands"] + 1)
             band = np.clip(np.searchsorted(edges, r, side="right") - 1, 0, edges.size - 2)

@@ -3,13 +3,13 @@
 :class:`CaliperInterface` answers the wear loop's question (the pressure at
 the pads' friction nodes for a gap offset) for a model whose piston is a rigid
 body in its bore (``BrakeModel(piston="rigid")``): the caliper's rows
-(:mod:`brakewear.contact.caliper`: the piston's rim, its bore and seal, the
+(:mod:`brakewear.caliper.rows`: the piston's rim, its bore and seal, the
 fingers, the abutments, with their friction) and the pad-rotor contact, all
-condensed onto their nodes (:mod:`brakewear.interfaces.caliper_condensation`),
-solved by nested active sets (:mod:`brakewear.interfaces.caliper_sets`).
+condensed onto their nodes (:mod:`brakewear.caliper.condensation`),
+solved by nested active sets (:mod:`brakewear.caliper.sets`).
 
 The bracket's rails and the pad's clip hold the end faces' mean
-displacements (:func:`~brakewear.contact.caliper_parts.bracket_springs`), so
+displacements (:func:`~brakewear.caliper.parts.bracket_springs`), so
 they take the pad's in-plane motion but leave its tilt to the rows, and the
 pads' free modes are exactly free.  Like the condensed interface this is
 for gap-offset wear with linear elasticity (a worn geometry is not
@@ -24,17 +24,17 @@ import time
 
 import numpy as np
 
-from ..contact.caliper import caliper_rows
-from ..contact.caliper_parts import bracket_springs
+from .rows import caliper_rows
+from .parts import bracket_springs
 from ..contact.supports import support_springs
 from ..checks import fail
 from ..errors import ContactError, WearError
-from .caliper_condensation import condense_caliper
-from .caliper_sets import RowSets
-from .condensed import CondensedInterface
-from .fe import METHOD, FEInterface
-from .protocol import InterfaceSolution, StepCompliance
-from .registry import InterfaceModel, capabilities_of, register_interface
+from .condensation import condense_caliper
+from .sets import RowSets
+from ..interfaces.condensed import CondensedInterface
+from ..interfaces.fe import METHOD, FEInterface
+from ..interfaces.protocol import InterfaceSolution, StepCompliance
+from ..interfaces.registry import InterfaceModel, capabilities_of, register_interface
 
 logger = logging.getLogger(__name__)
 
@@ -91,7 +91,7 @@ class CaliperInterface(CondensedInterface):
         self.condense_s = time.perf_counter() - t0
         coords = cs.coords
         self.gap_tol = 1e-10 * float(np.linalg.norm(coords.max(axis=1) - coords.min(axis=1)))
-        from ..motion import surface_element_height
+        from ..motion.brake import surface_element_height
 
         self.valid_fraction = float(valid_fraction)
         self.max_offset = self.valid_fraction * surface_element_height(pad, "friction")
@@ -110,9 +110,9 @@ class CaliperInterface(CondensedInterface):
         iterations."""
         t0 = time.perf_counter()
         offset = np.asarray(offset, dtype=float)
-        self._check_range(offset)
+        self.check_range(offset)
         if mu is not None:
-            self._set_mu(mu)
+            self.set_mu(mu)
         self.sets.mu = self.mu
         cond, rows, p = self.cond, self.rows, self.line_pressure
         n_c = cond.n_c
@@ -178,7 +178,7 @@ class CaliperInterface(CondensedInterface):
             import scipy.sparse as sp
 
             from ..contact.compliant import constraint_rows
-            from .compliance import Supported
+            from ..interfaces.condensation import Supported
 
             cs = self.fe.cs
             A = sp.vstack([constraint_rows(cs.pair, cs.K.shape[0]), self.rows.C]).tocsr()
@@ -197,7 +197,7 @@ class CaliperInterface(CondensedInterface):
 
 def _with_bracket_springs(model, cs):
     """``cs`` with the bracket's rails and the clip on the end faces' mean
-    displacements (:func:`~brakewear.contact.caliper_parts.bracket_springs`)
+    displacements (:func:`~brakewear.caliper.parts.bracket_springs`)
     instead of node by node."""
     g, pad, off = model.geometry, model.meshes["pad"], model.offsets["pad"]
     n = cs.P.shape[0]

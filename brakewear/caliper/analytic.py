@@ -1,5 +1,5 @@
 """Closed forms of the caliper's parts: a rubber seal in its groove, a ring of springs, a
-piston in its bore (the checks of :mod:`brakewear.contact.caliper_parts`), tested on
+piston in its bore (the checks of :mod:`brakewear.caliper.parts`), tested on
 their own.
 
 All functions take and return SI units.

@@ -30,16 +30,16 @@ from typing import Callable
 
 import numpy as np
 
-from .accuracy import mesh_accuracy
-from .checks import file_messages, shown_value
-from .errors import SceneError, SolverError, WearError, WornThroughError
-from .mesh.series import SeriesWriter, cell_nodes, face_fields
-from .rings import ring_profile
-from .scene.spec import first_difference
-from .wear.records import end_record, step_figures, temperature_field, thermal_record
-from .wear.run import as_run
-from .wear.state import checkpoint_progress
-from .wear.stepper import WearStep, check_resume, wear_history
+from ..mesh.accuracy import mesh_accuracy
+from ..checks import file_messages, shown_value
+from ..errors import SceneError, SolverError, WearError, WornThroughError
+from ..mesh.series import SeriesWriter, cell_nodes, face_fields
+from ..mesh.rings import ring_profile
+from ..scene.spec import first_difference
+from ..wear.records import end_record, step_figures, temperature_field, thermal_record
+from ..wear.run import as_run
+from ..wear.state import checkpoint_progress
+from ..wear.stepper import WearStep, check_resume, wear_history
 
 logger = logging.getLogger(__name__)
 
@@ -48,7 +48,7 @@ __all__ = ["run_wear", "run_scene", "ended_early", "check_out", "step_figures",
 
 
 def _figures(model, out: Path, scene) -> list[str]:
-    """The maps of the last step (:func:`brakewear.face_maps.run_maps`); wear,
+    """The maps of the last step (:func:`brakewear.output.face_maps.run_maps`); wear,
     pressure and (thermal runs) temperature histories."""
     import csv
 
@@ -232,7 +232,7 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
               progress: Callable | None = None, announce: Callable | None = None) -> dict:
     """Build a scene's model and run its wear history into ``out``; return the summary.
 
-    Writes what :func:`brakewear.output.run_wear` writes, plus
+    Writes what :func:`brakewear.output.runs.run_wear` writes, plus
     ``scene.json`` (this scene, SI) and, with ``output.figures``, PNG
     figures.  ``resume=True`` continues from ``out/checkpoint.npz`` and
     refuses a folder written by a different scene or with other inputs
@@ -299,7 +299,7 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
 def _run_schedule_scene(scene, run, out: Path, progress=None) -> dict:
     """A scene's [schedule]: applications.csv, the pad per application, summary.json
     (also when the schedule ends early: its status and the reason)."""
-    from .duty.report import run_schedule_files
+    from ..duty.report import run_schedule_files
     model, ended = run.model, None
     try:
         summary = run_schedule_files(run, out, title=scene.name, figures=scene.output.figures,

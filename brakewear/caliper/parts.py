@@ -1,12 +1,12 @@
 """The caliper's rigid parts: a piston's motion, its seal's springs, the housing, the bracket.
 
-The kinematics and the springs of :mod:`brakewear.contact.caliper`'s parts:
+The kinematics and the springs of :mod:`brakewear.caliper.rows`'s parts:
 
 * :class:`CaliperParts`: the rigid DOFs (each piston's six about the centre
   of its face; the floating housing's axial position) and the prescribed
   motions of the housing's bore and jaw under the clamp force;
 * :func:`seal_springs`: the seal's ring of springs from its section and the
-  rubber's modulus (closed forms of :mod:`brakewear.analytic_caliper`), and
+  rubber's modulus (closed forms of :mod:`brakewear.caliper.analytic`), and
   :func:`seal_stiffness`: what they give the rigid DOFs, with the hydraulic
   loads;
 * :func:`part_loads`: the forces on each rigid part of a solved state;
@@ -21,7 +21,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from .supports import _face_weights, spring_faces
+from ..contact.supports import face_weights, spring_faces
 
 logger = logging.getLogger(__name__)
 
@@ -131,12 +131,12 @@ def seal_springs(guide, radius: float) -> dict:
     ``tilt`` (N m/rad about a diameter in the seal's plane) and ``torsion`` (N m/rad).
 
     The axial and torsional totals are the bonded annulus's closed forms
-    (:func:`~brakewear.analytic_caliper.bonded_ring_axial_stiffness`,
-    :func:`~brakewear.analytic_caliper.bonded_ring_torsion_stiffness`; rubber ``G = E /
+    (:func:`~brakewear.caliper.analytic.bonded_ring_axial_stiffness`,
+    :func:`~brakewear.caliper.analytic.bonded_ring_torsion_stiffness`; rubber ``G = E /
     3``); the radial one compresses the section with the long strip's modulus
-    (:func:`~brakewear.analytic_caliper.bonded_strip_compression_modulus`), an estimate.
+    (:func:`~brakewear.caliper.analytic.bonded_strip_compression_modulus`), an estimate.
     """
-    from ..analytic_caliper import (bonded_ring_axial_stiffness, bonded_ring_torsion_stiffness,
+    from .analytic import (bonded_ring_axial_stiffness, bonded_ring_torsion_stiffness,
                             bonded_strip_compression_modulus, ring_tilt_stiffness)
 
     E, w, h = guide.seal_modulus, guide.seal_width, guide.seal_height
@@ -258,7 +258,7 @@ def bracket_springs(mesh, offset: int, pad_geometry, support, n_dofs: int) -> sp
 
 def _mean_row(mesh, facets, d: np.ndarray):
     """DOFs (the mesh's) and weights of the mean displacement along ``d`` of ``facets``."""
-    nodes, w = _face_weights(mesh, facets)
+    nodes, w = face_weights(mesh, facets)
     w = w / w.sum()
     dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
     return dofs, (w[:, None] * d[None, :]).ravel()

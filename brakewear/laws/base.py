@@ -6,7 +6,7 @@
 ``mu(T)``, a linear fade above a reference temperature.
 
 Both also answer the per-node calls of the wear loop that every friction
-and wear law of brakewear answers (:mod:`brakewear.maps` has the tables and
+and wear law of brakewear answers (:mod:`brakewear.laws.maps` has the tables and
 the other closed forms): ``mu_at(p, v, T)``, ``coefficient_at(p, v, T)`` and
 ``rate(p, v, T)``, each an array over the nodes (:func:`node_inputs` checks
 and broadcasts the nodes' pressure, sliding speed and temperature), and
@@ -28,9 +28,9 @@ from typing import Any, Callable, Mapping, Protocol, runtime_checkable
 
 import numpy as np
 
-from .errors import LawError, ThermalError, WearError
-from .materials import T_AMBIENT_DEFAULT
-from .registry import OptionKey, Registry, check_options
+from ..errors import LawError, ThermalError, WearError
+from ..materials import T_AMBIENT_DEFAULT
+from ..registry import OptionKey, Registry, check_options
 
 logger = logging.getLogger(__name__)
 
@@ -140,7 +140,7 @@ def check_wear_law(name: str, law, thermal) -> None:
     if not isinstance(law, NodeWearLaw):
         attr = next(m for m in _WEAR_MEMBERS if not hasattr(law, m))
         raise WearError(f"{name} = {law!r} is not a wear law (no {attr!r}); use "
-                        "brakewear.WearLaw or a law of brakewear.maps")
+                        "brakewear.WearLaw or a law of brakewear.laws.maps")
     if law.needs_temperature and thermal is None:
         # a WearLaw takes its base coefficient without a temperature; a map with a
         # temperature axis cannot: try it once, before anything is computed
@@ -160,7 +160,7 @@ def friction_law(mu, thermal) -> tuple[object | None, float]:
     if hasattr(mu, "mu_at") and callable(mu.mu_at):
         if not isinstance(mu, NodeFrictionLaw):
             raise WearError(f"mu = {mu!r} is not a friction law (no 'needs_temperature'); "
-                            "use brakewear.FrictionLaw or a law of brakewear.maps")
+                            "use brakewear.FrictionLaw or a law of brakewear.laws.maps")
         if mu.needs_temperature and thermal is None:
             raise WearError(f"the friction law {type(mu).__name__} depends on temperature; "
                             "it needs thermal coupling (thermal=ThermalModel, or "
@@ -172,7 +172,7 @@ def friction_law(mu, thermal) -> tuple[object | None, float]:
         ok = False
     if not ok:
         raise WearError(f"mu = {mu!r} is not allowed; need a friction coefficient >= 0 or a "
-                        "friction law (brakewear.laws, brakewear.maps)")
+                        "friction law (brakewear.laws.base, brakewear.laws.maps)")
     return None, float(mu)
 
 

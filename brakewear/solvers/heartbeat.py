@@ -7,7 +7,7 @@ step's retry); a display registers a listener with :func:`listening` and
 shows the latest beat.  With no listener a beat costs one check of an empty
 list.  The library never prints: what a beat shows is the listener's choice::
 
-    from brakewear.heartbeat import listening
+    from brakewear.solvers.heartbeat import listening
 
     seen = []
     with listening(lambda what, figures: seen.append(what)):

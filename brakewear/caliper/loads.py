@@ -27,10 +27,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .errors import SceneError
-from .fem.boundary import assemble_traction, boundary_dofs
-from .fem.footprint import annulus, footprint_load
-from .mesh.surface import is_quadratic, tributary_areas
+from ..errors import SceneError
+from ..fem.boundary import assemble_traction, boundary_dofs
+from ..fem.footprint import annulus, footprint_load
+from ..mesh.surface import is_quadratic, tributary_areas
 
 logger = logging.getLogger(__name__)
 

@@ -124,7 +124,7 @@ def condensation_memory(n_contact: int, n_dofs: int) -> float:
     return 16.0 * n_contact ** 2 + 8.0 * BLOCK * n_dofs + 72.0 * n_dofs ** 1.5
 
 
-def _hash(*arrays) -> str:
+def array_hash(*arrays) -> str:
     h = hashlib.sha256()
     for a in arrays:
         a = np.ascontiguousarray(a)
@@ -220,7 +220,7 @@ class Supported:
         The contact system (:meth:`brakewear.BrakeModel.contact_system`).
     rows : sparse matrix, optional
         Further rows condensed with the contact nodes (the caliper's supports,
-        :mod:`brakewear.interfaces.caliper`): their DOFs are not held either.
+        :mod:`brakewear.caliper.interface`): their DOFs are not held either.
 
     Attributes
     ----------
@@ -281,7 +281,7 @@ class Supported:
         return u
 
 
-def _body_solves(sup: Supported, i: int, columns, products):
+def body_solves(sup: Supported, i: int, columns, products):
     """``Y^T B`` for ``Y = K_kk^-1 columns_k`` over body ``i``'s DOFs, in
     blocks of :data:`BLOCK` columns: one (n_columns x n_products) array."""
     lu = sup.factor(i)
@@ -333,7 +333,7 @@ def condensation_key(cs) -> str:
     if not pr.rigid:
         W = pr.coupling.tocsr()
         parts += [W.data, W.indices, W.indptr]
-    return _hash(*parts)
+    return array_hash(*parts)
 
 
 def condense(cs, line_pressure: float, *, cache=None, memory_budget: float | None = None
@@ -388,7 +388,7 @@ def _compute(cs, line_pressure: float) -> Condensation:
     f = np.where(held, 0.0, cs.f) / line_pressure
     B = sp.hstack([C.T, mask @ G1, sp.csc_matrix(f[:, None])]).tocsc()
     with blas_threads(1):
-        YB = sum(_body_solves(sup, i, C.T.tocsc(), B) for i in range(len(sup.keep)))
+        YB = sum(body_solves(sup, i, C.T.tocsc(), B) for i in range(len(sup.keep)))
     ns = pair.slave.size
     cond = Condensation(Hn=YB[:, :ns], Ht=YB[:, ns:2 * ns], hf=YB[:, 2 * ns].copy(),
                         E=np.asarray(constraint_rows(pair, N) @ Z),

@@ -63,14 +63,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ContactError, GeometryError, MeshError
-from .analytic import effective_modulus, hertz_sphere, hertz_sphere_pressure
-from .contact.lagrange import solve_contact
-from .contact.pairs import pair_to_rigid
-from .fem.assembly import assemble_stiffness
-from .fem.boundary import boundary_dofs
-from .materials import Isotropic
-from .mesh.structured import KUHN, mapped_mesh, structured_tets
+from ..errors import ContactError, GeometryError, MeshError
+from ..analytic import effective_modulus, hertz_sphere, hertz_sphere_pressure
+from .lagrange import solve_contact
+from .pairs import pair_to_rigid
+from ..fem.assembly import assemble_stiffness
+from ..fem.boundary import boundary_dofs
+from ..materials import Isotropic
+from ..mesh.structured import KUHN, mapped_mesh, structured_tets
 
 logger = logging.getLogger(__name__)
 

@@ -12,8 +12,8 @@ from a mild to a severe wear coefficient above a ``p v`` or temperature
 threshold).
 
 Every law answers the same per-node calls, the wear loop's protocol
-(:class:`~brakewear.laws.NodeFrictionLaw`, :class:`~brakewear.laws.NodeWearLaw`;
-:class:`~brakewear.laws.FrictionLaw` and :class:`~brakewear.laws.WearLaw` answer
+(:class:`~brakewear.laws.base.NodeFrictionLaw`, :class:`~brakewear.laws.base.NodeWearLaw`;
+:class:`~brakewear.laws.base.FrictionLaw` and :class:`~brakewear.laws.base.WearLaw` answer
 them too): arrays ``p`` (Pa,
 tension counts as 0), ``v`` (m/s, >= 0) and ``T`` (K, or None when the law
 does not need it) in, one value per node out.  All are frozen dataclasses
@@ -30,9 +30,9 @@ from typing import ClassVar
 import numpy as np
 from scipy.special import expit
 
-from .errors import LawError, MapError
-from .laws import NodeFrictionLaw, NodeWearLaw, archard_rate, node_inputs
-from .map_csv import AXES, AXIS_UNITS, BOUNDS, check_range, parse_table, read_table
+from ..errors import LawError, MapError
+from .base import NodeFrictionLaw, NodeWearLaw, archard_rate, node_inputs
+from .map_files import AXES, AXIS_UNITS, BOUNDS, check_range, parse_table, read_table
 
 logger = logging.getLogger(__name__)
 
@@ -138,7 +138,7 @@ class TableMap:
         p, v, T
             Pressure (Pa, tension counts as 0), sliding speed (m/s, >= 0) and
             temperature (K; None only when the map has no ``T`` axis), arrays
-            that broadcast together (:func:`brakewear.laws.node_inputs`).
+            that broadcast together (:func:`brakewear.laws.base.node_inputs`).
 
         Returns
         -------
@@ -192,7 +192,7 @@ class TableMap:
 
 
 def read_map(path: str | os.PathLike, quantity: str, outside: str = "clamp") -> TableMap:
-    """A map from a CSV file (the format: :mod:`brakewear.map_csv`).
+    """A map from a CSV file (the format: :mod:`brakewear.laws.map_files`).
 
     Parameters
     ----------

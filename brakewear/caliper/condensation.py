@@ -1,6 +1,6 @@
 """The FE model condensed onto the pad's contact nodes and the caliper's rows together.
 
-The caliper's rows (:mod:`brakewear.contact.caliper`: the piston's rim, the
+The caliper's rows (:mod:`brakewear.caliper.rows`: the piston's rim, the
 fingers, the abutments) touch the pads through the FE model, so they are
 condensed with the contact nodes: with ``A = [C; Cs]`` (the contact nodes'
 normal rows, then the caliper's rows), the condensation holds
@@ -11,7 +11,7 @@ normal rows, then the caliper's rows), the condensation holds
 * ``hf = A K^+ f`` per pascal of line pressure, ``E = A Z``, ``Dt = Z^T G``,
   ``zf = Z^T f`` per pascal,
 
-computed as :func:`brakewear.interfaces.compliance.condense` does for the
+computed as :func:`brakewear.interfaces.condensation.condense` does for the
 contact nodes alone (one sparse factorisation per body, ``K^+ A^T`` in
 blocks of columns) and cached on disk under a key that adds the rows' hash.
 """
@@ -27,7 +27,7 @@ import scipy.sparse as sp
 
 from ..contact.compliant import constraint_rows, drag_loads
 from ..errors import SolverError
-from .compliance import (BLOCK, Supported, _body_solves, _hash, cache_dir, condensation_key,
+from ..interfaces.condensation import (BLOCK, Supported, body_solves, array_hash, cache_dir, condensation_key,
                          condensation_memory)
 
 logger = logging.getLogger(__name__)
@@ -60,7 +60,7 @@ class CaliperCondensation:
 
 def _rows_key(cs, rows: sp.spmatrix) -> str:
     R = sp.csr_matrix(rows)
-    return _hash(np.frombuffer(condensation_key(cs).encode(), dtype=np.uint8),
+    return array_hash(np.frombuffer(condensation_key(cs).encode(), dtype=np.uint8),
                  R.data, R.indices, R.indptr)
 
 
@@ -117,7 +117,7 @@ def _compute(cs, rows: sp.csr_matrix, line_pressure: float) -> CaliperCondensati
     G1 = drag_loads(pair, N, mu=1.0 if pair.drag is not None else 0.0).tocsr()
     f = np.where(held, 0.0, cs.f) / line_pressure
     B = sp.hstack([Am.T, mask @ G1, sp.csc_matrix(f[:, None])]).tocsc()
-    YB = sum(_body_solves(sup, i, Am.T.tocsc(), B) for i in range(len(sup.keep)))
+    YB = sum(body_solves(sup, i, Am.T.tocsc(), B) for i in range(len(sup.keep)))
     n, n_c = A.shape[0], pair.slave.size
     cond = CaliperCondensation(H=YB[:, :n], Ht=YB[:, n:n + n_c], hf=YB[:, n + n_c].copy(),
                                E=np.asarray(A @ Z), Dt=np.asarray((G1.T @ Z).T),

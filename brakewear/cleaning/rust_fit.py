@@ -1,4 +1,4 @@
-"""Calibrating the rust law (:mod:`brakewear.rust`) on a dynamometer record.
+"""Calibrating the rust law (:mod:`brakewear.cleaning.rust`) on a dynamometer record.
 
 A record is a CSV file with one row per stop (lines starting with ``#`` are
 comments): ``contact_pressure_MPa`` (the pad's mean contact pressure, the
@@ -36,8 +36,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .checks import read_csv_rows
-from .errors import WearError
+from ..checks import read_csv_rows
+from ..errors import WearError
 from .rust import RUST_PRIORS, RustLaw
 
 __all__ = ["DynoRecord", "read_dyno_record", "write_dyno_record", "predict_record",
@@ -45,7 +45,7 @@ __all__ = ["DynoRecord", "read_dyno_record", "write_dyno_record", "predict_recor
 
 #: the record's columns: the two inputs and the two observables
 RECORD_COLUMNS = ("contact_pressure_MPa", "sliding_distance_m", "friction", "oxide_removed_um")
-#: what :func:`calibrate` can fit (the :class:`~brakewear.rust.RustLaw` fields and ``mu_iron``)
+#: what :func:`calibrate` can fit (the :class:`~brakewear.cleaning.rust.RustLaw` fields and ``mu_iron``)
 FIT_PARAMETERS = ("k_rust", "threshold", "thickness", "mu_factor", "mu_iron")
 _LOG = {"k_rust", "thickness"}     # fitted on their logarithms (positive, over decades)
 
@@ -169,7 +169,7 @@ class Calibration:
     extra: dict = field(default_factory=dict)
 
     def law(self, **changes) -> RustLaw:
-        """The fitted :class:`~brakewear.rust.RustLaw` (fields not fitted from ``fixed``
+        """The fitted :class:`~brakewear.cleaning.rust.RustLaw` (fields not fitted from ``fixed``
         or the law's defaults; ``changes`` override)."""
         both = {**self.fixed, **self.values}
         keys = ("thickness", "k_rust", "threshold", "mu_factor", "pad_wear_factor")
@@ -200,7 +200,7 @@ def calibrate(record: DynoRecord, pad_share: float, *, fit=None, fixed: dict | N
         ``mu_iron`` a friction record).
     fixed
         Values of the parameters not fitted (SI units); default the priors' medians
-        (:data:`~brakewear.rust.RUST_PRIORS`) and ``mu_iron`` 0.4.
+        (:data:`~brakewear.cleaning.rust.RUST_PRIORS`) and ``mu_iron`` 0.4.
     start
         Start values of the fitted ones (default: the same).
     """

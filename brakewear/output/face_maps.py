@@ -21,7 +21,7 @@ from typing import Sequence
 import numpy as np
 import skfem as fem
 
-from .errors import MeshError
+from ..errors import MeshError
 from .figures import TICK_FORMAT, offscreen_pyvista, quiet_vtk
 
 logger = logging.getLogger(__name__)
@@ -118,7 +118,7 @@ def plot_face_map(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, titl
     ----------
     mesh, values, path, title
         The pad's or the rotor's mesh, one value per vertex, the PNG file and the
-        title, as for :func:`brakewear.figures.plot_field`.
+        title, as for :func:`brakewear.output.figures.plot_field`.
     label : str
         Colour-bar title with its unit, e.g. ``"pad wear (µm)"``.
     pad : brakewear.geometry.PadGeometry

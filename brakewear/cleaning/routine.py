@@ -7,7 +7,7 @@ heat that cones the rotor, entering each stop.
 (exact: the contact problem depends on the wear only through the gap,
 docs/duty.md), so that between two stops
 
-* the friction coefficient follows the rust layer (:class:`brakewear.rust.RustLayer`:
+* the friction coefficient follows the rust layer (:class:`brakewear.cleaning.rust.RustLayer`:
   the iron's, raised over the load's share on rust by the law's ``mu_factor``),
   and its rotor and pad laws wear each step;
 * the heat of the stops cones the rotor: with a full
@@ -16,7 +16,7 @@ docs/duty.md), so that between two stops
   with a :class:`~brakewear.thermal.reduced.ReducedRotorHeat` (``heat``) the
   stop's thermal coning ``kappa_c (T_ring - T_hat)``, its mean over the stop
   (predicted by running the reduced rotor through the stop first, and put back), is added
-  to the gap as a coning (:func:`brakewear.cleaning.nonconformity_gap`), and
+  to the gap as a coning (:func:`brakewear.cleaning.corrosion.nonconformity_gap`), and
   the reduced rotor then takes the stop's real power and cools in the dwell.
 
 Every contact solve a stop's wear loop starts without a start set starts from
@@ -33,9 +33,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .cleaning import nonconformity_gap, outboard_nodes
-from .duty import Dwell, Stop, run_schedule
-from .errors import DutyError
+from .corrosion import nonconformity_gap, outboard_nodes
+from ..duty import Dwell, Stop, run_schedule
+from ..errors import DutyError
 
 logger = logging.getLogger(__name__)
 
@@ -104,7 +104,7 @@ def run_routine(model, interface, schedule, vehicle, rust, mu_iron: float, *, nu
     vehicle
         The :class:`~brakewear.duty.Vehicle` (as its controller runs the routine).
     rust
-        A :class:`brakewear.rust.RustLayer` of ``interface`` (its laws and friction).
+        A :class:`brakewear.cleaning.rust.RustLayer` of ``interface`` (its laws and friction).
     mu_iron
         The friction coefficient on iron.
     numerics
@@ -214,7 +214,7 @@ def _dwell(app: Dwell, model, itf, rust, mu_iron, numerics, heat, thermal, vehic
                                      vehicle=vehicle, numerics=numerics, interface=itf,
                                      thermal=thermal)))
     else:
-        from .duty import ApplicationRecord
+        from ..duty import ApplicationRecord
         rec = ApplicationRecord(0, "dwell", 0.0, app.duration, omega0=omega, omega1=omega)
         if heat is not None:
             heat.cool(app.duration, omega)

@@ -15,7 +15,7 @@ import os
 import re
 from pathlib import Path
 
-from .errors import SceneError
+from ..errors import SceneError
 
 logger = logging.getLogger(__name__)
 
@@ -86,7 +86,7 @@ def clear_run(out: str | os.PathLike) -> list[Path]:
 def finished_run(out: str | os.PathLike, duration: float) -> tuple[int, float] | None:
     """``(step, time)`` of the run in ``out`` when its checkpoint has reached
     ``duration`` (s), else None (no checkpoint, or a run still to continue)."""
-    from .wear.state import checkpoint_progress
+    from ..wear.state import checkpoint_progress
 
     ck = Path(out) / "checkpoint.npz"
     if not ck.is_file():

@@ -13,7 +13,7 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
-from .errors import WearError
+from ..errors import WearError
 
 logger = logging.getLogger(__name__)
 

@@ -96,14 +96,14 @@ def _fit(rows: tuple, col: int, order: int) -> tuple[np.ndarray, float]:
 
 
 def _same_brake(geom) -> bool:
-    from .geometry.files import load_geometry
+    from ..geometry.files import load_geometry
 
     ref = load_geometry("default")
     return replace(geom, mesh=ref.mesh) == ref
 
 
 def _mesh_of(scene) -> dict:
-    from .mesh.estimate import mesh_layers
+    from .estimate import mesh_layers
 
     geom = scene.meshed_geometry
     lay = mesh_layers(geom, scene.mesh_size)
@@ -147,7 +147,7 @@ def _caveats(scene, mesh: dict, rows: tuple, when: float, same: bool) -> list[st
     if scene.thermal.enabled:
         out.append("measured without thermal coupling: the temperature field's own mesh "
                    "error is not rated")
-    from .caliper_loads import resolve_layout
+    from ..caliper.loads import resolve_layout
     if resolve_layout(scene.geometry, scene.layout, scene.rotor) == "full":
         out.append("measured on the half model (one pad); here both pads, each rated alike")
     if scene.rotor == "rigid":

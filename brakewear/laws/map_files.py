@@ -12,7 +12,7 @@ Lines starting with ``#`` are comments.  The rows must fill a full tensor
 grid: the axes are each column's sorted distinct values and each of their
 combinations stands on exactly one row.  Every refusal names the file, the
 row (its line number in the file, comments counted) and the column.
-:func:`brakewear.maps.read_map` makes a :class:`~brakewear.maps.TableMap` of it.
+:func:`brakewear.laws.maps.read_map` makes a :class:`~brakewear.laws.maps.TableMap` of it.
 """
 from __future__ import annotations
 
@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import MapError
+from ..errors import MapError
 
 logger = logging.getLogger(__name__)
 
@@ -194,7 +194,7 @@ def _tensor(source: str, raw: np.ndarray, rownos: list[int], cols: list[tuple]):
 
 
 def parse_table(text: str, source: str, quantity: str) -> dict:
-    """A map's CSV text as the arguments of a :class:`~brakewear.maps.TableMap`.
+    """A map's CSV text as the arguments of a :class:`~brakewear.laws.maps.TableMap`.
 
     Parameters
     ----------

@@ -32,8 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import GeometryError, WearError
-from .laws import WearLaw
+from ..errors import GeometryError, WearError
+from ..laws.base import WearLaw
 
 __all__ = ["read_gap_map", "map_gap", "GAP_COLUMNS", "LayeredWearLaw", "CorrodedRotor",
            "BandCriterion", "coning_gap", "nonconformity_gap", "outboard_nodes"]

@@ -1,8 +1,8 @@
 """The nested active sets of a condensed contact held by the caliper's rows.
 
 :class:`RowSets` solves the condensed pad-rotor contact together with the
-caliper's rows (:mod:`brakewear.contact.caliper`), given their condensation
-(:class:`~brakewear.interfaces.caliper_condensation.CaliperCondensation` or
+caliper's rows (:mod:`brakewear.caliper.rows`), given their condensation
+(:class:`~brakewear.caliper.condensation.CaliperCondensation` or
 any arrays of its shape: the contact nodes first, then the rows).
 
 Outside, the rows' *state*: each normal row closed or open, each friction row
@@ -19,7 +19,7 @@ are linear in the contact forces ``lam_c`` and the pads' free modes
 ``alpha``, so the rows' forces and the rigid DOFs are eliminated,
 ``lam_s = L0 + Lc lam_c + La alpha`` (kept per state).  Inside, the
 pad-rotor contact is the condensed interface's active-set solve
-(:class:`~brakewear.interfaces.condensed._DenseSets`, its factorisations kept
+(:class:`~brakewear.interfaces.condensed.DenseSets`, its factorisations kept
 per state) of the system the elimination leaves:
 
     [H + Hcs Lc] lam_c + [E + Hcs La] alpha = -(q + Hcs L0),
@@ -45,7 +45,7 @@ import numpy as np
 from scipy.linalg import LinAlgWarning, lu_factor, lu_solve
 
 from ..errors import SolverError
-from .condensed import _DenseSets, solve_dense_sets
+from ..interfaces.condensed import DenseSets, solve_dense_sets
 
 logger = logging.getLogger(__name__)
 
@@ -84,9 +84,9 @@ class RowSets:
     ----------
     cond
         ``H``, ``Ht``, ``hf``, ``E``, ``Dt``, ``zf``, ``n_c`` (the contact nodes'
-        count): :class:`~brakewear.interfaces.caliper_condensation.CaliperCondensation`.
+        count): :class:`~brakewear.caliper.condensation.CaliperCondensation`.
     rows
-        :class:`~brakewear.contact.caliper.CaliperRows` (``C`` is not used).
+        :class:`~brakewear.caliper.rows.CaliperRows` (``C`` is not used).
     gap_tol, tol
         Penetration tolerated (m) and the solves' tolerance.
     """
@@ -227,7 +227,7 @@ class RowSets:
             b0[rows.n:] = line_pressure * rows.f_q
             y0 = lu_solve(eff["lu"], eff["scale"] * b0, check_finite=False)
             L0 = y0[:rows.n]
-            problem = _DenseSets(self, eff["H"] if ring_H is None else eff["H"] + ring_H,
+            problem = DenseSets(self, eff["H"] if ring_H is None else eff["H"] + ring_H,
                                  eff["D"], q_c + eff["Hcs"] @ L0, rhs_c - eff["Es"].T @ L0,
                                  compliance, ring_key, E=eff["E"], Q=eff["Q"])
             act = self._contact(problem, start_gap, compliance, act)

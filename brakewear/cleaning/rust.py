@@ -18,7 +18,7 @@ the pad, Motta, Fedrizzi and Andreatta 2023; how much is an assumption).
 Every parameter is a named uncertain input (:data:`RUST_PRIORS`): a wide prior
 and where it comes from, or that it is an assumption.  The removal rate
 and the threshold are not known for a given pad and rust; a dynamometer
-record fits them with their uncertainty (:mod:`brakewear.rust_fit`).
+record fits them with their uncertainty (:mod:`brakewear.cleaning.rust_fit`).
 
 :class:`RustLayer` keeps the layer of every rotor face the wear loop models
 ring by ring and gives the loop its laws: the rotor's (:class:`RustedRotorLaw`:
@@ -26,7 +26,7 @@ the threshold law over corroded rings, the iron's elsewhere), the pad's (its
 coefficient times ``pad_wear_factor`` over corroded rings) and the friction
 coefficient of the next application (:meth:`RustLayer.friction`).  Whether
 the band is cleaned is judged apart, by the cleaning criterion
-(:mod:`brakewear.cleaning`).
+(:mod:`brakewear.cleaning.corrosion`).
 """
 from __future__ import annotations
 
@@ -34,9 +34,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .checks import check_number
-from .errors import WearError
-from .laws import WearLaw, node_inputs
+from ..checks import check_number
+from ..errors import WearError
+from ..laws.base import WearLaw, node_inputs
 
 __all__ = ["RustLaw", "RustedRotorLaw", "RustLayer", "RUST_PRIORS", "Prior"]
 
@@ -132,7 +132,7 @@ RUST_PRIORS = {
     "k_rust": Prior("lognormal", 1e-12, 0.7, "1/Pa",
                     "assumption: 2000 x the iron's coefficient, so that 25 um go in 10-25 "
                     "light stops; a factor 2 at one standard deviation. Calibrate it on a "
-                    "dynamometer record (brakewear.rust_fit)"),
+                    "dynamometer record (brakewear.cleaning.rust_fit)"),
     "threshold": Prior("uniform", 0.0, 0.1e6, "Pa",
                        "assumption: a friable oxide breaks up only above a least contact "
                        "pressure, of the order of the lightest brake applications "
@@ -191,10 +191,10 @@ class RustLayer:
     """
 
     def __init__(self, interface, rust: RustLaw, k_iron: float, pad_law: WearLaw):
-        from .cleaning import LayeredWearLaw
+        from .corrosion import LayeredWearLaw
 
         if not isinstance(rust, RustLaw):
-            raise WearError(f"rust = {rust!r} is not a brakewear.rust.RustLaw")
+            raise WearError(f"rust = {rust!r} is not a brakewear.cleaning.rust.RustLaw")
         check_number("k_iron", k_iron, 0.0, 1e-8, unit="1/Pa", kind=WearError)
         self.rust, self.W, self.ring, self.area = rust, interface.W, interface.ring, interface.area
         n = self.area.size

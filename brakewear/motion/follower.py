@@ -4,7 +4,7 @@
 body: every node within a depth ``D`` below a face gets the shape functions
 of the point of the face above it, weighted ``1 - d/D``, so that moving the
 face by worn depths moves the band by a linear fall-off to ``D``
-(:mod:`brakewear.motion`).  P1 faces take the flat facets' barycentric
+(:mod:`brakewear.motion.brake`).  P1 faces take the flat facets' barycentric
 coordinates; P2 faces the curved facets' (isoparametric) coordinates and
 the face's transformed basis (:mod:`brakewear.contact.basis`).
 """
@@ -16,11 +16,11 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from .mesh.quadratic import slave_basis
-from .contact.surface import project_nodes
-from .errors import MotionError
-from .mesh.triangle import tri6
-from .mesh.surface import face_nodes, facet_normals, is_quadratic, quadratic_faces
+from ..mesh.quadratic import slave_basis
+from ..contact.surface import project_nodes
+from ..errors import MotionError
+from ..mesh.triangle import tri6
+from ..mesh.surface import face_nodes, facet_normals, is_quadratic, quadratic_faces
 
 logger = logging.getLogger(__name__)
 

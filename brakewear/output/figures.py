@@ -16,7 +16,7 @@ from typing import Mapping, Sequence
 import numpy as np
 import skfem as fem
 
-from .errors import MeshError
+from ..errors import MeshError
 
 logger = logging.getLogger(__name__)
 

@@ -18,7 +18,7 @@ pressure and the friction faces, the ones a brake engineer checks first:
   clearance and guided length, the square-section seal (its section and the
   rubber's modulus), the friction at the piston's rim and in the bore --
   which decides how far the inboard pad may tilt (the rigid piston of
-  :mod:`brakewear.contact.caliper`);
+  :mod:`brakewear.caliper.rows`);
 - :class:`HatGeometry` and :class:`VentGeometry`: the rotor's mounting hat
   (flange clamped at the bolt circle, a cylindrical wall, the friction ring)
   and a vented ring (two cheeks joined by radial vanes).
@@ -105,7 +105,7 @@ class CaliperGeometry:
         Normal stiffness per unit area (Pa/m) of the layer between the jaw and
         the backplate (a shim, the local compliance of finger and plate): with
         a tilted jaw the finger pressure is ``finger_stiffness x`` the jaw's
-        local approach (:func:`brakewear.caliper_loads.jaw_pressure`).
+        local approach (:func:`brakewear.caliper.loads.jaw_pressure`).
     bore_tilt : float
         The same compliance on the inboard side (rad/N, floating calipers
         only): under ``F`` the housing's bore turns by ``bore_tilt x F`` about
@@ -150,7 +150,7 @@ class SupportGeometry:
         bracket's abutments: the ends slide there along the rotor axis, and
         the friction holds the pad against tilting in proportion to the drag
         the abutment carries (the rigid-piston load path,
-        :mod:`brakewear.contact.caliper`; the FE interface's stops are
+        :mod:`brakewear.caliper.rows`; the FE interface's stops are
         frictionless).
     """
 
