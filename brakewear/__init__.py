@@ -9,9 +9,10 @@ Built on scikit-fem (assembly), pyamg (solvers), meshio (files) and pyvista
     import brakewear as bw
 
     model = bw.BrakeModel("default", size=12e-3)       # mesh and materials
-    res = model.solve_contact(1e6, mu=0.4)             # 1 MPa line pressure
-    steps = list(bw.wear_history(model, 1e6, 55.0, 60.0, bw.WearLaw(5e-15),
-                                 mu=0.4, numerics=bw.Numerics(steps=2)))
+    res = bw.solve_contact(model, 1e6, mu=0.4)         # 1 MPa line pressure
+    run = bw.Run(model, 1e6, 55.0, 60.0, bw.WearLaw(5e-15), mu=0.4,
+                 numerics=bw.Numerics(steps=2))
+    steps = list(bw.wear_history(run))
 
 The names are loaded on first use, so ``import brakewear`` stays light and a
 run that never asks for thermal coupling never imports it.
@@ -66,7 +67,8 @@ _LAZY = {
     "OptionKey": "registry",
     "TableMap": "laws.maps", "read_map": "laws.maps", "FrictionMap": "laws.maps",
     "WearMap": "laws.maps", "StribeckFriction": "laws.maps", "MildSevereWear": "laws.maps",
-    "BrakeModel": "model", "StaticResult": "model",
+    "BrakeModel": "model", "StaticResult": "static", "solve_contact": "static",
+    "solve_tied": "static", "static_summary": "static", "body_stresses": "static",
     "FEInterface": "interfaces", "CondensedInterface": "interfaces",
     "CaliperInterface": "caliper.interface",
     "FoundationInterface": "interfaces",

@@ -33,6 +33,7 @@ import time
 from pathlib import Path
 
 from .solvers.heartbeat import listening
+from .static import body_stresses, solve_tied, static_summary
 
 logger = logging.getLogger(__name__)
 
@@ -80,9 +81,9 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     if overwrite:
         clear_run(out)
     out.mkdir(parents=True, exist_ok=True)
-    res = model.solve_tied(line_pressure_mpa * 1e6)
-    summary = model.summary(res)
-    vm = model.stresses(res)
+    res = solve_tied(model, line_pressure_mpa * 1e6)
+    summary = static_summary(model, res)
+    vm = body_stresses(model, res)
     files = []
     for b in model.bodies:
         m = model.meshes[b]

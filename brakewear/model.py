@@ -10,30 +10,33 @@ body's nodes are its vertices, then its mid-edge nodes; the pad's friction
 face is then the slave face of a dual mortar pair
 (:mod:`brakewear.contact.quadratic`), the contact system in its transformed
 unknowns.
+
+A model is data -- meshes, materials, stiffness matrices, loads, supports and
+the contact system -- as a scikit-fem mesh or basis is: it does not solve.  Its
+static solves are functions that take it (:func:`brakewear.static.solve_tied`,
+:func:`brakewear.static.solve_contact`), as are the wear loop, the thermal
+model and the geometry update.
 """
 from __future__ import annotations
 
 import copy
 import logging
 import time
-from dataclasses import dataclass, field
 from os import PathLike
 
 import numpy as np
 import scipy.sparse as sp
 
-from .caliper.static import solve_caliper
 from .checks import check_line_pressure, check_plausible
-from .contact.lagrange import solve_contact
 from .contact.basis import check_supports
 from .contact.pairs import (ContactPair, ContactSystem, merge_pairs, pair_to_rigid,
                             pair_to_surface, plane_height, rotor_drag)
-from .contact.supports import support_forces, with_supports
+from .contact.supports import with_supports
 from .contact.quadratic import face_values
 from .contact.surface import project_nodes, tie_prolongation
 from .errors import MeshError, MotionError, SceneError
 from .fem.assembly import BlockPattern, assemble_stiffness
-from .fem.boundary import apply_dirichlet, boundary_dofs
+from .fem.boundary import boundary_dofs
 from .geometry.files import load_geometry
 from .geometry.parts import BrakeGeometry
 from .caliper.loads import (
@@ -54,35 +57,12 @@ from .mesh.io import read_body_mesh
 from .mesh.mirror import mirrored_pads, whole_thickness_meshes
 from .mesh.quadratic import quadratic_face_areas, slave_basis
 from .mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
-from .solvers.amg import amg_solver
-from .static import body_stresses, static_summary
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["BrakeModel", "StaticResult"]
+__all__ = ["BrakeModel"]
 
 _MESHERS = {"rotor": rotor_mesh, "pad": pad_mesh, "piston": piston_mesh}
-
-
-@dataclass
-class StaticResult:
-    """Result of a static solve of the brake under a line pressure."""
-
-    u: dict                      # body -> displacement (3 N_body,) in DOF order 3 s + i
-    interface_nodes: np.ndarray  # pad vertex indices on the friction face
-    interface_force: np.ndarray  # (3, n) force the rotor exerts on each pad friction node (N)
-    interface_pressure: np.ndarray  # (n,) normal pressure at those nodes (Pa)
-    clamp_force: float           # line pressure x hydraulic piston area (N)
-    info: dict = field(default_factory=dict)
-    active: np.ndarray | None = None  # contact status per interface node (contact solves)
-    normal_z: np.ndarray | None = None  # z of the rotor face's normal toward each node (+-1)
-    support_force: np.ndarray | None = None  # pad DOFs: abutment stops + rails and springs (N)
-
-    @property
-    def normal_force(self) -> float:
-        """Total normal force the rotor exerts on the pads (N), both faces."""
-        nz = 1.0 if self.normal_z is None else self.normal_z
-        return float((self.interface_force[2] * nz).sum())
 
 
 class BrakeModel:
@@ -326,51 +306,12 @@ class BrakeModel:
                              "supports and ties must not overlap")
         return 3 * col[node] + comp
 
-    def solve_tied(self, line_pressure: float = 1e6, tol: float = 1e-10) -> StaticResult:
-        """Static solve with the pad tied to the rotor under ``line_pressure`` (Pa).
-
-        With a rigid rotor the pad's friction face is held fixed instead.
-        """
-        check_line_pressure(line_pressure)
-        t0 = time.perf_counter()
-        K, P, retained, col = self.tie_reduction(tie_interface=True)
-        f = self.loads(line_pressure)
-        pad_nodes = face_nodes(self.meshes["pad"], "friction")
-        pad_nodes = pad_nodes[np.abs(self.meshes["pad"].p[2, pad_nodes]) < 1e-12]
-        extra = None
-        if self.rotor == "rigid":
-            extra = (3 * (pad_nodes + self.offsets["pad"])[:, None] + np.arange(3)).ravel()
-        fixed_r = self.reduced_fixed_dofs(col, extra)
-        Kd, fd = apply_dirichlet((P.T @ K @ P).tobsr(blocksize=(3, 3)), P.T @ f, fixed_r)
-        t1 = time.perf_counter()
-        solver = amg_solver(Kd, coords=self.coordinates()[:, retained], fixed=fixed_r, tol=tol)
-        ur = solver.solve(fd)
-        t2 = time.perf_counter()
-        u = P @ ur
-        # reaction (constraint) forces on the pad's friction nodes = interface forces
-        pad_nodes, r, area = self._friction_forces(K @ u - f)
-        F = line_pressure * self.geometry.clamp_area
-        nz = self.rotor_normal_z(pad_nodes)
-        res = StaticResult(
-            u=self.by_body(u), interface_nodes=pad_nodes, interface_force=r,
-            interface_pressure=nz * r[2] / area, clamp_force=F, normal_z=nz,
-            info={"interface": "tied", "rotor": self.rotor, "dofs": int(self.dofs),
-                  "reduced_dofs": int(Kd.shape[0]),
-                  "iterations": int(solver.info.iterations),
-                  "relative_residual": float(solver.info.relative_residual),
-                  "assemble_s": t1 - t0, "amg_setup_s": solver.setup_s,
-                  "solve_s": solver.info.solve_s, "total_s": t2 - t0, **self.timings},
-        )
-        logger.info("tied solve: %d DOFs, %d CG iterations, %.2f s", self.dofs,
-                    solver.info.iterations, t2 - t0)
-        return res
-
     def by_body(self, u: np.ndarray) -> dict:
         """The displacement ``u`` (all DOFs) of each body: name -> its DOFs."""
         return {b: u[3 * self.offsets[b]:3 * (self.offsets[b] + self.meshes[b].p.shape[1])]
                 for b in self.bodies}
 
-    def _friction_forces(self, r: np.ndarray):
+    def friction_forces(self, r: np.ndarray):
         """The pad's friction nodes, the nodal forces (3, n) of the residual ``r``
         (all DOFs) on them and their areas.  On a quadratic face, in the
         transformed basis of its contact pair (:mod:`brakewear.mesh.quadratic`):
@@ -423,7 +364,7 @@ class BrakeModel:
     def contact_system(self, line_pressure: float = 1e6, mu: float = 0.0,
                        method: str = "segment", search_radius: float | None = None
                        ) -> ContactSystem:
-        """The assembled pad-rotor contact problem, ready for :func:`solve_contact`.
+        """The assembled pad-rotor contact problem, ready for :func:`brakewear.contact.lagrange.solve_contact`.
 
         Ties (piston) are already eliminated; node numbers are the retained
         ones.  A wear loop keeps this and only changes ``pair.g0``.
@@ -449,49 +390,3 @@ class BrakeModel:
                            col=col, clamp_force=line_pressure * self.geometry.clamp_area)
         g = self.geometry
         return with_supports(cs, self.meshes["pad"], self.offsets["pad"], g.pad, g.support)
-
-    def solve_contact(self, line_pressure: float = 1e6, mu: float = 0.0,
-                      method: str = "segment", tol: float = 1e-9,
-                      linear: str = "amg", load: np.ndarray | None = None) -> StaticResult:
-        """Frictional contact of pad and rotor under ``line_pressure`` (Pa).
-
-        Sliding friction ``mu p`` drags the pad along the rotor's velocity
-        (+theta); equal and opposite on the rotor.  ``load``: an extra nodal
-        load (N, every DOF; e.g. a thermal strain's).  Returns the nodal
-        contact pressure on the pad's friction face (zero where it lifts off).
-        """
-        if self.piston == "rigid":
-            return StaticResult(**solve_caliper(self, line_pressure, mu, tol=tol, load=load))
-        t0 = time.perf_counter()
-        cs = self.contact_system(line_pressure, mu, method)
-        t1 = time.perf_counter()
-        f = cs.f if load is None else cs.f + cs.P.T @ load
-        cres = solve_contact(cs.K, f, cs.fixed, cs.coords, [cs.pair, *cs.supports], tol=tol,
-                             linear=linear)
-        return self._contact_result(cs, cres, {"interface": f"contact ({method})", "mu": mu,
-                                               "assemble_s": t1 - t0,
-                                               "total_s": time.perf_counter() - t0})
-
-    def _contact_result(self, cs: ContactSystem, cres, extra: dict) -> StaticResult:
-        u = cs.P @ cres.u
-        force = cs.pair.normal * cres.force[0] + cres.friction[0]
-        info = {"rotor": self.rotor, "dofs": int(self.dofs), **extra,
-                **{k: v for k, v in cres.info.items() if k != "active_counts"}, **self.timings}
-        logger.info("contact solve: %d DOFs, %d active-set iterations", self.dofs,
-                    cres.info["active_set_iterations"])
-        return StaticResult(u=self.by_body(u),
-                            interface_nodes=face_nodes(self.meshes["pad"], "friction"),
-                            interface_force=force, interface_pressure=cres.pressure[0],
-                            clamp_force=cs.clamp_force, info=info, active=cres.active[0],
-                            normal_z=np.sign(cs.pair.normal[2]),
-                            support_force=support_forces(
-                                cs, cres.force[1:], u, self.meshes["pad"], self.offsets["pad"],
-                                self.geometry.pad, self.geometry.support))
-
-    def stresses(self, result: StaticResult) -> dict:
-        """Nodal von Mises stress per body (Pa)."""
-        return body_stresses(self, result)
-
-    def summary(self, result: StaticResult) -> dict:
-        """A JSON-ready summary of a static solve (:func:`~brakewear.static.static_summary`)."""
-        return static_summary(self, result)

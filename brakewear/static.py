@@ -1,4 +1,12 @@
-"""What a static solve of the brake reports: stresses, contact coverage, centres of pressure.
+"""Static solves of a brake model, and what they report.
+
+:func:`solve_tied` (the pad tied to the rotor) and :func:`solve_contact`
+(frictional contact; a model whose piston is rigid is held by its caliper's
+parts, :func:`brakewear.caliper.static.solve_caliper`) take a
+:class:`~brakewear.model.BrakeModel`, which is data: meshes, materials,
+stiffness matrices and the contact system; they return a
+:class:`StaticResult`.  :func:`static_summary` and :func:`body_stresses`
+report it.
 
 Per friction face (the half model has one, the full model the inboard
 ``in`` and outboard ``out`` face): the normal force, the contact coverage
@@ -8,21 +16,166 @@ mean pressure and the centre of pressure in (r, theta).
 from __future__ import annotations
 
 import logging
+import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from .caliper.static import solve_caliper
+from .checks import check_line_pressure
+from .contact.lagrange import solve_contact as solve_active_set
+from .contact.pairs import ContactSystem
+from .contact.supports import support_forces
 from .errors import SceneError
+from .fem.boundary import apply_dirichlet
 from .fem.stress import element_stress, nodal_stress, von_mises
 from .mesh.surface import face_nodes
+from .solvers.amg import amg_solver
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["body_stresses", "static_summary", "face_report", "friction_faces", "pad_balance",
-           "caliper_balance"]
+__all__ = ["StaticResult", "solve_tied", "solve_contact", "body_stresses", "static_summary",
+           "face_report", "friction_faces", "pad_balance", "caliper_balance"]
+
+@dataclass
+class StaticResult:
+    """Result of a static solve of the brake under a line pressure."""
+
+    u: dict                      # body -> displacement (3 N_body,) in DOF order 3 s + i
+    interface_nodes: np.ndarray  # pad vertex indices on the friction face
+    interface_force: np.ndarray  # (3, n) force the rotor exerts on each pad friction node (N)
+    interface_pressure: np.ndarray  # (n,) normal pressure at those nodes (Pa)
+    clamp_force: float           # line pressure x hydraulic piston area (N)
+    info: dict = field(default_factory=dict)
+    active: np.ndarray | None = None  # contact status per interface node (contact solves)
+    normal_z: np.ndarray | None = None  # z of the rotor face's normal toward each node (+-1)
+    support_force: np.ndarray | None = None  # pad DOFs: abutment stops + rails and springs (N)
+
+    @property
+    def normal_force(self) -> float:
+        """Total normal force the rotor exerts on the pads (N), both faces."""
+        nz = 1.0 if self.normal_z is None else self.normal_z
+        return float((self.interface_force[2] * nz).sum())
 
 
-def body_stresses(model, result) -> dict:
-    """Nodal von Mises stress per body (Pa)."""
+def solve_tied(model, line_pressure: float = 1e6, tol: float = 1e-10) -> StaticResult:
+    """Static solve of ``model`` with the pad tied to the rotor under ``line_pressure``.
+
+    With a rigid rotor the pad's friction face is held fixed instead.
+
+    Parameters
+    ----------
+    model : brakewear.model.BrakeModel
+        The brake.
+    line_pressure : float
+        Hydraulic line pressure (Pa).
+    tol : float
+        Relative residual of the AMG-preconditioned CG solve.
+
+    Returns
+    -------
+    StaticResult
+        Displacements per body and the interface forces (the tie's reactions).
+    """
+    check_line_pressure(line_pressure)
+    t0 = time.perf_counter()
+    K, P, retained, col = model.tie_reduction(tie_interface=True)
+    f = model.loads(line_pressure)
+    pad_nodes = face_nodes(model.meshes["pad"], "friction")
+    pad_nodes = pad_nodes[np.abs(model.meshes["pad"].p[2, pad_nodes]) < 1e-12]
+    extra = None
+    if model.rotor == "rigid":
+        extra = (3 * (pad_nodes + model.offsets["pad"])[:, None] + np.arange(3)).ravel()
+    fixed_r = model.reduced_fixed_dofs(col, extra)
+    Kd, fd = apply_dirichlet((P.T @ K @ P).tobsr(blocksize=(3, 3)), P.T @ f, fixed_r)
+    t1 = time.perf_counter()
+    solver = amg_solver(Kd, coords=model.coordinates()[:, retained], fixed=fixed_r, tol=tol)
+    ur = solver.solve(fd)
+    t2 = time.perf_counter()
+    u = P @ ur
+    # reaction (constraint) forces on the pad's friction nodes = interface forces
+    pad_nodes, r, area = model.friction_forces(K @ u - f)
+    F = line_pressure * model.geometry.clamp_area
+    nz = model.rotor_normal_z(pad_nodes)
+    res = StaticResult(
+        u=model.by_body(u), interface_nodes=pad_nodes, interface_force=r,
+        interface_pressure=nz * r[2] / area, clamp_force=F, normal_z=nz,
+        info={"interface": "tied", "rotor": model.rotor, "dofs": int(model.dofs),
+              "reduced_dofs": int(Kd.shape[0]),
+              "iterations": int(solver.info.iterations),
+              "relative_residual": float(solver.info.relative_residual),
+              "assemble_s": t1 - t0, "amg_setup_s": solver.setup_s,
+              "solve_s": solver.info.solve_s, "total_s": t2 - t0, **model.timings},
+    )
+    logger.info("tied solve: %d DOFs, %d CG iterations, %.2f s", model.dofs,
+                solver.info.iterations, t2 - t0)
+    return res
+
+
+def solve_contact(model, line_pressure: float = 1e6, mu: float = 0.0, method: str = "segment",
+                  tol: float = 1e-9, linear: str = "amg",
+                  load: np.ndarray | None = None) -> StaticResult:
+    """Frictional contact of pad and rotor of ``model`` under ``line_pressure``.
+
+    Sliding friction ``mu p`` drags the pad along the rotor's velocity
+    (+theta); equal and opposite on the rotor.  A model whose piston is rigid
+    (``BrakeModel(piston="rigid")``) is held by its caliper's rows
+    (:func:`brakewear.caliper.static.solve_caliper`).
+
+    Parameters
+    ----------
+    model : brakewear.model.BrakeModel
+        The brake.
+    line_pressure : float
+        Hydraulic line pressure (Pa).
+    mu : float
+        Friction coefficient (>= 0).
+    method : str
+        ``"segment"`` or ``"mortar"``: how pad nodes meet the rotor's facets.
+    tol : float
+        Relative residual of the linear solves.
+    linear : str
+        ``"amg"`` (pyamg-preconditioned CG) or ``"direct"``.
+    load : numpy.ndarray, optional
+        An extra nodal load (N, every DOF; e.g. a thermal strain's).
+
+    Returns
+    -------
+    StaticResult
+        The nodal contact pressure on the pad's friction face (zero where it
+        lifts off), the active set, the displacements and the support forces.
+    """
+    if model.piston == "rigid":
+        return StaticResult(**solve_caliper(model, line_pressure, mu, tol=tol, load=load))
+    t0 = time.perf_counter()
+    cs = model.contact_system(line_pressure, mu, method)
+    t1 = time.perf_counter()
+    f = cs.f if load is None else cs.f + cs.P.T @ load
+    cres = solve_active_set(cs.K, f, cs.fixed, cs.coords, [cs.pair, *cs.supports], tol=tol,
+                            linear=linear)
+    return _contact_result(model, cs, cres, {"interface": f"contact ({method})", "mu": mu,
+                                             "assemble_s": t1 - t0,
+                                             "total_s": time.perf_counter() - t0})
+
+
+def _contact_result(model, cs: ContactSystem, cres, extra: dict) -> StaticResult:
+    u = cs.P @ cres.u
+    force = cs.pair.normal * cres.force[0] + cres.friction[0]
+    info = {"rotor": model.rotor, "dofs": int(model.dofs), **extra,
+            **{k: v for k, v in cres.info.items() if k != "active_counts"}, **model.timings}
+    logger.info("contact solve: %d DOFs, %d active-set iterations", model.dofs,
+                cres.info["active_set_iterations"])
+    pad, off = model.meshes["pad"], model.offsets["pad"]
+    return StaticResult(u=model.by_body(u), interface_nodes=face_nodes(pad, "friction"),
+                        interface_force=force, interface_pressure=cres.pressure[0],
+                        clamp_force=cs.clamp_force, info=info, active=cres.active[0],
+                        normal_z=np.sign(cs.pair.normal[2]),
+                        support_force=support_forces(cs, cres.force[1:], u, pad, off,
+                                                     model.geometry.pad, model.geometry.support))
+
+
+def body_stresses(model, result: StaticResult) -> dict:
+    """Nodal von Mises stress per body (Pa): body name -> (nodes,) array."""
     out = {}
     for b in model.bodies:
         se = element_stress(model.meshes[b], result.u[b], model.materials[b])

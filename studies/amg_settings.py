@@ -4,7 +4,7 @@ Two cases, each timed with ``time.process_time`` (the solves are single
 threaded, so CPU time is steadier than wall time on a shared machine):
 
 * ``tied`` -- the tied pad-rotor elasticity system of
-  :meth:`brakewear.model.BrakeModel.solve_tied`: hierarchy setup (including
+  :func:`brakewear.static.solve_tied`: hierarchy setup (including
   the coarse factorisation) and AMG-CG from zero to 1e-9 and to 1e-6;
 * ``comp`` -- one implicit wear step's compliant contact solve at mu = 0.4
   (:class:`brakewear.FEInterface`, an 18 s step of k = 5e-15 1/Pa
@@ -63,7 +63,7 @@ def model_for(size: str):
 
 
 def tied_system(model):
-    """(Kd, fd, coords, fixed) exactly as ``BrakeModel.solve_tied`` forms them."""
+    """(Kd, fd, coords, fixed) exactly as ``brakewear.static.solve_tied`` forms them."""
     from brakewear.fem import apply_dirichlet
 
     K, P, retained, col = model.tie_reduction(tie_interface=True)

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.model import BrakeModel
+from brakewear.static import solve_contact
 
 
 def centre_of_pressure(model: BrakeModel, res) -> tuple[float, float]:
@@ -37,7 +38,7 @@ def main(line_pressure_mpa: float = 1.0, mu: float = 0.4, size_mm: float | None 
     g = model.geometry
     runs = {}
     for label, m in (("frictionless", 0.0), ("friction", mu)):
-        res = model.solve_contact(line_pressure_mpa * 1e6, mu=m)
+        res = solve_contact(model, line_pressure_mpa * 1e6, mu=m)
         r, th = centre_of_pressure(model, res)
         runs[label] = {
             "mu": m, "res": res, "cop_r_m": r, "cop_theta_deg": th,

@@ -24,6 +24,7 @@ import numpy as np
 from brakewear.mesh.quadratic import quadratic_face_areas
 from brakewear.mesh.surface import tributary_areas
 from brakewear.model import BrakeModel
+from brakewear.static import solve_contact, static_summary
 
 logger = logging.getLogger(__name__)
 
@@ -34,11 +35,11 @@ def row(order: int, size: float, line_pressure: float = 1e6) -> dict:
     """One frictionless contact solve of the default brake."""
     t0 = time.perf_counter()
     model = BrakeModel("default", size=size, order=order)
-    res = model.solve_contact(line_pressure)
+    res = solve_contact(model, line_pressure)
     pad = model.meshes["pad"]
     area = (quadratic_face_areas(pad, "friction")[1] if order == 2
             else tributary_areas(pad, "friction", res.interface_nodes))
-    s = model.summary(res)["interface"]
+    s = static_summary(model, res)["interface"]
     return {"order": order, "size_mm": 1e3 * size, "dofs": int(model.dofs),
             "time_s": time.perf_counter() - t0,
             "contact_share": float(area[res.active].sum() / area.sum()),

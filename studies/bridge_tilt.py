@@ -38,6 +38,7 @@ from brakewear.interfaces import FEInterface
 from brakewear.mesh.surface import face_nodes
 from brakewear.model import BrakeModel
 from brakewear.wear import wear_history
+from brakewear.static import solve_contact
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from load_path import MESH, face_numbers, meshed  # noqa: E402  (a sibling script)
@@ -83,7 +84,7 @@ def run_tilt(geom, tilt: float, hours: float, steps: int) -> dict:
     t0 = time.perf_counter()
     g = tilted(geom, tilt)
     model = BrakeModel(g, layout="full")
-    res = model.solve_contact(LINE_PRESSURE, mu=MU)
+    res = solve_contact(model, LINE_PRESSURE, mu=MU)
     row = {"tilt_mrad_per_kN": tilt, "dofs": int(model.dofs),
            "jaw_tilt_mrad": 1e3 * g.caliper.bridge_tilt * LINE_PRESSURE * g.clamp_area,
            "static": face_numbers(model, res, LINE_PRESSURE)}

@@ -69,6 +69,7 @@ import numpy as np
 from brakewear.geometry import CaliperGeometry, load_geometry
 from brakewear.model import BrakeModel
 from brakewear.static import caliper_balance, pad_balance
+from brakewear.static import solve_contact, static_summary
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from thermal_coning import thermal_load  # noqa: E402  (a sibling script, not a package)
@@ -104,7 +105,7 @@ def cases(mesh: dict) -> dict:
 def face_numbers(model, res, line_pressure: float) -> dict:
     """Coverage, centre of pressure, peak over nominal pressure per face."""
     g = model.geometry
-    s = model.summary(res)
+    s = static_summary(model, res)
     nominal = line_pressure * g.clamp_area / g.pad.area
     out = {}
     for face, f in s["faces"].items():
@@ -152,7 +153,7 @@ def solve_case(geom, layout: str, pressures, mus, dT: float = 0.0,
             p = p_mpa * 1e6
             # a thermal load is large against the clamp force: a tighter solve keeps
             # each pad's balance, relative to the clamp force, below 1e-8
-            res = model.solve_contact(p, mu=mu, tol=1e-10 if load is None else 1e-12,
+            res = solve_contact(model, p, mu=mu, tol=1e-10 if load is None else 1e-12,
                                       load=load)
             bal = pad_balance(model, res, p)
             rows.append({"line_pressure_MPa": p_mpa, "mu": mu,
@@ -238,7 +239,7 @@ def hat_coverage(geom, dTs=(0.0, 100.0, 200.0), line_pressure: float = 1e6,
     model = BrakeModel(geom, layout="full")
     rows = []
     for dT in dTs:
-        res = model.solve_contact(line_pressure, mu=mu, tol=1e-12, load=ring_load(model, dT))
+        res = solve_contact(model, line_pressure, mu=mu, tol=1e-12, load=ring_load(model, dT))
         rows.append({"dT_K": dT, "faces": face_numbers(model, res, line_pressure)})
     return rows
 

@@ -64,6 +64,7 @@ from brakewear.interfaces import CondensedInterface, FEInterface, FoundationInte
 from brakewear.wear import wear_history
 from brakewear.laws.base import WearLaw
 from brakewear import Numerics
+from brakewear.static import solve_contact
 
 logger = logging.getLogger(__name__)
 
@@ -96,7 +97,7 @@ def run_case(size: float, duration: float, steps: int, scheme: str = "implicit",
     else:
         wi = WinklerInterface.from_model(model)
         if interface == "winkler_cal":
-            wi = calibrate(wi, model.solve_contact(lp, mu), "stiffness", model=model).interface
+            wi = calibrate(wi, solve_contact(model, lp, mu), "stiffness", model=model).interface
         elif interface != "winkler":
             raise ValueError(f"interface = {interface!r}; allowed: 'fe', 'condensed', "
                              "'winkler', 'winkler_cal'")

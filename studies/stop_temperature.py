@@ -38,6 +38,7 @@ from brakewear.output.figures import label_log_axis
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
 from brakewear.thermal import ThermalModel
+from brakewear.static import solve_contact
 
 T_STOP = 4.0          # s: 100 km/h at 7 m/s^2
 T_AMB = 293.15        # K
@@ -167,7 +168,7 @@ def brake_stop(size: float = 12e-3, steps: int = 16, line_pressure: float = 5e6,
     """
     model = BrakeModel(size=size)
     g = model.geometry
-    p = model.solve_contact(line_pressure, mu=mu).interface_pressure
+    p = solve_contact(model, line_pressure, mu=mu).interface_pressure
     th = ThermalModel(model, h_conv=0.0)
     torque = brake_torque(line_pressure, mu, g.piston.hydraulic_area,
                           effective_radius(p, th.pad_area, th.pad_radius))

@@ -30,6 +30,7 @@ import numpy as np
 import skfem as fem
 
 from brakewear import analytic as an
+from brakewear import static
 from brakewear.contact import solve_contact
 from brakewear.output.figures import label_log_axis
 from brakewear.materials import MATERIALS
@@ -78,7 +79,7 @@ def drag(size_mm: float, duration: float = 10.0, dt: float = 0.5,
          contact_conductance: float = 0.0) -> tuple[dict, BrakeModel, ThermalModel]:
     model = BrakeModel(size=size_mm * 1e-3)
     mu, omega, p_line = 0.4, 50.0, 1e6
-    res = model.solve_contact(p_line, mu=mu)
+    res = static.solve_contact(model, p_line, mu=mu)
     t0 = time.perf_counter()
     th = ThermalModel(model, contact_conductance=contact_conductance)
     build_s = time.perf_counter() - t0

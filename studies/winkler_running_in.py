@@ -45,6 +45,7 @@ from brakewear.interfaces import FoundationInterface
 from brakewear.wear import wear_history
 from brakewear.laws.base import WearLaw
 from brakewear import Numerics
+from brakewear.static import solve_contact
 
 logger = logging.getLogger(__name__)
 
@@ -175,7 +176,7 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
     build_s = time.perf_counter() - t0
     logger.info("model: %d DOFs (%.1f s)", model.dofs, build_s)
     t0 = time.perf_counter()
-    fe_static = model.solve_contact(line_pressure, mu)
+    fe_static = solve_contact(model, line_pressure, mu)
     static_s = time.perf_counter() - t0
 
     # the Winkler interfaces

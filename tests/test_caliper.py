@@ -23,6 +23,7 @@ from brakewear.caliper.parts import CaliperParts, rigid_map, seal_springs
 from brakewear.contact.compliant import constraint_rows, drag_loads
 from brakewear.caliper.sets import CLOSED, SLIP_DOWN, SLIP_UP, STICK, RowSets
 from brakewear.static import pad_balance
+from brakewear.static import solve_contact
 
 SIZE = 12e-3
 
@@ -39,7 +40,7 @@ def solved():
     itf = CaliperInterface(model, 1e6, 0.4)
     r = itf.fe.r
     offset = 15e-6 * (r - r.min()) / np.ptp(r)     # a coned pair: the pads must tilt
-    res = model.solve_contact(1e6, mu=0.4)
+    res = solve_contact(model, 1e6, mu=0.4)
     return model, itf, offset, res
 
 

@@ -23,6 +23,7 @@ from brakewear.model import BrakeModel
 from brakewear.static import pad_balance
 from brakewear.wear import wear_history
 from brakewear import Numerics, WearLaw
+from brakewear.static import solve_contact, solve_tied, static_summary
 
 SIZE = 6e-3
 
@@ -114,8 +115,8 @@ def test_full_model_equals_half_model_where_the_half_holds(rim, footprint, mu):
     half = BrakeModel(g, size=SIZE, layout="half")
     full = BrakeModel(g, size=SIZE, layout="full")
     assert BrakeModel(g, size=SIZE).layout == "half"          # auto: the assumption holds
-    rh = half.solve_contact(1e6, mu=mu, tol=1e-12)
-    rf = full.solve_contact(1e6, mu=mu, tol=1e-12)
+    rh = solve_contact(half, 1e6, mu=mu, tol=1e-12)
+    rf = solve_contact(full, 1e6, mu=mu, tol=1e-12)
     xh, ph = _face_pressures(half, rh, "in")
     for face in ("in", "out"):
         xf, pf = _face_pressures(full, rf, face)
@@ -140,8 +141,8 @@ def test_one_footprint_gives_one_nodal_load_in_both_layouts():
 def test_fingers_move_the_outboard_pressure_outward(floating):
     m = BrakeModel(floating, size=SIZE)
     assert m.layout == "full"                                    # auto: fingers break symmetry
-    res = m.solve_contact(1e6, mu=0.4)
-    s = m.summary(res)
+    res = solve_contact(m, 1e6, mu=0.4)
+    s = static_summary(m, res)
     F = 1e6 * floating.clamp_area
     for face in ("in", "out"):
         assert s["faces"][face]["normal_force_N"] == pytest.approx(F, rel=1e-8)
@@ -161,7 +162,7 @@ def test_fingers_move_the_outboard_pressure_outward(floating):
 @pytest.mark.parametrize("solve", ["tied", "contact"])
 def test_each_pad_is_in_balance(rim, solve):
     m = BrakeModel(rim, size=SIZE, layout="full")
-    res = m.solve_tied(1e6) if solve == "tied" else m.solve_contact(1e6, mu=0.4)
+    res = solve_tied(m, 1e6) if solve == "tied" else solve_contact(m, 1e6, mu=0.4)
     bal = pad_balance(m, res, 1e6)
     for face in ("in", "out"):
         assert bal[face]["force"] < 1e-8 and bal[face]["moment"] < 1e-8
@@ -225,7 +226,7 @@ def test_meshed_piston_and_fixed_calipers_with_two_pistons_per_side():
     g = load_geometry("floating")
     # the meshed piston on the inboard pad, the fingers on the outboard one
     m = BrakeModel(g, size=8e-3, piston="body")
-    s = m.summary(m.solve_contact(1e6, mu=0.4))["faces"]
+    s = static_summary(m, solve_contact(m, 1e6, mu=0.4))["faces"]
     F = 1e6 * g.clamp_area
     assert s["in"]["normal_force_N"] == pytest.approx(F, rel=1e-8)
     assert s["out"]["normal_force_N"] == pytest.approx(F, rel=1e-8)
@@ -236,8 +237,8 @@ def test_meshed_piston_and_fixed_calipers_with_two_pistons_per_side():
                     extra_pistons=(replace(p1, angle=np.radians(12.0)),))
     assert fixed.clamp_area == pytest.approx(2 * np.pi * 0.020 ** 2)
     m = BrakeModel(fixed, size=8e-3)
-    res = m.solve_contact(1e6, mu=0.4)
-    s = m.summary(res)["faces"]
+    res = solve_contact(m, 1e6, mu=0.4)
+    s = static_summary(m, res)["faces"]
     for face in ("in", "out"):
         assert s[face]["normal_force_N"] == pytest.approx(1e6 * fixed.clamp_area, rel=1e-8)
     bal = pad_balance(m, res, 1e6)

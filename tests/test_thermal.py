@@ -15,6 +15,7 @@ import pytest
 import skfem as fem
 
 from brakewear import analytic as an
+from brakewear import static
 from brakewear.contact import solve_contact
 from brakewear.fem import apply_dirichlet, assemble_stiffness, boundary_dofs, thermal_strain_form
 from brakewear.materials import MATERIALS
@@ -183,7 +184,7 @@ MU, OMEGA = 0.4, 50.0
 @pytest.fixture(scope="module")
 def brake():
     m = BrakeModel(size=8e-3)
-    return m, m.solve_contact(1e6, mu=MU)
+    return m, static.solve_contact(m, 1e6, mu=MU)
 
 
 def test_partition_formula():
@@ -279,8 +280,8 @@ def test_thermal_load_global_numbering(brake):
 
 
 def test_scene_without_thermal_builds_nothing_thermal():
-    code = ("import sys; from brakewear import BrakeModel; m = BrakeModel(size=8e-3); "
-            "m.solve_contact(1e6, mu=0.4); "
+    code = ("import sys; from brakewear import BrakeModel, solve_contact; "
+            "m = BrakeModel(size=8e-3); solve_contact(m, 1e6, mu=0.4); "
             "assert 'brakewear.thermal' not in sys.modules, 'thermal imported'")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr[-2000:]

@@ -16,6 +16,7 @@ import numpy as np
 from ..errors import BenchError
 from .common import fmt, peak_rss_mb
 from .kkt import direct_active_set_row, kkt_solves, kkt_system
+from ..static import solve_tied
 
 logger = logging.getLogger(__name__)
 
@@ -195,7 +196,7 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     size, model = brake_resolution(target)
     row.update({"dofs": int(model.dofs), "size_m": size, "mesh_s": time.perf_counter() - t0,
                 "mu": BRAKE_MU, "line_pressure_pa": BRAKE_PRESSURE})
-    # exactly BrakeModel.solve_contact's steps, kept apart to reach K, the pair and the result
+    # exactly brakewear.static.solve_contact's steps, kept apart to reach K, the pair and the result
     t0 = time.perf_counter()
     cs = model.contact_system(BRAKE_PRESSURE, BRAKE_MU, "segment")
     Kr, fr, fixed_r, coords, pair = cs.K, cs.f, cs.fixed, cs.coords, cs.pair
@@ -237,12 +238,12 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
     pair_s = []
     for _ in range(2):  # as _faster_of_two, on the solve's own setup + CG time
         tied = None
-        tied = model.solve_tied(BRAKE_PRESSURE, tol=BRAKE_TOL)
+        tied = solve_tied(model, BRAKE_PRESSURE, tol=BRAKE_TOL)
         pair_s.append(float(tied.info["amg_setup_s"] + tied.info["solve_s"]))
     row["elasticity_solve_s"], row["elasticity_solve_s_pair"] = min(pair_s), pair_s
     row["elasticity_iterations"] = int(tied.info["iterations"])
     row["dirichlet_s"] = None
-    row["elasticity_kind"] = ("BrakeModel.solve_tied (pad tied to rotor), AMG setup + CG "
+    row["elasticity_kind"] = ("static.solve_tied (pad tied to rotor), AMG setup + CG "
                               "(tol 1e-9), its assembly excluded")
     del tied
     row["peak_rss_mb"] = peak_rss_mb()

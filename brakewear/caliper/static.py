@@ -1,10 +1,10 @@
 """A static solve of the brake held by its caliper's parts, and every body's balance.
 
-``BrakeModel(piston="rigid").solve_contact`` comes here: one application from
+:func:`brakewear.static.solve_contact` of a ``BrakeModel(piston="rigid")`` comes here: one application from
 rest on :class:`~brakewear.interfaces.CaliperInterface`, the FE displacement
 recovered from the condensed solution (``u = K^+ F + Z alpha``, the
 condensation's own generalised inverse), and a
-:class:`~brakewear.model.StaticResult` whose ``support_force`` carries every
+:class:`~brakewear.static.StaticResult` whose ``support_force`` carries every
 force on the pads but the rotor's: the caliper's rows (rim, fingers,
 abutments, with their friction) and the bracket's rails and clip
 (:func:`~brakewear.caliper.rows.bracket_springs`).
@@ -37,7 +37,7 @@ def solve_caliper(model, line_pressure: float, mu: float = 0.0, tol: float = 1e-
                   load: np.ndarray | None = None, offset: np.ndarray | None = None,
                   interface=None):
     """One application from rest of a ``piston = "rigid"`` model: the fields of its
-    :class:`~brakewear.model.StaticResult` (``info["caliper"]`` holds the rows'
+    :class:`~brakewear.static.StaticResult` (``info["caliper"]`` holds the rows'
     forces, gaps and state, the rigid DOFs and the interface).  ``offset``: a gap
     offset per pad friction node (m); ``interface``: a
     :class:`~brakewear.interfaces.CaliperInterface` of ``model`` to reuse."""

@@ -131,7 +131,7 @@ def calibrate(interface: WinklerInterface, fe, match: str = "stiffness",
     interface
         From :meth:`WinklerInterface.from_model` on the FE result's model.
     fe
-        A :class:`brakewear.model.StaticResult` of ``model.solve_contact``
+        A :class:`brakewear.static.StaticResult` of :func:`brakewear.static.solve_contact`
         (its clamp force and ``info["mu"]`` set the load).
     match
         ``"stiffness"``: scale the modulus (uniformly, keeping any per-node
