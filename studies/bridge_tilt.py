@@ -42,6 +42,7 @@ from brakewear.static import solve_contact
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from load_path import MESH, face_numbers, meshed  # noqa: E402  (a sibling script)
+from brakewear.wear import Run
 
 TILTS = (0.0, 0.05, 0.1, 0.2, 0.4)        # mrad per kN of clamp force
 LINE_PRESSURE = 1e6                        # Pa
@@ -92,10 +93,8 @@ def run_tilt(geom, tilt: float, hours: float, steps: int) -> dict:
         pad_law = WearLaw(g.pad.friction_material.wear_k)
         rotor_law = WearLaw(g.rotor.material.wear_k)
         itf = FEInterface(model, LINE_PRESSURE, MU)
-        for step in wear_history(model, LINE_PRESSURE, OMEGA, 3600.0 * hours, pad_law,
-                                 rotor_law, MU, interface=itf,
-                                 numerics=Numerics(scheme="implicit", update="gap",
-                                                   steps=steps)):
+        for step in wear_history(Run(model, LINE_PRESSURE, OMEGA, 3600.0 * hours, pad_law, rotor_law, MU, interface=itf, numerics=Numerics(scheme="implicit", update="gap",
+                                                   steps=steps))):
             pass
         row["worn"] = wear_profile(model, itf, step)
     row["wall_s"] = time.perf_counter() - t0

@@ -38,6 +38,7 @@ from brakewear.geometry import load_geometry
 from brakewear.mesh.surface import face_nodes
 from brakewear.model import BrakeModel
 from brakewear.wear import wear_history
+from brakewear.wear import Run
 
 LINE_PRESSURE = 1e6                        # Pa
 MU = 0.4
@@ -98,9 +99,7 @@ def run(abutment_friction: float, size: float, hours: float) -> dict:
     pad = g.pad.friction_material.wear_k
     rotor = g.rotor.material.wear_k
     last = None
-    for last in wear_history(model, LINE_PRESSURE, OMEGA, 3600.0 * hours, WearLaw(pad),
-                             WearLaw(rotor), MU, interface=itf,
-                             numerics=Numerics(steps=10, scheme="implicit")):
+    for last in wear_history(Run(model, LINE_PRESSURE, OMEGA, 3600.0 * hours, WearLaw(pad), WearLaw(rotor), MU, interface=itf, numerics=Numerics(steps=10, scheme="implicit"))):
         pass
     return {"abutment_friction": abutment_friction, "clamp_force_N": F,
             "face_force_N": force, "face_force_share": {k: v / F for k, v in force.items()},

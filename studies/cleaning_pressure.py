@@ -61,6 +61,7 @@ from brakewear import Numerics
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from sweep_executor import add_executor_options, study_executor  # noqa: E402  (a sibling script)
+from brakewear.wear import Run
 
 logger = logging.getLogger("cleaning_pressure")
 
@@ -150,9 +151,7 @@ def running_in_gap(task: dict, model: BrakeModel | None = None, itf=None) -> np.
         model, itf = _interface(task, p_run)
     itf = itf.at_line_pressure(p_run)
     last = None
-    for last in wear_history(model, p_run, task["omega"], task["running_in_seconds"],
-                             WearLaw(K_PAD), WearLaw(K_IRON), task["mu"],
-                             interface=itf, numerics=Numerics(scheme="implicit")):
+    for last in wear_history(Run(model, p_run, task["omega"], task["running_in_seconds"], WearLaw(K_PAD), WearLaw(K_IRON), task["mu"], interface=itf, numerics=Numerics(scheme="implicit"))):
         pass
     return last.pad_wear + itf.W @ last.rotor_wear
 
@@ -200,9 +199,7 @@ def _run_pressure(task: dict) -> dict:
     hist = {"applications": [0.0], "coverage": [], "cleaned": [0.0],
             "ring_wear": [np.zeros(radii.size)]}
     first = last = None
-    for s in wear_history(model, p_line, task["omega"], duration, WearLaw(K_PAD), rotor_law,
-                          task["mu"], interface=itf, initial_gap=gap0,
-                          numerics=Numerics(scheme="implicit", max_dh=h_c / 10.0, dp_tol=task["dp_tol"])):
+    for s in wear_history(Run(model, p_line, task["omega"], duration, WearLaw(K_PAD), rotor_law, task["mu"], interface=itf, initial_gap=gap0, numerics=Numerics(scheme="implicit", max_dh=h_c / 10.0, dp_tol=task["dp_tol"]))):
         first = first or s
         last = s
         # the layer under each ring: corrosion until worn through, then iron

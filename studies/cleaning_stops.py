@@ -73,6 +73,7 @@ from brakewear.duty import KMH, repeated_stops, run_schedule
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from sweep_executor import add_executor_options, study_executor  # noqa: E402  (a sibling script)
+from brakewear.wear import Run
 
 logger = logging.getLogger("cleaning_stops")
 
@@ -206,12 +207,9 @@ def _run_decel(task: dict) -> dict:
 
     rows = []
     num = Numerics(scheme="implicit", max_dh=task["corrosion"] * 1e-7, dp_tol=task["dp_tol"])
-    for rec in run_schedule(model, sched, WearLaw(MATERIALS["pad_resin"].wear_k), rotor.law,
-                            task["mu"], vehicle=car, numerics=num, interface=itf,
-                            initial_gap=nonconformity_gap(itf.x, r_in, r_out,
+    for rec in run_schedule(Run(model, pad_law=WearLaw(MATERIALS["pad_resin"].wear_k), rotor_law=rotor.law, mu=task["mu"], schedule=sched, vehicle=car, numerics=num, interface=itf, initial_gap=nonconformity_gap(itf.x, r_in, r_out,
                                                           g.rotor.thickness,
-                                                          task["coning"] * 1e-6),
-                            on_step=on_step):
+                                                          task["coning"] * 1e-6)), on_step=on_step):
         if rec.kind != "stop":
             continue
         faces = judge.touched_fractions(rec.pressure)

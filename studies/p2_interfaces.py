@@ -30,6 +30,7 @@ import mesh_convergence_p2 as mc2  # noqa: E402
 from brakewear import BrakeModel, CondensedInterface, FEInterface, Numerics  # noqa: E402
 from brakewear import wear_history  # noqa: E402
 from brakewear.scene import load_scene  # noqa: E402
+from brakewear.wear import Run
 
 logger = logging.getLogger(__name__)
 
@@ -58,9 +59,7 @@ def run(scene, order: int, mesh: dict, steps: int, interface: str, grid: dict) -
         condense = (time.perf_counter() - t1, time.process_time() - c1)
     pad_law, rotor_law = scene.wear_laws()
     t2, c2 = time.perf_counter(), time.process_time()
-    for s in wear_history(model, scene.line_pressure, scene.omega, scene.duration, pad_law,
-                          rotor_law, scene.interface.mu, interface=itf,
-                          numerics=Numerics(scheme="implicit", update="gap", steps=steps)):
+    for s in wear_history(Run(model, scene.line_pressure, scene.omega, scene.duration, pad_law, rotor_law, scene.interface.mu, interface=itf, numerics=Numerics(scheme="implicit", update="gap", steps=steps))):
         pass
     loop = (time.perf_counter() - t2, time.process_time() - c2)
     return {"order": order, "mesh": mesh, "interface": interface, "dofs": int(model.dofs),

@@ -36,6 +36,7 @@ from brakewear.interfaces import FEInterface
 from brakewear.wear import wear_history
 from brakewear.laws.base import WearLaw
 from brakewear import Numerics
+from brakewear.wear import Run
 
 logger = logging.getLogger(__name__)
 
@@ -78,9 +79,7 @@ def main(size_mm: float = 4.0, duration: float = 14400.0, out: str | Path = "doc
     targets = sorted(stages)
     prev = (np.zeros(itf.area.size), np.zeros(itf.rotor_area.size), 0.0)
     last = None
-    for last in wear_history(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), WearLaw(K_ROTOR), MU,
-                             interface=itf,
-                             numerics=Numerics(scheme="implicit", dp_tol=dp_tol)):
+    for last in wear_history(Run(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), WearLaw(K_ROTOR), MU, interface=itf, numerics=Numerics(scheme="implicit", dp_tol=dp_tol))):
         row = step_figures(last, itf, MU)
         # the record's pressure is the one at the start of its step
         row["start_time_s"] = prev[2]

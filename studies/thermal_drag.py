@@ -55,7 +55,7 @@ import numpy as np
 
 from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.model import BrakeModel
-from brakewear.wear import Numerics, wear_history
+from brakewear.wear import Numerics, Run, wear_history
 from brakewear.thermal import ThermalModel
 from brakewear.laws.base import WearLaw
 from brakewear.mesh.rings import rotor_rings
@@ -75,14 +75,15 @@ from brakewear import FEInterface, wear_history
 from brakewear import WearLaw
 from brakewear.mesh.rings import rotor_rings
 from brakewear import Numerics
+from brakewear.wear import Run
 a = json.loads(sys.argv[1])
 m = BrakeModel(size=a["size"])
 times, cpu = [], []
 for _ in range(a["repeats"]):
     t0, c0 = time.perf_counter(), time.process_time()
-    h = list(wear_history(m, a["p"], a["omega"], a["duration"], WearLaw(*a["pad"]),
-                      WearLaw(*a["rotor"]), mu=a["mu"],
-                      numerics=Numerics(steps=a["steps"], scheme="implicit")))
+    h = list(wear_history(Run(m, a["p"], a["omega"], a["duration"], WearLaw(*a["pad"]),
+                              WearLaw(*a["rotor"]), mu=a["mu"],
+                              numerics=Numerics(steps=a["steps"], scheme="implicit"))))
     times.append(time.perf_counter() - t0)
     cpu.append(time.process_time() - c0)
 print(json.dumps({"times_s": times, "cpu_s": cpu, "thermal_imported": "brakewear.thermal" in sys.modules,
@@ -103,8 +104,7 @@ def run(model: BrakeModel, thermal: bool, p_line: float, omega: float, mu: float
     t0, c0 = time.perf_counter(), time.process_time()
     th = ThermalModel(model, contact_conductance=h_c) if thermal else None
     build = time.perf_counter() - t0
-    hist = list(wear_history(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu, thermal=th,
-                             numerics=Numerics(steps=steps, scheme="implicit")))
+    hist = list(wear_history(Run(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu, thermal=th, numerics=Numerics(steps=steps, scheme="implicit"))))
     return hist, th, time.perf_counter() - t0, build, time.process_time() - c0
 
 

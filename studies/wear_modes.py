@@ -37,6 +37,7 @@ from brakewear.interfaces import FEInterface
 from brakewear.wear import wear_history
 from brakewear.laws.base import WearLaw
 from brakewear import Numerics
+from brakewear.wear import Run
 
 logger = logging.getLogger(__name__)
 
@@ -69,9 +70,7 @@ def history(update: str, size: float, fractions=FRACTIONS, dh_fraction: float = 
                 else model
             t0 = time.perf_counter()
             last = None
-            for last in wear_history(m, P_LINE, OMEGA, t_end, law, None, MU, checkpoint=ck,
-                                     every=10 ** 6, resume=steps > 0,
-                                     numerics=Numerics(scheme="implicit", update=update, dh_fraction=dh_fraction, dp_tol=dp_tol)):
+            for last in wear_history(Run(m, P_LINE, OMEGA, t_end, law, None, MU, numerics=Numerics(scheme="implicit", update=update, dh_fraction=dh_fraction, dp_tol=dp_tol)), checkpoint=ck, every=10 ** 6, resume=steps > 0):
                 solves += last.contact_solves
             run_s += time.perf_counter() - t0
             steps = last.step

@@ -47,6 +47,7 @@ from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
 from brakewear.wear import WEAR_TOL_GROWTH, Numerics, wear_history
 from brakewear.laws.base import WearLaw
+from brakewear.wear import Run
 
 logger = logging.getLogger(__name__)
 
@@ -65,9 +66,7 @@ def run(model, itf, scheme: str, duration: float, steps: int | None = None,
     t0 = time.perf_counter()
     last, solves, n = None, 0, 0   # the first solve is counted in the first record
     t, H = [0.0], [np.zeros(itf.area.size)]
-    for last in wear_history(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), None, MU,
-                             interface=itf,
-                             numerics=Numerics(steps=steps, scheme=scheme, **kw)):
+    for last in wear_history(Run(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), None, MU, interface=itf, numerics=Numerics(steps=steps, scheme=scheme, **kw))):
         solves += last.contact_solves
         n += 1
         t.append(last.time)

@@ -16,6 +16,7 @@ from brakewear.cleaning.rust import RustLaw, RustLayer
 from brakewear.thermal import SpeedConvection, ThermalModel
 from brakewear.thermal.coning import RotorConing
 from brakewear.thermal.reduced import HAT_CONING_PER_K, ReducedRotorHeat, hat_nodes
+from brakewear.wear import Run
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
 
@@ -118,9 +119,7 @@ def test_the_routine_run_stop_by_stop_is_the_schedule_run_whole():
     pad = WearLaw(MATERIALS["pad_resin"].wear_k)
     k_iron = MATERIALS["grey_cast_iron"].wear_k
     old = CorrodedRotor(itf, g.pad.inner_radius, g.pad.outer_radius, 3e-6, 1e-12, k_iron)
-    whole = [r for r in run_schedule(model, sched, pad, old.law, 0.4, vehicle=car,
-                                     numerics=num, interface=itf,
-                                     on_step=lambda r, s, pw, rw: old.update(rw))]
+    whole = [r for r in run_schedule(Run(model, pad_law=pad, rotor_law=old.law, mu=0.4, schedule=sched, vehicle=car, numerics=num, interface=itf), on_step=lambda r, s, pw, rw: old.update(rw))]
     layer = RustLayer(itf, RustLaw(thickness=3e-6, k_rust=1e-12), k_iron, pad)
     parts = [s.record for s in run_routine(model, itf, sched, car, layer, 0.4,
                                            numerics=num)]

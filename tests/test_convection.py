@@ -6,6 +6,7 @@ from brakewear.duty import Dwell
 from brakewear.errors import DutyError, ThermalError
 from brakewear.model import BrakeModel
 from brakewear.thermal import K_AIR, NU_AIR, SpeedConvection, ThermalModel
+from brakewear.wear import Run
 
 
 def test_speed_convection_law():
@@ -146,9 +147,7 @@ def test_a_dwell_driven_at_speed_cools_the_vented_rotor_more(model):
     end = {}
     for label, dwell in (("rest", Dwell(60.0)), ("driven", Dwell(60.0, speed=80 / 3.6))):
         th = ThermalModel(model, h_conv={"pad": 40.0, "rotor": SpeedConvection.vented()})
-        list(run_schedule(model, [Stop(80 / 3.6, decel=3.0), dwell], WearLaw(5e-15),
-                          WearLaw(5e-16), 0.4, vehicle=car, thermal=th,
-                          numerics=Numerics(steps=3)))
+        list(run_schedule(Run(model, pad_law=WearLaw(5e-15), rotor_law=WearLaw(5e-16), mu=0.4, schedule=[Stop(80 / 3.6, decel=3.0), dwell], vehicle=car, thermal=th, numerics=Numerics(steps=3))))
         end[label] = float(th.face_temperature("rotor").mean())
     rise = end["rest"] - 293.15
     assert rise > 10.0

@@ -9,6 +9,7 @@ from brakewear.duty import Drag, Dwell, Stop, Vehicle, run_schedule
 from brakewear.duty.vehicle import effective_radius
 from brakewear.model import BrakeModel
 from brakewear.thermal.model import ThermalModel
+from brakewear.wear import Run
 
 CAR = Vehicle(mass=1800.0, front_share=0.7, tyre_radius=0.32, brakes_per_axle=2)
 SCHEDULE = [Stop(100 / 3.6, 0.0, decel=3.0), Dwell(20.0), Drag(2e6, 20.0, speed=50 / 3.6),
@@ -23,9 +24,7 @@ def test_heat_equals_friction_work_and_the_demand_is_met_to_the_r_eff_drift(sche
 
     def on_step(rec, s, *_):
         steps.setdefault(rec.index, []).append(s.pressure)
-    recs = [r for r in run_schedule(m, SCHEDULE, WearLaw(5e-14), WearLaw(5e-15), mu=0.4,
-                                    vehicle=CAR, numerics=Numerics(scheme=scheme, steps=4),
-                                    thermal=thermal, on_step=on_step) if r.kind != "dwell"]
+    recs = [r for r in run_schedule(Run(m, pad_law=WearLaw(5e-14), rotor_law=WearLaw(5e-15), mu=0.4, schedule=SCHEDULE, vehicle=CAR, numerics=Numerics(scheme=scheme, steps=4), thermal=thermal), on_step=on_step) if r.kind != "dwell"]
     itf_area, itf_r = (lambda i: (i.area, i.r))(_interface(m))
     hot = 0.0
     for rec in recs:

@@ -20,6 +20,7 @@ from brakewear.geometry.parts import MESH_BODY_KEYS
 from brakewear.mesh.estimate import MEMORY_ENV, check_model_size, estimate_model
 from brakewear.scene import load_scene, scene_file
 from brakewear.static import solve_tied
+from brakewear.wear import Run
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -181,9 +182,7 @@ def test_rotor_limit_through_wear_history():
     limits = bw.WearLimits(pad=None, rotor=2e-7)
     law = bw.WearLaw(5e-15)
     with pytest.raises(WornThroughError) as e:
-        for _ in bw.wear_history(model, 1e6, 55.0, 3600.0, law, bw.WearLaw(5e-14), mu=0.4,
-                                 limits=limits,
-                                 numerics=bw.Numerics(scheme="implicit")):
+        for _ in bw.wear_history(Run(model, 1e6, 55.0, 3600.0, law, bw.WearLaw(5e-14), mu=0.4, limits=limits, numerics=bw.Numerics(scheme="implicit"))):
             pass
     assert e.value.body == "rotor" and e.value.depth >= 2e-7
     assert "rotor worn to its limit" in str(e.value) and "wear.rotor.limit" in str(e.value)

@@ -14,6 +14,7 @@ from brakewear.thermal import ThermalModel
 from brakewear.errors import WearError
 from brakewear.laws.base import WearLaw
 from brakewear.wear import Numerics
+from brakewear.wear import Run
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
 HOT_PAD = WearLaw(5e-15, activation_energy=5e4, T_threshold=320.0)
@@ -26,11 +27,9 @@ def model():
 
 
 def test_thermal_energy_balance_every_step_and_hotter_wear(model):
-    cold = list(wear_history(model, *ARGS, HOT_PAD, ROTOR, mu=0.4,
-                             numerics=Numerics(steps=3, scheme="implicit")))
+    cold = list(wear_history(Run(model, *ARGS, HOT_PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3, scheme="implicit"))))
     th = ThermalModel(model, contact_conductance=1e5)
-    hot = list(wear_history(model, *ARGS, HOT_PAD, ROTOR, mu=0.4, thermal=th,
-                            numerics=Numerics(steps=3, scheme="implicit")))
+    hot = list(wear_history(Run(model, *ARGS, HOT_PAD, ROTOR, mu=0.4, thermal=th, numerics=Numerics(steps=3, scheme="implicit"))))
     for s in hot:
         assert s.heat_balance_error <= 1e-8
         # worn volume = Archard integral with k(T), still to round-off
@@ -44,14 +43,9 @@ def test_thermal_energy_balance_every_step_and_hotter_wear(model):
 
 def test_thermal_resume_repeats_the_run(model, tmp_path):
     ck = tmp_path / "t.npz"
-    run = lambda **kw: list(wear_history(model, *ARGS, PAD, ROTOR, mu=0.4, checkpoint=ck, every=1,
-                                         thermal=ThermalModel(model, contact_conductance=1e5),
-                                         **kw,
-                                         numerics=Numerics(steps=4, scheme="implicit")))
+    run = lambda **kw: list(wear_history(Run(model, *ARGS, PAD, ROTOR, mu=0.4, thermal=ThermalModel(model, contact_conductance=1e5), numerics=Numerics(steps=4, scheme="implicit")), checkpoint=ck, every=1, **kw))
     full = run()
-    for s in wear_history(model, *ARGS, PAD, ROTOR, mu=0.4, checkpoint=ck, every=1,
-                          thermal=ThermalModel(model, contact_conductance=1e5),
-                          numerics=Numerics(steps=4, scheme="implicit")):
+    for s in wear_history(Run(model, *ARGS, PAD, ROTOR, mu=0.4, thermal=ThermalModel(model, contact_conductance=1e5), numerics=Numerics(steps=4, scheme="implicit")), checkpoint=ck, every=1):
         if s.step == 2:
             break
     rest = run(resume=True)
@@ -62,24 +56,20 @@ def test_thermal_resume_repeats_the_run(model, tmp_path):
 
 def test_friction_law_follows_temperature(model):
     law = FrictionLaw(0.4, slope=-5e-4, T_ref=293.15, mu_min=0.2)
-    steps = list(wear_history(model, *ARGS, PAD, ROTOR, mu=law,
-                              thermal=ThermalModel(model, contact_conductance=1e5),
-                              numerics=Numerics(steps=3, scheme="implicit")))
+    steps = list(wear_history(Run(model, *ARGS, PAD, ROTOR, mu=law, thermal=ThermalModel(model, contact_conductance=1e5), numerics=Numerics(steps=3, scheme="implicit"))))
     mus = [s.mu for s in steps]
     assert mus[0] == pytest.approx(0.4) and mus[-1] < mus[0] and min(mus) >= 0.2
 
 
 def test_friction_law_needs_thermal(model):
     with pytest.raises(WearError, match="thermal"):
-        next(wear_history(model, *ARGS, PAD, mu=FrictionLaw(0.4, slope=-5e-4),
-                          numerics=Numerics(scheme="explicit")))
+        next(wear_history(Run(model, *ARGS, PAD, mu=FrictionLaw(0.4, slope=-5e-4), numerics=Numerics(scheme="explicit"))))
 
 
 def test_a_constant_friction_law_per_node_is_the_number(model):
     """mu per node (one value at every pad node) gives the history of the number
     bit for bit: the same friction operator, pressures and wear."""
-    run = lambda mu: list(wear_history(model, *ARGS, PAD, ROTOR, mu=mu,
-                                       numerics=Numerics(steps=2, scheme="implicit")))
+    run = lambda mu: list(wear_history(Run(model, *ARGS, PAD, ROTOR, mu=mu, numerics=Numerics(steps=2, scheme="implicit"))))
     a, b = run(0.4), run(FrictionLaw(0.4))
     for x, y in zip(a, b):
         assert np.array_equal(x.pressure_end, y.pressure_end)
@@ -90,9 +80,10 @@ def test_a_constant_friction_law_per_node_is_the_number(model):
 
 def test_loop_without_thermal_never_imports_it():
     code = ("import sys; from brakewear import BrakeModel; from brakewear import "
-            "wear_history; from brakewear import WearLaw, Numerics; m = BrakeModel(size=1.2e-2); "
-            "list(wear_history(m, 1e6, 55.0, 10.0, WearLaw(5e-15), "
-            "numerics=Numerics(scheme='explicit', steps=1))); "
+            "wear_history; from brakewear import Run, WearLaw, Numerics; "
+            "m = BrakeModel(size=1.2e-2); "
+            "list(wear_history(Run(m, 1e6, 55.0, 10.0, WearLaw(5e-15), "
+            "numerics=Numerics(scheme='explicit', steps=1)))); "
             "assert 'brakewear.thermal' not in sys.modules, 'thermal imported'")
     subprocess.run([sys.executable, "-c", code], check=True)
 
@@ -101,8 +92,7 @@ def test_winkler_interface_in_the_loop_conserves_and_balances(model):
     w = WinklerInterface.from_model(model)
     itf = FoundationInterface(model, w, 1e6)
     for scheme in ("explicit", "implicit"):
-        steps = list(wear_history(model, 1e6, 55.0, 600.0, PAD, ROTOR, interface=itf,
-                                  numerics=Numerics(steps=4, scheme=scheme)))
+        steps = list(wear_history(Run(model, 1e6, 55.0, 600.0, PAD, ROTOR, interface=itf, numerics=Numerics(steps=4, scheme=scheme))))
         s = steps[-1]
         F = 1e6 * model.geometry.piston.hydraulic_area
         assert (s.pressure * itf.area).sum() == pytest.approx(F, rel=1e-8)
@@ -117,8 +107,7 @@ def test_thermal_with_the_geometry_update(model):
     runs = {}
     for update in ("gap", "geometry"):
         th = ThermalModel(model)
-        runs[update] = (th, list(wear_history(model, *ARGS, PAD, ROTOR, mu=0.4, thermal=th,
-                                              numerics=Numerics(steps=4, update=update))))
+        runs[update] = (th, list(wear_history(Run(model, *ARGS, PAD, ROTOR, mu=0.4, thermal=th, numerics=Numerics(steps=4, update=update)))))
     (th_gap, gap), (th_geo, geo) = runs["gap"], runs["geometry"]
     assert th_gap.model is model and th_geo.model is not model     # moved with the faces
     for s in geo:

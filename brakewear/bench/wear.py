@@ -11,6 +11,7 @@ import numpy as np
 from ..errors import BenchError
 from .common import peak_rss_mb
 from .contact import brake_resolution
+from ..wear.run import Run
 
 logger = logging.getLogger(__name__)
 
@@ -168,10 +169,8 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
             spent["assembly"] = 0.0
         t2, c2 = time.perf_counter(), time.process_time()
         record_s, solves, n = 0.0, 0, 0
-        for s in wear_history(model, 1e6, 55.0, duration, pad_law, rotor_law, 0.4,
-                              interface=loop_itf if update == "gap" else None,
-                              numerics=Numerics(steps=int(steps), scheme="implicit",
-                                                update=update)):
+        for s in wear_history(Run(model, 1e6, 55.0, duration, pad_law, rotor_law, 0.4, interface=loop_itf if update == "gap" else None, numerics=Numerics(steps=int(steps), scheme="implicit",
+                                                update=update))):
             record_s += s.solve_s
             solves += s.contact_solves
             n += 1

@@ -36,6 +36,7 @@ import numpy as np
 from .corrosion import nonconformity_gap, outboard_nodes
 from ..duty import Dwell, Stop, run_schedule
 from ..errors import DutyError
+from ..wear.run import Run
 
 logger = logging.getLogger(__name__)
 
@@ -156,9 +157,7 @@ def run_routine(model, interface, schedule, vehicle, rust, mu_iron: float, *, nu
                 rust.update(base_r + rw)
                 if on_step is not None:
                     on_step(rec, s, base_p + pw, base_r + rw)
-            rec = next(iter(run_schedule(model, [app], rust.pad_law, rust.rotor_law, mu,
-                                         vehicle=vehicle, numerics=numerics, interface=itf,
-                                         thermal=thermal, initial_gap=offset, on_step=step)))
+            rec = next(iter(run_schedule(Run(model, pad_law=rust.pad_law, rotor_law=rust.rotor_law, mu=mu, schedule=[app], vehicle=vehicle, numerics=numerics, interface=itf, thermal=thermal, initial_gap=offset), on_step=step)))
             pad_w, rot_w = base_p + rec.pad_wear, base_r + rec.rotor_wear
             rec.pad_wear, rec.rotor_wear = pad_w.copy(), rot_w.copy()
             last_p = rec.pressure
@@ -210,9 +209,7 @@ def _dwell(app: Dwell, model, itf, rust, mu_iron, numerics, heat, thermal, vehic
     omega = (app.omega if app.omega is not None else
              vehicle.rotor_speed(app.speed) if app.speed is not None else 0.0)
     if thermal is not None:
-        rec = next(iter(run_schedule(model, [app], rust.pad_law, rust.rotor_law, mu_iron,
-                                     vehicle=vehicle, numerics=numerics, interface=itf,
-                                     thermal=thermal)))
+        rec = next(iter(run_schedule(Run(model, pad_law=rust.pad_law, rotor_law=rust.rotor_law, mu=mu_iron, schedule=[app], vehicle=vehicle, numerics=numerics, interface=itf, thermal=thermal))))
     else:
         from ..duty import ApplicationRecord
         rec = ApplicationRecord(0, "dwell", 0.0, app.duration, omega0=omega, omega1=omega)

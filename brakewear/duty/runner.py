@@ -31,14 +31,13 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..errors import ConvergenceError, DutyError, SolverError
-from ..wear.numerics import Numerics
 from ..wear.records import HeatTally, thermal_state
 from ..wear.run import Run
 from ..wear.stepper import wear_history
 from ..mesh.surface import face_nodes
 from .applications import ApplicationRecord
 from .schedule import check_schedule
-from .vehicle import FACES, Vehicle, effective_radius, line_pressure_for_torque
+from .vehicle import FACES, effective_radius, line_pressure_for_torque
 
 logger = logging.getLogger(__name__)
 
@@ -165,16 +164,13 @@ class _Brake:
         return rec
 
 
-def run_schedule(run, *args, on_step=None, **kwargs):
+def run_schedule(run: Run, *, on_step=None):
     """Run a schedule of applications (:class:`Stop`, :class:`Drag`, :class:`Dwell`).
 
     Parameters
     ----------
-    run
-        A :class:`~brakewear.wear.Run` with a ``schedule`` (and the ``vehicle``
-        its stops need), or the older arguments ``run_schedule(model,
-        schedule, pad_law, rotor_law=None, mu=0.4, *, vehicle=None,
-        numerics=None, interface=None, thermal=None, initial_gap=None)``.  Of
+    run : brakewear.wear.Run
+        A run with a ``schedule`` (and the ``vehicle`` its stops need).  Of
         the run: the wear laws and friction coefficient as for
         :func:`~brakewear.wear.wear_history` (``mu`` a number: the torque
         equation needs it); the wear loop's
@@ -204,24 +200,12 @@ def run_schedule(run, *args, on_step=None, **kwargs):
         value named).
     """
     if not isinstance(run, Run):
-        run = _legacy_run(run, *args, **kwargs)
-    elif args or kwargs:
-        raise DutyError("give a Run alone, or the model and the schedule's arguments")
+        raise DutyError(f"run = {type(run).__name__}: need a brakewear.Run with a schedule "
+                        "(run_schedule(Run(model, pad_law=..., mu=..., schedule=[...], "
+                        "vehicle=...)))")
     apps = _check_run(run.model, run.schedule, run.mu, run.vehicle, run.numerics,
                       run.interface, run.initial_gap)
     return _run(run, apps, on_step)
-
-
-def _legacy_run(model, schedule, pad_law, rotor_law=None, mu: float = 0.4, *,
-                vehicle: Vehicle | None = None, numerics: Numerics | None = None,
-                interface=None, thermal=None, initial_gap=None) -> Run:
-    """The :class:`~brakewear.wear.Run` of the older arguments (checked as a
-    schedule first: its errors are :class:`DutyError`)."""
-    numerics = Numerics() if numerics is None else numerics
-    _check_run(model, schedule, mu, vehicle, numerics, interface, initial_gap)
-    return Run(model, pad_law=pad_law, rotor_law=rotor_law, mu=mu, numerics=numerics,
-               interface=interface, thermal=thermal, initial_gap=initial_gap,
-               schedule=tuple(schedule), vehicle=vehicle)
 
 
 def _check_run(model, schedule, mu, vehicle, numerics, interface, initial_gap) -> list:

@@ -37,7 +37,7 @@ from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..mesh.rings import ring_profile
 from ..scene.spec import first_difference
 from ..wear.records import end_record, step_figures, temperature_field, thermal_record
-from ..wear.run import as_run
+from ..wear.run import Run
 from ..wear.state import checkpoint_progress
 from ..wear.stepper import WearStep, check_resume, wear_history
 
@@ -109,23 +109,40 @@ def law_record(law):
             **{k: v for k, v in vars(law).items() if not isinstance(v, np.ndarray)}}
 
 
-def run_wear(run, out: str | os.PathLike, *args, vtu_every: int = 10, resume: bool = False,
-             progress=None, every: int = 10, **kwargs) -> dict:
+def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool = False,
+             progress=None, every: int = 10) -> dict:
     """Run a wear history and write it to ``out`` (see the module docstring).
 
-    ``run`` is a :class:`~brakewear.wear.Run` (a drag), or the model followed
-    by the arguments of one, as for :func:`~brakewear.wear.wear_history`:
-    ``run_wear(model, out, line_pressure, omega, duration, pad_law,
-    rotor_law=None, mu=0.0, numerics=..., interface=..., thermal=...,
-    initial_gap=..., limits=...)``.  ``every``: a checkpoint every that many
-    steps.  ``progress`` is called with each :class:`WearStep` (e.g. to
-    advance a progress bar).  Returns the summary.  A surface worn to its limit, a face
-    past ``T_max``, a solver error or Ctrl-C ends the run: the files and
-    ``summary.json`` (its ``status`` and the reason, ``ended``:
-    :func:`~brakewear.wear.records.end_record`) are written, then the error
-    is raised with the summary as its ``summary`` attribute.
+    A surface worn to its limit, a face past ``T_max``, a solver error or
+    Ctrl-C ends the run: the files and ``summary.json`` (its ``status`` and
+    the reason, ``ended``: :func:`~brakewear.wear.records.end_record`) are
+    written, then the error is raised with the summary as its ``summary``
+    attribute.
+
+    Parameters
+    ----------
+    run : brakewear.wear.Run
+        A drag (:func:`~brakewear.wear.wear_history` runs it).
+    out : str or os.PathLike
+        The run's folder.
+    vtu_every : int
+        A VTU frame every that many steps (and the last).
+    resume : bool
+        Continue the run in ``out`` from its checkpoint.
+    progress : callable, optional
+        Called with each :class:`~brakewear.wear.WearStep` (e.g. to advance a
+        progress bar).
+    every : int
+        A checkpoint every that many steps.
+
+    Returns
+    -------
+    dict
+        The summary (also written to ``summary.json``).
     """
-    run = as_run(run, args, kwargs)
+    if not isinstance(run, Run):
+        raise WearError(f"run = {type(run).__name__}: need a brakewear.Run "
+                        "(run_wear(Run(model, line_pressure, omega, duration, pad_law, ...), out))")
     out = Path(out)
     ck = out / "checkpoint.npz"
     start = None

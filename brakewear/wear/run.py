@@ -35,7 +35,7 @@ from .speed import ConstantSpeed, LinearSpeed, as_speed
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Run", "as_run"]
+__all__ = ["Run"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -191,20 +191,6 @@ class Run:
             interface={"type": type(itf).__name__, **itf.settings},
             thermal=None if self.thermal is None else self.thermal.settings,
             initial_gap=self.initial_gap, limits=limits)
-
-
-def as_run(run, args: tuple = (), kwargs: dict | None = None) -> Run:
-    """``run`` (a :class:`Run`), or the :class:`Run` of the arguments
-    ``(model, line_pressure, omega, duration, pad_law, rotor_law, mu, **keywords)``
-    (``run`` None: all of them keywords)."""
-    if run is None:
-        return Run(*args, **(kwargs or {}))
-    if isinstance(run, Run):
-        if args or kwargs:
-            raise WearError("give a Run alone, or the model and the run's arguments "
-                            f"(got a Run and {len(args) + len(kwargs or {})} more)")
-        return run
-    return Run(run, *args, **(kwargs or {}))
 
 
 def _check(run: Run) -> None:

@@ -35,7 +35,7 @@ from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .nodal import NodalLaws
 from .records import thermal_state
-from .run import Run, as_run
+from .run import Run
 from .state import WearState, check_fingerprint, fingerprint
 
 logger = logging.getLogger(__name__)
@@ -79,58 +79,22 @@ class WearStep:
                                 # pressure and the mean speed, times dt (the heat put in)
 
 
-def wear_history(run=None, *args, checkpoint: str | os.PathLike | None = None, every: int = 10,
-                 resume: bool = False, **kwargs) -> Iterator[WearStep]:
+def wear_history(run: Run, *, checkpoint: str | os.PathLike | None = None, every: int = 10,
+                 resume: bool = False) -> Iterator[WearStep]:
     """Run a wear history of the brake under constant line pressure.
 
     Parameters
     ----------
-    run
-        A :class:`~brakewear.wear.Run` (a drag: its line pressure, speed and
-        duration), or the model followed by the arguments of a :class:`Run`:
-        ``wear_history(model, line_pressure, omega, duration, pad_law,
-        rotor_law=None, mu=0.0, *, numerics=None, interface=None,
-        thermal=None, initial_gap=None, limits=None)``.  What each means:
-
-        * ``line_pressure, omega, duration``: Pa; rotor speed: rad/s (> 0) or
-          a profile (:class:`~brakewear.wear.LinearSpeed` for a stop; each
-          step runs at its mean speed, so wear and heat are integrated exactly
-          over ``omega(t)``, :mod:`brakewear.wear.speed`); s.
-        * ``pad_law, rotor_law``: wear laws of pad and rotor
-          (``rotor_law=None``: the rotor does not wear), each answering
-          :class:`~brakewear.laws.base.NodeWearLaw` (``k(p, v, T)`` per node, taken
-          at the start of each step: :mod:`brakewear.wear.nodal`).
-        * ``mu``: friction coefficient (sliding friction drags the pad along
-          the rotor), or a friction law (:class:`~brakewear.laws.base.NodeFrictionLaw`):
-          ``mu(p, v, T)`` at each pad node, updated every step; a law of
-          temperature needs ``thermal``.
-        * ``numerics``: how the loop integrates (:class:`~brakewear.wear.Numerics`:
-          scheme, update mode, fixed steps or the step control's tolerances and
-          limits; the same defaults as a scene's ``[numerics]`` table).
-        * ``interface``: the interface model, any
-          :class:`~brakewear.interfaces.Interface` or a registered model's name
-          (default: FE contact of ``model``).
-        * ``thermal``: a :class:`brakewear.thermal.ThermalModel` of ``model`` (or
-          any :class:`~brakewear.wear.coupling.ThermalCoupling`; default None:
-          nothing thermal is built or computed).  Staggered, one thermal update
-          per step: the frictional heat of the step's starting pressure heats
-          the bodies over ``dt`` (implicit Euler), then the contact is solved
-          with the thermal-strain load of the new temperatures, and the wear
-          laws use ``k(T)`` at the pad face and the rotor under it.  Its state
-          goes into the checkpoints.
-        * ``initial_gap``: extra gap (m) at each pad friction node before any
-          wear (a non-conformal start: rotor coning, pad taper, thickness
-          variation, or the worn state ``pad_wear + W @ rotor_wear`` of an
-          earlier history); it never wears.
-        * ``limits``: a :class:`brakewear.wear.WearLimits` (default: the model's,
-          :meth:`~brakewear.wear.WearLimits.for_model`).  The step that wears a
-          surface past its limit is yielded, then
-          :class:`~brakewear.errors.WornThroughError` is raised (naming the
-          time, the node and the depth); with ``update = "geometry"`` the meshes
-          are not moved by that step.
-    checkpoint, every, resume
-        ``.npz`` file written every ``every`` accepted steps (and at the end);
-        ``resume=True`` continues from it (with a freshly built model), after
+    run : Run
+        A drag: the model, its line pressure, speed and duration, the laws,
+        the interface, the thermal coupling, the initial gap, the limits and
+        the numerics (:class:`~brakewear.wear.Run`).
+    checkpoint : str or os.PathLike, optional
+        ``.npz`` file written every ``every`` accepted steps (and at the end).
+    every : int
+        Accepted steps between checkpoints.
+    resume : bool
+        Continue from ``checkpoint`` (with a freshly built model), after
         checking that every input is the one it was written with
         (:meth:`Run.settings`, :mod:`brakewear.wear.state`).
 
@@ -138,8 +102,33 @@ def wear_history(run=None, *args, checkpoint: str | os.PathLike | None = None, e
     ------
     WearStep
         One record per accepted step.
+
+    Notes
+    -----
+    How the loop takes the run's parts:
+
+    * speed: each step runs at its mean speed, so wear and heat are
+      integrated exactly over ``omega(t)`` (:mod:`brakewear.wear.speed`);
+    * wear laws: ``k(p, v, T)`` per node, taken at the start of each step
+      (:mod:`brakewear.wear.nodal`); ``rotor_law=None``: the rotor does not
+      wear;
+    * friction: a number, or a law ``mu(p, v, T)`` at each pad node, updated
+      every step (a law of temperature needs thermal coupling);
+    * thermal coupling: staggered, one thermal update per step: the frictional
+      heat of the step's starting pressure heats the bodies over ``dt``
+      (implicit Euler), then the contact is solved with the thermal-strain
+      load of the new temperatures, and the wear laws use ``k(T)`` at the pad
+      face and the rotor under it; its state goes into the checkpoints;
+    * initial gap: extra gap (m) at each pad friction node before any wear (a
+      non-conformal start: coning, taper, thickness variation, or the worn
+      state ``pad_wear + W @ rotor_wear`` of an earlier history); it never
+      wears;
+    * limits: the step that wears a surface past its limit is yielded, then
+      :class:`~brakewear.errors.WornThroughError` is raised (naming the time,
+      the node and the depth); with ``update = "geometry"`` the meshes are not
+      moved by that step.
     """
-    loop = _checked_loop(as_run(run, args, kwargs), checkpoint, every, resume)
+    loop = _checked_loop(run, checkpoint, every, resume)
     run, duration = loop.run, loop.run.duration
     control = StepControl(loop.numerics, duration, loop.dh_limit(), loop.speed, loop.A_pad)
     prints = loop.fingerprint()
@@ -169,18 +158,32 @@ def wear_history(run=None, *args, checkpoint: str | os.PathLike | None = None, e
             raise loop.worn
 
 
-def check_resume(run=None, *args, checkpoint, every: int = 10, **kwargs) -> None:
-    """The check :func:`wear_history` makes before it resumes, without running: refuse
-    ``checkpoint`` (a :class:`~brakewear.errors.WearError` naming what changed) unless
-    it was written with the inputs of ``run`` (a :class:`~brakewear.wear.Run`, or the
-    arguments of :func:`wear_history`).  A run that has already finished is checked
-    this way before it is reported as done."""
-    loop = _checked_loop(as_run(run, args, kwargs), checkpoint, every, True)
+def check_resume(run: Run, *, checkpoint: str | os.PathLike, every: int = 10) -> None:
+    """The check :func:`wear_history` makes before it resumes, without running.
+
+    Refuses ``checkpoint`` (a :class:`~brakewear.errors.WearError` naming what
+    changed) unless it was written with the inputs of ``run``.  A run that has
+    already finished is checked this way before it is reported as done.
+
+    Parameters
+    ----------
+    run : Run
+        The drag to be resumed.
+    checkpoint : str or os.PathLike
+        Its checkpoint file.
+    every : int
+        Accepted steps between checkpoints (checked as :func:`wear_history` does).
+    """
+    loop = _checked_loop(run, checkpoint, every, True)
     check_fingerprint(checkpoint, loop.fingerprint(), loop.model.geometry.units)
 
 
 def _checked_loop(run: Run, checkpoint, every, resume) -> "_WearLoop":
     """The runner's own inputs checked, and the loop of ``run`` (a drag)."""
+    if not isinstance(run, Run):
+        raise WearError(f"run = {type(run).__name__}: need a brakewear.Run (the model, the "
+                        "load, the laws and the numerics in one object: "
+                        "wear_history(Run(model, line_pressure, omega, duration, pad_law, ...)))")
     if run.schedule:
         raise WearError("this Run is a schedule; run it with brakewear.duty.run_schedule")
     if resume and checkpoint is None:
