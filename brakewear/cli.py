@@ -307,8 +307,8 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
 
 def _print_accuracy(what: str, scene) -> None:
     """The first lines of a run: its mesh and the estimated error of its pad wear
-    (:func:`brakewear.mesh.accuracy.mesh_accuracy`); a warning (stderr) for a coarse mesh."""
-    from .mesh.accuracy import accuracy_lines, mesh_accuracy
+    (:func:`brakewear.scene.accuracy.mesh_accuracy`); a warning (stderr) for a coarse mesh."""
+    from .scene.accuracy import accuracy_lines, mesh_accuracy
 
     lines = accuracy_lines(mesh_accuracy(scene))
     print(f"{what}: " + "\n  ".join(s for s in lines if not s.startswith("warning:")),

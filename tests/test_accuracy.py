@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from brakewear.mesh import accuracy as acc
-from brakewear.mesh.accuracy import accuracy_lines, mesh_accuracy
+from brakewear.scene import accuracy as acc
+from brakewear.scene.accuracy import accuracy_lines, mesh_accuracy
 from brakewear.cli import main
 from brakewear.geometry import load_geometry
 from brakewear.mesh import mesh_layers, pad_mesh

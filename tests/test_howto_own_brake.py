@@ -92,7 +92,7 @@ def test_the_howto_quotes_what_the_run_prints(tmp_path):
     """The estimates the how-to quotes are what the rating gives for its scene."""
     from dataclasses import replace
 
-    from brakewear.mesh.accuracy import accuracy_lines, mesh_accuracy
+    from brakewear.scene.accuracy import accuracy_lines, mesh_accuracy
 
     (tmp_path / "my_brake.toml").write_text(_block("# my_brake.toml"))
     (tmp_path / "s.toml").write_text(_block("# my_brake_scene.toml"))

@@ -123,7 +123,7 @@ class InterfaceModel:
     fe_answer
         Whether it gives the FE contact's answer on the same meshes (to its
         solvers' tolerance), so the FE meshes' measured convergence rates it
-        (:func:`brakewear.mesh.accuracy.mesh_accuracy`); ``why_not["fe_answer"]``
+        (:func:`brakewear.scene.accuracy.mesh_accuracy`); ``why_not["fe_answer"]``
         says why not.
     check_scene
         ``check_scene(scene)``: the scene's demands on this model checked before

@@ -30,7 +30,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..mesh.accuracy import mesh_accuracy
+from ..scene.accuracy import mesh_accuracy
 from ..checks import file_messages, shown_value
 from ..errors import SceneError, SolverError, WearError, WornThroughError
 from ..mesh.series import SeriesWriter, cell_nodes, face_fields

@@ -103,7 +103,7 @@ def _same_brake(geom) -> bool:
 
 
 def _mesh_of(scene) -> dict:
-    from .estimate import mesh_layers
+    from ..mesh.estimate import mesh_layers
 
     geom = scene.meshed_geometry
     lay = mesh_layers(geom, scene.mesh_size)
