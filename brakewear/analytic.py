@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .analytic_tribometer import *  # noqa: F401,F403  (the tribometer tests' closed forms)
+from .analytic_tribometer import __all__ as _tribometer_all
 from .errors import FoundationError, ThermalError
 
 __all__ = [
@@ -43,6 +45,8 @@ __all__ = [
     "brush_hertz_modulus",
     "mikic_elastic_conductance",
     "barber_conductance",
+    # the tribometer tests' closed forms (partial slip, worn shapes)
+    *_tribometer_all,
 ]
 
 
