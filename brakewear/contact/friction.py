@@ -1,0 +1,396 @@
+"""Coulomb friction with stick and slip on condensed contact nodes: a semi-smooth Newton.
+
+The two bodies are condensed onto the contact nodes: ``C`` is the compliance
+of their relative displacement there (m/N; ``C = C_A + Pi C_B Pi^T`` for a
+slave body A and a master body B interpolated by ``Pi``), ordered per node
+and per component ``(t1[, t2], n)``: the tangential components first, the
+normal last.  The unknowns are the contact forces on the master body at each
+node -- tangential ``T`` and normal ``N`` (compressive positive) -- the
+master's rigid approach ``delta`` under the total normal load ``P``, and,
+when the tangential load ``Q`` is given instead of the master's rigid shift
+``s``, that shift.  With ``f`` the forces, the normal gap and the relative
+tangential displacement are::
+
+    g = g0 + (C f)_n - delta >= 0,     w = s + (C f)_t,
+
+and Coulomb's law holds on the slip increment ``dw = w - w_prev`` of each
+node (``w_prev``: the same material points' relative displacement at the
+previous increment): ``|T| <= mu N``; ``dw = 0`` where ``|T| < mu N``
+(stick); ``T = -mu N dw / |dw|`` where it slides (slip).
+
+These are written, node by node, as the nonsmooth equations of Alart and
+Curnier (Comput. Methods Appl. Mech. Engng 92, 1991) with a penalty-free
+augmentation ``r`` (the node's normal stiffness ``1 / C_nn``)::
+
+    N - max(0, N - r g) = 0,     T - proj(T - r dw, mu max(0, N - r g)) = 0,
+
+with ``sum N = P`` and ``sum T = -Q`` (or ``s`` given; ``P`` and ``Q`` are the loads
+applied to the master, the contact forces on it balance them), and solved by a
+semi-smooth Newton method: each iteration's generalised Jacobian follows the
+open / stick / slip state of every node, open nodes are eliminated (their
+forces are zero), and a backtracking line search on the residual keeps the
+iteration from cycling.  The answer is exact for the discrete problem to the
+stated tolerance; a solve that does not reach it raises
+:class:`~brakewear.errors.ConvergenceError` with its figures.
+
+:func:`solve_sliding` is the case of gross sliding in a known direction
+(pin on disc, block on ring): ``T = -mu N e`` at every node in contact, so
+only the normal forces are unknown.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as la
+
+from ..errors import ContactError, ContactLostError, ConvergenceError
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["FrictionSolution", "solve_friction", "solve_sliding", "OPEN", "STICK", "SLIP"]
+
+#: node states of a solution
+OPEN, STICK, SLIP = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class FrictionSolution:
+    """One frictional contact solve on condensed nodes.
+
+    Attributes
+    ----------
+    normal : ndarray
+        (m,) normal contact forces on the master (N, compressive positive).
+    tangential : ndarray
+        (m, d - 1) tangential contact forces on the master (N).
+    approach : float
+        The master's rigid approach ``delta`` (m).
+    shift : ndarray
+        (d - 1,) the master's rigid tangential displacement ``s`` (m).
+    w : ndarray
+        (m, d - 1) relative tangential displacement of the surfaces (m).
+    slip : ndarray
+        (m, d - 1) its increment over the solve, ``w - w_prev`` (m).
+    gap : ndarray
+        (m,) normal gap after the solve (m; 0 where in contact).
+    state : ndarray
+        (m,) int, :data:`OPEN`, :data:`STICK` or :data:`SLIP`.
+    iterations : int
+    residual : float
+        The final residual over the load (dimensionless).
+    """
+
+    normal: np.ndarray
+    tangential: np.ndarray
+    approach: float
+    shift: np.ndarray
+    w: np.ndarray
+    slip: np.ndarray
+    gap: np.ndarray
+    state: np.ndarray
+    iterations: int
+    residual: float
+
+    @property
+    def forces(self) -> np.ndarray:
+        """(m, d) the forces on the master per node, components ``(t1[, t2], n)``."""
+        return np.column_stack([self.tangential, self.normal])
+
+
+def _check(C, g0, P, d, mu):
+    m = g0.size
+    if C.shape != (m * d, m * d):
+        raise ContactError(f"friction: the compliance has shape {C.shape}; need "
+                           f"({m * d}, {m * d}) for {m} nodes of {d} components")
+    if not (np.isfinite(P) and P > 0):
+        raise ContactError(f"friction: the normal load P = {P!r} N is not allowed; need P > 0")
+    if not (np.isfinite(mu) and mu >= 0):
+        raise ContactError(f"friction: mu = {mu!r} is not allowed; need mu >= 0")
+
+
+def _project(z, b):
+    """The projection of the rows of ``z`` (m, k) on the discs of radii ``b`` (m,)."""
+    nz = np.linalg.norm(z, axis=1)
+    scale = np.where(nz > b, b / np.where(nz > 0, nz, 1.0), 1.0)
+    return z * scale[:, None], nz
+
+
+def solve_friction(C: np.ndarray, g0: np.ndarray, mu: float, P: float, *,
+                   w_prev: np.ndarray | None = None, shift=None, Q=None,
+                   start: FrictionSolution | None = None, tol: float = 1e-10,
+                   max_iter: int = 80) -> FrictionSolution:
+    """Frictional contact on condensed nodes under the normal load ``P``.
+
+    Parameters
+    ----------
+    C
+        (m d, m d) compliance of the relative displacement (m/N), per node the
+        components ``(t1[, t2], n)``; ``d`` is 2 (plane) or 3.
+    g0
+        (m,) normal gap before the forces and the approach (m).
+    mu
+        Friction coefficient.
+    P
+        Total normal load (N; per unit length in plane strain).
+    w_prev
+        (m, d - 1) the relative tangential displacement of the same material
+        points before this increment (default zero).
+    shift, Q
+        Exactly one: the master's rigid tangential displacement ``s`` (m,
+        displacement control) or the tangential load applied to the master (N,
+        force control; the contact forces on it sum to ``-Q``; ``|Q| < mu P``,
+        else no static equilibrium exists).
+    start
+        A solution to start from (the previous increment's).
+    tol
+        Newton's tolerance on the residual over ``P``.
+
+    Returns
+    -------
+    FrictionSolution
+
+    Raises
+    ------
+    ContactError
+        Bad shapes or values; ``|Q| >= mu P`` (the bodies slide as a whole).
+    ConvergenceError
+        Newton did not reach ``tol`` in ``max_iter`` iterations (its figures).
+    ContactLostError
+        No node is in contact.
+    """
+    g0 = np.asarray(g0, dtype=float).ravel()
+    m = g0.size
+    d = C.shape[0] // max(m, 1)
+    _check(C, g0, P, d, mu)
+    k = d - 1
+    w_prev = np.zeros((m, k)) if w_prev is None else np.asarray(w_prev, float).reshape(m, k)
+    if (shift is None) == (Q is None):
+        raise ContactError("friction: give exactly one of shift (displacement control) and "
+                           "Q (force control)")
+    force_control = Q is not None
+    if force_control:
+        Q = np.atleast_1d(np.asarray(Q, dtype=float))
+        if np.linalg.norm(Q) >= mu * P:
+            raise ContactError(f"friction: the tangential load |Q| = {np.linalg.norm(Q):g} N is "
+                               f"not below mu P = {mu * P:g} N: no static equilibrium, the "
+                               "bodies slide as a whole (control the shift instead)")
+    else:
+        shift = np.atleast_1d(np.asarray(shift, dtype=float))
+    Cr = C.reshape(m, d, m, d)
+    r = 1.0 / np.diag(C)[d - 1::d]                       # the nodes' normal stiffness, N/m
+    nt = m * d
+    nx = nt + 1 + (k if force_control else 0)
+    if start is None:              # the frictionless normal solution
+        e = np.zeros(k)
+        e[0] = 1.0
+        start = solve_sliding(C, g0, 0.0, P, e, tol=max(tol, 1e-12))
+        start = FrictionSolution(start.normal, np.zeros((m, k)), start.approach,
+                                 np.zeros(k) if force_control else shift, w_prev.copy(),
+                                 np.zeros((m, k)), start.gap, start.state, 0, start.residual)
+    f = start.forces.copy()
+    delta = start.approach
+    s = start.shift.copy() if force_control else shift
+
+    def residual(f, delta, s):
+        u = (C @ f.ravel()).reshape(m, d)
+        g = g0 + u[:, -1] - delta
+        w = s + u[:, :k]
+        dw = w - w_prev
+        N, T = f[:, -1], f[:, :k]
+        aug = N - r * g
+        act = aug > 0
+        bound = mu * np.where(act, aug, 0.0)
+        z = T - r[:, None] * dw
+        proj, nz = _project(z, bound)
+        F = np.empty(nx)
+        Fm = F[:nt].reshape(m, d)
+        Fm[:, -1] = N - np.where(act, aug, 0.0)
+        Fm[:, :k] = T - proj
+        F[nt] = N.sum() - P
+        if force_control:
+            F[nt + 1:] = T.sum(axis=0) + Q
+        return F, (g, w, dw, act, bound, z, nz)
+
+    F, aux = residual(f, delta, s)
+    scale = P
+    it = 0
+    for it in range(1, max_iter + 1):
+        g, w, dw, act, bound, z, nz = aux
+        slip = act & (nz > bound) & (bound > 0)
+        J = _jacobian(Cr, r, mu, act, slip, bound, z, nz, m, d, k, force_control)
+        # open nodes: their rows are dF = df (forces go to zero); eliminate them
+        keep = np.ones(nx, bool)
+        opened = np.flatnonzero(~act)
+        cols = (opened[:, None] * d + np.arange(d)).ravel()
+        keep[cols] = False
+        dx = np.zeros(nx)
+        dx[cols] = -F[cols]
+        rhs = -F[keep] - J[np.ix_(keep, ~keep)] @ dx[~keep]
+        try:
+            dx[keep] = la.solve(J[np.ix_(keep, keep)], rhs, check_finite=False)
+        except (la.LinAlgError, ValueError):
+            dx[keep] = la.lstsq(J[np.ix_(keep, keep)], rhs, check_finite=False)[0]
+        norm0 = np.linalg.norm(F)
+        step = 1.0
+        for _ in range(12):                               # backtracking on |F|
+            f1 = f + step * dx[:nt].reshape(m, d)
+            d1 = delta + step * dx[nt]
+            s1 = s + step * dx[nt + 1:] if force_control else s
+            F1, aux1 = residual(f1, d1, s1)
+            if np.linalg.norm(F1) <= (1.0 - 1e-4 * step) * norm0 or step < 1e-3:
+                break
+            step *= 0.5
+        f, delta, s, F, aux = f1, d1, s1, F1, aux1
+        res = np.linalg.norm(F) / scale
+        if res < tol:
+            break
+    else:
+        raise ConvergenceError(
+            f"frictional contact: the semi-smooth Newton did not reach {tol:g} in {max_iter} "
+            f"iterations (residual {res:.3g} of the load; {int(act.sum())} of {m} nodes in "
+            f"contact, {int(slip.sum())} slipping)",
+            figures={"iterations": max_iter, "relative_residual": res})
+    g, w, dw, act, bound, z, nz = aux
+    N = np.where(act, f[:, -1], 0.0)
+    if not np.any(N > 0):
+        raise ContactLostError("frictional contact: no node is in contact under the load")
+    T = f[:, :k]
+    state = np.where(~act | (N <= 0), OPEN,
+                     np.where(np.linalg.norm(T, axis=1) < mu * N * (1 - 1e-9), STICK, SLIP))
+    return FrictionSolution(normal=N, tangential=T, approach=float(delta),
+                            shift=np.asarray(s, dtype=float), w=w, slip=dw,
+                            gap=np.where(act, 0.0, g), state=state, iterations=it,
+                            residual=float(res))
+
+
+def _jacobian(Cr, r, mu, act, slip, bound, z, nz, m, d, k, force_control) -> np.ndarray:
+    """The generalised Jacobian of the Alart-Curnier residual (dense)."""
+    nt = m * d
+    nx = nt + 1 + (k if force_control else 0)
+    J = np.zeros((nx, nx))
+    Jm = np.zeros((m, d, m, d))
+    idx = np.arange(m)
+    # normal rows: active r dg = r (C_n df - d delta); open dN
+    a = np.flatnonzero(act)
+    Jm[a, -1] = r[a, None, None] * Cr[a, -1]
+    J[a * d + d - 1, nt] = -r[a]
+    o = np.flatnonzero(~act)
+    Jm[o, -1, o, -1] = 1.0
+    # tangential rows
+    stick = act & ~slip & (bound > 0)
+    st = np.flatnonzero(stick)
+    # stick: F_t = r dw, dw = C_t df (+ ds)
+    Jm[st, :k] = r[st, None, None, None] * Cr[st, :k]
+    if force_control:
+        for c in range(k):
+            J[st * d + c, nt + 1 + c] = r[st]
+    # open (or zero bound): F_t = T
+    free = np.flatnonzero(~act | (bound <= 0))
+    for c in range(k):
+        Jm[free, c, free, c] = 1.0
+    # slip: F_t = T - b z/|z|, z = T - r dw, b = mu (N - r g)
+    sl = np.flatnonzero(slip)
+    if sl.size:
+        n = z[sl] / nz[sl, None]                                  # (ns, k)
+        bz = bound[sl] / nz[sl]
+        # d(b) = mu (dN - r (C_n df - d delta))
+        db = -mu * r[sl, None, None] * Cr[sl, -1]                 # (ns, m, d)
+        db[np.arange(sl.size), sl, -1] += mu
+        # dz = dT - r (C_t df + ds)
+        dz = -r[sl, None, None, None] * Cr[sl, :k]                # (ns, k, m, d)
+        for c in range(k):
+            dz[np.arange(sl.size), c, sl, c] += 1.0
+        Pn = np.eye(k)[None] - n[:, :, None] * n[:, None, :]      # (ns, k, k)
+        dproj = n[:, :, None, None] * db[:, None] + bz[:, None, None, None] * np.einsum(
+            "sab,sbjc->sajc", Pn, dz)
+        row = -dproj
+        for c in range(k):
+            row[np.arange(sl.size), c, sl, c] += 1.0
+        Jm[sl, :k] = row
+        J[sl[:, None] * d + np.arange(k), nt] = -(n * (mu * r[sl])[:, None])  # via d delta
+        if force_control:
+            # dz/ds = -r I
+            for c in range(k):
+                J[sl * d + c, nt + 1:] = (bz * r[sl])[:, None] * Pn[:, c, :]
+    J[:nt, :nt] = Jm.reshape(nt, nt)
+    J[nt, idx * d + d - 1] = 1.0
+    if force_control:
+        for c in range(k):
+            J[nt + 1 + c, idx * d + c] = 1.0
+    return J
+
+
+def _winkler_approach(g0: np.ndarray, r: np.ndarray, P: float) -> float:
+    """The approach at which nodal springs ``r`` over the gaps ``g0`` carry ``P``: a
+    start that has nodes in contact."""
+    lo, hi = float(np.min(g0)), float(np.min(g0)) + P / float(np.max(r))
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        if np.sum(r * np.clip(mid - g0, 0.0, None)) < P:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+def solve_sliding(C: np.ndarray, g0: np.ndarray, mu: float, P: float, direction, *,
+                  start: np.ndarray | None = None, tol: float = 1e-10,
+                  max_iter: int = 60) -> FrictionSolution:
+    """Contact in gross sliding along ``direction`` (the master's motion relative to
+    the slave, a unit vector of the ``d - 1`` tangential components): every node in
+    contact carries ``T = -mu N direction``, and only the normal forces are solved.
+
+    Same parameters and result as :func:`solve_friction` (``w``, ``slip`` and
+    ``shift`` are zero: the sliding distance is the caller's); ``start`` is a
+    (m,) vector of normal forces.
+    """
+    g0 = np.asarray(g0, dtype=float).ravel()
+    m = g0.size
+    d = C.shape[0] // max(m, 1)
+    _check(C, g0, P, d, mu)
+    k = d - 1
+    e = np.atleast_1d(np.asarray(direction, dtype=float))
+    if e.shape != (k,) or not np.isclose(np.linalg.norm(e), 1.0):
+        raise ContactError(f"sliding: direction {e!r} is not a unit vector of {k} components")
+    Cr = C.reshape(m, d, m, d)
+    # the normal displacement per normal force with its friction -mu N e
+    Ceff = Cr[:, -1, :, -1] - mu * np.einsum("imjc,c->imj", Cr[:, -1:, :, :k], e)[:, 0]
+    r = 1.0 / np.diag(Ceff)
+    # primal-dual active set (the semi-smooth Newton of the normal problem with full
+    # steps): solve for the set, then keep the nodes that press, add those that overlap
+    if start is None:
+        act = g0 <= _winkler_approach(g0, r, P)
+    else:
+        act = np.asarray(start, dtype=float) > 0
+    it = 0
+    for it in range(1, max_iter + 1):
+        if not act.any():
+            act = g0 <= np.min(g0)
+        a = np.flatnonzero(act)
+        K = np.zeros((a.size + 1, a.size + 1))
+        K[:a.size, :a.size] = Ceff[np.ix_(a, a)]
+        K[:a.size, a.size] = -1.0
+        K[a.size, :a.size] = 1.0
+        sol = la.solve(K, np.concatenate([-g0[a], [P]]), check_finite=False)
+        N = np.zeros(m)
+        N[a], delta = sol[:a.size], sol[a.size]
+        g = g0 + Ceff @ N - delta
+        new = (N > 0) | (~act & (g < -tol * P * float(np.mean(np.diag(Ceff)))))
+        if np.array_equal(new, act):
+            break
+        act = new
+    else:
+        raise ConvergenceError(
+            f"sliding contact: the active set did not settle in {max_iter} iterations "
+            f"({int(act.sum())} of {m} nodes in contact)",
+            figures={"iterations": max_iter, "relative_residual": float("nan")})
+    res = 0.0
+    g = g0 + Ceff @ N - delta
+    N = np.where(act, N, 0.0)
+    T = -mu * N[:, None] * e[None, :]
+    z = np.zeros((m, k))
+    return FrictionSolution(normal=N, tangential=T, approach=float(delta), shift=np.zeros(k),
+                            w=z, slip=z, gap=np.where(act, 0.0, g),
+                            state=np.where(act, SLIP, OPEN), iterations=it, residual=float(res))

@@ -1,0 +1,1 @@
+"""Tribometer tests (in progress)."""
