@@ -278,6 +278,9 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     if out is not None:
         check_out(out, "--out")
     sc = load_scene(scene)
+    if getattr(sc, "tribometer", False):       # a tribometer test (docs/validation.md)
+        from .tribology.command import run_test_file
+        return run_test_file(sc, out, resume=resume, quiet=quiet, overwrite=overwrite)
     out = check_out(Path(out) if out is not None else Path(f"brakewear-{sc.name}"), "--out")
     check_new_out(out, overwrite=overwrite, resume=resume)
     done = finished_run(out, sc.duration) if resume and not sc.schedule else None
@@ -427,6 +430,10 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "run":
             s = run_scene_file(args.scene, args.out, args.resume, args.quiet,
                                overwrite=args.overwrite)
+            if "test" in s:
+                from .tribology.command import summary_lines
+                print("\n".join(summary_lines(args.scene, s)))
+                return EXIT_OK
             if "braked_applications" in s:
                 _print_schedule(args.scene, s)
                 return EXIT_OK

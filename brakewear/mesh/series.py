@@ -12,8 +12,8 @@ from ..errors import MeshError
 
 __all__ = ["SeriesWriter", "face_fields", "cell_nodes"]
 
-#: meshio's cell type by the number of nodes of a tetrahedron
-CELL_TYPES = {4: "tetra", 10: "tetra10"}
+#: meshio's cell type by the number of nodes of a cell (triangles: plane strain models)
+CELL_TYPES = {3: "triangle", 4: "tetra", 10: "tetra10"}
 
 
 def cell_nodes(mesh) -> np.ndarray:
@@ -35,7 +35,8 @@ class SeriesWriter:
         self.dir, self.name = Path(directory), name
         self.points, self.tets = np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T)
         if tets.shape[0] not in CELL_TYPES:
-            raise MeshError(f"cells of {tets.shape[0]} nodes: allowed 4 (tetra), 10 (tetra10)")
+            raise MeshError(f"cells of {tets.shape[0]} nodes: allowed 3 (triangle), 4 (tetra), "
+                            "10 (tetra10)")
         self.cell_type = CELL_TYPES[tets.shape[0]]
         self.entries: list[tuple[float, int]] = []
         pvd = self.dir / f"{name}.pvd"

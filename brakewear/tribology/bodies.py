@@ -38,7 +38,8 @@ from ..solvers.threads import blas_threads
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Body", "box_mesh", "block", "condense", "mirrored", "face_interpolation"]
+__all__ = ["Body", "box_mesh", "block", "ring", "condense", "mirrored", "face_interpolation",
+           "face_triangles"]
 
 
 @dataclass
@@ -126,8 +127,8 @@ def box_mesh(half_width: float, depth: float, zone: float, h: float, dim: int,
     MeshError
         Sizes that do not fit, or a mesh that would pass ``max_elements``.
     """
-    if not (0 < h <= zone <= half_width and h < depth):
-        raise MeshError(f"box_mesh: need 0 < h <= zone <= half_width and h < depth; got h = "
+    if not (0 < h <= zone <= 1.5 * half_width and h < depth):
+        raise MeshError(f"box_mesh: need 0 < h <= zone <= 1.5 half_width and h < depth; got h = "
                         f"{h:g} m, zone = {zone:g} m, half_width = {half_width:g} m, "
                         f"depth = {depth:g} m")
     n0 = max(2, int(round(half_width / min(half_width, depth))))
@@ -163,7 +164,7 @@ def _refine(mesh, zone, h, dim, growth, max_elements):
 
 def block(name: str, material: Isotropic, half_width: float, depth: float, zone: float,
           h: float, dim: int, below: bool, profile: Callable | None = None,
-          growth: float = 0.35) -> Body:
+          growth: float = 0.35, round_section: bool = False) -> Body:
     """A body meshed as a box (:func:`box_mesh`), its contact face at height 0 bent to
     ``profile`` (the face height, m, a function of x -- or of x, y in 3D), clamped
     on its far side, condensed onto the face nodes within ``zone``.
@@ -171,11 +172,23 @@ def block(name: str, material: Isotropic, half_width: float, depth: float, zone:
     The face of a cylinder or a sphere is the box's face lifted (``below = False``:
     the body above) or lowered by its profile, and the box's nodes follow with a
     weight that falls linearly to the far side, so the elements stay regular.
+    ``round_section`` (3D): the box's square section mapped onto the disc of
+    radius ``half_width`` (a cylindrical pin); its whole face is the contact face.
     """
-    mesh = box_mesh(half_width, depth, zone, h, dim, growth=growth, below=below)
-    lateral = mesh.p[:-1]
+    mesh = box_mesh(half_width, depth, zone if not round_section else half_width * 1.5,
+                    h, dim, growth=growth, below=below)
     onface = np.isclose(mesh.p[-1], 0.0, atol=1e-9 * depth)
-    near = (np.abs(lateral[0]) if dim == 2 else np.hypot(*lateral)) <= zone * (1 + 1e-9)
+    if round_section:
+        p = mesh.p.copy()
+        u, v = p[0] / half_width, p[1] / half_width
+        p[0] = half_width * u * np.sqrt(1.0 - v * v / 2.0)
+        p[1] = half_width * v * np.sqrt(1.0 - u * u / 2.0)
+        mesh = type(mesh)(p, np.ascontiguousarray(mesh.t))
+        near = np.ones(mesh.nvertices, bool)
+    else:
+        lateral = mesh.p[:-1]
+        near = (np.abs(lateral[0]) if dim == 2 else np.hypot(*lateral)) <= zone * (1 + 1e-9)
+    lateral = mesh.p[:-1]
     face = np.flatnonzero(onface & near)
     if profile is not None:
         z = np.asarray(profile(*lateral), dtype=float)
@@ -186,6 +199,36 @@ def block(name: str, material: Isotropic, half_width: float, depth: float, zone:
     if dim == 2:
         face = face[np.argsort(mesh.p[0, face])]
     return condense(name, mesh, material, face, far)
+
+
+def ring(name: str, material: Isotropic, radius: float, bore: float, zone: float, h: float,
+         growth: float = 0.35) -> Body:
+    """The half of a ring (outer radius ``radius``, bore ``bore``) that faces the
+    contact, in plane strain: its lowest point at the origin, its centre at
+    (0, radius); clamped on its bore, free at its horizontal diameter.  Meshed
+    as a box in (arc length, depth) refined at the contact and bent onto the ring.
+    """
+    if not 0 < bore < radius:
+        raise MeshError(f"ring: need 0 < bore < radius; got bore = {bore:g} m, radius = "
+                        f"{radius:g} m")
+    mesh = box_mesh(0.5 * np.pi * radius, radius - bore, zone, h, 2, growth=growth, below=False)
+    s_, t_ = mesh.p
+    theta, rho = s_ / radius, radius - t_
+    p = np.vstack([rho * np.sin(theta), radius - rho * np.cos(theta)])
+    face = np.flatnonzero(np.isclose(t_, 0.0) & (np.abs(s_) <= zone * (1 + 1e-9)))
+    face = face[np.argsort(p[0, face])]
+    bored = np.flatnonzero(np.isclose(t_, radius - bore))
+    return condense(name, type(mesh)(p, np.ascontiguousarray(mesh.t)), material, face, bored)
+
+
+def face_triangles(body: Body) -> np.ndarray:
+    """(3, nt) the triangles of a 3D body's contact face, in its face numbering."""
+    inside = np.full(body.mesh.nvertices, -1)
+    inside[body.face] = np.arange(body.face.size)
+    bf = body.mesh.boundary_facets()
+    f = body.mesh.facets[:, bf]
+    keep = np.all(inside[f] >= 0, axis=0)
+    return inside[f[:, keep]]
 
 
 def _stiffness(mesh: fem.Mesh, material: Isotropic):
