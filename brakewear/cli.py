@@ -279,8 +279,8 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
         check_out(out, "--out")
     sc = load_scene(scene)
     if getattr(sc, "tribometer", False):       # a tribometer test (docs/validation.md)
-        from .tribology.command import run_test_file
-        return run_test_file(sc, out, resume=resume, quiet=quiet, overwrite=overwrite)
+        from .tribology.command import run_tribometer_file
+        return run_tribometer_file(sc, out, resume=resume, quiet=quiet, overwrite=overwrite)
     out = check_out(Path(out) if out is not None else Path(f"brakewear-{sc.name}"), "--out")
     check_new_out(out, overwrite=overwrite, resume=resume)
     done = finished_run(out, sc.duration) if resume and not sc.schedule else None

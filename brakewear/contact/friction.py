@@ -169,8 +169,7 @@ def solve_friction(C: np.ndarray, g0: np.ndarray, mu: float, P: float, *,
     if (shift is None) == (Q is None):
         raise ContactError("friction: give exactly one of shift (displacement control) and "
                            "Q (force control)")
-    force_control = Q is not None
-    if force_control:
+    if Q is not None:
         Q = np.atleast_1d(np.asarray(Q, dtype=float))
         if np.linalg.norm(Q) >= mu * P:
             raise ContactError(f"friction: the tangential load |Q| = {np.linalg.norm(Q):g} N is "
@@ -178,91 +177,115 @@ def solve_friction(C: np.ndarray, g0: np.ndarray, mu: float, P: float, *,
                                "bodies slide as a whole (control the shift instead)")
     else:
         shift = np.atleast_1d(np.asarray(shift, dtype=float))
-    Cr = C.reshape(m, d, m, d)
-    r = 1.0 / np.diag(C)[d - 1::d]                       # the nodes' normal stiffness, N/m
-    nt = m * d
-    nx = nt + 1 + (k if force_control else 0)
     if start is None:              # the frictionless normal solution
         e = np.zeros(k)
         e[0] = 1.0
-        start = solve_sliding(C, g0, 0.0, P, e, tol=max(tol, 1e-12))
-        start = FrictionSolution(start.normal, np.zeros((m, k)), start.approach,
-                                 np.zeros(k) if force_control else shift, w_prev.copy(),
-                                 np.zeros((m, k)), start.gap, start.state, 0, start.residual)
-    f = start.forces.copy()
-    delta = start.approach
-    s = start.shift.copy() if force_control else shift
-
-    def residual(f, delta, s):
-        u = (C @ f.ravel()).reshape(m, d)
-        g = g0 + u[:, -1] - delta
-        w = s + u[:, :k]
-        dw = w - w_prev
-        N, T = f[:, -1], f[:, :k]
-        aug = N - r * g
-        act = aug > 0
-        bound = mu * np.where(act, aug, 0.0)
-        z = T - r[:, None] * dw
-        proj, nz = _project(z, bound)
-        F = np.empty(nx)
-        Fm = F[:nt].reshape(m, d)
-        Fm[:, -1] = N - np.where(act, aug, 0.0)
-        Fm[:, :k] = T - proj
-        F[nt] = N.sum() - P
-        if force_control:
-            F[nt + 1:] = T.sum(axis=0) + Q
-        return F, (g, w, dw, act, bound, z, nz)
-
-    F, aux = residual(f, delta, s)
-    scale = P
-    it = 0
-    for it in range(1, max_iter + 1):
-        g, w, dw, act, bound, z, nz = aux
-        slip = act & (nz > bound) & (bound > 0)
-        J = _jacobian(Cr, r, mu, act, slip, bound, z, nz, m, d, k, force_control)
-        # open nodes: their rows are dF = df (forces go to zero); eliminate them
-        keep = np.ones(nx, bool)
-        opened = np.flatnonzero(~act)
-        cols = (opened[:, None] * d + np.arange(d)).ravel()
-        keep[cols] = False
-        dx = np.zeros(nx)
-        dx[cols] = -F[cols]
-        rhs = -F[keep] - J[np.ix_(keep, ~keep)] @ dx[~keep]
-        try:
-            dx[keep] = la.solve(J[np.ix_(keep, keep)], rhs, check_finite=False)
-        except (la.LinAlgError, ValueError):
-            dx[keep] = la.lstsq(J[np.ix_(keep, keep)], rhs, check_finite=False)[0]
-        norm0 = np.linalg.norm(F)
-        step = 1.0
-        for _ in range(12):                               # backtracking on |F|
-            f1 = f + step * dx[:nt].reshape(m, d)
-            d1 = delta + step * dx[nt]
-            s1 = s + step * dx[nt + 1:] if force_control else s
-            F1, aux1 = residual(f1, d1, s1)
-            if np.linalg.norm(F1) <= (1.0 - 1e-4 * step) * norm0 or step < 1e-3:
-                break
-            step *= 0.5
-        f, delta, s, F, aux = f1, d1, s1, F1, aux1
-        res = np.linalg.norm(F) / scale
-        if res < tol:
-            break
-    else:
-        raise ConvergenceError(
-            f"frictional contact: the semi-smooth Newton did not reach {tol:g} in {max_iter} "
-            f"iterations (residual {res:.3g} of the load; {int(act.sum())} of {m} nodes in "
-            f"contact, {int(slip.sum())} slipping)",
-            figures={"iterations": max_iter, "relative_residual": res})
+        free = solve_sliding(C, g0, 0.0, P, e, tol=max(tol, 1e-12))
+        start = FrictionSolution(free.normal, np.zeros((m, k)), free.approach,
+                                 np.zeros(k) if Q is not None else shift, w_prev.copy(),
+                                 np.zeros((m, k)), free.gap, free.state, 0, free.residual)
+    prob = _AlartCurnier(C, g0, mu, P, w_prev, Q, shift)
+    x0 = np.concatenate([start.forces.ravel(), [start.approach],
+                         start.shift if Q is not None else []])
+    x, aux, it, res = _newton(prob, x0, tol, max_iter)
     g, w, dw, act, bound, z, nz = aux
+    f = x[:m * d].reshape(m, d)
     N = np.where(act, f[:, -1], 0.0)
     if not np.any(N > 0):
         raise ContactLostError("frictional contact: no node is in contact under the load")
     T = f[:, :k]
     state = np.where(~act | (N <= 0), OPEN,
                      np.where(np.linalg.norm(T, axis=1) < mu * N * (1 - 1e-9), STICK, SLIP))
-    return FrictionSolution(normal=N, tangential=T, approach=float(delta),
-                            shift=np.asarray(s, dtype=float), w=w, slip=dw,
-                            gap=np.where(act, 0.0, g), state=state, iterations=it,
-                            residual=float(res))
+    return FrictionSolution(normal=N, tangential=T, approach=float(x[m * d]),
+                            shift=np.asarray(x[m * d + 1:] if Q is not None else shift,
+                                             dtype=float),
+                            w=w, slip=dw, gap=np.where(act, 0.0, g), state=state,
+                            iterations=it, residual=float(res))
+
+
+class _AlartCurnier:
+    """The nonsmooth residual of one frictional solve in the unknowns ``x = (f, delta[,
+    s])`` and its generalised Jacobian."""
+
+    def __init__(self, C, g0, mu, P, w_prev, Q, shift):
+        self.C, self.g0, self.mu, self.P, self.w_prev, self.Q = C, g0, mu, P, w_prev, Q
+        self.m = g0.size
+        self.d = C.shape[0] // self.m
+        self.k = self.d - 1
+        self.r = 1.0 / np.diag(C)[self.d - 1::self.d]    # the nodes' normal stiffness, N/m
+        self.nt = self.m * self.d
+        self.nx = self.nt + 1 + (self.k if Q is not None else 0)
+        self.shift = shift
+
+    def split(self, x):
+        f = x[:self.nt].reshape(self.m, self.d)
+        s = x[self.nt + 1:] if self.Q is not None else self.shift
+        return f, x[self.nt], s
+
+    def __call__(self, x):
+        m, d, k, nt, r = self.m, self.d, self.k, self.nt, self.r
+        f, delta, s = self.split(x)
+        u = (self.C @ f.ravel()).reshape(m, d)
+        g = self.g0 + u[:, -1] - delta
+        w = s + u[:, :k]
+        dw = w - self.w_prev
+        N, T = f[:, -1], f[:, :k]
+        aug = N - r * g
+        act = aug > 0
+        bound = self.mu * np.where(act, aug, 0.0)
+        z = T - r[:, None] * dw
+        proj, nz = _project(z, bound)
+        F = np.empty(self.nx)
+        Fm = F[:nt].reshape(m, d)
+        Fm[:, -1] = N - np.where(act, aug, 0.0)
+        Fm[:, :k] = T - proj
+        F[nt] = N.sum() - self.P
+        if self.Q is not None:
+            F[nt + 1:] = T.sum(axis=0) + self.Q
+        return F, (g, w, dw, act, bound, z, nz)
+
+    def jacobian(self, aux) -> np.ndarray:
+        g, w, dw, act, bound, z, nz = aux
+        slip = act & (nz > bound) & (bound > 0)
+        return _jacobian(self.C.reshape(self.m, self.d, self.m, self.d), self.r, self.mu, act,
+                         slip, bound, z, nz, self.m, self.d, self.k, self.Q is not None)
+
+
+def _newton(prob: _AlartCurnier, x, tol: float, max_iter: int):
+    """Semi-smooth Newton with the open nodes eliminated and a backtracking line search
+    on the residual's norm; returns ``(x, aux, iterations, residual / P)``."""
+    F, aux = prob(x)
+    res, it = np.linalg.norm(F) / prob.P, 0
+    for it in range(1, max_iter + 1):
+        J = prob.jacobian(aux)
+        # open nodes: their rows are dF = df (forces go to zero); eliminate them
+        opened = np.flatnonzero(~aux[3])
+        cols = (opened[:, None] * prob.d + np.arange(prob.d)).ravel()
+        keep = np.ones(prob.nx, bool)
+        keep[cols] = False
+        dx = np.zeros(prob.nx)
+        dx[cols] = -F[cols]
+        rhs = -F[keep] - J[np.ix_(keep, ~keep)] @ dx[~keep]
+        try:
+            dx[keep] = la.solve(J[np.ix_(keep, keep)], rhs, check_finite=False)
+        except (la.LinAlgError, ValueError):
+            dx[keep] = la.lstsq(J[np.ix_(keep, keep)], rhs, check_finite=False)[0]
+        norm0, step = np.linalg.norm(F), 1.0
+        for _ in range(12):                               # backtracking on |F|
+            F1, aux1 = prob(x + step * dx)
+            if np.linalg.norm(F1) <= (1.0 - 1e-4 * step) * norm0 or step < 1e-3:
+                break
+            step *= 0.5
+        x, F, aux = x + step * dx, F1, aux1
+        res = np.linalg.norm(F) / prob.P
+        if res < tol:
+            return x, aux, it, res
+    act, slip = aux[3], aux[3] & (aux[6] > aux[4]) & (aux[4] > 0)
+    raise ConvergenceError(
+        f"frictional contact: the semi-smooth Newton did not reach {tol:g} in {max_iter} "
+        f"iterations (residual {res:.3g} of the load; {int(act.sum())} of {prob.m} nodes in "
+        f"contact, {int(slip.sum())} slipping)",
+        figures={"iterations": max_iter, "relative_residual": res})
 
 
 def _jacobian(Cr, r, mu, act, slip, bound, z, nz, m, d, k, force_control) -> np.ndarray:

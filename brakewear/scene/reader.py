@@ -173,9 +173,9 @@ def load_scene(path_or_name: str | PathLike = "default") -> Scene:
         d = tomllib.loads(data.decode("utf-8-sig"))     # a BOM (Windows editors) is fine
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise SceneError(f"{source}: not a valid TOML file: {exc}") from None
-    from ..tribology.scene import is_test, test_from_dict
-    if is_test(d):                                      # a tribometer test (docs/validation.md)
-        return test_from_dict(d, source=source, base=base or Path(str(scene_dir())))
+    from ..tribology.scene import is_tribometer, tribometer_from_dict
+    if is_tribometer(d):                                      # a tribometer test (docs/validation.md)
+        return tribometer_from_dict(d, source=source, base=base or Path(str(scene_dir())))
     scene = scene_from_dict(d, source=source, base=base)
     logger.info("loaded scene %r from %s", scene.name, source)
     return scene

@@ -16,11 +16,12 @@ validated on (docs/validation.md):
 * :mod:`~brakewear.tribology.runner`, :mod:`~brakewear.tribology.output` -- a run
   and its files (ParaView series, CSVs, summary.json, the profile figure).
 """
+from . import reciprocating, sliding  # noqa: F401  (the built-in kinds register themselves)
 from .jump import Jump, JumpControl, cycle_jumps
-from .kinds import CycleResult, TestKind, register_test, test_kind, test_kinds
-from .runner import run_test, test_figures
-from .scene import TribometerScene, is_test, test_from_dict
+from .kinds import CycleResult, TribometerKind, register_tribometer, tribometer_kind, tribometer_kinds
+from .runner import run_tribometer, worn_figures
+from .scene import TribometerScene, is_tribometer, tribometer_from_dict
 
-__all__ = ["Jump", "JumpControl", "cycle_jumps", "CycleResult", "TestKind", "register_test",
-           "test_kind", "test_kinds", "run_test", "test_figures", "TribometerScene", "is_test",
-           "test_from_dict"]
+__all__ = ["Jump", "JumpControl", "cycle_jumps", "CycleResult", "TribometerKind", "register_tribometer",
+           "tribometer_kind", "tribometer_kinds", "run_tribometer", "worn_figures", "TribometerScene", "is_tribometer",
+           "tribometer_from_dict"]

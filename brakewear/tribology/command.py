@@ -8,14 +8,14 @@ from pathlib import Path
 
 from ..errors import SceneError
 from ..run_folder import check_new_out
-from .runner import clear_test_run, run_test
+from .runner import clear_tribometer_run, run_tribometer
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["run_test_file", "summary_lines"]
+__all__ = ["run_tribometer_file", "summary_lines"]
 
 
-def run_test_file(scene, out: str | Path | None = None, resume: bool = False,
+def run_tribometer_file(scene, out: str | Path | None = None, resume: bool = False,
                   quiet: bool = False, overwrite: bool = False) -> dict:
     """Run a checked tribometer scene into ``out`` (default ``brakewear-<name>``) with a
     progress bar on stderr in cycles (none if ``quiet``); return the summary."""
@@ -25,7 +25,7 @@ def run_test_file(scene, out: str | Path | None = None, resume: bool = False,
     out = Path(out) if out is not None else Path(f"brakewear-{scene.name}")
     check_new_out(out, overwrite=overwrite, resume=False, can_resume=False)
     if overwrite:
-        clear_test_run(out, scene)
+        clear_tribometer_run(out, scene)
     bar = None
     if not quiet:
         from tqdm import tqdm
@@ -38,7 +38,7 @@ def run_test_file(scene, out: str | Path | None = None, resume: bool = False,
         bar.update(done - bar.n)
 
     try:
-        summary = run_test(scene, out, progress=progress if bar is not None else None)
+        summary = run_tribometer(scene, out, progress=progress if bar is not None else None)
     finally:
         if bar is not None:
             bar.close()

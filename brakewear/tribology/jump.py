@@ -2,7 +2,7 @@
 
 Archard wear accumulates slowly against the time a cycle takes, so one
 simulated cycle stands for the next ``N``: the kind's
-:meth:`~brakewear.tribology.kinds.TestKind.advance` simulates one cycle with its
+:meth:`~brakewear.tribology.kinds.TribometerKind.advance` simulates one cycle with its
 wear scaled by ``N`` (a reciprocating test books each increment's wear times
 ``N`` before the next increment: McColl, Ding and Leen's cycle jump; a sliding
 test solves the revolution's contact with the ``N`` revolutions' wear in it:

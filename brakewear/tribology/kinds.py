@@ -1,14 +1,14 @@
 """The kinds of tribometer test, registered by name: one class each, carrying its
 name, its keys and its capabilities.
 
-A test kind reads its own ``[test]`` table (its :attr:`TestKind.keys`, checked
+A test kind reads its own ``[test]`` table (its :attr:`TribometerKind.keys`, checked
 with their units and ranges), builds the two condensed bodies of the test
-(:meth:`TestKind.build`) and simulates one cycle -- one stroke back and forth,
+(:meth:`TribometerKind.build`) and simulates one cycle -- one stroke back and forth,
 one revolution -- at the current worn geometry standing for ``N`` cycles
-(:meth:`TestKind.advance`), returning the wear of each body per cycle.  The cycle jump
+(:meth:`TribometerKind.advance`), returning the wear of each body per cycle.  The cycle jump
 (:mod:`brakewear.tribology.jump`) does the rest, the same for every kind.
 
-The registry reads a kind from its class alone (:func:`register_test`); a
+The registry reads a kind from its class alone (:func:`register_tribometer`); a
 scene's ``scene.test`` names it.  The built-in kinds: ``"reciprocating"``
 (:mod:`~brakewear.tribology.reciprocating`), ``"pin_on_disc"`` and
 ``"block_on_ring"`` (:mod:`~brakewear.tribology.sliding`).
@@ -25,7 +25,7 @@ from ..registry import OptionKey, Registry
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["TestKind", "CycleResult", "register_test", "test_kind", "test_kinds"]
+__all__ = ["TribometerKind", "CycleResult", "register_tribometer", "tribometer_kind", "tribometer_kinds"]
 
 _TESTS = Registry("tribometer test", "scene.test")
 
@@ -62,11 +62,11 @@ class CycleResult:
     offset: float = 0.0
 
 
-class TestKind:
+class TribometerKind:
     """A kind of test: subclass it, give the class attributes, register it.
 
-    Class attributes
-    ----------------
+    Attributes
+    ----------
     name : str
         As ``scene.test`` names it.
     keys : tuple of OptionKey
@@ -131,13 +131,19 @@ class TestKind:
         """Body name -> (coordinate (m), depth (m)) of its worn profile's section."""
         raise NotImplementedError
 
+    def closed_form(self, scene) -> dict | None:
+        """The rigid-body limit the test's worn shape approaches, where there is one:
+        ``body``, ``name``, figures of :func:`~brakewear.tribology.runner.worn_figures`
+        (m, m^2, m^3) and ``profile`` ((x, depth), m); None where there is none."""
+        return None
+
     def record(self) -> dict:
         """The kind's keys, SI, for scene.json."""
         return {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                 for k, v in self.options.items()}
 
 
-def register_test(cls: type[TestKind], *, replace: bool = False) -> type[TestKind]:
+def register_tribometer(cls: type[TribometerKind], *, replace: bool = False) -> type[TribometerKind]:
     """Register a test kind by its class (its ``name``, ``keys``, ``bodies`` and
     ``capabilities`` are read from it); usable as a class decorator."""
     for attr in ("name", "keys", "bodies", "capabilities"):
@@ -146,19 +152,15 @@ def register_test(cls: type[TestKind], *, replace: bool = False) -> type[TestKin
     return _TESTS.register(cls.name, cls, replace=replace)
 
 
-def test_kind(name: str) -> type[TestKind]:
-    """The registered kind ``name`` (a SceneError naming ``scene.test`` and the kinds)."""
-    _builtin()
+def tribometer_kind(name: str) -> type[TribometerKind]:
+    """The registered kind ``name`` (a SceneError naming ``scene.test`` and the kinds;
+    the built-in kinds register themselves when :mod:`brakewear.tribology` is imported)."""
     return _TESTS.get(name)
 
 
-def test_kinds() -> tuple[str, ...]:
-    _builtin()
+def tribometer_kinds() -> tuple[str, ...]:
+    """The names of the registered kinds."""
     return _TESTS.names()
-
-
-def _builtin() -> None:
-    from . import reciprocating, sliding  # noqa: F401  (they register themselves)
 
 
 @dataclass(frozen=True)

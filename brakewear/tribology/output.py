@@ -82,8 +82,10 @@ class FrameWriter:
             self.series[body.name].write(self.count, float(cycles), fields)
 
 
-def profile_figure(path: Path, scene, profiles: dict, summary: dict) -> Path:
-    """The worn profiles of both faces (µm against mm) with the measured figure."""
+def profile_figure(path: Path, scene, profiles: dict, summary: dict,
+                   closed: dict | None = None) -> Path:
+    """The worn profiles of both faces (µm against mm) with the measured figure and
+    profile (its spread where there are several tests) and the closed form."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -101,8 +103,8 @@ def profile_figure(path: Path, scene, profiles: dict, summary: dict) -> Path:
         if what.startswith("depth"):
             m = v["measured"]
             ax.axhspan(sign * m * (1 - v["tolerance"]) * 1e6, sign * m * (1 + v["tolerance"])
-                       * 1e6, color="0.85", zorder=0,
-                       label=f"measured {what.replace('_', ' ')} +- {v['tolerance']:.0%}")
+                       * 1e6, color="0.92", zorder=0,
+                       label=f"measured {what.replace('_', ' ')} ± {v['tolerance']:.0%}")
             ax.plot([0.0], [sign * m * 1e6], "ko", label=f"measured: {m * 1e6:.3g} um")
             for i, (ref, val) in enumerate(v.get("reference", {}).items()):
                 ax.plot([0.0], [sign * val * 1e6], "s^v"[i % 3], mfc="none", ms=8,
@@ -110,14 +112,24 @@ def profile_figure(path: Path, scene, profiles: dict, summary: dict) -> Path:
         if "profile" in v and "measured_profile" in summary:
             mp = summary["measured_profile"]
             sign = -1.0 if v.get("profile_of") == scene.test.bodies[0] else 1.0
-            ax.plot(np.asarray(mp["x_m"]) * 1e3, sign * np.asarray(mp["depth_m"]) * 1e6, "k.",
-                    ms=4, label="measured profile")
+            xm = np.asarray(mp["x_m"]) * 1e3
+            if "depth_min_m" in mp:
+                ax.fill_between(xm, sign * np.asarray(mp["depth_min_m"]) * 1e6,
+                                sign * np.asarray(mp["depth_max_m"]) * 1e6, color="0.7",
+                                alpha=0.5, lw=0, label="measured, the tests' spread")
+            ax.plot(xm, sign * np.asarray(mp["depth_m"]) * 1e6, "k.", ms=4,
+                    label="measured profile" + (" (mean)" if "depth_min_m" in mp else ""))
+    if closed is not None:
+        x, h = closed["profile"]
+        sign = -1.0 if closed["body"] == scene.test.bodies[0] else 1.0
+        ax.plot(np.asarray(x) * 1e3, sign * np.asarray(h) * 1e6, "k:", lw=1.4,
+                label=f"closed form: {closed['name']}")
     ax.axhline(0.0, color="0.5", lw=0.6)
     ax.set_xlabel("position across the scar (mm)")
     ax.set_ylabel("worn depth (um)")
     ax.set_title(f"{scene.name}: worn profiles after {summary['cycles']:.6g} "
                  f"{scene.test.capabilities['cycle']}s")
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="lower left")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

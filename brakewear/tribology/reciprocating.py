@@ -21,7 +21,7 @@ import numpy as np
 from ..contact.friction import OPEN, solve_friction
 from ..registry import OptionKey
 from .bodies import block
-from .kinds import CycleResult, TestKind, register_test
+from .kinds import CycleResult, TribometerKind, register_tribometer
 from .pair import ContactPair
 from .sliding import _with_normal as _with_wear
 
@@ -30,8 +30,8 @@ logger = logging.getLogger(__name__)
 __all__ = ["Reciprocating"]
 
 
-@register_test
-class Reciprocating(TestKind):
+@register_tribometer
+class Reciprocating(TribometerKind):
     """Cylinder on flat, reciprocating (plane strain, stick and slip solved)."""
 
     name = "reciprocating"

@@ -1,6 +1,6 @@
 """Run a tribometer scene: build the bodies, jump through the cycles, write the run.
 
-:func:`run_test` is what ``brakewear run <tribometer scene>`` does: it checks
+:func:`run_tribometer` is what ``brakewear run <tribometer scene>`` does: it checks
 the output folder, condenses the two bodies onto their contact faces, loads
 the contact, integrates the test's cycles by cycle jumps
 (:mod:`brakewear.tribology.jump`) and writes the files of
@@ -27,10 +27,10 @@ from .output import RUN_FILES, FrameWriter, profile_figure, write_csv, write_jso
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["run_test", "test_figures", "clear_test_run"]
+__all__ = ["run_tribometer", "worn_figures", "clear_tribometer_run"]
 
 
-def clear_test_run(out: Path, scene) -> None:
+def clear_tribometer_run(out: Path, scene) -> None:
     """Remove the files a run of ``scene`` writes from ``out`` (``--overwrite``)."""
     out = Path(out)
     for name in RUN_FILES:
@@ -40,7 +40,7 @@ def clear_test_run(out: Path, scene) -> None:
             f.unlink(missing_ok=True)
 
 
-def test_figures(scene, pair, depths: dict) -> dict:
+def worn_figures(scene, pair, depths: dict) -> dict:
     """Body name -> its worn figures: ``depth_max``, ``depth_centre``, ``scar_width``
     (m), ``worn_area`` (plane strain, m^2 per m of length) or ``worn_volume`` (m^3;
     in plane strain too where the test has a width)."""
@@ -92,17 +92,21 @@ def _validation(scene, figures: dict) -> dict:
 
 
 def _measured_profile(path: str) -> dict:
-    rows, _ = read_csv_rows(path, "the measured profile (validation.profile)")
+    """A measured profile: the columns ``x_mm``, ``depth_um`` and, for several tests,
+    ``depth_min_um``, ``depth_max_um``."""
+    rows, header = read_csv_rows(path, "the measured profile (validation.profile)")
+    cols = {"x_m": ("x_mm", 1e-3), "depth_m": ("depth_um", 1e-6)}
+    if "depth_min_um" in header:
+        cols.update(depth_min_m=("depth_min_um", 1e-6), depth_max_m=("depth_max_um", 1e-6))
     try:
-        x = [float(r["x_mm"]) * 1e-3 for r in rows]
-        h = [float(r["depth_um"]) * 1e-6 for r in rows]
-    except (KeyError, ValueError) as exc:
+        return {k: [float(r[c]) * f for r in rows] for k, (c, f) in cols.items()}
+    except (KeyError, TypeError, ValueError) as exc:
         raise SceneError(f"validation.profile: {path}: need the columns x_mm, depth_um "
-                         f"({exc})") from None
-    return {"x_m": x, "depth_m": h}
+                         f"(and optionally depth_min_um, depth_max_um) of numbers ({exc})"
+                         ) from None
 
 
-def run_test(scene, out: str | Path, *, progress: Callable | None = None,
+def run_tribometer(scene, out: str | Path, *, progress: Callable | None = None,
              figures: bool | None = None) -> dict:
     """Run a tribometer scene into the folder ``out``; return its summary.
 
@@ -154,7 +158,7 @@ def run_test(scene, out: str | Path, *, progress: Callable | None = None,
             lambda d, l, N: kind.advance(scene, pair, d, l, N), start, depths, total, control,
             on_jump)
     wall = time.perf_counter() - t0
-    figs = test_figures(scene, pair, depths)
+    figs = worn_figures(scene, pair, depths)
     slave, master = kind.bodies
     summary = {
         "scene": scene.name, "test": kind.name, "version": __version__,
@@ -181,6 +185,15 @@ def run_test(scene, out: str | Path, *, progress: Callable | None = None,
     }
     if measured is not None:
         summary["measured_profile"] = measured
+    closed = kind.closed_form(scene)
+    if closed is not None:
+        got = figs[closed["body"]]
+        summary["closed_form"] = {
+            "body": closed["body"], "name": closed["name"],
+            "figures": {k: {"closed_form": closed[k], "computed": got[k],
+                            "error": got[k] / closed[k] - 1.0}
+                        for k in ("depth_max", "scar_width", "worn_area", "worn_volume")
+                        if k in closed and k in got and closed[k] > 0}}
     profiles = kind.profiles(pair, depths)
     rows = [{"body": b, "position_m": float(x), "depth_m": float(h)}
             for b, (xs, hs) in profiles.items() for x, h in zip(xs, hs)]
@@ -188,7 +201,7 @@ def run_test(scene, out: str | Path, *, progress: Callable | None = None,
     write_csv(out / "history.csv", history)
     write_json(out / "scene.json", scene.to_dict())
     if figures if figures is not None else scene.output["figures"]:
-        profile_figure(out / "profile.png", scene, profiles, summary)
+        profile_figure(out / "profile.png", scene, profiles, summary, closed)
         summary["files"]["figure"] = "profile.png"
     write_json(out / "summary.json", summary)
     logger.info("%s: %g %ss in %.1f s (%d simulated)", scene.name, summary["cycles"],

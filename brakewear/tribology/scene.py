@@ -2,7 +2,7 @@
 
 A tribometer scene is a scene file whose ``[scene]`` table names a test kind
 (``test = "reciprocating"``); :func:`brakewear.load_scene` reads it through
-:func:`test_from_dict` (docs/validation.md lists the tables and keys).  As for
+:func:`tribometer_from_dict` (docs/validation.md lists the tables and keys).  As for
 a brake scene, the whole file is checked before anything is meshed: unknown
 tables or keys (the allowed ones are listed), wrong types, units and ranges
 raise a :class:`~brakewear.errors.SceneError` that names the file, the key and
@@ -20,11 +20,11 @@ from ..checks import check_bool, check_int, check_number, fail, file_messages
 from ..errors import InputError
 from ..materials import Isotropic, get_material
 from ..registry import check_options
-from .kinds import BodySpec, TestKind, test_kind
+from .kinds import BodySpec, TribometerKind, tribometer_kind
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["TribometerScene", "test_from_dict", "is_test", "TEST_UNITS"]
+__all__ = ["TribometerScene", "tribometer_from_dict", "is_tribometer", "TEST_UNITS"]
 
 #: the units a tribometer scene may state: quantity -> unit -> factor to SI
 TEST_UNITS: dict[str, dict[str, float]] = {
@@ -50,7 +50,7 @@ _SCHEMA = {
 }
 
 
-def is_test(d: Any) -> bool:
+def is_tribometer(d: Any) -> bool:
     """Whether parsed scene tables describe a tribometer test (``scene.test`` given)."""
     return isinstance(d, Mapping) and isinstance(d.get("scene"), Mapping) and \
         "test" in d["scene"]
@@ -63,7 +63,7 @@ class TribometerScene:
     Attributes
     ----------
     name, description : str
-    test : TestKind
+    test : TribometerKind
         The kind and its keys (``scene.test``, ``[test]``).
     bodies : dict
         Body name -> :class:`~brakewear.tribology.kinds.BodySpec` (slave first).
@@ -81,7 +81,7 @@ class TribometerScene:
     """
 
     name: str
-    test: TestKind
+    test: TribometerKind
     bodies: dict
     mu: float
     mesh: dict
@@ -216,7 +216,7 @@ def _body(rd: _Reader, name: str, d: Mapping) -> BodySpec:
     return BodySpec(name=name, E=E, nu=nu, k=k, half_width=hw, depth=depth, material=mat)
 
 
-def test_from_dict(d: Mapping, source: str = "<dict>", base: Path | None = None
+def tribometer_from_dict(d: Mapping, source: str = "<dict>", base: Path | None = None
                    ) -> TribometerScene:
     """Check a tribometer scene given as nested dicts (the parsed TOML) and convert
     it to SI (:class:`TribometerScene`); errors name ``source`` and the key."""
@@ -236,7 +236,7 @@ def _parse(d: Mapping, shown: dict, base: Path | None) -> TribometerScene:
             raise fail(t, f"missing required table [{t}]")
     rd = _Reader(_units(d["units"]), shown)
     scene = _table(d["scene"], "scene", _SCHEMA["scene"])
-    kind_cls = test_kind(rd.quantity("scene.test", scene["test"], "str"))
+    kind_cls = tribometer_kind(rd.quantity("scene.test", scene["test"], "str"))
     name = rd.quantity("scene.name", scene.get("name", kind_cls.name), "str")
     # the kind's own keys, read in the file's units, then checked by the kind
     keys = {k.name: k for k in kind_cls.keys}

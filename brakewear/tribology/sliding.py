@@ -21,11 +21,12 @@ import math
 
 import numpy as np
 
+from ..analytic_tribometer import conforming_block_on_ring, spherical_cap_height
 from ..checks import fail
 from ..contact.friction import solve_sliding
 from ..registry import OptionKey
 from .bodies import block, face_triangles, ring
-from .kinds import CycleResult, TestKind, register_test
+from .kinds import CycleResult, TribometerKind, register_tribometer
 from .pair import ContactPair
 
 logger = logging.getLogger(__name__)
@@ -50,8 +51,8 @@ def _figures(pair, sol) -> dict:
             "newton_iterations": sol.iterations}
 
 
-@register_test
-class PinOnDisc(TestKind):
+@register_tribometer
+class PinOnDisc(TribometerKind):
     """A pin with a spherical or flat end on a rotating disc's face (3D)."""
 
     name = "pin_on_disc"
@@ -152,6 +153,18 @@ class PinOnDisc(TestKind):
                            pressure=sol.normal / pair.slave.area, slip=s,
                            figures=_figures(pair, sol), carry=sol.normal, forces=sol.forces)
 
+    def closed_form(self, scene) -> dict | None:
+        """A spherical pin on a disc that does not wear wears a flat cap of volume
+        ``k F s`` (:func:`~brakewear.analytic_tribometer.spherical_cap_height`)."""
+        if self.pin != "sphere" or scene.bodies["disc"].k > 0:
+            return None
+        R = self.radius
+        cap = spherical_cap_height(scene.bodies["pin"].k * self.load * self.distance, R)
+        r = np.linspace(-cap["radius"], cap["radius"], 201)
+        return {"body": "pin", "name": "spherical cap of volume k F s",
+                "depth_max": cap["h"], "scar_width": 2 * cap["radius"], "worn_volume": cap["V"],
+                "profile": (r, cap["h"] - (R - np.sqrt(R * R - r * r)))}
+
     def profiles(self, pair, depths: dict) -> dict:
         """Sections through the pin's centre across the track (y) and the disc's groove."""
         pin, disc = self.bodies
@@ -163,8 +176,8 @@ class PinOnDisc(TestKind):
         return {pin: (y[on][order], depths[pin][on][order]), disc: (ys, groove)}
 
 
-@register_test
-class BlockOnRing(TestKind):
+@register_tribometer
+class BlockOnRing(TribometerKind):
     """A block pressed on a rotating ring's periphery (plane strain)."""
 
     name = "block_on_ring"
@@ -235,6 +248,18 @@ class BlockOnRing(TestKind):
                            pressure=sol.normal / pair.slave.area,
                            slip=np.full(x.size, s), figures=fig, carry=sol.normal,
                            forces=sol.forces)
+
+    def closed_form(self, scene) -> dict | None:
+        """The block worn into the ring's shape, both rigid
+        (:func:`~brakewear.analytic_tribometer.conforming_block_on_ring`)."""
+        R = self.ring_radius
+        c = conforming_block_on_ring(self.line_load, R, self.distance, scene.bodies["block"].k,
+                                     scene.bodies["ring"].k)
+        x = np.linspace(-0.5 * c["width"], 0.5 * c["width"], 201)
+        return {"body": "block", "name": "block conforming to the ring (rigid bodies)",
+                "depth_max": c["depth"], "scar_width": c["width"], "worn_area": c["area"],
+                "worn_volume": c["area"] * self.width,
+                "profile": (x, c["depth"] - (R - np.sqrt(R * R - x * x)))}
 
     def profiles(self, pair, depths: dict) -> dict:
         blk, rng = self.bodies
