@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from ..errors import SceneError
-from ..run_folder import check_new_out
+from ..output.folder import check_new_out
 from .runner import clear_tribometer_run, run_tribometer
 
 logger = logging.getLogger(__name__)
