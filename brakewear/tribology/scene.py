@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..checks import check_bool, check_int, check_number, fail, file_messages
+from ..checks import check_bool, check_int, check_number, fail, file_messages, shown_value
 from ..errors import InputError
 from ..materials import Isotropic, get_material
 from ..registry import check_options
@@ -291,17 +291,19 @@ def _mesh(rd: _Reader, d: Mapping, bodies: dict) -> dict:
     check_number("mesh.size", size, 0.0, unit="m")
     check_number("mesh.zone", zone, 0.0, unit="m")
     check_number("mesh.growth", growth, 0.05, 1.0)
+    z = shown_value("mesh.zone", zone, "m")
     if zone < 4 * size:
-        raise fail("mesh.zone", f"{zone:g} m is not allowed; the contact zone needs at least "
-                                f"four elements: mesh.zone >= 4 mesh.size = {4 * size:g} m")
+        raise fail("mesh.zone", f"{z} is not allowed; the contact zone needs at least four "
+                                f"elements: mesh.zone >= 4 mesh.size = "
+                                f"{shown_value('mesh.size', 4 * size, 'm')}")
     for b in bodies.values():
         if zone > b.half_width:
-            raise fail("mesh.zone", f"{zone:g} m is not allowed; it must fit in the "
-                                    f"{b.name}: at most bodies.{b.name}.half_width = "
-                                    f"{b.half_width:g} m")
-        if zone / size > 400:
-            raise fail("mesh.size", f"{size:g} m is not allowed: {zone / size:.0f} elements "
-                                    "across the contact zone; at most 400")
+            raise fail("mesh.zone", f"{z} is not allowed; it must fit in the {b.name}: at "
+                                    f"most bodies.{b.name}.half_width = "
+                                    f"{shown_value(f'bodies.{b.name}.half_width', b.half_width, 'm')}")
+    if zone / size > 400:
+        raise fail("mesh.size", f"{shown_value('mesh.size', size, 'm')} is not allowed: "
+                                f"{zone / size:.0f} elements across the contact zone; at most 400")
     return {"size": size, "zone": zone, "growth": growth}
 
 
