@@ -132,5 +132,6 @@ if __name__ == "__main__":
                increments=() if args.quick else args.increments)
     for key in ("fixed", "controlled", "sizes", "increments"):
         for r in res[key]:
-            print(key, {k: (float(f"{v:.5g}") if isinstance(v, float) else v) for k, v in r.items()})
+            print(key, {k: (float(f"{v:.5g}") if isinstance(v, float) else v)
+                        for k, v in r.items()})
     print("Richardson centre depth", res["richardson_depth_centre_m"])

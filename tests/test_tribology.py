@@ -51,8 +51,8 @@ def test_packaged_scenes_load_and_are_listed(name):
 
 
 @pytest.mark.parametrize("edit,message", [
-    ({"stroke": "0.025\nspeed = 3.0"}, r"test\.speed: unknown key 'speed' in \[test\]; allowed keys: "
-                                       r"radius, load, stroke"),
+    ({"stroke": "0.025\nspeed = 3.0"},
+     r"test\.speed: unknown key 'speed' in \[test\]; allowed keys: radius, load, stroke"),
     ({"size": "0.5"}, r"mesh\.zone: 0\.35 mm is not allowed; the contact zone needs at least "
                       r"four elements"),
     ({"k": "-1e-14"}, r"bodies\.flat\.k: -1e-14 1/Pa is not allowed; it must be >= 0"),

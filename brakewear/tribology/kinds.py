@@ -25,7 +25,8 @@ from ..registry import OptionKey, Registry
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["TribometerKind", "CycleResult", "register_tribometer", "tribometer_kind", "tribometer_kinds"]
+__all__ = ["TribometerKind", "CycleResult", "register_tribometer", "tribometer_kind",
+           "tribometer_kinds"]
 
 _TESTS = Registry("tribometer test", "scene.test")
 
@@ -143,7 +144,8 @@ class TribometerKind:
                 for k, v in self.options.items()}
 
 
-def register_tribometer(cls: type[TribometerKind], *, replace: bool = False) -> type[TribometerKind]:
+def register_tribometer(cls: type[TribometerKind], *,
+                        replace: bool = False) -> type[TribometerKind]:
     """Register a test kind by its class (its ``name``, ``keys``, ``bodies`` and
     ``capabilities`` are read from it); usable as a class decorator."""
     for attr in ("name", "keys", "bodies", "capabilities"):

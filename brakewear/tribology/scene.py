@@ -298,9 +298,9 @@ def _mesh(rd: _Reader, d: Mapping, bodies: dict) -> dict:
                                 f"{shown_value('mesh.size', 4 * size, 'm')}")
     for b in bodies.values():
         if zone > b.half_width:
+            hw = shown_value(f"bodies.{b.name}.half_width", b.half_width, "m")
             raise fail("mesh.zone", f"{z} is not allowed; it must fit in the {b.name}: at "
-                                    f"most bodies.{b.name}.half_width = "
-                                    f"{shown_value(f'bodies.{b.name}.half_width', b.half_width, 'm')}")
+                                    f"most bodies.{b.name}.half_width = {hw}")
     if zone / size > 400:
         raise fail("mesh.size", f"{shown_value('mesh.size', size, 'm')} is not allowed: "
                                 f"{zone / size:.0f} elements across the contact zone; at most 400")
