@@ -41,7 +41,8 @@ def run(name: str, figures: Path | None = None) -> dict:
     s.pop("measured_profile", None)
     return {"scene": name, "test": s["test"], "cycles": s["cycles"], "cycle": s["cycle"],
             "cycles_simulated": s["cycles_simulated"], "jumps": s["jumps"],
-            "wall_s": s["cost"]["run_s"], "build_s": s["cost"]["build_s"],
+            "wall_s": s["cost"]["run_s"], "cpu_s": s["cost"]["cpu_s"],
+            "build_s": s["cost"]["build_s"],
             "load_average_at_start": load, "bodies": s["bodies"],
             "worn_ratio": s["worn_ratio"], "k_ratio": s["k_ratio"],
             "validation": s["validation"], "closed_form": s.get("closed_form"),
@@ -67,7 +68,8 @@ if __name__ == "__main__":
     for r in main(args.out, args.scenes):
         v = r["validation"]
         line = f"{r['scene']}: {r['cycles']:.6g} {r['cycle']}s, {r['cycles_simulated']} " \
-               f"simulated, {r['wall_s']:.1f} s (load {r['load_average_at_start']:.1f})"
+               f"simulated, {r['wall_s']:.1f} s wall, {r['cpu_s']:.1f} s CPU (load " \
+               f"{r['load_average_at_start']:.1f})"
         if v:
             line += (f"; {v['quantity']} computed {v['computed']:.4g}, measured "
                      f"{v['measured']:.4g} ({v['error']:+.1%})")

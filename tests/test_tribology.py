@@ -156,6 +156,25 @@ def test_pin_on_disc_coarse_wears_the_cap(tmp_path, capsys):
     assert {"wear", "pressure"} <= set(meshio.read(out / "pin_00002.vtu").point_data)
 
 
+def test_a_flat_pin_wears_at_its_rim_first(tmp_path):
+    """A flat-ended pin (1 mm across, meshed as its cylinder): the worn volume is k F s
+    to the track's curvature, and the rim, where a flat punch's pressure peaks,
+    wears deeper than the centre."""
+    text = scene_file("pin_on_disc_cap").read_text()
+    text = text.replace('pin = "sphere"', 'pin = "flat"').replace("radius = 5.0 ", "radius = 0.5 ")
+    for key, value in (("half_width", "0.5"), ("size", "0.125"), ("zone", "0.5"),
+                       ("distance", "20000.0")):
+        text = re.sub(rf"^{key} = [^ \n]*", f"{key} = {value}", text, count=1, flags=re.M)
+    (tmp_path / "flat.toml").write_text(text)
+    sc = load_scene(tmp_path / "flat.toml")
+    assert sc.test.pin == "flat" and sc.bodies["pin"].half_width == pytest.approx(0.5e-3)
+    s = run_tribometer(sc, tmp_path / "run", figures=False)
+    pin = s["bodies"]["pin"]
+    assert pin["worn_volume"] == pytest.approx(1.3e-16 * 10.0 * 20.0, rel=2e-3)
+    assert pin["depth_max"] > 2 * pin["depth_centre"] > 0
+    assert pin["scar_width"] == pytest.approx(1e-3, rel=1e-9)
+
+
 def test_k_s_equivalence(tmp_path):
     """(k, s) and (2 k, s / 2), first jumps of 2 and 1 revolutions: the same jumps in
     k N, the same profile to round-off."""

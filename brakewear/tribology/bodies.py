@@ -61,6 +61,9 @@ class Body:
     compliance : ndarray
         (n dim, n dim) displacement of the face nodes per unit nodal force
         (m/N), per node the components (x[, y], z).
+    whole_face : bool
+        The contact face is the body's whole end (a flat pin): its rim is the
+        body's edge, not the edge of a finely meshed zone.
     """
 
     name: str
@@ -70,6 +73,7 @@ class Body:
     x: np.ndarray
     area: np.ndarray
     compliance: np.ndarray
+    whole_face: bool = False
     _solve: Callable = field(repr=False, default=None)
     _dofs: np.ndarray = field(repr=False, default=None)
 
@@ -198,7 +202,9 @@ def block(name: str, material: Isotropic, half_width: float, depth: float, zone:
     far = np.flatnonzero(np.isclose(mesh.p[-1], -depth if below else depth))
     if dim == 2:
         face = face[np.argsort(mesh.p[0, face])]
-    return condense(name, mesh, material, face, far)
+    body = condense(name, mesh, material, face, far)
+    body.whole_face = round_section
+    return body
 
 
 def ring(name: str, material: Isotropic, radius: float, bore: float, zone: float, h: float,

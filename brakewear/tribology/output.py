@@ -90,7 +90,7 @@ def profile_figure(path: Path, scene, profiles: dict, summary: dict,
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7.0, 4.2))
+    fig, ax = plt.subplots(figsize=(9.6, 4.2))
     styles = ("-", "--")
     for (name, (x, h)), ls in zip(profiles.items(), styles):
         sign = -1.0 if name == scene.test.bodies[0] else 1.0
@@ -129,7 +129,7 @@ def profile_figure(path: Path, scene, profiles: dict, summary: dict,
     ax.set_ylabel("worn depth (um)")
     ax.set_title(f"{scene.name}: worn profiles after {summary['cycles']:.6g} "
                  f"{scene.test.capabilities['cycle']}s")
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

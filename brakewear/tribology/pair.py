@@ -85,7 +85,9 @@ class ContactPair:
 
     def _rim(self) -> np.ndarray:
         if "rim" not in self._cache:
-            if self.dim == 2:
+            if self.slave.whole_face:
+                rim = np.zeros(self.slave.face.size, bool)
+            elif self.dim == 2:
                 rim = np.zeros(self.slave.face.size, bool)
                 rim[[0, -1]] = True
             else:

@@ -131,7 +131,7 @@ def run_tribometer(scene, out: str | Path, *, progress: Callable | None = None,
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     kind = scene.test
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     with blas_threads(1):
         pair = kind.build(scene)
         t_build = time.perf_counter() - t0
@@ -157,7 +157,7 @@ def run_tribometer(scene, out: str | Path, *, progress: Callable | None = None,
         depths, last, jumps = cycle_jumps(
             lambda d, l, N: kind.advance(scene, pair, d, l, N), start, depths, total, control,
             on_jump)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     figs = worn_figures(scene, pair, depths)
     slave, master = kind.bodies
     summary = {
@@ -178,7 +178,7 @@ def run_tribometer(scene, out: str | Path, *, progress: Callable | None = None,
             pair.slave.name: int(pair.slave.face.size),
             pair.master.name: int(pair.master.face.size)},
             "nodes": {b.name: int(b.mesh.nvertices) for b in (pair.slave, pair.master)}},
-        "cost": {"build_s": t_build, "run_s": wall},
+        "cost": {"build_s": t_build, "run_s": wall, "cpu_s": cpu},
         "validation": _validation(scene, figs),
         "files": {"series": [f"{b}.pvd" for b in kind.bodies], "history": "history.csv",
                   "profile": "profile.csv"},
