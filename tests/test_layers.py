@@ -30,15 +30,15 @@ PKG = ROOT / "brakewear"
 #: prefix (below ``brakewear``) that names it
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "checks", "registry", "analytic", "materials", "laws", "caliper.analytic",
-     "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit"),
+     "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit", "analytic_tribometer"),
     ("geometry", "caliper.geometry"),
     ("mesh", "fem", "solvers", "rough", "caliper.loads", "caliper.parts"),
     ("contact", "caliper.rows"),
     ("model",),
     ("interfaces", "thermal", "motion", "caliper.condensation", "caliper.sets",
-     "caliper.interface"),
-    ("static", "caliper.static", "duty", "cleaning.routine", "wear", "scene"),
-    ("output", "cli", "bench"),
+     "caliper.interface", "tribology.bodies", "tribology.pair"),
+    ("static", "caliper.static", "duty", "cleaning.routine", "wear", "scene", "tribology"),
+    ("output", "cli", "bench", "tribology.runner", "tribology.output", "tribology.command"),
 )
 
 #: the most climbs the path may take (distinct caller -> callee module pairs)
