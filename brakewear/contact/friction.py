@@ -244,11 +244,6 @@ class _AlartCurnier:
             F[nt + 1:] = T.sum(axis=0) + self.Q
         return F, (g, w, dw, act, bound, z, nz)
 
-    def jacobian(self, aux) -> np.ndarray:
-        g, w, dw, act, bound, z, nz = aux
-        slip = act & (nz > bound) & (bound > 0)
-        return _jacobian(self.C.reshape(self.m, self.d, self.m, self.d), self.r, self.mu, act,
-                         slip, bound, z, nz, self.m, self.d, self.k, self.Q is not None)
 
 
 def _newton(prob: _AlartCurnier, x, tol: float, max_iter: int):
@@ -257,19 +252,7 @@ def _newton(prob: _AlartCurnier, x, tol: float, max_iter: int):
     F, aux = prob(x)
     res, it = np.linalg.norm(F) / prob.P, 0
     for it in range(1, max_iter + 1):
-        J = prob.jacobian(aux)
-        # open nodes: their rows are dF = df (forces go to zero); eliminate them
-        opened = np.flatnonzero(~aux[3])
-        cols = (opened[:, None] * prob.d + np.arange(prob.d)).ravel()
-        keep = np.ones(prob.nx, bool)
-        keep[cols] = False
-        dx = np.zeros(prob.nx)
-        dx[cols] = -F[cols]
-        rhs = -F[keep] - J[np.ix_(keep, ~keep)] @ dx[~keep]
-        try:
-            dx[keep] = la.solve(J[np.ix_(keep, keep)], rhs, check_finite=False)
-        except (la.LinAlgError, ValueError):
-            dx[keep] = la.lstsq(J[np.ix_(keep, keep)], rhs, check_finite=False)[0]
+        dx = _newton_step(prob, F, aux)
         norm0, step = np.linalg.norm(F), 1.0
         for _ in range(12):                               # backtracking on |F|
             F1, aux1 = prob(x + step * dx)
@@ -288,61 +271,107 @@ def _newton(prob: _AlartCurnier, x, tol: float, max_iter: int):
         figures={"iterations": max_iter, "relative_residual": res})
 
 
-def _jacobian(Cr, r, mu, act, slip, bound, z, nz, m, d, k, force_control) -> np.ndarray:
-    """The generalised Jacobian of the Alart-Curnier residual (dense)."""
-    nt = m * d
-    nx = nt + 1 + (k if force_control else 0)
-    J = np.zeros((nx, nx))
-    Jm = np.zeros((m, d, m, d))
-    idx = np.arange(m)
-    # normal rows: active r dg = r (C_n df - d delta); open dN
-    a = np.flatnonzero(act)
-    Jm[a, -1] = r[a, None, None] * Cr[a, -1]
-    J[a * d + d - 1, nt] = -r[a]
-    o = np.flatnonzero(~act)
-    Jm[o, -1, o, -1] = 1.0
-    # tangential rows
-    stick = act & ~slip & (bound > 0)
-    st = np.flatnonzero(stick)
-    # stick: F_t = r dw, dw = C_t df (+ ds)
-    Jm[st, :k] = r[st, None, None, None] * Cr[st, :k]
-    if force_control:
-        for c in range(k):
-            J[st * d + c, nt + 1 + c] = r[st]
-    # open (or zero bound): F_t = T
-    free = np.flatnonzero(~act | (bound <= 0))
+def _newton_step(prob: _AlartCurnier, F: np.ndarray, aux) -> np.ndarray:
+    """The Newton step: the open nodes' rows are ``df = -f`` (their forces go to zero);
+    the generalised Jacobian is built on the nodes in contact alone (their forces,
+    the approach and, under force control, the shift), the open nodes' step entering
+    its right-hand side through the compliance."""
+    m, d, k, nt = prob.m, prob.d, prob.k, prob.nt
+    act = aux[3]
+    a, o = np.flatnonzero(act), np.flatnonzero(~act)
+    dx = np.zeros(prob.nx)
+    ocols = (o[:, None] * d + np.arange(d)).ravel()
+    dx[ocols] = -F[ocols]
+    acols = (a[:, None] * d + np.arange(d)).ravel()
+    extra = prob.nx - nt                                  # the approach and the shift
+    keep = np.concatenate([acols, nt + np.arange(extra)])
+    J, shift_rows = _jacobian(prob, aux, a, acols)
+    # the open nodes' step through the compliance: (C dx_open) in the active rows
+    u = (prob.C[np.ix_(acols, ocols)] @ dx[ocols]).reshape(a.size, d) if o.size else \
+        np.zeros((a.size, d))
+    rhs = -F[keep] - _linearised(prob, aux, a, u, dx[ocols].reshape(o.size, d), shift_rows)
+    try:
+        dx[keep] = la.solve(J, rhs, check_finite=False)
+    except (la.LinAlgError, ValueError):
+        dx[keep] = la.lstsq(J, rhs, check_finite=False)[0]
+    return dx
+
+
+def _row_parts(prob: _AlartCurnier, aux, a):
+    """Per active node: its state (stick, slip, free) and the slip rows' factors."""
+    g, w, dw, act, bound, z, nz = aux
+    slip = (nz[a] > bound[a]) & (bound[a] > 0)
+    free = bound[a] <= 0
+    stick = ~slip & ~free
+    n = np.zeros((a.size, prob.k))
+    n[slip] = z[a][slip] / nz[a][slip, None]
+    bz = np.where(slip, bound[a] / np.where(nz[a] > 0, nz[a], 1.0), 0.0)
+    Pn = np.eye(prob.k)[None] - n[:, :, None] * n[:, None, :]
+    return stick, slip, free, n, bz, Pn
+
+
+def _jacobian(prob: _AlartCurnier, aux, a, acols):
+    """The generalised Jacobian of the Alart-Curnier residual on the active nodes
+    (dense, rows and columns: their ``d`` components, then the approach and the
+    shift)."""
+    d, k, mu = prob.d, prob.k, prob.mu
+    na, nk = a.size, acols.size
+    extra = prob.nx - prob.nt
+    r = prob.r[a]
+    Ca = prob.C[np.ix_(acols, acols)].reshape(na, d, nk)         # (na, d, nk)
+    stick, slip, free, n, bz, Pn = _row_parts(prob, aux, a)
+    J = np.zeros((na, d, nk + extra))
+    own = np.arange(na)
+    J[:, -1, :nk] = r[:, None] * Ca[:, -1]                       # normal: r (C_n df - dd)
+    J[:, -1, nk] = -r
+    J[stick, :k, :nk] = r[stick, None, None] * Ca[stick, :k]     # stick: r dw
     for c in range(k):
-        Jm[free, c, free, c] = 1.0
-    # slip: F_t = T - b z/|z|, z = T - r dw, b = mu (N - r g)
-    sl = np.flatnonzero(slip)
-    if sl.size:
-        n = z[sl] / nz[sl, None]                                  # (ns, k)
-        bz = bound[sl] / nz[sl]
-        # d(b) = mu (dN - r (C_n df - d delta))
-        db = -mu * r[sl, None, None] * Cr[sl, -1]                 # (ns, m, d)
-        db[np.arange(sl.size), sl, -1] += mu
-        # dz = dT - r (C_t df + ds)
-        dz = -r[sl, None, None, None] * Cr[sl, :k]                # (ns, k, m, d)
+        J[free, c, own[free] * d + c] = 1.0                      # free: T
+    if slip.any():
+        s_ = np.flatnonzero(slip)
+        db = -mu * r[s_, None] * Ca[s_, -1]                      # (ns, nk)
+        db[np.arange(s_.size), s_ * d + d - 1] += mu
+        dz = -r[s_, None, None] * Ca[s_, :k]                     # (ns, k, nk)
         for c in range(k):
-            dz[np.arange(sl.size), c, sl, c] += 1.0
-        Pn = np.eye(k)[None] - n[:, :, None] * n[:, None, :]      # (ns, k, k)
-        dproj = n[:, :, None, None] * db[:, None] + bz[:, None, None, None] * np.einsum(
-            "sab,sbjc->sajc", Pn, dz)
-        row = -dproj
+            dz[np.arange(s_.size), c, s_ * d + c] += 1.0
+        dproj = n[s_, :, None] * db[:, None] + bz[s_, None, None] * np.einsum(
+            "sab,sbj->saj", Pn[s_], dz)
+        J[s_, :k, :nk] = -dproj
         for c in range(k):
-            row[np.arange(sl.size), c, sl, c] += 1.0
-        Jm[sl, :k] = row
-        J[sl[:, None] * d + np.arange(k), nt] = -(n * (mu * r[sl])[:, None])  # via d delta
-        if force_control:
-            # dz/ds = -r I
-            for c in range(k):
-                J[sl * d + c, nt + 1:] = (bz * r[sl])[:, None] * Pn[:, c, :]
-    J[:nt, :nt] = Jm.reshape(nt, nt)
-    J[nt, idx * d + d - 1] = 1.0
-    if force_control:
-        for c in range(k):
-            J[nt + 1 + c, idx * d + c] = 1.0
-    return J
+            J[s_, c, s_ * d + c] += 1.0
+        J[s_, :k, nk] = -n[s_] * (mu * r[s_])[:, None]
+    shift_rows = None
+    if extra > 1:                                                # force control: ds
+        J[stick, :k, nk + 1:] = r[stick, None, None] * np.eye(k)[None]
+        J[slip, :k, nk + 1:] = (bz[slip] * r[slip])[:, None, None] * Pn[slip]
+        shift_rows = True
+    sums = np.zeros((extra, nk + extra))
+    sums[0, d - 1:nk:d] = 1.0                                    # sum N = P
+    for c in range(extra - 1):
+        sums[1 + c, c:nk:d] = 1.0                                # sum T = -Q
+    return np.vstack([J.reshape(na * d, nk + extra), sums]), shift_rows
+
+
+def _linearised(prob: _AlartCurnier, aux, a, u, dopen, shift_rows) -> np.ndarray:
+    """What the open nodes' step ``dopen`` ((no, d)) changes in the active rows, through
+    the displacement ``u`` ((na, d)) it causes there, and in the sums."""
+    d, k, mu = prob.d, prob.k, prob.mu
+    r = prob.r[a]
+    stick, slip, free, n, bz, Pn = _row_parts(prob, aux, a)
+    out = np.zeros((a.size, d))
+    out[:, -1] = r * u[:, -1]
+    out[stick, :k] = r[stick, None] * u[stick, :k]
+    if slip.any():
+        db = -mu * r[slip] * u[slip, -1]
+        dz = -r[slip, None] * u[slip, :k]
+        out[slip, :k] = -(n[slip] * db[:, None]
+                          + bz[slip, None] * np.einsum("sab,sb->sa", Pn[slip], dz))
+    extra = prob.nx - prob.nt
+    sums = np.zeros(extra)
+    if dopen.size:
+        sums[0] = dopen[:, -1].sum()
+        sums[1:] = dopen[:, :k].sum(axis=0)[:extra - 1]
+    return np.concatenate([out.ravel(), sums])
 
 
 def _winkler_approach(g0: np.ndarray, r: np.ndarray, P: float) -> float:

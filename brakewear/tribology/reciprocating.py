@@ -116,9 +116,13 @@ class Reciprocating(TribometerKind):
         through the pairing."""
         flat, cyl = self.bodies
         kA, kB = scene.bodies[flat].k, scene.bodies[cyl].k
-        Pi = pair.interpolation(x)
-        back = (Pi @ (Pi.T.multiply(1.0 / pair.master.area[:, None]))).toarray()
-        return jump * (np.diag(kA * ds / pair.slave.area) + kB * back * ds[None, :])
+        key = ("wear_back", float(x))
+        if key not in pair._cache:          # the pairing's round trip, per stroke position
+            Pi = pair.interpolation(x)
+            pair._cache[key] = (Pi @ (Pi.T.multiply(1.0 / pair.master.area[:, None]))).toarray()
+        W = kB * pair._cache[key] * ds[None, :]
+        W[np.diag_indices_from(W)] += kA * ds / pair.slave.area
+        return jump * W
 
     def advance(self, scene, pair, depths: dict, last: CycleResult, jump: float) -> CycleResult:
         """One cycle from ``last`` at the worn ``depths``, each increment's wear booked
