@@ -4,7 +4,7 @@
 or a scene file, docs/scenes.md): the wear history with a progress bar in
 simulated time, checkpoints in the output folder, ``--resume`` to continue;
 a folder that already holds a run is refused unless ``--resume`` or
-``--overwrite`` (:mod:`brakewear.output.folder`).
+``--overwrite`` (:mod:`brakewear.output.folder`); ``--import`` your own parts.
 ``brakewear demo`` runs the main job on the default brake: mesh, solve under
 a line pressure with the pad tied to the rotor, write figures, VTU files and
 a JSON summary; then the default scene (running-in under drag) into
@@ -261,22 +261,25 @@ def _print_run(scene: str, s: dict) -> None:
 
 
 def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,
-              quiet: bool = False, overwrite: bool = False) -> dict:
+                   quiet: bool = False, overwrite: bool = False,
+                   imports: tuple[str, ...] | list[str] = ()) -> dict:
     """Load a scene (name or file), check it, run it into ``out``; return the summary.
 
     ``out`` defaults to ``brakewear-<scene name>``; a folder that already holds
     a run is refused unless ``overwrite`` (its run's files are removed once the
     scene is checked) or ``resume``.  A progress bar (stderr) advances in
     simulated time unless ``quiet``; a ``resume`` of a finished run says so at
-    once and draws none.
+    once and draws none.  ``imports``: modules of a user's parts (``--import``).
     """
     from .errors import SolverError, WornThroughError
     from .output.runs import check_out, run_scene
     from .output.folder import check_new_out, clear_run, finished_run
+    from .parts import import_parts
     from .scene import load_scene
 
     if out is not None:
         check_out(out, "--out")
+    import_parts(imports, "--import")
     sc = load_scene(scene)
     out = check_out(Path(out) if out is not None else Path(f"brakewear-{sc.name}"), "--out")
     check_new_out(out, overwrite=overwrite, resume=resume)
@@ -367,6 +370,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="replace the run that --out already holds (without it, such a "
                         "folder is refused)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument("--import", dest="imports", action="append", default=[], metavar="MODULE",
+                   help="import MODULE (a name or a .py file) first: it registers your own "
+                        "parts (docs/extending.md); repeatable")
     n = sub.add_parser("new-scene", help="write a starting geometry and scene file for your "
                                          "own brake (docs/howto_own_brake.md)",
                        description="Write NAME.toml (a brake geometry) and NAME_scene.toml (a "
@@ -426,7 +432,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.command == "run":
             s = run_scene_file(args.scene, args.out, args.resume, args.quiet,
-                               overwrite=args.overwrite)
+                               overwrite=args.overwrite, imports=args.imports)
             if "braked_applications" in s:
                 _print_schedule(args.scene, s)
                 return EXIT_OK
@@ -463,7 +469,8 @@ def main(argv: list[str] | None = None) -> int:
         ck = Path(e.out) / "checkpoint.npz"
         where = (f"the checkpoint {ck} holds the last saved step (every "
                  f"{e.scene.output.checkpoint_every} steps); continue with:\n  brakewear run "
-                 f"{args.scene} --out {e.out} --resume" if ck.exists() else
+                 f"{args.scene} --out {e.out} --resume"
+                 + "".join(f" --import {m}" for m in args.imports) if ck.exists() else
                  "no checkpoint was written yet: run again without --resume")
         print(f"brakewear: interrupted at step {e.step}; {where}", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -283,15 +283,15 @@ def test_the_caliper_is_a_registered_interface_model(solved):
     is refused naming components.piston."""
     from brakewear import Run
     from brakewear.errors import SceneError, WearError
-    from brakewear.interfaces import interface_model
+    from brakewear.interfaces import capabilities_of, interface_model
     from brakewear.laws.base import WearLaw
     from brakewear.scene import InterfaceSpec, Scene
     from brakewear.wear import Numerics
 
     model, itf, offset, _ = solved
     entry = interface_model("caliper")
-    assert {"accepts_load", "implicit_rings"} <= entry.capabilities
-    assert not {"follows_geometry", "quadratic"} & entry.capabilities
+    assert {"accepts_load", "implicit_rings"} <= capabilities_of(entry)
+    assert not {"follows_geometry", "quadratic"} & capabilities_of(entry)
     run = Run(model, 1e6, 55.0, 10.0, WearLaw(k=5e-15), mu=0.4,
               interface="caliper").resolved()
     assert isinstance(run.interface, CaliperInterface)

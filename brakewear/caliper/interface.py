@@ -34,13 +34,14 @@ from .sets import RowSets
 from ..interfaces.condensed import CondensedInterface
 from ..interfaces.fe import METHOD, FEInterface
 from ..interfaces.protocol import InterfaceSolution, StepCompliance
-from ..interfaces.registry import InterfaceModel, capabilities_of, register_interface
+from ..interfaces.registry import register_interface
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["CaliperInterface"]
 
 
+@register_interface
 class CaliperInterface(CondensedInterface):
     """Contact of the pads held by a rigid piston, fingers and abutments (see the module).
 
@@ -63,6 +64,26 @@ class CaliperInterface(CondensedInterface):
     accepts_load = True
     #: built on linear meshes (the caliper's rows are node rows of linear faces)
     quadratic = False
+    why_not = {"follows_geometry": "the condensation is of the unmoved meshes",
+               "quadratic": "the caliper's rows are built on linear meshes"}
+    #: a model of its own (the caliper's load path): FE contact's measured convergence
+    #: does not rate it
+    fe_answer = False
+
+    #: ``interface.model = "caliper"`` in a scene, with its keys of ``[interface]``
+    name = "caliper"
+    keys = (METHOD,)
+
+    @classmethod
+    def build(cls, request) -> CaliperInterface:
+        """The interface of a scene's run (:class:`~brakewear.interfaces.BuildRequest`)."""
+        return cls(request.model, request.line_pressure, request.mu, request.numerics.tol,
+                   memory_budget=request.numerics.memory_budget)
+
+    @classmethod
+    def check_scene(cls, scene) -> None:
+        """A scene's caliper needs a rigid piston (``components.piston``)."""
+        _rigid_piston(scene.piston)
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9, *,
                  cache=None, valid_fraction: float = 0.25, memory_budget: float | None = None):
@@ -215,15 +236,3 @@ def _rigid_piston(piston: str) -> None:
                                       f"(BrakeModel(piston='rigid')); components.piston = "
                                       f"{piston!r} builds none: run it from Python "
                                       "(brakewear.Run(model, interface='caliper'))")
-
-
-register_interface(InterfaceModel(
-    "caliper", lambda req: CaliperInterface(
-        req.model, req.line_pressure, req.mu, req.numerics.tol,
-        memory_budget=req.numerics.memory_budget),
-    keys=(METHOD,), capabilities=capabilities_of(CaliperInterface),
-    check_scene=lambda scene: _rigid_piston(scene.piston),
-    why_not={"follows_geometry": "the condensation is of the unmoved meshes",
-             "quadratic": "the caliper's rows are built on linear meshes"},
-    summary="the pads held by the caliper's rigid piston, fingers and abutments, condensed "
-            "with the caliper's rows (BrakeModel(piston='rigid'))"))

@@ -229,7 +229,7 @@ def _run(run: Run, apps, on_step):
     brake = _Brake(run.resolved(p_ref), on_step)
     for i, app in enumerate(apps):
         t0 = _time.perf_counter()
-        with SolverError.located(application=f"{i} ({app.kind})"):
+        with SolverError.located(application=f"{i} ({app.name})"):
             rec = app.run(brake, i)
         rec.t_start, rec.run_s = brake.t, _time.perf_counter() - t0
         rec.pad_wear, rec.rotor_wear = brake.pad_wear.copy(), brake.rotor_wear.copy()

@@ -19,9 +19,8 @@ from pathlib import Path
 
 from ..checks import check_int, check_number, check_order, check_plausible, fail, user_units
 from ..errors import DutyError
-from .applications import (KMH, TABLE_SOURCE, Drag, Dwell, ScheduleCheck, Stop,
-                           application_from_table, application_kinds, application_name,
-                           is_application)
+from .applications import KMH, TABLE_SOURCE, Drag, Dwell, ScheduleCheck, Stop, application_name
+from .kinds import application_from_table, application_kinds, is_application
 from .vehicle import _check, _finite
 
 logger = logging.getLogger(__name__)

@@ -40,7 +40,7 @@ from ..solvers.threads import blas_threads
 from .condensation import condensation_memory, condense
 from .fe import METHOD, FEInterface
 from .protocol import InterfaceSolution, StepCompliance
-from .registry import InterfaceModel, capabilities_of, register_interface
+from .registry import register_interface
 
 logger = logging.getLogger(__name__)
 
@@ -72,6 +72,7 @@ def solve_dense_sets(problem, g: np.ndarray, active, gap_tol: float, compliant: 
     return driver.run(problem, start), driver.report()
 
 
+@register_interface
 class CondensedInterface:
     """The FE contact interface condensed onto the pad's friction nodes.
 
@@ -102,6 +103,25 @@ class CondensedInterface:
     implicit_rings = True
     #: the condensation is of the unmoved meshes
     follows_geometry = False
+    why_not = {"follows_geometry": "the condensation is of the unmoved meshes"}
+    #: its pressure is the FE contact's, to the solvers' tolerance
+    fe_answer = True
+
+    #: ``interface.model = "condensed"`` in a scene, with its keys of ``[interface]``
+    name = "condensed"
+    keys = (METHOD,)
+
+    @classmethod
+    def build(cls, request) -> CondensedInterface:
+        """The interface of a scene's run (:class:`~brakewear.interfaces.BuildRequest`),
+        condensing the FE interface an ``"auto"`` choice built, if it did."""
+        return cls(request.model, request.line_pressure, request.mu, request.numerics.tol,
+                   memory_budget=request.numerics.memory_budget, fe=request.built.get("fe"))
+
+    @classmethod
+    def check_scene(cls, scene) -> None:
+        """The scene's condensation fits the memory (:func:`check_scene_size`)."""
+        check_scene_size(scene)
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9, *,
                  cache=None, valid_fraction: float = 0.25, fe: FEInterface | None = None,
@@ -466,14 +486,3 @@ def check_scene_size(scene) -> None:
                                       f"{need / 1e9:.1f} GB, beyond {source} "
                                       f"({avail / 1e9:.1f} GB); use a coarser mesh or "
                                       "interface.model = 'fe'")
-
-
-register_interface(InterfaceModel(
-    "condensed", lambda req: CondensedInterface(
-        req.model, req.line_pressure, req.mu, req.numerics.tol,
-        memory_budget=req.numerics.memory_budget, fe=req.built.get("fe")),
-    keys=(METHOD,), capabilities=capabilities_of(CondensedInterface), fe_answer=True,
-    check_scene=check_scene_size,
-    why_not={"follows_geometry": "the condensation is of the unmoved meshes"},
-    summary="the FE contact condensed onto the contact nodes (the FE answer, gap-offset "
-            "wear only)"))

@@ -15,13 +15,18 @@ from ..mesh.rings import face_rings, ring_wear_nodes
 from ..checks import check_line_pressure
 from .protocol import InterfaceSolution, StepCompliance
 from ..registry import OptionKey
-from .registry import InterfaceModel, capabilities_of, register_interface
+from .registry import register_interface
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["FEInterface"]
 
+#: the FE contact discretisation (a key of the models built on FE contact)
+METHOD = OptionKey("method", "str", "segment", choices=("segment",),
+                   doc="FE contact discretisation")
 
+
+@register_interface
 class FEInterface:
     """The finite-element contact interface as the wear loop sees it.
 
@@ -51,6 +56,20 @@ class FEInterface:
     follows_geometry = per_node_friction = quadratic = any_line_pressure = True
     #: the rings' depths of an implicit step are unknowns of its compliant solve
     implicit_rings = True
+    #: its pressure is the FE contact's (the measured mesh convergence rates it)
+    fe_answer = True
+
+    #: ``interface.model = "fe"`` in a scene, with its keys of ``[interface]``
+    name = "fe"
+    keys = (METHOD,)
+
+    @classmethod
+    def build(cls, request) -> FEInterface:
+        """The interface of a scene's run (:class:`~brakewear.interfaces.BuildRequest`):
+        the one an ``"auto"`` choice built to decide, or a new one."""
+        if "fe" in request.built:
+            return request.built["fe"]
+        return cls(request.model, request.line_pressure, request.mu, request.numerics.tol)
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
         self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
@@ -201,12 +220,3 @@ def _face_areas(mesh, nodes: np.ndarray) -> np.ndarray:
     return tributary_areas(mesh, "friction", nodes)
 
 
-#: the FE contact discretisation (a key of the models built on FE contact)
-METHOD = OptionKey("method", "str", "segment", choices=("segment",),
-                      doc="FE contact discretisation")
-
-register_interface(InterfaceModel(
-    "fe", lambda req: req.built["fe"] if "fe" in req.built else FEInterface(
-        req.model, req.line_pressure, req.mu, req.numerics.tol),
-    keys=(METHOD,), capabilities=capabilities_of(FEInterface), fe_answer=True,
-    summary="node-to-surface finite-element contact (elastic or rigid rotor)"))

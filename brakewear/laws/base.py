@@ -17,27 +17,27 @@ own and the wear loop's, is :func:`archard_rate` of the law's coefficient.
 
 A scene's ``[wear.pad]`` / ``[wear.rotor]`` table gives the built-in law
 (``k``, ``a``, ``b``, ... or a measured ``k_map``), or names a registered one
-by ``model``, with that law's own keys (:class:`WearLawModel`,
+by ``model``, with that law's own keys (a class registered by
 :func:`register_wear_law`).
 """
 from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping, Protocol, runtime_checkable
+from typing import Any, Mapping, Protocol, runtime_checkable
 
 import numpy as np
 
 from ..errors import LawError, ThermalError, WearError
 from ..materials import T_AMBIENT_DEFAULT
-from ..registry import OptionKey, Registry, check_options
+from ..registry import Registry
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["WearLaw", "FrictionLaw", "node_inputs", "friction_flux", "friction_power",
            "NodeFrictionLaw", "NodeWearLaw", "archard_rate", "archard_slope", "check_wear_law",
-           "friction_law", "WearLawModel", "register_wear_law", "unregister_wear_law",
-           "wear_law_model", "wear_law_names", "wear_law_keys"]
+           "friction_law", "register_wear_law", "unregister_wear_law", "wear_law_model",
+           "wear_law_options", "wear_law_names", "wear_law_keys"]
 
 
 #: Universal gas constant (J/mol K) for the Arrhenius temperature law.
@@ -309,62 +309,111 @@ def friction_power(p: np.ndarray, v: np.ndarray, mu, area: np.ndarray) -> float:
     return float(friction_flux(p, v, mu) @ np.asarray(area, dtype=float))
 
 
-@dataclass(frozen=True)
-class WearLawModel:
-    """A wear law a scene names by ``model`` in its ``[wear.pad]`` or ``[wear.rotor]`` table.
+_WEAR_LAWS = Registry("wear law", "wear.pad.model", members=("build",), error=LawError)
+
+
+def register_wear_law(cls: type, *, replace: bool = False) -> type:
+    """Add the wear law ``cls`` to those a scene names by ``model``; usable as a class
+    decorator.
+
+    The class declares itself: ``name`` (what ``[wear.pad] model`` says),
+    ``keys`` (its own keys of the table, :class:`~brakewear.registry.OptionKey`)
+    and the class method ``build(options, material)``, which returns the law (a
+    :class:`NodeWearLaw`) of its checked keys (SI) and the worn surface's
+    :class:`~brakewear.materials.Material` (its ``wear_k``).
+
+    Parameters
+    ----------
+    cls
+        The law's class.
+    replace
+        Replace a law of the same name (otherwise refused).
+
+    Returns
+    -------
+    type
+        ``cls``.
+
+    Raises
+    ------
+    LawError
+        Naming what the class lacks or declares wrongly.
+    """
+    return _WEAR_LAWS.register(cls, replace=replace)
+
+
+def unregister_wear_law(name: str) -> None:
+    """Take the law ``name`` out of the table (registered for a while, by a test).
+
+    Parameters
+    ----------
+    name
+        A registered law's name.
+    """
+    _WEAR_LAWS.unregister(name)
+
+
+def wear_law_model(name: str, key: str = "wear.pad.model") -> type:
+    """The class registered as ``name``.
 
     Parameters
     ----------
     name
         What ``model`` says.
-    build
-        ``build(options, material) -> law``: the law (a :class:`NodeWearLaw`) of
-        its checked keys (SI) and the worn surface's material
-        (:class:`~brakewear.materials.Material`: its ``wear_k``).
-    keys
-        Its own keys of the table (:class:`~brakewear.registry.OptionKey`).
-    summary
-        One line for the documentation.
+    key
+        The scene key for the message (``"wear.rotor.model"``).
+
+    Returns
+    -------
+    type
+        The law's class.
+
+    Raises
+    ------
+    SceneError
+        Naming ``key`` and the registered names if there is none.
     """
-
-    name: str
-    build: Callable[[Mapping[str, Any], Any], Any]
-    keys: tuple[OptionKey, ...] = ()
-    summary: str = ""
-
-    def options(self, given: Mapping[str, Any], table: str) -> dict[str, Any]:
-        """``given`` (this law's keys of ``table``, e.g. ``"wear.pad"``) checked, with
-        the defaults of the others."""
-        return check_options(self.keys, given, table, f"{table}.model = {self.name!r}")
-
-
-_WEAR_LAWS = Registry("wear law", "wear.pad.model")
-
-
-def register_wear_law(entry: WearLawModel, *, replace: bool = False) -> WearLawModel:
-    """Add ``entry`` to the wear laws a scene names (``replace=True``: over one of the
-    same name)."""
-    if not isinstance(entry, WearLawModel):
-        raise LawError(f"{entry!r} is not a WearLawModel")
-    return _WEAR_LAWS.register(entry.name, entry, replace)
-
-
-def unregister_wear_law(name: str) -> None:
-    """Take the law ``name`` out of the table (registered for a while, by a test)."""
-    _WEAR_LAWS.unregister(name)
-
-
-def wear_law_model(name: str, key: str = "wear.pad.model") -> WearLawModel:
-    """The entry of ``name`` (a :class:`~brakewear.errors.SceneError` naming ``key``
-    and the registered names if there is none)."""
     return _WEAR_LAWS.get(name, key)
 
 
+def wear_law_options(cls: type, given: Mapping[str, Any], table: str) -> dict[str, Any]:
+    """``given`` (the law's keys of ``table``, e.g. ``"wear.pad"``) checked, with the
+    defaults of the others.
+
+    Parameters
+    ----------
+    cls
+        A registered law's class.
+    given
+        Key -> value (SI).
+    table
+        The scene table.
+
+    Returns
+    -------
+    dict
+        Every key of the law -> its value.
+    """
+    return _WEAR_LAWS.options(cls, given, table, f"{table}.model = {cls.name!r}")
+
+
 def wear_law_names() -> tuple[str, ...]:
-    """The registered wear laws' names."""
+    """The registered wear laws' names.
+
+    Returns
+    -------
+    tuple of str
+        In the order of registration.
+    """
     return _WEAR_LAWS.names()
 
 
 def wear_law_keys() -> dict[str, str]:
-    """Every registered law's keys: name -> kind (for the scene reader)."""
-    return {k.name: k.kind for m in _WEAR_LAWS for k in m.keys}
+    """Every registered law's keys and how the scene reader reads each.
+
+    Returns
+    -------
+    dict
+        Key -> kind (:class:`~brakewear.registry.OptionKey`).
+    """
+    return _WEAR_LAWS.key_kinds()

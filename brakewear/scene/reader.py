@@ -21,11 +21,12 @@ from ..checks import fail, file_messages, user_units
 from ..errors import GeometryError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
 from ..geometry.parts import MESH_BODY_KEYS
-from ..interfaces.registry import model_keys
-from ..laws.base import wear_law_keys
+from ..interfaces.registry import interface_model, model_keys
+from ..laws.base import wear_law_keys, wear_law_model
+from ..parts import import_parts
 from ..wear.numerics import Numerics
 from .spec import Scene
-from .tables import UNITS, InterfaceSpec, OutputSpec, ThermalSpec, WearSpec
+from .tables import UNITS, InterfaceSpec, OutputSpec, ThermalSpec, WearSpec, scene_keys
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -43,23 +44,18 @@ __all__ = ["load_scene", "scene_from_dict", "scene_dir", "scene_file", "availabl
 #: sign), "face_length" (a signed length, or a table of one per friction face).
 _SCHEMA: dict[str, dict[str, str]] = {
     "units": {q: "unit" for q in UNITS},
-    "scene": {"name": "str", "description": "str", "geometry": "geometry"},
+    "scene": {"name": "str", "description": "str", "geometry": "geometry", "import": "raw"},
     "components": {"rotor": "str", "pad": "str", "piston": "str", "layout": "str"},
     "mesh": {"size": "length", "order": "int", "pad_file": "path", "rotor_file": "path",
              "piston_file": "path", "pad_size": "length", "rotor_size": "length",
              "friction_layers": "int", "backplate_layers": "int", "rotor_layers": "int"},
     "environment": {"line_pressure": "pressure", "omega": "angular_speed", "duration": "time",
                     "ambient": "temperature"},
-    # and the keys of the registered interface models (:func:`_schema`)
-    "interface": {"model": "str", "surfaces": "surfaces", "mu": "num",
-                  "coning": "face_length", "pad_taper": "signed_length", "gap_file": "path",
-                  "mu_map": "path", "map_outside": "str"},
-    "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
-                 "activation_energy": "num", "limit": "length", "k_map": "path",
-                 "map_outside": "str", "model": "str"},
-    "wear.rotor": {"enabled": "bool", "k": "k", "a": "num", "b": "num",
-                   "T_threshold": "temperature", "activation_energy": "num", "limit": "length",
-                   "k_map": "path", "map_outside": "str", "model": "str"},
+    # the built-in keys of the tables a registered part is named in (the fields of
+    # their dataclasses), and the part's own keys (:func:`_schema`)
+    "interface": scene_keys(InterfaceSpec),
+    "wear.pad": scene_keys(WearSpec),
+    "wear.rotor": {"enabled": "bool", **scene_keys(WearSpec)},
     "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
                 "T_initial": "temperature", "T_ref": "temperature",
                 "contact_conductance": "conductance", "mass": "str", "T_max": "temperature",
@@ -105,13 +101,39 @@ _SCHEDULED = {"line_pressure", "omega", "duration"}
 
 
 def _schema(table: str) -> dict[str, str]:
-    """The keys of ``table`` and their kinds; ``[interface]`` holds those of every
-    registered interface model too (:mod:`brakewear.interfaces.registry`)."""
+    """The keys of ``table`` and their kinds; ``[interface]`` and ``[wear.*]`` hold
+    those of every registered part too (the named part refuses the others' keys)."""
     if table == "interface":
         return {**_SCHEMA[table], **model_keys()}
     if table.startswith("wear."):
         return {**_SCHEMA[table], **wear_law_keys()}
     return _SCHEMA[table]
+
+
+def _part(table: str, tab: Mapping[str, Any]):
+    """The registered part ``tab`` names (``interface.model``, ``wear.pad.model``), checked
+    before its keys: an unknown name is named as such, not through a key of its own;
+    None for a built-in wear law."""
+    if table == "interface":
+        return interface_model(tab.get("model", InterfaceSpec.model))
+    if "model" in tab:
+        return wear_law_model(tab["model"], f"{table}.model")
+    return None
+
+
+def _imports(d: Any, base: Path | None) -> tuple[str, ...]:
+    """Import the modules of ``[scene] import`` (a user's parts), before any table is read."""
+    sc = d.get("scene") if isinstance(d, Mapping) else None
+    names = sc.get("import") if isinstance(sc, Mapping) else None
+    if names is None:
+        return ()
+    if isinstance(names, str):
+        names = [names]
+    if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+        raise fail("scene.import", f"{names!r} is not allowed; need a list of module names or "
+                                   ".py files, e.g. [\"my_parts\"]")
+    import_parts(names, "scene.import", base)
+    return tuple(names)
 
 
 def scene_dir():
@@ -223,10 +245,12 @@ def _tables(d: Any) -> dict[str, dict]:
             tables[f"wear.{b}"] = _table(wear[b], f"wear.{b}")
     for t, tab in tables.items():
         allowed = _schema(t)
+        part = _part(t, tab) if t == "interface" or t.startswith("wear.") else None
         unknown = sorted(set(tab) - set(allowed))
         if unknown:
+            own = [k.name for k in getattr(part, "keys", ())]
             raise fail(f"{t}.{unknown[0]}", f"unknown key {unknown[0]!r} in [{t}]; allowed "
-                                             f"keys: {', '.join(allowed)}")
+                                             f"keys: {', '.join([*_SCHEMA[t], *own])}")
         required = _REQUIRED_KEYS.get(t, set())
         if t == "environment" and "schedule" in d:
             given = sorted(_SCHEDULED & set(tab))
@@ -280,6 +304,7 @@ def _scene_geometry(d: Any, tables: dict, source: str, base: Path | None):
 
 
 def _parse(d: Any, source: str, base: Path | None) -> Scene:
+    _imports(d, base)
     tables = _tables(d)
     units = _units(tables)
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import WearError
 from ..interfaces.protocol import capability, check_interface
-from ..interfaces.registry import BuildRequest, build_interface, interface_model
+from ..interfaces.registry import BuildRequest, build_interface, capabilities_of, interface_model
 from ..laws.base import check_wear_law, friction_law
 from .coupling import check_thermal
 from .limits import WearLimits
@@ -249,7 +249,7 @@ def _check_geometry(run: Run) -> None:
 def _can(itf, cap: str) -> bool:
     """Whether ``itf`` (an interface, a registered name or None: FE) has ``cap``."""
     if itf is None or isinstance(itf, str):
-        return cap in interface_model(itf or "fe").capabilities
+        return cap in capabilities_of(interface_model(itf or "fe"))
     return capability(itf, cap)
 
 
