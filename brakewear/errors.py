@@ -52,6 +52,7 @@ __all__ = [
     "SolverSettingsError",
     "BenchError",
     "RoughnessError",
+    "DependencyError",
     "ConvergenceError",
     "CondensedRangeError",
     "ActiveSetError",
@@ -195,6 +196,11 @@ class RoughnessError(InputError):
     """Bad input to the rough-surface tools (:mod:`brakewear.rough`): a topography file
     that cannot be read (names the file, the row and column), or a parameter out of
     range (names it, the value in the user's units and what is allowed)."""
+
+
+class DependencyError(InputError):
+    """An installed library of a version brakewear does not support (names the
+    installed and the supported versions, and the command that installs one)."""
 
 
 # ----------------------------------------------------------------- solver --

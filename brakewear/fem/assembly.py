@@ -247,7 +247,7 @@ def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None =
     if threads > 1:
         # skfem's affine mapping fills its per-element arrays lazily, which is
         # not thread-safe: fill them here, before any worker runs
-        mapping = mesh._mapping()
+        mapping = mesh.mapping()
         for name in ("A", "b", "detA", "invA"):
             getattr(mapping, name, None)
     if threads <= 1:
