@@ -100,6 +100,9 @@ class BrakeModel:
         any format :func:`~brakewear.mesh.read_mesh` reads) or ``skfem``
         mesh, with the named surfaces and volumes of :data:`MESH_GROUPS`;
         the other bodies are meshed from the geometry.
+    memory_budget
+        GB the model may use (None: ``BRAKEWEAR_MEMORY_GB`` or the available
+        memory): the mesh size is checked against it before meshing.
     """
 
     def __init__(self, geometry: BrakeGeometry | str = "default", piston: str = "traction",

@@ -179,14 +179,25 @@ class Application(Protocol):
 @register_application
 @dataclass(frozen=True)
 class Stop:
-    """Slow from ``v0`` to ``v1`` (m/s) at ``decel`` (m/s^2) or under ``line_pressure`` (Pa)."""
+    """Slow from ``v0`` to ``v1`` at a deceleration, or under a line pressure.
+
+    Parameters
+    ----------
+    v0, v1
+        The vehicle's speeds at the start and the end (m/s).
+    decel
+        The deceleration (m/s^2); or
+    line_pressure
+        The line pressure (Pa): the deceleration follows from the brake's torque.
+    source
+        Where the application comes from in the user's words (a scene's
+        ``[schedule]``, a drive cycle's rows), named in messages; not compared.
+    """
 
     v0: float
     v1: float = 0.0
     decel: float | None = None
     line_pressure: float | None = None
-    #: where the application comes from in the user's words (a scene's ``[schedule]``,
-    #: a drive cycle's rows), named in messages; not compared
     source: str = field(default="", compare=False)
 
     name: ClassVar[str] = "stop"
@@ -291,8 +302,21 @@ class Stop:
 @register_application
 @dataclass(frozen=True)
 class Drag:
-    """Constant ``line_pressure`` (Pa) for ``duration`` (s) at a vehicle speed ``speed``
-    (m/s) or, without a vehicle (a dynamometer), a rotor speed ``omega`` (rad/s)."""
+    """A constant line pressure for a time at a constant speed.
+
+    Parameters
+    ----------
+    line_pressure
+        Pa.
+    duration
+        s.
+    speed
+        The vehicle's speed (m/s); or, without a vehicle (a dynamometer),
+    omega
+        The rotor's speed (rad/s).
+    source
+        As :class:`Stop`'s.
+    """
 
     line_pressure: float
     duration: float
@@ -344,12 +368,26 @@ class Drag:
 @register_application
 @dataclass(frozen=True)
 class Dwell:
-    """No contact for ``duration`` (s); with ``from_start`` until ``duration`` after
-    the previous application's start (a stop's length is known only once the
-    brake's torque is).  The car drives on at ``speed`` (m/s; needs a vehicle)
-    or the rotor spins at ``omega`` (rad/s): a speed-dependent convection
-    (:class:`~brakewear.thermal.SpeedConvection`) cools at that speed; neither
-    given: at rest."""
+    """No contact for a time: a pause, in which the bodies cool.
+
+    A speed-dependent convection (:class:`~brakewear.thermal.SpeedConvection`)
+    cools at the speed given; neither given: at rest.
+
+    Parameters
+    ----------
+    duration
+        s; with ``from_start``, until ``duration`` after the previous
+        application's start (a stop's length is known only once the brake's
+        torque is).
+    from_start
+        See ``duration``.
+    speed
+        The car drives on at this speed (m/s; needs a vehicle); or
+    omega
+        The rotor spins at this speed (rad/s).
+    source
+        As :class:`Stop`'s.
+    """
 
     duration: float
     from_start: bool = False

@@ -28,13 +28,12 @@ _KINDS = Registry("application", "schedule.applications.kind", capabilities=("br
                   error=DutyError)
 
 
-def register_application(cls: type, *, replace: bool = False) -> type:
-    """Add an application class to the kinds a schedule and a scene file know; usable as
-    a class decorator.
+def register_application(part: type, *, replace: bool = False) -> type:
+    """Add an application class to the kinds a schedule knows (a class decorator).
 
     Parameters
     ----------
-    cls
+    part
         The application's class (:class:`Application`): its ``name``, its
         ``keys`` (one per field a scene file may give), ``braked`` and its
         methods.
@@ -44,19 +43,19 @@ def register_application(cls: type, *, replace: bool = False) -> type:
     Returns
     -------
     type
-        ``cls``.
+        ``part``.
 
     Raises
     ------
     DutyError
         Naming what the class lacks, or a key that is not one of its fields.
     """
-    given = {f.name for f in fields(cls)} if is_dataclass(cls) else None
-    for k in getattr(cls, "keys", ()):
+    given = {f.name for f in fields(part)} if is_dataclass(part) else None
+    for k in getattr(part, "keys", ()):
         if given is not None and getattr(k, "name", None) not in given:
-            raise DutyError(f"{cls.__name__}.keys: {getattr(k, 'name', k)!r} is not a field "
-                            f"of {cls.__name__}; its keys are the fields a scene file gives")
-    return _KINDS.register(cls, replace=replace)
+            raise DutyError(f"{part.__name__}.keys: {getattr(k, 'name', k)!r} is not a field "
+                            f"of {part.__name__}; its keys are the fields a scene file gives")
+    return _KINDS.register(part, replace=replace)
 
 
 def unregister_application(kind: str) -> None:

@@ -65,9 +65,25 @@ def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
 def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | None = None,
                    line_pressure: float | None = None, interval: float | None = None,
                    dwell_speed: float | None = None) -> list:
-    """``count`` equal stops; with ``interval`` (s, start to start) a dwell after each
-    but the last fills the rest of the interval (which must exceed the stop's time),
-    driven at ``dwell_speed`` (m/s; None: at rest)."""
+    """Equal stops, each but the last followed by a dwell that fills its interval.
+
+    Parameters
+    ----------
+    count
+        How many stops (1..100000).
+    v0, v1, decel, line_pressure
+        Each stop's (:class:`~brakewear.duty.Stop`).
+    interval
+        s from a stop's start to the next one's (longer than a stop); None: no
+        dwells.
+    dwell_speed
+        The speed driven in the dwells (m/s); None: at rest.
+
+    Returns
+    -------
+    list
+        The applications: stops and dwells.
+    """
     _check("stops", count, isinstance(count, int) and not isinstance(count, bool)
            and 1 <= count <= 100_000, "need a whole number 1..100000")
     stop = Stop(v0, v1, decel, line_pressure)
@@ -185,6 +201,18 @@ V_MAX, P_MAX = 100.0, 100e6
 def read_schedule_csv(path: str | PathLike) -> list:
     """A drive cycle from a CSV file: one application per interval between rows.
 
+    Parameters
+    ----------
+    path
+        The CSV file.
+
+    Returns
+    -------
+    list
+        The applications, in order.
+
+    Notes
+    -----
     Columns: ``time_s``; the speed as ``speed_kmh`` or ``speed_m_s``; and
     ``line_pressure_MPa`` (the brake's pressure over the interval from that
     row to the next; 0 or empty: not braking).  Time must increase.  An

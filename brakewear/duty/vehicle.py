@@ -119,6 +119,8 @@ class Vehicle:
     source : str
         Where the values come from (a scene file), named in errors.
 
+    Notes
+    -----
     The road-load and blending inputs default to none (no road load, no fade-out,
     no power limit): the brakes then take all of the kinetic energy the motor
     does not, an upper bound.  :func:`study_car` is a car with all of them.

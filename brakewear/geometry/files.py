@@ -177,7 +177,13 @@ def geometry_file(name: str = "default"):
 
 
 def available_geometries() -> list[str]:
-    """Names of the geometry files shipped with brakewear."""
+    """The names of the geometry files shipped with brakewear.
+
+    Returns
+    -------
+    list of str
+        Names :func:`load_geometry` takes (``"default"``, ...), sorted.
+    """
     return sorted(p.name[:-5] for p in geometry_dir().iterdir() if p.name.endswith(".toml"))
 
 

@@ -263,7 +263,7 @@ class MeshSettings:
 class BrakeGeometry:
     """A checked brake geometry in SI units.
 
-    Attributes
+    Parameters
     ----------
     rotor, pad, piston, mesh
         The components and the mesh controls.

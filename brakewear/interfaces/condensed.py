@@ -87,9 +87,13 @@ class CondensedInterface:
     valid_fraction
         The largest gap offset (worn depths and initial gap) allowed, as a
         share of the height of the pad's elements at its friction face.
+    fe
+        The FE interface to condense (None: one is built).
     memory_budget
         GB allowed for the condensation (checked before it starts).
 
+    Notes
+    -----
     The rotor's and the pad's surfaces, areas and rings, and the normal
     stiffness the step control uses, are those of the FE interface, so a
     history run on either takes the same steps.

@@ -48,6 +48,17 @@ class FEInterface:
     its own transformed basis, so ``W`` (pad node <- rotor node) carries the
     rotor's depths into the pad's weak gaps and volumes are ``area @ depth``
     on either face.
+
+    Parameters
+    ----------
+    model
+        The :class:`~brakewear.model.BrakeModel`.
+    line_pressure
+        The line pressure it is posed at (Pa).
+    mu
+        The friction coefficient (any mu > 0 builds the sliding directions).
+    tol
+        Relative tolerance of its contact solves.
     """
 
     #: the thermal-strain load enters its solves

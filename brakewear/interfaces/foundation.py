@@ -27,6 +27,17 @@ class FoundationInterface:
     nodes' radii as an unmeshed rotor does.  Milliseconds per solve.  The
     implicit step puts the step's wear compliance in series with the
     foundation: modulus ``1 / (1/k + eps)``.
+
+    Parameters
+    ----------
+    model
+        The :class:`~brakewear.model.BrakeModel`.
+    winkler
+        The :class:`~brakewear.interfaces.WinklerInterface` of its pad face.
+    line_pressure
+        The line pressure it is posed at (Pa).
+    mu
+        The friction coefficient.
     """
 
     #: a nodal load (thermal strain) has no place in a foundation

@@ -143,7 +143,7 @@ class StepCompliance:
 class InterfaceSolution:
     """One contact solve as the wear loop sees it.
 
-    Attributes
+    Parameters
     ----------
     pressure : ndarray
         (n_pad,) contact pressure at the pad's friction nodes (Pa), 0 where open.
@@ -164,8 +164,10 @@ class InterfaceSolution:
 
 @runtime_checkable
 class Interface(Protocol):
-    """The interface model of a wear history: everything the wear loop, its
-    records and its output ask of it.
+    """The interface model of a wear history (a protocol).
+
+    Everything the wear loop, its records and its output ask of it; a class
+    answers it (:mod:`~brakewear.interfaces.registry`), none is made from it.
 
     Attributes
     ----------

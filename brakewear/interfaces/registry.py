@@ -113,12 +113,12 @@ _TABLE = Registry("interface model", "interface.model", modules=("brakewear.cali
                   capabilities=CAPABILITIES + ("fe_answer",))
 
 
-def register_interface(cls: type, *, replace: bool = False) -> type:
-    """Add the interface model ``cls`` to the table; usable as a class decorator.
+def register_interface(part: type, *, replace: bool = False) -> type:
+    """Add the interface model ``part`` to the table; usable as a class decorator.
 
     Parameters
     ----------
-    cls
+    part
         The model's class: its ``name``, ``keys``, capabilities and ``build``
         (or ``decide``) as class attributes (:mod:`~brakewear.interfaces.registry`).
     replace
@@ -127,7 +127,7 @@ def register_interface(cls: type, *, replace: bool = False) -> type:
     Returns
     -------
     type
-        ``cls``.
+        ``part``.
 
     Raises
     ------
@@ -137,22 +137,22 @@ def register_interface(cls: type, *, replace: bool = False) -> type:
         way (the same ``kind``: the scene reader reads a key before it knows
         the model).
     """
-    if isinstance(cls, type):
-        has = [m for m in ("build", "decide") if callable(getattr(cls, m, None))]
+    if isinstance(part, type):
+        has = [m for m in ("build", "decide") if callable(getattr(part, m, None))]
         if len(has) != 1:
-            raise fail("interface.model", f"{cls.__name__} has {' and '.join(has) or 'neither'}"
+            raise fail("interface.model", f"{part.__name__} has {' and '.join(has) or 'neither'}"
                                           " of build and decide; give exactly one (a class "
                                           "method)")
         for other in _TABLE.registered():
-            if other.name == vars(cls).get("name"):
+            if other.name == vars(part).get("name"):
                 continue
-            for k in getattr(cls, "keys", ()):
+            for k in getattr(part, "keys", ()):
                 for o in other.keys:
                     if o.name == k.name and o.kind != k.kind:
                         raise fail(f"interface.{k.name}", f"read as {k.kind!r} by "
-                                                          f"{cls.__name__} and as {o.kind!r} "
+                                                          f"{part.__name__} and as {o.kind!r} "
                                                           f"by {other.name!r}")
-    return _TABLE.register(cls, replace=replace)
+    return _TABLE.register(part, replace=replace)
 
 
 def unregister_interface(name: str) -> None:

@@ -146,6 +146,9 @@ class WinklerInterface:
         with the clamp force is measured (:attr:`FoundationResult.approach`
         is at ``load_point``); default ``load_point``.  They differ only
         after a pressure calibration moves the effective load line.
+    load_nodes, load_weights
+        The pad nodes the FE model's clamp load acts on and their shares of it
+        (summing to 1; from :meth:`from_model`), or None.
     info
         Where the modulus came from (for reports).
     """

@@ -257,6 +257,17 @@ class FrictionLaw:
     ``slope = 0`` (default) is a constant ``mu0``.  A resin-bonded pad fades
     above a few hundred degrees C: a negative slope above ``T_ref`` models
     it to first order.
+
+    Parameters
+    ----------
+    mu0
+        The friction coefficient at ``T_ref``, >= 0.
+    slope
+        d mu / dT (1/K); negative: fade.
+    T_ref
+        The reference temperature (K).
+    mu_min
+        The least ``mu`` the fade reaches, >= 0.
     """
 
     mu0: float
@@ -312,9 +323,8 @@ def friction_power(p: np.ndarray, v: np.ndarray, mu, area: np.ndarray) -> float:
 _WEAR_LAWS = Registry("wear law", "wear.pad.model", members=("build",), error=LawError)
 
 
-def register_wear_law(cls: type, *, replace: bool = False) -> type:
-    """Add the wear law ``cls`` to those a scene names by ``model``; usable as a class
-    decorator.
+def register_wear_law(part: type, *, replace: bool = False) -> type:
+    """Add the wear law ``part`` to those a scene names by ``model`` (a class decorator).
 
     The class declares itself: ``name`` (what ``[wear.pad] model`` says),
     ``keys`` (its own keys of the table, :class:`~brakewear.registry.OptionKey`)
@@ -324,7 +334,7 @@ def register_wear_law(cls: type, *, replace: bool = False) -> type:
 
     Parameters
     ----------
-    cls
+    part
         The law's class.
     replace
         Replace a law of the same name (otherwise refused).
@@ -332,14 +342,14 @@ def register_wear_law(cls: type, *, replace: bool = False) -> type:
     Returns
     -------
     type
-        ``cls``.
+        ``part``.
 
     Raises
     ------
     LawError
         Naming what the class lacks or declares wrongly.
     """
-    return _WEAR_LAWS.register(cls, replace=replace)
+    return _WEAR_LAWS.register(part, replace=replace)
 
 
 def unregister_wear_law(name: str) -> None:

@@ -236,6 +236,7 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
     path
         Output file; without a suffix ``.vtu`` is appended.
     mesh : skfem.MeshTet or skfem.MeshTet2
+        The mesh, with its named boundaries and subdomains.
     point_data : dict of str to ndarray, optional
         Nodal fields, shape (nvertices,) or (nvertices, k) (P2 node arrays are cut).
     cell_data : dict of str to ndarray, optional

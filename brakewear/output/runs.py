@@ -259,6 +259,25 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     line that says which interface ``interface.model = "auto"`` chose and why
     (also logged, and in ``summary.json``'s ``interface``).  Every bad-input
     error names the scene file and shows its values in the file's units.
+
+    Parameters
+    ----------
+    scene
+        The :class:`~brakewear.scene.Scene`.
+    out
+        The run folder.
+    resume
+        Continue from ``out/checkpoint.npz``.
+    progress
+        Called with each step (a drag) or each application's record (a
+        schedule), or None.
+    announce
+        Called with the line naming the interface ``"auto"`` chose, or None.
+
+    Returns
+    -------
+    dict
+        The run's summary (as ``summary.json`` holds it).
     """
     with file_messages(scene.source, scene.user_units):
         return _run_scene(scene, out, resume, progress, announce)

@@ -22,9 +22,23 @@ __all__ = ["build_run"]
 
 
 def build_run(scene, model=None, checkpoint=None) -> Run:
-    """The :class:`~brakewear.wear.Run` of ``scene`` (``model``: its model, already
-    built; default: built here, which meshes).  ``checkpoint``: that of a run being
-    resumed (an ``"auto"`` interface keeps the one it was run on)."""
+    """The :class:`~brakewear.wear.Run` of a scene: what every runner takes.
+
+    Parameters
+    ----------
+    scene
+        The :class:`~brakewear.scene.Scene`.
+    model
+        Its model, already built (default: built here, which meshes).
+    checkpoint
+        That of a run being resumed (an ``"auto"`` interface keeps the one it
+        was run on), or None.
+
+    Returns
+    -------
+    Run
+        The run, its interface and laws built.
+    """
     pad_law, rotor_law = scene.wear_laws()
     model = scene.build_model() if model is None else model
     n = scene.numerics

@@ -156,7 +156,13 @@ def scene_file(name: str = "default"):
 
 
 def available_scenes() -> list[str]:
-    """Names of the scene files shipped with brakewear."""
+    """The names of the scene files shipped with brakewear.
+
+    Returns
+    -------
+    list of str
+        Names :func:`load_scene` takes (``"default"``, ...), sorted.
+    """
     return sorted(p.name[:-5] for p in scene_dir().iterdir() if p.name.endswith(".toml"))
 
 
@@ -168,6 +174,11 @@ def load_scene(path_or_name: str | PathLike = "default") -> Scene:
     path_or_name
         A packaged scene name (``"default"``) or the path of a TOML file; a
         string with a path separator or ending in ``.toml`` is a path.
+
+    Returns
+    -------
+    Scene
+        The checked scene, in SI units.
 
     Raises
     ------
@@ -213,6 +224,11 @@ def scene_from_dict(d: Mapping[str, Any], source: str = "<dict>",
     base
         Folder that relative geometry paths are relative to (the scene
         file's folder); default the working directory.
+
+    Returns
+    -------
+    Scene
+        The checked scene, in SI units.
     """
     with file_messages(source, {}):         # every message about the file names it
         return _parse(d, source, None if base is None else Path(base))

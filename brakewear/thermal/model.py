@@ -12,6 +12,7 @@ explanation page of the docs.
 """
 from __future__ import annotations
 
+import inspect
 import logging
 from collections import OrderedDict
 from typing import Mapping, Sequence
@@ -417,6 +418,11 @@ class ThermalModel:
         """Element stresses ``C (eps - alpha dT I)`` per thermal body (6, n_elements)."""
         return {b: thermal_stress(self.model.meshes[b], u[b], self.model.materials[b],
                                   self.T[b] - self.T_ref, b) for b in self.bodies}
+
+
+# the constructor's parameters are __init__'s (__new__ only hands a P2 model on)
+ThermalModel.__signature__ = inspect.signature(ThermalModel.__init__).replace(  # type: ignore
+    parameters=list(inspect.signature(ThermalModel.__init__).parameters.values())[1:])
 
 
 def _convection(h_conv, emissivity, bodies) -> tuple[dict, dict]:

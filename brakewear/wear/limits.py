@@ -40,10 +40,14 @@ GEOMETRY_MARGIN = 0.05
 
 @dataclass
 class WearLimits:
-    """Largest wear depths (m) of the pad's and the rotor's friction faces.
+    """Largest wear depths of the pad's and the rotor's friction faces.
 
-    ``None`` for a surface means no limit.  Build the defaults of a model
-    with :meth:`for_model`.
+    Build the defaults of a model with :meth:`for_model`.
+
+    Parameters
+    ----------
+    pad, rotor
+        The depths (m) at which each face is worn through; None: no limit.
     """
 
     pad: float | None

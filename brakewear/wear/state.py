@@ -39,11 +39,22 @@ _SCALARS = ("step", "time", "pad_archard", "rotor_archard", "dt_next", "dt_last"
 class WearState:
     """Where a wear history stands after an accepted step (cumulative quantities).
 
-    ``pressure`` and ``active`` are the contact state the next step starts
-    from (None before the first solve); ``dt_next`` the next step's target
-    (None: the limits decide); ``u``, ``u_prev`` and ``dt_last`` the last two
-    displacements of the implicit scheme and the step between them, from
-    which the next solve's start is extrapolated.
+    Parameters
+    ----------
+    step, time
+        The accepted steps so far and the time reached (s).
+    pad_wear, rotor_wear
+        Cumulative depths (m) per pad friction node and per rotor wear node.
+    pad_archard, rotor_archard
+        The Archard volumes so far (m^3).
+    pressure, active
+        The contact state the next step starts from (None before the first
+        solve).
+    dt_next
+        The next step's target (None: the limits decide).
+    u, u_prev, dt_last
+        The last two displacements of the implicit scheme and the step between
+        them, from which the next solve's start is extrapolated.
     """
 
     step: int

@@ -22,7 +22,6 @@ import logging
 import os
 import time as _time
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -34,49 +33,13 @@ from ..mesh.rings import ring_coupling, rotor_wear_rate
 from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .nodal import NodalLaws
-from .records import thermal_state
+from .records import WearStep, thermal_state
 from .run import Run
 from .state import WearState, check_fingerprint, fingerprint
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["WearStep", "wear_history", "check_resume"]
-
-
-@dataclass
-class WearStep:
-    """State after an accepted step (cumulative quantities)."""
-
-    step: int
-    time: float                 # s
-    dt: float                   # s, of this step
-    sliding_distance: float     # m, at the pad's mean radius, since the start
-    pressure: np.ndarray        # Pa at the pad's friction nodes, at the start of the step
-    active: np.ndarray          # contact status at the start of the step
-    pad_wear: np.ndarray        # m, cumulative, per pad friction node
-    rotor_wear: np.ndarray      # m, cumulative, per rotor wear node (face node or ring)
-    pad_volume: float           # m^3 worn from the pad (sum of depth x area)
-    rotor_volume: float         # m^3 worn from the rotor
-    pad_archard: float          # m^3, sum over steps of k_pad int p v dA dt
-    rotor_archard: float        # m^3, the same with k_rotor
-    rejected: int               # retries before this step was accepted
-    contact_solves: int         # contact solves of this step (1 + rejected)
-    solve_s: float              # s spent in contact solves in this step
-    limit: str                  # what set the step: max_dh, stability, rotor_stability,
-                                # growth, wear_tol, first, end, fixed
-    mu: float = 0.0             # friction coefficient in this step (with a friction law per
-                                # node: friction force over normal force, sum mu p A / sum p A)
-    pad_temperature_max: float = float("nan")    # K, pad face, end of step (thermal only)
-    rotor_temperature_max: float = float("nan")  # K, rotor face, end of step (thermal only)
-    heat_balance_error: float = float("nan")     # |heat in - friction power| / power, this step
-    pressure_end: np.ndarray | None = None       # Pa, at the end of the step (= next start)
-    active_end: np.ndarray | None = None
-    explicit: bool = False      # the implicit scheme took this step explicitly (implicit_floor)
-    mu_nodes: np.ndarray | None = None   # mu per pad node in this step (a friction law's)
-    heat: dict | None = None    # thermal only: mean face temperatures (K) and the step's
-                                # heat into pad and rotor and convected from each body (W)
-    friction_work: float = 0.0  # J on the modelled faces: friction_power at the start
-                                # pressure and the mean speed, times dt (the heat put in)
 
 
 def wear_history(run: Run, *, checkpoint: str | os.PathLike | None = None, every: int = 10,
