@@ -47,13 +47,30 @@ __all__ = [
 
 
 def effective_modulus(E1: float, nu1: float, E2: float = np.inf, nu2: float = 0.0) -> float:
-    """Contact modulus ``E*``: 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (E2 = inf: rigid)."""
+    """Contact modulus ``E*``: 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (E2 = inf: rigid).
+
+    Examples
+    --------
+    Two equal bodies give half the plane-strain modulus ``E / (1 - nu^2)``:
+
+    >>> round(effective_modulus(210e9, 0.3, 210e9, 0.3) / (210e9 / (2 * (1 - 0.09))), 12)
+    1.0
+    """
     inv = (1.0 - nu1 ** 2) / E1 + (0.0 if np.isinf(E2) else (1.0 - nu2 ** 2) / E2)
     return 1.0 / inv
 
 
 def thick_cylinder_coefficients(a: float, b: float, p_i: float) -> tuple[float, float]:
-    """Lamé coefficients ``A, B`` of a thick cylinder a < r < b under internal pressure."""
+    """Lamé coefficients ``A, B`` of a thick cylinder a < r < b under internal pressure.
+
+    Examples
+    --------
+    The radial stress is the pressure at the bore and zero at the rim:
+
+    >>> s_r, s_t = thick_cylinder_stress(np.array([0.05, 0.1]), 0.05, 0.1, 1e6)
+    >>> (s_r / 1e6).round(12).tolist()
+    [-1.0, 0.0]
+    """
     A = p_i * a ** 2 / (b ** 2 - a ** 2)
     B = p_i * a ** 2 * b ** 2 / (b ** 2 - a ** 2)
     return A, B
@@ -74,8 +91,19 @@ def thick_cylinder_displacement(r, a: float, b: float, p_i: float, E: float, nu:
 
 
 def hertz_sphere(F: float, R: float, Es: float) -> dict:
-    """Sphere of radius ``R`` on a flat under force ``F``: contact radius ``a``,
-    peak pressure ``p0`` and approach ``delta``."""
+    """Sphere of radius ``R`` on a flat under force ``F``.
+
+    Returns the contact radius ``a``, the peak pressure ``p0`` and the approach
+    ``delta``.
+
+    Examples
+    --------
+    The approach gives the force back, ``F = (4/3) E* sqrt(R) delta^(3/2)``:
+
+    >>> h = hertz_sphere(100.0, 0.01, 100e9)
+    >>> round(float(4 / 3 * 100e9 * np.sqrt(0.01) * h["delta"] ** 1.5), 9)
+    100.0
+    """
     a = (3.0 * F * R / (4.0 * Es)) ** (1.0 / 3.0)
     return {"a": a, "p0": 3.0 * F / (2.0 * np.pi * a ** 2), "delta": a ** 2 / R}
 
@@ -88,7 +116,16 @@ def hertz_sphere_pressure(r, F: float, R: float, Es: float):
 
 
 def hertz_cylinder(P: float, R: float, Es: float) -> dict:
-    """Cylinder on a flat, force per unit length ``P`` (plane strain): half-width, peak."""
+    """Cylinder on a flat, force per unit length ``P`` (plane strain): half-width, peak.
+
+    Examples
+    --------
+    The elliptical pressure carries the load, ``pi a p0 / 2 = P``:
+
+    >>> h = hertz_cylinder(1e4, 0.01, 100e9)
+    >>> round(float(np.pi * h["a"] * h["p0"] / 2), 6)
+    10000.0
+    """
     a = np.sqrt(4.0 * P * R / (np.pi * Es))
     return {"a": a, "p0": 2.0 * P / (np.pi * a)}
 
@@ -101,22 +138,57 @@ def flat_punch_pressure(r, F: float, a: float):
 
 
 def flat_punch_settlement(F: float, a: float, Es: float) -> float:
-    """Settlement of a rigid flat punch: delta = F / (2 a E*)."""
+    """Settlement of a rigid flat punch: delta = F / (2 a E*).
+
+    Examples
+    --------
+    >>> flat_punch_settlement(1000.0, 0.005, 100e9)      # m
+    1e-06
+    """
     return F / (2.0 * a * Es)
 
 
 def uniform_wear_pressure(r, F: float, theta: float, ri: float, ro: float):
-    """Steady uniform-wear pressure of an annular-sector pad: p = F / (theta (ro - ri) r)."""
+    """Steady uniform-wear pressure of an annular-sector pad: p = F / (theta (ro - ri) r).
+
+    Examples
+    --------
+    ``p r`` is the same everywhere (every point wears at ``k p omega r``), and the
+    pressure carries the force over the sector:
+
+    >>> r = np.linspace(0.1, 0.15, 6)
+    >>> p = uniform_wear_pressure(r, 2000.0, 1.0, 0.1, 0.15)
+    >>> bool(np.allclose(p * r, p[0] * r[0], rtol=1e-14))
+    True
+    >>> from scipy.integrate import quad
+    >>> round(quad(lambda s: uniform_wear_pressure(s, 2000.0, 1.0, 0.1, 0.15) * s, 0.1, 0.15)[0], 9)
+    2000.0
+    """
     return F / (theta * (ro - ri) * np.asarray(r, dtype=float))
 
 
 def uniform_wear_torque(F: float, mu: float, ri: float, ro: float) -> float:
-    """Braking torque per face under uniform wear: mu F (ro + ri) / 2."""
+    """Braking torque per face under uniform wear: mu F (ro + ri) / 2.
+
+    Examples
+    --------
+    >>> round(uniform_wear_torque(5000.0, 0.4, 0.1, 0.15), 12)      # N m
+    250.0
+    """
     return mu * F * (ro + ri) / 2.0
 
 
 def uniform_pressure_effective_radius(ri: float, ro: float) -> float:
-    """Effective friction radius under uniform pressure: (2/3)(ro^3 - ri^3)/(ro^2 - ri^2)."""
+    """Effective friction radius under uniform pressure: (2/3)(ro^3 - ri^3)/(ro^2 - ri^2).
+
+    Examples
+    --------
+    Above the mean radius of uniform wear, by ``(ro - ri)^2 / (6 (ro + ri))``:
+
+    >>> r = uniform_pressure_effective_radius(0.1, 0.15)
+    >>> bool(np.isclose(r, 0.125 + 0.05 ** 2 / (6 * 0.25), rtol=1e-14, atol=0))
+    True
+    """
     return 2.0 / 3.0 * (ro ** 3 - ri ** 3) / (ro ** 2 - ri ** 2)
 
 
@@ -127,7 +199,16 @@ def slab_temperature(x, q: float, L: float, kappa: float, T0: float = 0.0):
 
 def semi_infinite_surface_temperature(t, q: float, kappa: float, rho: float, c: float,
                                       T0: float = 0.0):
-    """Surface temperature of a half-space under constant flux: T0 + 2 q sqrt(t / (pi kappa rho c))."""
+    """Surface temperature of a half-space under constant flux: T0 + 2 q sqrt(t / (pi kappa rho c)).
+
+    Examples
+    --------
+    Four times the time, twice the rise:
+
+    >>> T = semi_infinite_surface_temperature(np.array([1.0, 4.0]), 1e6, 50.0, 7200.0, 500.0)
+    >>> round(float(T[1] / T[0]), 12)
+    2.0
+    """
     return T0 + 2.0 * q * np.sqrt(np.asarray(t, dtype=float) / (np.pi * kappa * rho * c))
 
 
@@ -138,11 +219,34 @@ def johnson_modulus(E: float, nu: float, thickness: float, constrained: bool = T
     for a layer whose lateral expansion is prevented (thin, bonded layer), and
     ``k = E / h`` for one that is free to expand.
 
+    Parameters
+    ----------
+    E, nu
+        The layer's Young's modulus (Pa) and Poisson's ratio.
+    thickness
+        The layer's thickness (m).
+    constrained
+        Whether its lateral expansion is prevented.
+
+    Returns
+    -------
+    float
+        ``k`` (Pa/m).
+
     Raises
     ------
     FoundationError
         If ``E`` or ``thickness`` is not a finite positive number, or ``nu``
         is outside (-1, 0.5).
+
+    Examples
+    --------
+    With ``nu = 0`` the constraint changes nothing; at ``nu = 0.25`` it stiffens by 1.2:
+
+    >>> johnson_modulus(1e9, 0.0, 0.01) == johnson_modulus(1e9, 0.0, 0.01, False) == 1e11
+    True
+    >>> round(johnson_modulus(1e9, 0.25, 0.01) / johnson_modulus(1e9, 0.25, 0.01, False), 12)
+    1.2
     """
     for name, val in (("E", E), ("thickness", thickness)):
         if not (np.isfinite(val) and val > 0):
@@ -334,6 +438,14 @@ def inerfc(n: int, z):
     ``i^n erfc(0) = 1 / (2^n Gamma(n/2 + 1))``.  Forward recurrence loses
     relative accuracy where ``i^n erfc`` is small (``z`` beyond about 3 for
     n = 3); the absolute error stays at round-off of ``i^(n-2) erfc``.
+
+    Examples
+    --------
+    At ``z = 0``, ``1 / (2^n Gamma(n/2 + 1))``: 1, ``1/sqrt(pi)``, 1/4:
+
+    >>> values = [float(inerfc(n, 0.0)) for n in (0, 1, 2)]
+    >>> bool(np.allclose(values, [1.0, 1.0 / np.sqrt(np.pi), 0.25], rtol=1e-14))
+    True
     """
     from scipy.special import erfc
 
@@ -361,7 +473,13 @@ def stop_flux(t, q0: float, t_stop: float):
 def stop_heat(t0, t1, q0: float, t_stop: float):
     """Heat per unit area that enters between ``t0`` and ``t1`` (J/m^2): the exact
     integral of :func:`stop_flux`; ``q0 t_s / 2`` over the whole stop.  Divided by
-    ``t1 - t0`` it is the step's mean flux."""
+    ``t1 - t0`` it is the step's mean flux.
+
+    Examples
+    --------
+    >>> float(stop_heat(0.0, 4.0, 1e6, 4.0)), float(stop_heat(0.0, 2.0, 1e6, 4.0))
+    (2000000.0, 1500000.0)
+    """
     _check_stop(t_stop)
 
     def cumulative(t):
@@ -418,6 +536,18 @@ def stop_surface_temperature(t, q0: float, t_stop: float, kappa: float, rho: flo
     with the effusivity ``e = sqrt(kappa rho c)``; after the stop (zero flux)
     ``(2 q0 / (e sqrt(pi))) (sqrt(t) - 2 (t^1.5 - (t - t_s)^1.5) / (3 t_s))``.
     Its maximum is at ``t_s / 2`` (:func:`stop_peak_temperature`).
+
+    Examples
+    --------
+    Its maximum is :func:`stop_peak_temperature`, at :func:`stop_peak_time`:
+
+    >>> args = (2e6, 4.0, 50.0, 7200.0, 500.0)
+    >>> t = np.linspace(0.0, 4.0, 401)
+    >>> float(t[np.argmax(stop_surface_temperature(t, *args))]) == stop_peak_time(4.0)
+    True
+    >>> peak = float(stop_surface_temperature(stop_peak_time(4.0), *args))
+    >>> round(peak / stop_peak_temperature(*args), 12)
+    1.0
     """
     _check_stop(t_stop)
     t = np.asarray(t, dtype=float)
@@ -445,6 +575,13 @@ def bulk_temperature_rise(energy: float, mass, c) -> float:
     """Temperature rise of lumped bodies that store ``energy`` (J): ``E / sum(m c)``.
 
     ``mass`` (kg) and ``c`` (J/kg K) are numbers or one per body.
+
+    Examples
+    --------
+    A 300 kJ stop into a 7 kg iron rotor and a 0.5 kg pad:
+
+    >>> bulk_temperature_rise(300e3, [7.0, 0.5], [500.0, 1000.0])     # K: 300 kJ / 4 kJ/K
+    75.0
     """
     mc = float(np.sum(np.asarray(mass, dtype=float) * np.asarray(c, dtype=float)))
     if not (np.isfinite(mc) and mc > 0):

@@ -118,7 +118,17 @@ def archard_rate(law, k, p, v) -> np.ndarray:
     """The wear rate ``dh/dt = k p^a v^b`` (m/s) of ``law`` (its exponents ``a``,
     ``b``) with the coefficients ``k``, at pressure ``p`` (Pa; tension counts as
     0) and sliding speed ``v`` (m/s): the one rate of every wear law and of the
-    wear loop."""
+    wear loop.
+
+    Examples
+    --------
+    Archard (``a = b = 1``): 1 MPa at 10 m/s with k = 5e-15 1/Pa wears 50 nm/s;
+    tension wears nothing.
+
+    >>> law = WearLaw(5e-15)
+    >>> archard_rate(law, 5e-15, np.array([1e6, -1e6]), 10.0).tolist()
+    [5e-08, 0.0]
+    """
     return k * np.clip(p, 0.0, None) ** law.a * v ** law.b
 
 
@@ -195,6 +205,22 @@ class WearLaw:
         Above ``T_threshold`` (K) the coefficient rises as
         ``k exp(E/R (1/T_threshold - 1/T))`` (Arrhenius, Liu and Rhee);
         ``activation_energy = 0`` (default) means no temperature dependence.
+
+    Examples
+    --------
+    The rate is linear in ``p`` and ``v`` (Archard); above ``T_threshold`` the
+    coefficient rises by the Arrhenius factor:
+
+    >>> law = WearLaw(k=5e-15)
+    >>> float(law.rate(2e6, 10.0)) == 2 * float(law.rate(1e6, 10.0)) == 1e-07
+    True
+    >>> hot = WearLaw(k=5e-15, activation_energy=50e3)
+    >>> T1, T0 = 600.0, hot.T_threshold
+    >>> ratio = float(hot.coefficient(T1)) / hot.k
+    >>> bool(np.isclose(ratio, np.exp(50e3 / R_GAS * (1 / T0 - 1 / T1)), rtol=1e-14))
+    True
+    >>> float(hot.coefficient(300.0)) == hot.k                   # below the threshold
+    True
     """
 
     k: float
@@ -268,6 +294,12 @@ class FrictionLaw:
         The reference temperature (K).
     mu_min
         The least ``mu`` the fade reaches, >= 0.
+
+    Examples
+    --------
+    >>> fade = FrictionLaw(0.4, slope=-1e-3, T_ref=300.0, mu_min=0.25)
+    >>> [round(float(fade.mu(T)), 12) for T in (300.0, 400.0, 600.0)]
+    [0.4, 0.3, 0.25]
     """
 
     mu0: float
@@ -316,6 +348,14 @@ def friction_power(p: np.ndarray, v: np.ndarray, mu, area: np.ndarray) -> float:
     ``friction_work`` of a :class:`~brakewear.wear.WearStep`, and the heat the
     thermal model takes in over the step, whose flux is :func:`friction_flux`);
     an application's is the sum of its steps'.
+
+    Examples
+    --------
+    Two nodes of 1 cm^2 at 1 MPa, sliding at 10 m/s with mu = 0.4: 800 W.
+
+    >>> round(friction_power(np.array([1e6, 1e6]), np.array([10.0, 10.0]), 0.4,
+    ...                      np.array([1e-4, 1e-4])), 9)
+    800.0
     """
     return float(friction_flux(p, v, mu) @ np.asarray(area, dtype=float))
 
