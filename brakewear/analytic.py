@@ -270,6 +270,7 @@ def winkler_sphere(R: float, k: float, delta: float | None = None, F: float | No
     if (delta is None) == (F is None):
         raise FoundationError("winkler_sphere: give exactly one of delta and F")
     if delta is None:
+        assert F is not None                # one of the two, checked above
         delta = winkler_sphere_approach(F, R, k)
     return {"a": np.sqrt(2.0 * R * delta), "p0": k * delta, "delta": delta,
             "F": np.pi * k * R * delta ** 2}

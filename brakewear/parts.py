@@ -174,6 +174,8 @@ def _import_file(name: str, key: str, base: Path) -> ModuleType:
         raise fail(key, f"{name!r}: a module named {modname!r} is imported already (from "
                         f"{where or 'built-in'}); rename the file")
     spec = importlib.util.spec_from_file_location(modname, path)
+    if spec is None or spec.loader is None:
+        raise fail(key, f"{name!r}: not a Python module ({path})")
     module = importlib.util.module_from_spec(spec)
     sys.modules[modname] = module
     try:

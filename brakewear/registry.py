@@ -183,7 +183,7 @@ class Registry:
                  error: type[InputError] = SceneError):
         self.what, self.key = what, key
         self.capabilities, self.members, self.error = tuple(capabilities), tuple(members), error
-        self._entries: dict[str, type] = {}
+        self._entries: dict[str, type[Any]] = {}
         self._modules, self._loaded = tuple(modules), False
 
     def _load(self) -> None:
@@ -193,7 +193,7 @@ class Registry:
                 importlib.import_module(module)
         load_entry_points()
 
-    def register(self, part: type, *, replace: bool = False) -> type:
+    def register(self, part: type[Any], *, replace: bool = False) -> type[Any]:
         """Add the class ``part`` under its ``name``; usable as a class decorator.
 
         Parameters
@@ -240,7 +240,7 @@ class Registry:
         logger.debug("%s %r registered (%s)", self.what, name, who)
         return part
 
-    def _check_declared(self, part: type, who: str) -> None:
+    def _check_declared(self, part: type[Any], who: str) -> None:
         """``keys``, the capabilities and the members of ``part`` as the table needs them."""
         keys = getattr(part, "keys", ())
         if not isinstance(keys, tuple) or not all(isinstance(k, OptionKey) for k in keys):
@@ -276,7 +276,7 @@ class Registry:
         self.get(name)
         del self._entries[name]
 
-    def get(self, name: str, key: str | None = None) -> type:
+    def get(self, name: str, key: str | None = None) -> type[Any]:
         """The class registered as ``name``.
 
         Parameters
@@ -306,7 +306,7 @@ class Registry:
                                         "point of 'brakewear.parts'; docs/extending.md)")
         return self._entries[name]
 
-    def capabilities_of(self, part: type) -> frozenset:
+    def capabilities_of(self, part: type[Any]) -> frozenset:
         """The capabilities ``part`` declares (those of the table's that are True on it).
 
         Parameters
@@ -321,7 +321,7 @@ class Registry:
         """
         return frozenset(c for c in self.capabilities if getattr(part, c, False) is True)
 
-    def options(self, part: type, given: Mapping[str, Any], table: str,
+    def options(self, part: type[Any], given: Mapping[str, Any], table: str,
                 owner: str | None = None) -> dict[str, Any]:
         """``given`` checked against the keys of ``part`` (:func:`check_options`); a key of
         another registered part is named as such.
@@ -354,7 +354,7 @@ class Registry:
         """Every registered part's keys: name -> how the scene reader reads it."""
         return {k.name: k.kind for part in self for k in getattr(part, "keys", ())}
 
-    def registered(self) -> tuple[type, ...]:
+    def registered(self) -> tuple[type[Any], ...]:
         """The parts registered so far, without loading the table's modules (for
         a registration's own checks against the others)."""
         return tuple(self._entries.values())
@@ -364,7 +364,7 @@ class Registry:
         self._load()
         return tuple(self._entries)
 
-    def __iter__(self) -> Iterator[type]:
+    def __iter__(self) -> Iterator[type[Any]]:
         self._load()
         return iter(list(self._entries.values()))
 

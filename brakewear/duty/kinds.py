@@ -28,7 +28,7 @@ _KINDS = Registry("application", "schedule.applications.kind", capabilities=("br
                   error=DutyError)
 
 
-def register_application(part: type, *, replace: bool = False) -> type:
+def register_application(part: type[Any], *, replace: bool = False) -> type[Any]:
     """Add an application class to the kinds a schedule knows (a class decorator).
 
     Parameters

@@ -113,7 +113,7 @@ _TABLE = Registry("interface model", "interface.model", modules=("brakewear.cali
                   capabilities=CAPABILITIES + ("fe_answer",))
 
 
-def register_interface(part: type, *, replace: bool = False) -> type:
+def register_interface(part: type[Any], *, replace: bool = False) -> type[Any]:
     """Add the interface model ``part`` to the table; usable as a class decorator.
 
     Parameters
@@ -177,7 +177,7 @@ def interface_models() -> tuple[str, ...]:
     return _TABLE.names()
 
 
-def interface_model(name: str) -> type:
+def interface_model(name: str) -> type[Any]:
     """The class registered as ``name``.
 
     Parameters
@@ -198,7 +198,7 @@ def interface_model(name: str) -> type:
     return _TABLE.get(name)
 
 
-def capabilities_of(cls: type) -> frozenset:
+def capabilities_of(cls: type[Any]) -> frozenset:
     """The capabilities an interface class declares (its class attributes that are True).
 
     Parameters
@@ -214,7 +214,7 @@ def capabilities_of(cls: type) -> frozenset:
     return frozenset(c for c in CAPABILITIES if getattr(cls, c, False) is True)
 
 
-def lacks(cls: type, capability: str) -> str:
+def lacks(cls: type[Any], capability: str) -> str:
     """Why the model ``cls`` lacks ``capability`` (the end of a scene's message).
 
     Parameters
@@ -260,7 +260,7 @@ def model_keys() -> dict[str, str]:
     return _TABLE.key_kinds()
 
 
-def model_options(cls: type, given: Mapping[str, Any]) -> dict[str, Any]:
+def model_options(cls: type[Any], given: Mapping[str, Any]) -> dict[str, Any]:
     """``given`` (the model's keys of ``[interface]``) checked, with the defaults of the others.
 
     Parameters

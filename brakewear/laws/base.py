@@ -363,7 +363,7 @@ def friction_power(p: np.ndarray, v: np.ndarray, mu, area: np.ndarray) -> float:
 _WEAR_LAWS = Registry("wear law", "wear.pad.model", members=("build",), error=LawError)
 
 
-def register_wear_law(part: type, *, replace: bool = False) -> type:
+def register_wear_law(part: type[Any], *, replace: bool = False) -> type[Any]:
     """Add the wear law ``part`` to those a scene names by ``model`` (a class decorator).
 
     The class declares itself: ``name`` (what ``[wear.pad] model`` says),
@@ -403,7 +403,7 @@ def unregister_wear_law(name: str) -> None:
     _WEAR_LAWS.unregister(name)
 
 
-def wear_law_model(name: str, key: str = "wear.pad.model") -> type:
+def wear_law_model(name: str, key: str = "wear.pad.model") -> type[Any]:
     """The class registered as ``name``.
 
     Parameters
@@ -426,7 +426,7 @@ def wear_law_model(name: str, key: str = "wear.pad.model") -> type:
     return _WEAR_LAWS.get(name, key)
 
 
-def wear_law_options(cls: type, given: Mapping[str, Any], table: str) -> dict[str, Any]:
+def wear_law_options(cls: type[Any], given: Mapping[str, Any], table: str) -> dict[str, Any]:
     """``given`` (the law's keys of ``table``, e.g. ``"wear.pad"``) checked, with the
     defaults of the others.
 
