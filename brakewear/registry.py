@@ -1,5 +1,4 @@
-"""Named parts a scene chooses from: the tables, the keys each part reads, and where
-parts come from.
+"""Named parts a scene chooses from: their tables, and the keys each part reads.
 
 The tables of brakewear's swappable parts share this: interface models
 (:mod:`brakewear.interfaces.registry`), wear laws (:mod:`brakewear.laws.base`)
