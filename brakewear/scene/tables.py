@@ -170,7 +170,8 @@ class InterfaceSpec:
 
     @property
     def entry(self):
-        """The registered interface model's class (:func:`~brakewear.interfaces.interface_model`)."""
+        """The registered interface model's class (:func:`~brakewear.interfaces.interface_model`
+        of :attr:`model`)."""
         return interface_model(self.model)
 
     @property
