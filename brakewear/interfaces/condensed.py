@@ -51,7 +51,7 @@ __all__ = ["CondensedInterface", "check_scene_size"]
 _KEEP = 4
 _SETS = 16
 #: nodes whose base columns are solved together
-_BLOCK = 64
+_BLOCK = 32
 
 
 def solve_dense_sets(problem, g: np.ndarray, active, gap_tol: float, compliant: bool,
@@ -158,6 +158,8 @@ class CondensedInterface:
         self._lu = OrderedDict()            # (set, mu, compliance) -> LU of the set's system
         self._bases = OrderedDict()         # (mu, compliance) -> _Base: every node's system
         self._thermal = None                # the load -> gap operator, built on first use
+        self._ringed = {}                   # (mu, rings' step) -> H with the rings' compliance
+        self.node_order = node_order(self.x)
 
     # -------------------------------------------------------------- protocol --
     def at_line_pressure(self, line_pressure: float) -> "CondensedInterface":
@@ -207,13 +209,14 @@ class CondensedInterface:
         if c is not None and c.shape != q.shape:
             raise ContactError(f"compliance must be ({q.size},) finite and > 0 m/Pa")
         rings = comp is not None and comp.rings
-        if rings:
-            # the rings' wear over the step: the gap per newton, W diag(1/A_ring) W^T diag(eps_rot)
-            H = H + comp.ring_compliance()
-        problem = DenseSets(self, H, D, q, rhs, c,
-                             comp.rotor.tobytes() + comp.ring_area.tobytes() if rings else b"")
+        ring_key = comp.ring_key if rings else b""
         g = self.g0 + offset
         with blas_threads(1):
+            if rings:
+                # the rings' wear over the step: the gap per newton,
+                # W diag(1/A_ring) W^T diag(eps_rot)
+                H = self._with_rings(H, comp, ring_key)
+            problem = DenseSets(self, H, D, q, rhs, c, ring_key)
             act, report = solve_dense_sets(problem, g, active, self.gap_tol, c is not None, self.tol,
                                    "pad-rotor (condensed)")
         lam = problem.lam
@@ -223,7 +226,7 @@ class CondensedInterface:
                 "normal_force": float(lam.sum()), "min_gap": float(problem.g.min()),
                 "time_s": time.perf_counter() - t0}
         if rings:
-            info["ring_depth"] = comp.ring_force_depth() @ lam
+            info["ring_depth"] = comp.ring_depth_of_forces(lam)
         return InterfaceSolution(pressure, act, None, info)
 
     # --------------------------------------------------------------- helpers --
@@ -274,6 +277,17 @@ class CondensedInterface:
             self._H = {key: ops}
         return self._H[key]
 
+    def _with_rings(self, H: np.ndarray, comp: StepCompliance, key: bytes) -> np.ndarray:
+        """``H`` plus the rings' compliance of the step (dense, rank ``n_ring``), kept
+        while the friction and the rings' step stay the same (fixed steps): a step
+        then assembles nothing."""
+        k = (self.mu_key, key)
+        got = self._ringed.get(k)
+        if got is None:
+            got = H + comp.ring_compliance()
+            self._ringed = {k: got}
+        return got
+
     def thermal_gap(self, load: np.ndarray):
         """``(gap change per contact node, the free modes' share)`` of a nodal load."""
         if self._thermal is None:
@@ -283,24 +297,36 @@ class CondensedInterface:
         return self._thermal(self.fe.cs.P.T @ load)
 
 
+def node_order(x: np.ndarray) -> np.ndarray:
+    """The contact nodes at ``x`` (3, n) by face (z), then angle, then radius: the
+    order of the factorised bases' blocks of columns."""
+    face = np.round(x[2] / max(float(np.abs(x[2]).max()), 1e-300), 3)
+    return np.lexsort((np.hypot(x[0], x[1]), np.arctan2(x[1], x[0]), face))
+
+
 class _Base:
     """The factorised system of every node in contact under one friction and
     compliance, and its solved columns (in fixed blocks of nodes)."""
 
-    def __init__(self, lu, n: int, m: int):
+    def __init__(self, lu, n: int, m: int, order: np.ndarray | None = None):
         self.lu, self.n, self.m = lu, n, m
         self.columns = np.zeros((n + m, n))     # base^-1 e_j, column j once solved
         self.solved = np.zeros(-(-n // _BLOCK), dtype=bool)
-        self.sets: OrderedDict = OrderedDict()  # set -> LU of its Schur system
+        self.sets: OrderedDict = OrderedDict()  # set -> (LU of its Schur system, its columns)
+        # the blocks: consecutive nodes of ``order`` (by angle, then radius: the nodes
+        # a contact opens, at the pad's leading and trailing edges, share few blocks)
+        self.order = np.arange(n) if order is None else np.asarray(order)
+        self.block_of = np.empty(n, dtype=np.int64)
+        self.block_of[self.order] = np.arange(n) // _BLOCK
 
     def columns_of(self, nodes: np.ndarray) -> np.ndarray:
         """``base^-1 e_j`` of each node (the unit load that holds it), solved
-        block by block: a block of :data:`_BLOCK` consecutive nodes at once,
-        always the same block, so a column does not depend on which sets
-        asked first (a resumed run repeats the uninterrupted one)."""
-        for b in np.unique(nodes // _BLOCK):
+        block by block: a block of :data:`_BLOCK` nodes at once, always the
+        same block, so a column does not depend on which sets asked first (a
+        resumed run repeats the uninterrupted one)."""
+        for b in np.unique(self.block_of[nodes]):
             if not self.solved[b]:
-                js = np.arange(b * _BLOCK, min((b + 1) * _BLOCK, self.n))
+                js = self.order[b * _BLOCK:(b + 1) * _BLOCK]
                 V = np.zeros((self.n + self.m, js.size))
                 V[js, np.arange(js.size)] = 1.0
                 self.columns[:, js] = lu_solve(self.lu, V, check_finite=False)
@@ -318,9 +344,10 @@ class DenseSets:
     ``lam = 0`` by multipliers: ``z = y - X w`` with ``y = base^-1 b``, the
     base's solved unit columns ``X`` of ``R`` (each solved once per base)
     and the Schur system ``X_RR w = y_R`` of ``|R|`` unknowns (its LU kept
-    per set).  A settled contact meets the same set step after step at the
-    cost of a triangular solve pair and two products.  A set with more open
-    nodes than half its active ones, or whose Schur solve does not satisfy
+    per set, with the columns it takes).  A settled contact meets the same
+    set step after step at the cost of a triangular solve pair and a
+    product with the columns of its open nodes.  A set with more open
+    nodes than active ones, or whose Schur solve does not satisfy
     the set's equations to 1e-12 of their terms, is factorised on its own
     (the LU kept per set).  Every choice depends on the set alone, never on
     the sets met before, so a resumed run repeats the uninterrupted one.
@@ -341,9 +368,9 @@ class DenseSets:
         key = (itf.mu_key, self.c_key)
         rem = np.nonzero(~active)[0]
         state = None
-        if 2 * rem.size <= n - rem.size:
-            state = self._gap(self._schur(self._base(key), active, rem), active,
-                              None if rem.size else rem)
+        if rem.size <= n - rem.size:
+            # the gaps of the open nodes only: the set's equations give the others
+            state = self._gap(self._schur(self._base(key), active, rem), active, rem)
             if not rem.size:
                 pass
             elif self._solves(*state, active):
@@ -367,7 +394,7 @@ class DenseSets:
     # ------------------------------------------------------------------ --
     def _block(self, rows, cols):
         """Rows ``rows`` and columns ``cols`` of ``H + diag(c)`` (node numbers)."""
-        M = self.H[np.ix_(rows, cols)]
+        M = self.H.take(rows, axis=0).take(cols, axis=1)
         if self.c is not None:
             at = np.full(self.q.size, -1, dtype=np.int64)
             at[cols] = np.arange(cols.size)
@@ -397,7 +424,7 @@ class DenseSets:
         if base is None:
             n = self.q.size
             base = itf._bases[key] = _Base(self._factor(np.ones(n, dtype=bool)), n,
-                                           self.E.shape[1])
+                                           self.E.shape[1], getattr(itf, "node_order", None))
             self.factorised += 1
             while len(itf._bases) > _KEEP:
                 itf._bases.popitem(last=False)
@@ -418,14 +445,16 @@ class DenseSets:
         if not rem.size:
             return y
         set_key = np.packbits(active).tobytes()
-        lu = base.sets.get(set_key)
-        if lu is None:
-            lu = base.sets[set_key] = lu_factor(base.columns_of(rem)[rem], check_finite=False)
+        got = base.sets.get(set_key)
+        if got is None:
+            X = base.columns_of(rem)             # (n + m) x |R|, contiguous
+            got = base.sets[set_key] = (lu_factor(X[rem], check_finite=False), X)
             while len(base.sets) > _SETS:
                 base.sets.popitem(last=False)
         base.sets.move_to_end(set_key)
+        lu, X = got
         w = lu_solve(lu, y[rem], check_finite=False)
-        z = y - base.columns[:, rem] @ w
+        z = y - X @ w
         z[rem] = 0.0
         return z
 

@@ -29,7 +29,7 @@ from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, Solver
                       StepSizeError, WearError)
 from ..interfaces import StepCompliance
 from ..laws.base import friction_power
-from ..mesh.rings import ring_coupling, rotor_wear_rate
+from ..mesh.rings import RingAverage, ring_coupling
 from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .nodal import NodalLaws
@@ -183,6 +183,8 @@ class _WearLoop:
             self.motion = BrakeMotion(model)
         self.A_pad, self.ring, self.A_rot = self.itf.area, self.itf.ring, self.itf.rotor_area
         self.W = self.itf.W
+        self._rings = None          # the rings' coupling of an implicit step, built once
+        self.ring_rate = RingAverage(self.W, self.ring, self.A_rot)    # rotor_wear_rate
         initial_gap = run.initial_gap
         if initial_gap is not None and np.shape(initial_gap) != self.A_pad.shape:
             raise WearError(f"initial_gap has {np.size(initial_gap)} values; the pad has "
@@ -294,7 +296,7 @@ class _WearLoop:
             self.mu = self.laws.mu(p, self.v, T_pad)
         rate_pad = self.laws.pad_rate(p, self.v)
         q_rot = self.laws.rotor_rate(p, self.v) * self.A_pad
-        return rate_pad, q_rot, rotor_wear_rate(q_rot, self.W, self.ring, self.A_rot)
+        return rate_pad, q_rot, self.ring_rate(q_rot)
 
     def worst(self, p, act) -> float:
         """The largest ``c_i s_i / A_i`` over the contact: d(rate)/dp of both laws
@@ -309,7 +311,7 @@ class _WearLoop:
         if self.rotor_law is None or not act.any():
             return 0.0
         q = np.where(act, self.laws.rotor_slope(p, self.v) * self.itf.normal_stiffness, 0.0)
-        return float(rotor_wear_rate(q, self.W, self.ring, self.A_rot).max())
+        return float(self.ring_rate(q).max())
 
     def step(self, state: WearState, control: StepControl) -> WearStep:
         """One accepted step from ``state`` (updated in place); its record."""
@@ -395,12 +397,19 @@ class _WearLoop:
             return sol, pad_w, rot_w, p0, q_rot, s
         eps = dt * self.laws.pad_slope(p0, self.v)    # backward Euler, a = 1: k v^b
         comp = StepCompliance(eps, dt * self.laws.rotor_slope(p0, self.v),   # and the rings
-                              *ring_coupling(self.W, self.ring, self.A_rot)) if rings else eps
+                              *self.ring_coupling()) if rings else eps
         sol, s = self.solve(state, state.pad_wear, rot_w, act, comp, dt)
         if rings:
             q_rot = self.laws.rotor_rate(sol.pressure, self.v) * self.A_pad
-            rot_w = rot_w + rotor_wear_rate(q_rot, self.W, self.ring, self.A_rot) * dt
+            rot_w = rot_w + self.ring_rate(q_rot) * dt
         return sol, state.pad_wear + eps * sol.pressure, rot_w, sol.pressure, q_rot, s
+
+    def ring_coupling(self):
+        """``(ring_gap, ring_area)`` of the rings (:func:`~brakewear.rings.ring_coupling`
+        of the loop's coupling, built once: the rings do not move)."""
+        if self._rings is None:
+            self._rings = ring_coupling(self.W, self.ring, self.A_rot)
+        return self._rings
 
     def rate_change(self, p_new, rate_pad, rate_rot) -> np.ndarray:
         """The change over the step of the wear rate each pad node sees (pad + rotor, m/s):
@@ -408,7 +417,7 @@ class _WearLoop:
         d_rate = self.laws.pad_rate(p_new, self.v) - rate_pad
         if self.rotor_law is not None:
             q_new = self.laws.rotor_rate(p_new, self.v) * self.A_pad
-            d_rate = d_rate + self.W @ (rotor_wear_rate(q_new, self.W, self.ring, self.A_rot)
+            d_rate = d_rate + self.W @ (self.ring_rate(q_new)
                                         - rate_rot)
         return d_rate
 
