@@ -29,9 +29,12 @@ SIZE = 12e-3
 
 
 def _floating(**guide):
+    # abutments of low friction (0.03): each end face's friction acts on the face as a
+    # whole, and below about 0.04 both bearing faces slip at 1 MPa (a test of both laws:
+    # the rim's friction sticks)
     g = load_geometry("floating")
     return replace(g, piston=replace(g.piston, guide=replace(g.piston.guide, **guide)),
-                   support=replace(g.support, abutment_friction=0.2))
+                   support=replace(g.support, abutment_friction=0.03))
 
 
 @pytest.fixture(scope="module")

@@ -30,6 +30,7 @@ from ..contact.supports import support_springs
 from ..checks import fail
 from ..errors import ContactError, WearError
 from .condensation import condense_caliper
+from .joint import JointSets
 from .sets import RowSets
 from ..interfaces.condensed import CondensedInterface
 from ..interfaces.fe import METHOD, FEInterface
@@ -39,6 +40,10 @@ from ..interfaces.registry import register_interface
 logger = logging.getLogger(__name__)
 
 __all__ = ["CaliperInterface"]
+
+#: the solvers of the contact and the rows: one active-set iteration over both (the
+#: default), or a fixed point of the rows' state around the contact's active sets
+SOLVERS = {"joint": JointSets, "nested": RowSets}
 
 
 @register_interface
@@ -86,7 +91,12 @@ class CaliperInterface(CondensedInterface):
         _rigid_piston(scene.piston)
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9, *,
-                 cache=None, valid_fraction: float = 0.25, memory_budget: float | None = None):
+                 cache=None, valid_fraction: float = 0.25, memory_budget: float | None = None,
+                 solver: str = "joint"):
+        if solver not in SOLVERS:
+            raise WearError(f"solver = {solver!r} is not allowed; allowed: "
+                            f"{', '.join(map(repr, SOLVERS))}")
+        self.solver = solver
         if getattr(model, "piston", None) != "rigid":
             raise WearError("the caliper interface needs BrakeModel(piston='rigid'); this model "
                             f"has piston = {getattr(model, 'piston', None)!r}")
@@ -116,7 +126,7 @@ class CaliperInterface(CondensedInterface):
 
         self.valid_fraction = float(valid_fraction)
         self.max_offset = self.valid_fraction * surface_element_height(pad, "friction")
-        self.sets = RowSets(self.cond, rows, self.gap_tol, tol)
+        self.sets = SOLVERS[solver](self.cond, rows, self.gap_tol, tol)
         self._thermal = None
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
@@ -145,20 +155,23 @@ class CaliperInterface(CondensedInterface):
             raise ContactError(f"compliance must be ({g.size},) finite and > 0 m/Pa")
         rings = comp is not None and comp.rings
         gap_s = rows.g0 + p * (rows.g1 + cond.hf[n_c:]) + dq[n_c:]
-        sol = self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s, p,
-                              cc, active, g,
-                              # the rings' wear over the step: a compliance among the
-                              # contact nodes alone (the caliper's rows do not wear)
-                              ring_H=comp.ring_compliance() if rings else None,
-                              ring_key=(comp.rotor.tobytes() + comp.ring_area.tobytes()
-                                        if rings else b""))
+        # the rings' wear over the step: a compliance among the contact nodes alone (the
+        # caliper's rows do not wear)
+        if isinstance(self.sets, JointSets):
+            sol = self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s,
+                                  p, cc, active, g, rings=comp if rings else None)
+        else:
+            sol = self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s,
+                                  p, cc, active, g,
+                                  ring_H=comp.ring_compliance() if rings else None,
+                                  ring_key=comp.ring_key if rings else b"")
         pressure = (sol.lam if cc is None else np.maximum(sol.lam, 0.0)) / self.area
         info = {"outer_iterations": sol.outer, "normal_force": float(sol.lam.sum()),
                 "min_gap": sol.min_gap, "time_s": time.perf_counter() - t0,
                 "caliper": {"force": sol.force, "gap": sol.gap, "state": sol.state,
                             "q": sol.q, "alpha": sol.alpha, "lam": sol.lam}}
         if rings:
-            info["ring_depth"] = comp.ring_force_depth() @ sol.lam
+            info["ring_depth"] = comp.ring_depth_of_forces(sol.lam)
         return InterfaceSolution(pressure, sol.active, None, info)
 
     def at_line_pressure(self, line_pressure: float) -> "CaliperInterface":
@@ -190,7 +203,7 @@ class CaliperInterface(CondensedInterface):
             raise WearError("with_load_path: the caliper's rows moved; build a new interface")
         new = copy.copy(self)
         new.model, new.rows = model, rows
-        new.sets = RowSets(self.cond, rows, self.gap_tol, self.tol)
+        new.sets = SOLVERS[self.solver](self.cond, rows, self.gap_tol, self.tol)
         return new
 
     def supported(self):

@@ -347,7 +347,7 @@ class DenseSets:
     per set, with the columns it takes).  A settled contact meets the same
     set step after step at the cost of a triangular solve pair and a
     product with the columns of its open nodes.  A set with more open
-    nodes than active ones, or whose Schur solve does not satisfy
+    nodes than half its active ones, or whose Schur solve does not satisfy
     the set's equations to 1e-12 of their terms, is factorised on its own
     (the LU kept per set).  Every choice depends on the set alone, never on
     the sets met before, so a resumed run repeats the uninterrupted one.
@@ -368,9 +368,10 @@ class DenseSets:
         key = (itf.mu_key, self.c_key)
         rem = np.nonzero(~active)[0]
         state = None
-        if rem.size <= n - rem.size:
+        if 2 * rem.size <= n - rem.size:
             # the gaps of the open nodes only: the set's equations give the others
-            state = self._gap(self._schur(self._base(key), active, rem), active, rem)
+            z, w = self._schur(self._base(key), active, rem)
+            state = self._gap(z, active, rem, w)
             if not rem.size:
                 pass
             elif self._solves(*state, active):
@@ -440,10 +441,11 @@ class DenseSets:
         return z
 
     def _schur(self, base: _Base, active, rem):
-        """The solution ``z`` from the base, the open nodes ``rem`` held."""
+        """The solution ``z`` from the base, the open nodes ``rem`` held, and the
+        loads ``w`` that hold them."""
         y = lu_solve(base.lu, np.concatenate([-self.q, self.rhs]), check_finite=False)
         if not rem.size:
-            return y
+            return y, np.zeros(0)
         set_key = np.packbits(active).tobytes()
         got = base.sets.get(set_key)
         if got is None:
@@ -456,20 +458,26 @@ class DenseSets:
         w = lu_solve(lu, y[rem], check_finite=False)
         z = y - X @ w
         z[rem] = 0.0
-        return z
+        return z, w
 
-    def _gap(self, z, active, rows=None):
+    def _gap(self, z, active, rows=None, held=None):
         """The contact forces and gaps of a solution ``z`` of the embedded system:
-        the gaps of ``rows`` (default every node) from the compliance, the
-        others from the set's equations (``g = -c lam``, 0 when rigid), which
-        a factorised system satisfies to round-off."""
+        the gaps of ``rows`` (default every node) from the compliance, or, given
+        ``held`` (the multipliers that hold them open in the base's system), as
+        ``-held``; the others from the set's equations (``g = -c lam``, 0 when
+        rigid), which a factorised system satisfies to round-off."""
         n = self.q.size
         lam = np.where(active, z[:n], 0.0)
         self.alpha = z[n:]
         if rows is None:
             return lam, self.q + self.H @ lam + self.E @ z[n:]
         g = -self._comply(lam) * active
-        g[rows] = self.q[rows] + self.H[rows] @ lam + self.E[rows] @ z[n:]
+        if held is not None:
+            # the base's row of an open node i reads g_i + w_i = 0 (its gap is the
+            # load that holds it at zero force): no product with H's rows
+            g[rows] = -held
+        else:
+            g[rows] = self.q[rows] + self.H[rows] @ lam + self.E[rows] @ z[n:]
         return lam, g
 
     def _solves(self, lam, g, active) -> bool:
