@@ -64,14 +64,17 @@ class SingularState(SolverError):
     """The system of a code is singular (an unknown left undetermined)."""
 
 
-def _checked_lu(M: np.ndarray, what: str):
+def _checked_lu(M: np.ndarray, what: str, scale: float | None = None):
+    """The LU of ``M``; singular when a pivot is below :data:`_PIVOT` of the largest
+    (or of ``scale``, the size its entries would have without cancellation)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", LinAlgWarning)
         lu = lu_factor(M, check_finite=False)
     piv = np.abs(np.diag(lu[0]))
-    if piv.size and (not np.all(np.isfinite(piv)) or piv.min() <= _PIVOT * piv.max()):
+    top = piv.max() if scale is None else scale
+    if piv.size and (not np.all(np.isfinite(piv)) or piv.min() <= _PIVOT * top):
         raise SingularState(f"{what}: singular (smallest pivot {piv.min():.3g} of "
-                            f"{piv.max():.3g})")
+                            f"{top:.3g})")
     return lu
 
 
@@ -174,8 +177,13 @@ class KeptFactorisation:
         C = np.empty((K.size, K.size))
         C[ident] = X[K[ident]]
         C[dense] = Rd @ X
+        # the entries' size without cancellation: |row| |column| (a new equation
+        # that the reference's others already imply cancels to round-off)
+        rn = np.ones(K.size)
+        rn[dense] = np.linalg.norm(Rd, axis=1)
+        size = float((rn[:, None] * np.linalg.norm(X, axis=0)[None, :]).max()) if K.size else 0
         try:
-            lu = _checked_lu(C, "the changed equations' system") if K.size else None
+            lu = _checked_lu(C, "the changed equations' system", size) if K.size else None
         except SingularState:
             # near-singular against this reference: factorise the state itself (which
             # raises if it is singular)
