@@ -10,8 +10,8 @@ import sys
 from typing import Sequence
 
 
-from .contact import (CONTACT_CASES, CONTACT_DIRECT_MAX, CONTACT_SIZES, bench_contact,
-                      format_contact_table, run_contact_case)
+from .contact import (CONTACT_CASES, CONTACT_DIRECT_MAX, CONTACT_SIZES, CONTACT_SUPERLU_MAX,
+                      bench_contact, format_contact_table, run_contact_case)
 from .elasticity import DEFAULT_SIZES, bench_elasticity, format_table, run_elasticity_case
 from .rough import ROUGH_SIZES, bench_rough, format_rough_table
 from .wear import INTERFACES, LAYOUTS, WEAR_SIZES, bench_wear, format_wear_table
@@ -134,14 +134,17 @@ def add_bench_parser(subparsers) -> None:
     c.add_argument("--json", action="store_true",
                    help="one JSON object per case, size and line instead of a table")
     c.add_argument("--sizes", type=float, nargs="+", default=list(CONTACT_SIZES), metavar="DOFS",
-                   help="target DOF counts (default: 5e4 1.5e5 5e5)")
+                   help="target DOF counts (default: 5e4 1.5e5; add 5e5 for the 500k class)")
     c.add_argument("--cases", nargs="+", default=list(CONTACT_CASES), choices=CONTACT_CASES,
                    help="cases to run (default: hertz brake)")
     c.add_argument("--direct-max", type=float, default=CONTACT_DIRECT_MAX, dest="direct_max",
-                   metavar="DOFS", help="largest model whose KKT system is also factorised "
-                                        "(default 200000: the 150k-class sizes)")
-    c.add_argument("--superlu-max", type=float, default=None, dest="superlu_max", metavar="DOFS",
-                   help="largest model for SuperLU on the KKT system (default: --direct-max)")
+                   metavar="DOFS", help="largest model whose KKT system PARDISO also "
+                                        "factorises, when installed (default 200000: the "
+                                        "150k-class sizes)")
+    c.add_argument("--superlu-max", type=float, default=CONTACT_SUPERLU_MAX, dest="superlu_max",
+                   metavar="DOFS", help="largest model for SuperLU on the KKT system (default "
+                                        "60000: the 50k class; 2e5 adds the 150k class, minutes "
+                                        "each)")
     c.add_argument("--repeats", type=int, default=1,
                    help="fresh processes per case and size; timings are medians (default 1)")
     c.set_defaults(bench="contact", func=run_bench)

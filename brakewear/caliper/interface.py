@@ -28,7 +28,7 @@ from .rows import caliper_rows
 from .parts import bracket_springs
 from ..contact.supports import support_springs
 from ..checks import fail
-from ..errors import ContactError, WearError
+from ..errors import ContactError, SolverError, WearError
 from .condensation import condense_caliper
 from .joint import JointSets
 from .sets import RowSets
@@ -44,6 +44,9 @@ __all__ = ["CaliperInterface"]
 #: the solvers of the contact and the rows: one active-set iteration over both (the
 #: default), or a fixed point of the rows' state around the contact's active sets
 SOLVERS = {"joint": JointSets, "nested": RowSets}
+#: the shares of the gap offset and the thermal load a solve that fails from the rows' last
+#: state is taken through, from the flat state
+CONTINUATION = (0.0, 0.25, 0.5, 0.75, 1.0)
 
 
 @register_interface
@@ -154,17 +157,19 @@ class CaliperInterface(CondensedInterface):
         if cc is not None and cc.shape != g.shape:
             raise ContactError(f"compliance must be ({g.size},) finite and > 0 m/Pa")
         rings = comp is not None and comp.rings
-        gap_s = rows.g0 + p * (rows.g1 + cond.hf[n_c:]) + dq[n_c:]
-        # the rings' wear over the step: a compliance among the contact nodes alone (the
-        # caliper's rows do not wear)
         if isinstance(self.sets, JointSets):
-            sol = self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s,
-                                  p, cc, active, g, rings=comp if rings else None)
+            try:
+                sol = self._sets_solve(offset, active, dq, dz, cc, comp)
+            except SolverError as e:
+                # a strongly coned state from the rows' last (or unloaded) state: reach it
+                # from the flat one, the offset and the thermal load in steps
+                logger.info("caliper: %s; solved again from the flat state in steps", e)
+                sol = None
+                for s in CONTINUATION:
+                    sol = self._sets_solve(s * offset, active if sol is None else sol.active,
+                                           s * dq, s * dz, cc, comp)
         else:
-            sol = self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s,
-                                  p, cc, active, g,
-                                  ring_H=comp.ring_compliance() if rings else None,
-                                  ring_key=comp.ring_key if rings else b"")
+            sol = self._sets_solve(offset, active, dq, dz, cc, comp)
         pressure = (sol.lam if cc is None else np.maximum(sol.lam, 0.0)) / self.area
         info = {"outer_iterations": sol.outer, "normal_force": float(sol.lam.sum()),
                 "min_gap": sol.min_gap, "time_s": time.perf_counter() - t0,
@@ -173,6 +178,24 @@ class CaliperInterface(CondensedInterface):
         if rings:
             info["ring_depth"] = comp.ring_depth_of_forces(sol.lam)
         return InterfaceSolution(pressure, sol.active, None, info)
+
+    def _sets_solve(self, offset, active, dq, dz, cc, comp):
+        """The rows' and the contact's solve with ``offset`` and the thermal load's gaps
+        ``dq`` and modes' share ``dz``."""
+        cond, rows, p = self.cond, self.rows, self.line_pressure
+        n_c = cond.n_c
+        g = self.g0 + offset
+        rings = comp is not None and comp.rings
+        gap_s = rows.g0 + p * (rows.g1 + cond.hf[n_c:]) + dq[n_c:]
+        # the rings' wear over the step: a compliance among the contact nodes alone (the
+        # caliper's rows do not wear)
+        if isinstance(self.sets, JointSets):
+            return self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s,
+                                   p, cc, active, g, rings=comp if rings else None)
+        return self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s,
+                               p, cc, active, g,
+                               ring_H=comp.ring_compliance() if rings else None,
+                               ring_key=comp.ring_key if rings else b"")
 
     def at_line_pressure(self, line_pressure: float) -> "CaliperInterface":
         """This interface under another line pressure (Pa): condensation, eliminated
