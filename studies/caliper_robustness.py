@@ -74,17 +74,22 @@ def _run(task: dict) -> dict:
 
 
 def main(routines: int = 1000, tail: float = 0.25, executor=None, workers: int = 2,
-         out=None, seed: int = 37, **settings) -> dict:
+         out=None, seed: int = 37, progress=None, **settings) -> dict:
     """Run the routines (see the module); the figures, written to
-    ``data/caliper_robustness.json`` in ``out``."""
+    ``data/caliper_robustness.json`` in ``out``.  ``progress(done, total, run, wall_s)``
+    is called as each routine ends."""
     todo = tasks(routines, tail, seed, **settings)
     t0 = time.perf_counter()
     own = executor is None
     ctx = study_executor(None, workers) if own else None
     ex = ctx.__enter__() if own else executor
     try:
-        kw = {"chunksize": max(1, len(todo) // (8 * workers))} if own else {}
-        runs = list(ex.map(_run, todo, **kw))
+        kw = {"chunksize": 1} if own else {}
+        runs = []
+        for r in ex.map(_run, todo, **kw):
+            runs.append(r)
+            if progress is not None:
+                progress(len(runs), len(todo), r, time.perf_counter() - t0)
     finally:
         if own:
             ctx.__exit__(None, None, None)
@@ -119,9 +124,16 @@ def _cli(argv=None) -> dict:
     ap.add_argument("--out", default=None)
     add_executor_options(ap)
     a = ap.parse_args(argv)
+    failed = [0]
+
+    def progress(done, total, run, wall):
+        failed[0] += "error" in run
+        if done % 25 == 0 or "error" in run:
+            print(f"{done}/{total} routines, {failed[0]} failed, {wall:.0f} s"
+                  + (f": {run['error'][:160]}" if "error" in run else ""), flush=True)
     with study_executor(a.dask, a.workers) as ex:
         r = main(a.routines, a.tail, executor=ex, workers=a.workers, out=a.out, seed=a.seed,
-                 size=a.size)
+                 progress=progress, size=a.size)
     print(f"{r['routines']} routines ({r['tail']} from the adverse tail, {r['beyond_edge']} "
           f"beyond {EDGE_UM:g} um of outboard non-conformity, at most "
           f"{r['nonconformity_um_max']:.1f} um): {r['failed']} failed; {r['wall_s']:.0f} s wall, "

@@ -112,7 +112,10 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     ``interface``: ``"fe"``, ``"condensed"`` (its condensation timed apart as
     ``interface_s`` and as ``interface_over_contact`` contact solves, in CPU
     time as ``interface_cpu_s`` and ``interface_over_contact_cpu``; its dense
-    ``factorisations`` and Schur ``updates`` counted; gap mode only) or
+    ``factorisations`` and Schur ``updates`` counted; per step, the seconds of
+    its dense active-set solves, ``set_solves_per_step_s``, and of the rest of
+    its solves -- the step's loads, the rings' compliance, the answer --
+    ``loads_per_step_s``; gap mode only) or
     ``"winkler"`` (the elastic foundation).
     """
     from ..interfaces.fe import FEInterface
@@ -128,7 +131,7 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     g = model.geometry
     pad_law = WearLaw(g.pad.friction_material.wear_k or MATERIALS["pad_resin"].wear_k)
     rotor_law = WearLaw(g.rotor.material.wear_k or MATERIALS["grey_cast_iron"].wear_k)
-    spent = {"assembly": 0.0, "motion": 0.0, "contact": 0.0}
+    spent = {"assembly": 0.0, "motion": 0.0, "contact": 0.0, "sets": 0.0}
     dense = {"factorisations": 0, "updates": 0}
     originals = {}
 
@@ -165,6 +168,10 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
         if interface != "fe":
             timed(type(loop_itf), "solve", "contact")
             _count_dense_work(loop_itf, dense)
+        if interface == "condensed":
+            # the dense active-set solves apart from the rest of each solve (its loads)
+            from ..interfaces import condensed
+            timed(condensed, "solve_dense_sets", "sets")
         if update == "geometry":     # the loop builds its own interface (timed as assembly)
             spent["assembly"] = 0.0
         t2, c2 = time.perf_counter(), time.process_time()
@@ -191,6 +198,8 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
             "steps": int(n), "contact_solves": int(solves), "duration_s": float(duration),
             "model_s": model_s, "total_s": total_s, "per_step_s": per_step,
             "contact_s": contact_s, "step_solves_s": record_s, "assembly_s": spent["assembly"],
+            "set_solves_per_step_s": spent["sets"] / n,
+            "loads_per_step_s": (contact_s - spent["sets"]) / n if spent["sets"] else None,
             "motion_s": spent["motion"], "contact_share": contact_s / total_s,
             "assembly_share": spent["assembly"] / total_s,
             "motion_share": spent["motion"] / total_s,

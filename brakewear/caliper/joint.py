@@ -223,7 +223,7 @@ class JointSets(RowSets):
         key = comp.ring_key
         if self._rings is None or self._rings[0] != key:
             B = comp.ring_gap.toarray()
-            G = (B * comp.rotor[:, None]).T * comp._inverse_ring_area()[:, None]
+            G = comp.ring_force_depth().toarray()
             self._rings = (key, lambda lam: B @ (G @ lam))
         return self._rings[1]
 
