@@ -159,7 +159,6 @@ class CondensedInterface:
         self._bases = OrderedDict()         # (mu, compliance) -> _Base: every node's system
         self._thermal = None                # the load -> gap operator, built on first use
         self._ringed = {}                   # (mu, rings' step) -> H with the rings' compliance
-        self.node_order = node_order(self.x)
 
     # -------------------------------------------------------------- protocol --
     def at_line_pressure(self, line_pressure: float) -> "CondensedInterface":
@@ -217,8 +216,8 @@ class CondensedInterface:
                 # W diag(1/A_ring) W^T diag(eps_rot)
                 H = self._with_rings(H, comp, ring_key)
             problem = DenseSets(self, H, D, q, rhs, c, ring_key)
-            act, report = solve_dense_sets(problem, g, active, self.gap_tol, c is not None, self.tol,
-                                   "pad-rotor (condensed)")
+            act, report = solve_dense_sets(problem, g, active, self.gap_tol, c is not None,
+                                           self.tol, "pad-rotor (condensed)")
         lam = problem.lam
         pressure = (lam if c is None else np.maximum(lam, 0.0)) / self.area
         info = {**report, "factorisations": problem.factorised,
@@ -278,9 +277,8 @@ class CondensedInterface:
         return self._H[key]
 
     def _with_rings(self, H: np.ndarray, comp: StepCompliance, key: bytes) -> np.ndarray:
-        """``H`` plus the rings' compliance of the step (dense, rank ``n_ring``), kept
-        while the friction and the rings' step stay the same (fixed steps): a step
-        then assembles nothing."""
+        """``H`` plus the rings' compliance (dense, rank ``n_ring``), kept while the
+        friction and the rings' step stay the same: fixed steps assemble nothing."""
         k = (self.mu_key, key)
         got = self._ringed.get(k)
         if got is None:
@@ -297,36 +295,24 @@ class CondensedInterface:
         return self._thermal(self.fe.cs.P.T @ load)
 
 
-def node_order(x: np.ndarray) -> np.ndarray:
-    """The contact nodes at ``x`` (3, n) by face (z), then angle, then radius: the
-    order of the factorised bases' blocks of columns."""
-    face = np.round(x[2] / max(float(np.abs(x[2]).max()), 1e-300), 3)
-    return np.lexsort((np.hypot(x[0], x[1]), np.arctan2(x[1], x[0]), face))
-
-
 class _Base:
     """The factorised system of every node in contact under one friction and
     compliance, and its solved columns (in fixed blocks of nodes)."""
 
-    def __init__(self, lu, n: int, m: int, order: np.ndarray | None = None):
+    def __init__(self, lu, n: int, m: int):
         self.lu, self.n, self.m = lu, n, m
         self.columns = np.zeros((n + m, n))     # base^-1 e_j, column j once solved
         self.solved = np.zeros(-(-n // _BLOCK), dtype=bool)
         self.sets: OrderedDict = OrderedDict()  # set -> (LU of its Schur system, its columns)
-        # the blocks: consecutive nodes of ``order`` (by angle, then radius: the nodes
-        # a contact opens, at the pad's leading and trailing edges, share few blocks)
-        self.order = np.arange(n) if order is None else np.asarray(order)
-        self.block_of = np.empty(n, dtype=np.int64)
-        self.block_of[self.order] = np.arange(n) // _BLOCK
 
     def columns_of(self, nodes: np.ndarray) -> np.ndarray:
         """``base^-1 e_j`` of each node (the unit load that holds it), solved
-        block by block: a block of :data:`_BLOCK` nodes at once, always the
-        same block, so a column does not depend on which sets asked first (a
-        resumed run repeats the uninterrupted one)."""
-        for b in np.unique(self.block_of[nodes]):
+        block by block: a block of :data:`_BLOCK` consecutive nodes at once,
+        always the same block, so a column does not depend on which sets
+        asked first (a resumed run repeats the uninterrupted one)."""
+        for b in np.unique(nodes // _BLOCK):
             if not self.solved[b]:
-                js = self.order[b * _BLOCK:(b + 1) * _BLOCK]
+                js = np.arange(b * _BLOCK, min((b + 1) * _BLOCK, self.n))
                 V = np.zeros((self.n + self.m, js.size))
                 V[js, np.arange(js.size)] = 1.0
                 self.columns[:, js] = lu_solve(self.lu, V, check_finite=False)
@@ -425,7 +411,7 @@ class DenseSets:
         if base is None:
             n = self.q.size
             base = itf._bases[key] = _Base(self._factor(np.ones(n, dtype=bool)), n,
-                                           self.E.shape[1], getattr(itf, "node_order", None))
+                                           self.E.shape[1])
             self.factorised += 1
             while len(itf._bases) > _KEEP:
                 itf._bases.popitem(last=False)
@@ -448,8 +434,8 @@ class DenseSets:
             return y, np.zeros(0)
         set_key = np.packbits(active).tobytes()
         got = base.sets.get(set_key)
-        if got is None:
-            X = base.columns_of(rem)             # (n + m) x |R|, contiguous
+        if got is None:                          # its LU and its (n + m) x |R| columns
+            X = base.columns_of(rem)
             got = base.sets[set_key] = (lu_factor(X[rem], check_finite=False), X)
             while len(base.sets) > _SETS:
                 base.sets.popitem(last=False)
@@ -472,12 +458,9 @@ class DenseSets:
         if rows is None:
             return lam, self.q + self.H @ lam + self.E @ z[n:]
         g = -self._comply(lam) * active
-        if held is not None:
-            # the base's row of an open node i reads g_i + w_i = 0 (its gap is the
-            # load that holds it at zero force): no product with H's rows
-            g[rows] = -held
-        else:
-            g[rows] = self.q[rows] + self.H[rows] @ lam + self.E[rows] @ z[n:]
+        # the base's row of an open node reads g_i + w_i = 0: no product with H's rows
+        g[rows] = -held if held is not None else (self.q[rows] + self.H[rows] @ lam
+                                                  + self.E[rows] @ z[n:])
         return lam, g
 
     def _solves(self, lam, g, active) -> bool:
