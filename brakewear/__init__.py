@@ -36,6 +36,7 @@ from .errors import (
     FoundationError,
     FoundationSolveError,
     GeometryError,
+    IdentifiabilityError,
     InputError,
     LawError,
     MapError,
@@ -99,6 +100,7 @@ __all__ = [
     "ActiveSetError",
     "ContactLostError", "ContactSearchError", "StepSizeError", "MeshQualityError",
     "TemperatureLimitError", "FoundationSolveError", "WornThroughError", "CondensedRangeError",
+    "IdentifiabilityError",
     *_LAZY,
 ]
 

@@ -41,6 +41,7 @@ __all__ = [
     "MeshFileError",
     "SceneError",
     "WearError",
+    "IdentifiabilityError",
     "DutyError",
     "ThermalError",
     "FoundationError",
@@ -148,6 +149,15 @@ class SceneError(InputError):
 
 class WearError(InputError):
     """Invalid wear input (names the parameter, the value and what is allowed)."""
+
+
+class IdentifiabilityError(WearError):
+    """A calibration asked to fit a parameter its record does not constrain;
+    ``parameters`` maps each such parameter to the reason."""
+
+    def __init__(self, message: str = "", *, parameters: dict | None = None):
+        super().__init__(message)
+        self.parameters = dict(parameters or {})
 
 
 class ThermalError(InputError):

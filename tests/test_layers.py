@@ -30,7 +30,8 @@ PKG = ROOT / "brakewear"
 #: prefix (below ``brakewear``) that names it
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "checks", "parts", "registry", "analytic", "materials", "laws", "caliper.analytic",
-     "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit"),
+     "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit", "cleaning.rust_model",
+     "cleaning.rust_record"),
     ("geometry", "caliper.geometry"),
     ("mesh", "fem", "solvers", "rough", "caliper.loads", "caliper.parts"),
     ("contact", "caliper.rows"),
