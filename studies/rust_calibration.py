@@ -30,10 +30,10 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.errors import IdentifiabilityError
 from brakewear.cleaning.rust import RUST_PRIORS, RustLaw
-from brakewear.cleaning.rust_fit import (DynoRecord, calibrate, predict_record, read_dyno_record,
-                                synthetic_record, write_dyno_record)
+from brakewear.cleaning.rust_fit import (DynoRecord, calibrate, predict_record,
+                                         read_dyno_record, synthetic_record, write_dyno_record)
+from brakewear.errors import IdentifiabilityError
 
 #: the synthetic record's known parameters (SI units) and its design
 TRUTH = dict(thickness=25e-6, k_rust=1.2e-12, threshold=0.06e6, mu_factor=1.15, mu_iron=0.40)

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from brakewear import MATERIALS, Numerics, WearError, WearLaw
-from brakewear.cleaning import CorrodedRotor
-from brakewear.duty import Drag, run_schedule
+from brakewear.cleaning.corrosion import CorrodedRotor
 from brakewear.cleaning.rust import RUST_PRIORS, RustedRotorLaw, RustLaw, RustLayer
+from brakewear.cleaning.rust_fit import (calibrate, predict_record, read_dyno_record,
+                                         synthetic_record, write_dyno_record)
+from brakewear.duty import Drag, run_schedule
 from brakewear.errors import IdentifiabilityError
-from brakewear.cleaning.rust_fit import (calibrate, predict_record, read_dyno_record, synthetic_record,
-                                write_dyno_record)
 from brakewear.wear import Run
 
 K_IRON = MATERIALS["grey_cast_iron"].wear_k

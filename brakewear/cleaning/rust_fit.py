@@ -58,7 +58,8 @@ __all__ = ["DynoRecord", "read_dyno_record", "write_dyno_record", "predict_recor
            "synthetic_record", "calibrate", "Calibration", "FIT_PARAMETERS", "RECORD_COLUMNS",
            "FALSE_EVIDENCE"]
 
-#: what :func:`calibrate` can fit (the :class:`~brakewear.cleaning.rust.RustLaw` fields and ``mu_iron``)
+#: what :func:`calibrate` can fit (the :class:`~brakewear.cleaning.rust.RustLaw` fields and
+#: ``mu_iron``)
 FIT_PARAMETERS = ("k_rust", "threshold", "thickness", "mu_factor", "mu_iron")
 
 

@@ -1,4 +1,5 @@
-"""A dynamometer record of rust removal: the CSV file :func:`brakewear.cleaning.rust_fit.calibrate` fits.
+"""A dynamometer record of rust removal: the CSV file that
+:func:`brakewear.cleaning.rust_fit.calibrate` fits.
 
 A record is a CSV file with one row per stop (lines starting with ``#`` are
 comments): ``contact_pressure_MPa`` (the pad's mean contact pressure, the
