@@ -37,6 +37,7 @@ from .errors import (
     FoundationSolveError,
     GeometryError,
     IdentifiabilityError,
+    StoredFileError,
     InputError,
     LawError,
     MapError,
@@ -100,7 +101,7 @@ __all__ = [
     "ActiveSetError",
     "ContactLostError", "ContactSearchError", "StepSizeError", "MeshQualityError",
     "TemperatureLimitError", "FoundationSolveError", "WornThroughError", "CondensedRangeError",
-    "IdentifiabilityError",
+    "IdentifiabilityError", "StoredFileError",
     *_LAZY,
 ]
 

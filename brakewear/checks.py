@@ -219,9 +219,29 @@ def read_csv_rows(path, what: str, kind: type[InputError] = SceneError
 
     path = Path(path)
     try:
-        lines = [ln for ln in path.read_text(encoding="utf-8-sig").splitlines()
-                 if ln.strip() and not ln.lstrip().startswith("#")]
+        numbered = [(n, ln) for n, ln in enumerate(path.read_text(encoding="utf-8-sig")
+                                                   .splitlines(), start=1)
+                    if ln.strip() and not ln.lstrip().startswith("#")]
     except OSError as e:
         raise kind(f"{path}: cannot read {what} ({e.strerror})") from None
-    rows = list(csv.DictReader(lines))
-    return rows, list(rows[0]) if rows else []
+    except UnicodeDecodeError as e:
+        raise kind(f"{path}: cannot read {what}: not a text file ({e.reason} at byte "
+                   f"{e.start})") from None
+    try:
+        table = list(csv.reader([ln for _, ln in numbered]))
+    except csv.Error as e:
+        raise kind(f"{path}: cannot read {what}: not a CSV table ({e})") from None
+    if not table:
+        return [], []
+    header = table[0]
+    twice = next((c for i, c in enumerate(header) if c in header[:i]), None)
+    if twice is not None:
+        raise kind(f"{path}, line {numbered[0][0]}: the column {twice!r} is named twice in "
+                   f"the header; name each column once")
+    for (n, _), cells in zip(numbered[1:], table[1:]):
+        if len(cells) != len(header):
+            raise kind(f"{path}, line {n}: {len(cells)} cells, the header has {len(header)} "
+                       "(a row cut short, or a stray comma); give every row a cell per "
+                       "column, empty where nothing was measured")
+    rows = [dict(zip(header, cells)) for cells in table[1:]]
+    return rows, list(header)

@@ -42,6 +42,7 @@ __all__ = [
     "SceneError",
     "WearError",
     "IdentifiabilityError",
+    "StoredFileError",
     "DutyError",
     "ThermalError",
     "FoundationError",
@@ -158,6 +159,16 @@ class IdentifiabilityError(WearError):
     def __init__(self, message: str = "", *, parameters: dict | None = None):
         super().__init__(message)
         self.parameters = dict(parameters or {})
+
+
+class StoredFileError(InputError):
+    """A file brakewear wrote and reads back (a checkpoint, a run's history or
+    record, a cache) that is missing, cut, damaged or not what it should be;
+    ``path`` is the file."""
+
+    def __init__(self, message: str = "", *, path=None):
+        super().__init__(message)
+        self.path = path
 
 
 class ThermalError(InputError):

@@ -228,6 +228,8 @@ def read_schedule_csv(path: str | PathLike) -> list:
             header = list(rows[0]) if rows else []
     except OSError as e:
         raise DutyError(f"{path}: cannot read the schedule ({e.strerror})") from None
+    except (UnicodeDecodeError, csv.Error) as e:
+        raise DutyError(f"{path}: the schedule is not a CSV text file ({e})") from None
     speed_col = next((c for c in _CSV_SPEED if c in header), None)
     missing = [c for c, ok in (("time_s", "time_s" in header),
                                ("speed_kmh or speed_m_s", speed_col is not None),

@@ -118,11 +118,18 @@ def _resumed(checkpoint) -> str | None:
     """The interface a checkpoint's run took (None: no checkpoint, or not named)."""
     import json
 
+    from ..storage import load_arrays
+
     if checkpoint is None or not Path(checkpoint).exists():
         return None
-    with np.load(checkpoint) as d:
-        prints = json.loads(str(d["fingerprint"])) if "fingerprint" in d.files else {}
-    kind = prints.get("interface.type")
+    # a damaged one is refused here, naming it
+    d = load_arrays(checkpoint, "the checkpoint", required=("fingerprint",),
+                    remedy="run again without --resume (with --overwrite)")
+    try:
+        prints = json.loads(str(d["fingerprint"]))
+    except ValueError:
+        prints = {}
+    kind = prints.get("interface.type") if isinstance(prints, dict) else None
     return {"FEInterface": "fe", "CondensedInterface": "condensed"}.get(kind)
 
 

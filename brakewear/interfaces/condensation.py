@@ -45,8 +45,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact.compliant import constraint_rows, drag_loads
-from ..errors import SolverError
+from ..errors import SolverError, StoredFileError
 from ..solvers.threads import blas_threads
+from ..storage import load_arrays, save_arrays
 
 logger = logging.getLogger(__name__)
 
@@ -348,15 +349,11 @@ def condense(cs, line_pressure: float, *, cache=None, memory_budget: float | Non
     folder = cache_dir(cache)
     path = None if folder is None else folder / f"{key}.npz"
     if path is not None and path.exists():
-        try:
-            with np.load(path) as z:
-                cond = Condensation(*(np.array(z[k]) for k in _KEYS), key=key,
-                                    info={"cached": str(path), "seconds": 0.0})
-            if cond.n == cs.pair.slave.size:
-                logger.info("condensation read from %s", path)
-                return cond
-        except (OSError, ValueError, KeyError) as e:
-            logger.warning("condensation cache %s unreadable (%s); recomputing", path, e)
+        z = read_cache(path, _KEYS, _shapes_agree)
+        if z is not None and z["hf"].size == cs.pair.slave.size:
+            logger.info("condensation read from %s", path)
+            return Condensation(*(z[k] for k in _KEYS), key=key,
+                                info={"cached": str(path), "seconds": 0.0})
     N, ns = cs.K.shape[0], cs.pair.slave.size
     need = condensation_memory(ns, N)
     avail, source = budget(memory_budget)
@@ -369,11 +366,36 @@ def condense(cs, line_pressure: float, *, cache=None, memory_budget: float | Non
     cond.key = key
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, **{k: getattr(cond, k) for k in _KEYS})
-        os.replace(tmp, path)       # atomic: a parallel reader sees all or nothing
+        # atomic: a parallel reader sees all or nothing
+        save_arrays(path, {k: getattr(cond, k) for k in _KEYS})
         cond.info["cached"] = str(path)
     return cond
+
+
+def _shapes_agree(z: dict) -> bool:
+    n, m = z["hf"].size, z["zf"].size
+    return (z["Hn"].shape == z["Ht"].shape == (n, n) and z["E"].shape == (n, m)
+            and z["Dt"].shape == (m, n))
+
+
+def read_cache(path: Path, keys, agree) -> dict | None:
+    """The arrays of the cache file ``path`` (``keys``), or None -- with a warning
+    naming the file, which is removed -- when it is cut, damaged or not a cache
+    (``agree(arrays)``: whether their shapes fit together): it is then computed anew."""
+    try:
+        z = load_arrays(path, "condensation cache", required=keys)
+        if all(z[k].dtype.kind == "f" for k in keys) and agree(z):
+            return z
+        reason = "its arrays do not fit together"
+    except StoredFileError as e:
+        reason = str(e)
+    logger.warning("condensation cache %s is unusable (%s): computing it again and "
+                   "replacing the file", path, reason)
+    try:
+        path.unlink()
+    except OSError:
+        pass
+    return None
 
 
 def _compute(cs, line_pressure: float) -> Condensation:

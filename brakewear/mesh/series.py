@@ -1,6 +1,7 @@
 """ParaView time series of a mesh: ``NAME.pvd`` and one VTU per written step."""
 from __future__ import annotations
 
+import logging
 import os
 import re
 from pathlib import Path
@@ -9,6 +10,9 @@ import meshio
 import numpy as np
 
 from ..errors import MeshError
+from ..storage import write_text
+
+logger = logging.getLogger(__name__)
 
 __all__ = ["SeriesWriter", "face_fields", "cell_nodes"]
 
@@ -41,26 +45,38 @@ class SeriesWriter:
         pvd = self.dir / f"{name}.pvd"
         if resume_step is not None and pvd.exists():
             pat = re.compile(rf'timestep="([^"]+)"[^>]*file="{re.escape(name)}_(\d+)\.vtu"')
-            for t, s in pat.findall(pvd.read_text()):
-                if int(s) <= resume_step:
-                    self.entries.append((float(t), int(s)))
+            try:
+                found = pat.findall(pvd.read_text(encoding="utf-8"))
+            except (OSError, UnicodeDecodeError) as e:
+                logger.warning("%s cannot be read (%s): the series restarts at the resumed "
+                               "step", pvd, e)
+                found = []
+            for t, s in found:
+                # an entry whose VTU is gone is dropped (the pvd is written anew)
+                if int(s) <= resume_step and (self.dir / f"{name}_{int(s):05d}.vtu").exists():
+                    try:
+                        self.entries.append((float(t), int(s)))
+                    except ValueError:
+                        logger.warning("%s: timestep %r of step %s is not a number; "
+                                       "dropped", pvd, t, s)
             for f in self.dir.glob(f"{name}_*.vtu"):   # written after the checkpoint
-                if int(f.stem.rsplit("_", 1)[1]) > resume_step:
+                tail = f.stem.rsplit("_", 1)[1]
+                if tail.isdigit() and int(tail) > resume_step:
                     f.unlink()
 
     def write(self, step: int, time_s: float, fields: dict) -> Path:
         path = self.dir / f"{self.name}_{step:05d}.vtu"
+        tmp = self.dir / f".{path.name}.{os.getpid()}.tmp"
         meshio.Mesh(self.points, [(self.cell_type, self.tets)],
                     point_data={k: np.asarray(v, dtype=float) for k, v in fields.items()}
-                    ).write(path)
+                    ).write(tmp, file_format="vtu")
+        os.replace(tmp, path)          # whole or not at all
         self.entries = [e for e in self.entries if e[1] != step] + [(time_s, step)]
         rows = "\n".join(f'    <DataSet timestep="{t!r}" group="" part="0" '
                          f'file="{self.name}_{s:05d}.vtu"/>' for t, s in self.entries)
         text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
                 f"  <Collection>\n{rows}\n  </Collection>\n</VTKFile>\n")
-        tmp = self.dir / f".{self.name}.pvd.tmp"
-        tmp.write_text(text)
-        os.replace(tmp, self.dir / f"{self.name}.pvd")
+        write_text(self.dir / f"{self.name}.pvd", text)
         return path
 
 

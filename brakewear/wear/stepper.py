@@ -53,7 +53,10 @@ def wear_history(run: Run, *, checkpoint: str | os.PathLike | None = None, every
         the interface, the thermal coupling, the initial gap, the limits and
         the numerics (:class:`~brakewear.wear.Run`).
     checkpoint : str or os.PathLike, optional
-        ``.npz`` file written every ``every`` accepted steps (and at the end).
+        ``.npz`` file written every ``every`` accepted steps (and at the end),
+        each time once the step has been yielded and the caller has asked for
+        the next (so that whatever the caller records of a step is written
+        before a checkpoint past it).
     every : int
         Accepted steps between checkpoints.
     resume : bool
@@ -113,12 +116,15 @@ def wear_history(run: Run, *, checkpoint: str | os.PathLike | None = None, every
             record.contact_solves += 1
             record.solve_s += first_s
             first_s = None
-        if checkpoint is not None and (state.step % every == 0
-                                       or state.time >= duration * (1 - 1e-12)):
-            state.save(checkpoint, prints, loop.thermal.state_arrays() if loop.thermal else None)
+        # the step is yielded before it is checkpointed: what the caller writes of it
+        # (a history row) is on disk before a checkpoint that is past it
+        # (a step that wore a surface through is not checkpointed: a resume ends there again)
         yield record
         if loop.worn is not None:
             raise loop.worn
+        if checkpoint is not None and (state.step % every == 0
+                                       or state.time >= duration * (1 - 1e-12)):
+            state.save(checkpoint, prints, loop.thermal.state_arrays() if loop.thermal else None)
 
 
 def check_resume(run: Run, *, checkpoint: str | os.PathLike, every: int = 10) -> None:
@@ -375,6 +381,7 @@ class _WearLoop:
         record.mu_nodes = None if np.ndim(mu_step) == 0 else mu_step
         record.friction_work = friction_power(p, self.v, mu_step, self.A_pad) * dt
         self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
+        record.worn_through = self.worn is not None
         if self.thermal is not None:
             check_temperature(record, self.thermal)     # a TemperatureLimitError
         self.finish(state, record, sol, dt)
