@@ -64,6 +64,23 @@ def user_scale(key: str) -> tuple[str, float, float] | None:
     return None if m is None else (m[0], m[1], m[2])
 
 
+#: the unit a computed value is shown in outside a scene file: (name, factor, offset)
+_DEFAULT_SHOWN = {"length": ("mm", 1e-3, 0.0), "pressure": ("MPa", 1e6, 0.0),
+                  "time": ("s", 1.0, 0.0), "angular_speed": ("rad/s", 1.0, 0.0),
+                  "temperature": ("C", 1.0, 273.15)}
+
+
+def shown_in(kind: str, value: float, digits: int = 4, decimals: int | None = None) -> str:
+    """``value`` (SI) of a quantity ``kind`` (``"length"``, ``"pressure"``, ``"time"``,
+    ``"angular_speed"``, ``"temperature"``) in the unit the scene file's ``[units]``
+    gives it (outside a scene file: mm, MPa, s, rad/s, C), to ``digits`` significant
+    digits (or ``decimals`` decimals)."""
+    m = _USER_UNITS.get().get(f"units.{kind}")
+    name, factor, offset = _DEFAULT_SHOWN[kind] if m is None else m[:3]
+    x = (value - offset) / factor
+    return f"{x:.{decimals}f} {name}" if decimals is not None else f"{x:.{digits}g} {name}"
+
+
 def shown_value(key: str, value: Any, unit: str) -> str:
     """``value`` (SI, in ``unit``) as the user wrote it for ``key``: ``"30.0 mm"``."""
     return _shown(key, value, unit)[0]
@@ -172,16 +189,27 @@ def check_plausible(key: str, value: Any, table: str | None = None,
     if value is None or isinstance(value, bool) or not isinstance(value, (int, float)):
         return
     unit, e_lo, w_lo, w_hi, e_hi, why = PLAUSIBLE[table or key]
-    v, (el, wl, wh, eh) = _shown(key, value, unit, tuple(
+    # a value checked under its own name, or under the scene key it stands for
+    shown_key = key if key in _USER_UNITS.get() or table is None else table
+    v, (el, wl, wh, eh) = _shown(shown_key, value, unit, tuple(
         math.nan if b is None else b for b in (e_lo, w_lo, w_hi, e_hi)))
     if (e_lo is not None and value < e_lo) or (e_hi is not None and value > e_hi):
         allowed = (f"{el} to {eh}" if e_lo is not None and e_hi is not None
                    else f"at most {eh}" if e_hi is not None else f"at least {el}")
         raise fail(key, f"{v} is implausible; {why}; allowed: {allowed}", kind)
     if (w_lo is not None and value < w_lo) or (w_hi is not None and value > w_hi):
+        # once per quantity and value: a scene's line pressure is checked where it is
+        # read, and again by the model and the interface it builds
+        if (table or key, value) in _WARNED:
+            return
+        _WARNED.add((table or key, value))
         bound = f"below {wl}" if w_lo is not None and value < w_lo else f"above {wh}"
-        logger.warning("%s = %s is unusual (%s; %s); check the value and its unit", key, v,
-                       bound, why)
+        logger.warning("%s = %s is unusual (%s; %s); check the value and its unit",
+                       shown_key, v, bound, why)
+
+
+#: (quantity, value) pairs :func:`check_plausible` has warned about (each once)
+_WARNED: set = set()
 
 
 def check_line_pressure(line_pressure: Any) -> None:

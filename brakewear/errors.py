@@ -403,21 +403,27 @@ class WornThroughError(BrakewearError):
     r, theta
         Where: the node's radius (m) and angle (deg).
     depth, limit
-        Its depth and the limit (m).
+        The node's depth at the end of the step that reached the limit, and
+        the limit (m).
+    step_end
+        When that step ended (s): the time that goes with ``depth``.
     """
 
     exit_code = 4
 
     def __init__(self, message: str, *, body: str = "", time: float = float("nan"),
                  step: int = -1, r: float = float("nan"), theta: float = float("nan"),
-                 depth: float = float("nan"), limit: float = float("nan")):
+                 depth: float = float("nan"), limit: float = float("nan"),
+                 step_end: float = float("nan")):
         super().__init__(message)
         self.body, self.time, self.step = body, time, step
         self.r, self.theta, self.depth, self.limit = r, theta, depth, limit
+        self.step_end = step_end
 
     def record(self) -> dict:
-        """The figures as a JSON-ready dict (for summary.json)."""
+        """The figures as a JSON-ready dict (for summary.json): ``time_s`` with
+        ``limit_m`` (the limit reached), ``step_end_s`` with ``depth_m``."""
         return {"body": self.body, "time_s": self.time, "step": self.step, "r_m": self.r,
-                "theta_deg": self.theta, "depth_m": self.depth, "limit_m": self.limit,
-                "message": str(self)}
+                "theta_deg": self.theta, "limit_m": self.limit, "step_end_s": self.step_end,
+                "depth_m": self.depth, "message": str(self)}
 

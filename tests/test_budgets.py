@@ -58,7 +58,7 @@ def test_a_stop_to_rest_ends_at_its_end_after_exactly_its_steps(duration):
 
 @pytest.mark.parametrize("numerics, before, after", [
     (Numerics(steps=3), [], []),
-    (Numerics(steps=3, scheme="explicit"), [Dwell(5.0)], [Dwell(5.0)]),
+    (Numerics(steps=3, scheme="implicit_pad"), [Dwell(5.0)], [Dwell(5.0)]),
 ])
 @pytest.mark.parametrize("pressure", [1e6, 2e6])
 def test_the_three_step_stop_to_rest_finishes(model, numerics, before, after, pressure):
@@ -86,10 +86,10 @@ def test_the_history_step_budget_raises_with_its_figures(model):
     then a StepSizeError naming the budget, the time reached and the step."""
     num = Numerics(max_steps=2, dp_tol=0.01)
     with pytest.raises(StepSizeError, match="budget of 2 steps") as exc:
-        list(wear_history(Run(model, 1e6, 50.0, 1e5, *LAWS, 0.4, numerics=num)))
+        list(wear_history(Run(model, 1e6, 50.0, 5e3, *LAWS, 0.4, numerics=num)))
     e = exc.value
     assert e.figures["budget"] == 2 and e.figures["step"] == 2
-    assert 0 < e.figures["time"] < e.figures["duration"] == 1e5
+    assert 0 < e.figures["time"] < e.figures["duration"] == 5e3
     assert e.where["step"] == 2 and "[step 2, t " in str(e)
 
 

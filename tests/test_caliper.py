@@ -134,6 +134,23 @@ def test_the_condensed_answer_is_the_fe_answer_of_its_state(solved):
     assert g[~sol.active].min() > -1e-10 * np.ptp(itf.fe.cs.coords, axis=1).max()
 
 
+@pytest.mark.parametrize("call, match", [
+    (lambda: analytic.bonded_ring_axial_stiffness(1e6, 0.02, 0.01, 5e-3), "r_i < r_o"),
+    (lambda: analytic.bonded_ring_torsion_stiffness(1e6, 0.01, 0.01, 5e-3), "r_i < r_o"),
+    (lambda: analytic.bonded_ring_torsion_stiffness(-1e6, 0.01, 0.02, 5e-3),
+     r"G: -1000000\.0 Pa is not allowed; it must be > 0 Pa"),
+    (lambda: analytic.bonded_strip_compression_modulus(1e6, 2e-3, 0.0), "thickness"),
+    (lambda: analytic.ring_tilt_stiffness(float("nan"), 0.02), "axial_stiffness: nan"),
+    (lambda: analytic.rigid_ring_liftoff_moment(-5.0, 0.02), "force"),
+    (lambda: analytic.bore_contact_tilt(1e-4, 0.0), "engagement"),
+])
+def test_the_closed_forms_refuse_what_is_not_a_part(call, match):
+    """No negative stiffness, no ZeroDivisionError: a named GeometryError (exit 2)."""
+    from brakewear.errors import GeometryError
+    with pytest.raises(GeometryError, match=match):
+        call()
+
+
 def test_seal_springs_are_the_bonded_ring_closed_forms():
     g = _floating()
     guide = g.piston.guide

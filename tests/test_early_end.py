@@ -96,7 +96,7 @@ def test_ctrl_c_writes_the_summary_of_the_steps_done(small, tmp_path):
 def test_worn_through_names_its_reason(small, tmp_path):
     from brakewear.errors import WornThroughError
     from brakewear.scene import WearSpec
-    sc = Scene(**{**small, "duration": 172800.0, "numerics": Numerics()},
+    sc = Scene(**{**small, "duration": 7200.0, "numerics": Numerics()},
                line_pressure=5e6, pad_wear=replace(WearSpec(), limit=0.5e-3))
     out = tmp_path / "run"
     with pytest.raises(WornThroughError):

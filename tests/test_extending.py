@@ -204,7 +204,9 @@ class _Stop(Exception):
 
 
 def _stopped_then_resumed(scene, out, after: int) -> dict:
-    """Run ``scene`` into ``out``, stop it after step ``after``, resume it to the end."""
+    """Run ``scene`` into ``out``, stop it while step ``after`` is reported (its checkpoint
+    is the one before: a step is checkpointed once the next is asked for), resume it to
+    the end."""
     def stop(step):
         if step.step == after:
             raise _Stop
@@ -232,7 +234,7 @@ def test_a_toy_interface_runs_from_a_scene_file_and_resumes(toys, tmp_path):
     assert whole["pad_archard_m3"] == pytest.approx(first["pad_volume_m3"], rel=1e-12)
     assert whole["steps"] >= 4
     resumed = _stopped_then_resumed(scene, tmp_path / "resumed", after=2)
-    assert resumed["resumed_from_step"] == 2 and resumed["steps"] == whole["steps"]
+    assert resumed["resumed_from_step"] == 1 and resumed["steps"] == whole["steps"]
     assert resumed["final"]["pad_wear_max_m"] == pytest.approx(
         whole["final"]["pad_wear_max_m"], rel=1e-12)
     run = scene.build_run(model)

@@ -92,7 +92,7 @@ def test_winkler_interface_in_the_loop_conserves_and_balances(model):
     w = WinklerInterface.from_model(model)
     itf = FoundationInterface(model, w, 1e6)
     for scheme in ("explicit", "implicit"):
-        steps = list(wear_history(Run(model, 1e6, 55.0, 600.0, PAD, ROTOR, interface=itf, numerics=Numerics(steps=4, scheme=scheme))))
+        steps = list(wear_history(Run(model, 1e6, 55.0, 600.0, PAD, ROTOR, interface=itf, numerics=Numerics(steps=6, scheme=scheme))))
         s = steps[-1]
         F = 1e6 * model.geometry.piston.hydraulic_area
         assert (s.pressure * itf.area).sum() == pytest.approx(F, rel=1e-8)

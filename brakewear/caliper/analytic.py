@@ -2,11 +2,17 @@
 piston in its bore (the checks of :mod:`brakewear.caliper.parts`), tested on
 their own.
 
-All functions take and return SI units.
+All functions take and return SI units, and refuse (a
+:class:`~brakewear.errors.GeometryError` naming the argument) moduli, lengths and
+forces that are not finite and positive, and an annulus whose inner radius is not
+below its outer one.
 """
 from __future__ import annotations
 
 import numpy as np
+
+from ..checks import check_number
+from ..errors import GeometryError
 
 __all__ = [
     "bonded_ring_axial_stiffness",
@@ -16,6 +22,18 @@ __all__ = [
     "rigid_ring_liftoff_moment",
     "bore_contact_tilt",
 ]
+
+
+def _positive(**values) -> None:
+    units = {"G": "Pa", "E": "Pa", "force": "N", "axial_stiffness": "N/m"}
+    for key, v in values.items():
+        check_number(key, v, 0.0, unit=units.get(key, "m"), kind=GeometryError)
+
+
+def _annulus(r_i: float, r_o: float) -> None:
+    if not r_i < r_o:
+        raise GeometryError(f"r_i = {r_i!r} m, r_o = {r_o!r} m: the annulus needs "
+                            "r_i < r_o")
 
 
 def bonded_ring_axial_stiffness(G: float, r_i: float, r_o: float, height: float) -> float:
@@ -33,6 +51,8 @@ def bonded_ring_axial_stiffness(G: float, r_i: float, r_o: float, height: float)
     >>> round(float(k) / (1e6 * 2 * np.pi * 0.03005 * 0.01 / 0.0001), 4)
     1.0
     """
+    _positive(G=G, r_i=r_i, r_o=r_o, height=height)
+    _annulus(r_i, r_o)
     return 2.0 * np.pi * G * height / np.log(r_o / r_i)
 
 
@@ -49,6 +69,8 @@ def bonded_ring_torsion_stiffness(G: float, r_i: float, r_o: float, height: floa
     >>> round(k / (1e6 * 2 * np.pi * 0.03005 ** 3 * 0.01 / 0.0001), 4)
     1.0
     """
+    _positive(G=G, r_i=r_i, r_o=r_o, height=height)
+    _annulus(r_i, r_o)
     return 4.0 * np.pi * G * height / (r_i ** -2 - r_o ** -2)
 
 
@@ -66,6 +88,7 @@ def bonded_strip_compression_modulus(E: float, width: float, thickness: float) -
     >>> round(bonded_strip_compression_modulus(3e6, 4e-3, 4e-3) / 3e6, 6)
     1.666667
     """
+    _positive(E=E, width=width, thickness=thickness)
     S = width / (2.0 * thickness)
     return 4.0 / 3.0 * E * (1.0 + S * S)
 
@@ -82,6 +105,7 @@ def ring_tilt_stiffness(axial_stiffness: float, radius: float) -> float:
     >>> ring_tilt_stiffness(4e6, 0.02) == 2 * (4e6 / 4) * 0.02 ** 2
     True
     """
+    _positive(axial_stiffness=axial_stiffness, radius=radius)
     return 0.5 * axial_stiffness * radius ** 2
 
 
@@ -97,6 +121,7 @@ def rigid_ring_liftoff_moment(force: float, radius: float) -> float:
     >>> rigid_ring_liftoff_moment(1000.0, 0.02)    # N m: half of F a
     10.0
     """
+    _positive(force=force, radius=radius)
     return 0.5 * force * radius
 
 
@@ -113,4 +138,5 @@ def bore_contact_tilt(clearance: float, engagement: float) -> float:
     >>> round(bore_contact_tilt(1e-4, 0.02), 12)
     0.01
     """
+    _positive(clearance=clearance, engagement=engagement)
     return 2.0 * clearance / engagement

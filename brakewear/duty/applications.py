@@ -105,7 +105,11 @@ class ApplicationRecord:
     torque: float | None = None    # N m, at the start
     kinetic_J: float | None = None
     regenerated_J: float | None = None
-    road_J: float | None = None    # taken by the road load (less what the motor drove)
+    road_J: float | None = None    # taken by the road load (all of it: Vehicle.stop_energy's)
+    propulsion_J: float | None = None  # added by the motor where the road load alone
+    #                                    decelerates more than the stop (0 mostly)
+    road_net_J: float | None = None    # road_J - propulsion_J: the road load's net part,
+    #                                    kinetic = road_net + regenerated + friction
     target_face_J: float | None = None    # the vehicle's demand on each face
     friction_face_J: float = 0.0          # the model's dissipation per face (full model: mean)
     pad_volume_m3: float = 0.0            # worn in this application
@@ -294,7 +298,8 @@ class Stop:
         if self.decel is not None:
             energy = vehicle.stop_energy(self.v0, self.v1, rec.decel)
         rec.kinetic_J, rec.regenerated_J = energy["kinetic_J"], energy["regenerated_J"]
-        rec.road_J = energy["road_J"] - energy["propulsion_J"]
+        rec.road_J, rec.propulsion_J = energy["road_J"], energy["propulsion_J"]
+        rec.road_net_J = rec.road_J - rec.propulsion_J
         rec.target_face_J = energy["face_J"]
         return brake.wear(LinearSpeed(rec.omega0, rec.omega1, rec.duration), rec)
 

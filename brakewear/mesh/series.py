@@ -32,10 +32,12 @@ def cell_nodes(mesh) -> np.ndarray:
 
 class SeriesWriter:
     """A ParaView time series (``NAME.pvd`` + one VTU per written step) of one mesh;
-    ``tets``: (4, n) linear or (10, n) quadratic cells (:func:`cell_nodes`)."""
+    ``tets``: (4, n) linear or (10, n) quadratic cells (:func:`cell_nodes`).  A series
+    resumed at ``resume_step`` drops the VTU files after it and indexes those before it,
+    at ``times`` (step -> s; without them, at the times its old ``NAME.pvd`` gives)."""
 
     def __init__(self, directory: str | os.PathLike, name: str, points: np.ndarray,
-                 tets: np.ndarray, resume_step: int | None = None):
+                 tets: np.ndarray, resume_step: int | None = None, times: dict | None = None):
         self.dir, self.name = Path(directory), name
         self.points, self.tets = np.ascontiguousarray(points.T), np.ascontiguousarray(tets.T)
         if tets.shape[0] not in CELL_TYPES:
@@ -43,7 +45,14 @@ class SeriesWriter:
         self.cell_type = CELL_TYPES[tets.shape[0]]
         self.entries: list[tuple[float, int]] = []
         pvd = self.dir / f"{name}.pvd"
-        if resume_step is not None and pvd.exists():
+        if resume_step is not None and times is not None:
+            # the index is rebuilt from the VTU files kept and the steps' times (whatever
+            # became of the old one)
+            for f in sorted(self.dir.glob(f"{name}_*.vtu")):
+                tail = f.stem.rsplit("_", 1)[1]
+                if tail.isdigit() and int(tail) <= resume_step and int(tail) in times:
+                    self.entries.append((float(times[int(tail)]), int(tail)))
+        elif resume_step is not None and pvd.exists():
             pat = re.compile(rf'timestep="([^"]+)"[^>]*file="{re.escape(name)}_(\d+)\.vtu"')
             try:
                 found = pat.findall(pvd.read_text(encoding="utf-8"))
@@ -59,10 +68,10 @@ class SeriesWriter:
                     except ValueError:
                         logger.warning("%s: timestep %r of step %s is not a number; "
                                        "dropped", pvd, t, s)
-            for f in self.dir.glob(f"{name}_*.vtu"):   # written after the checkpoint
-                tail = f.stem.rsplit("_", 1)[1]
-                if tail.isdigit() and int(tail) > resume_step:
-                    f.unlink()
+        for f in self.dir.glob(f"{name}_*.vtu") if resume_step is not None else ():
+            tail = f.stem.rsplit("_", 1)[1]       # written after the checkpoint
+            if tail.isdigit() and int(tail) > resume_step:
+                f.unlink()
 
     def write(self, step: int, time_s: float, fields: dict) -> Path:
         path = self.dir / f"{self.name}_{step:05d}.vtu"

@@ -158,8 +158,9 @@ def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool =
     run = run.resolved()
     model, itf, duration = run.model, run.interface, run.duration
     pad, rotor = model.meshes["pad"], model.meshes.get("rotor")
-    pad_series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad), start)
-    rot_series = (SeriesWriter(out, "rotor", rotor.p, cell_nodes(rotor), start)
+    times = {int(r["step"]): float(r["time_s"]) for r in rows}
+    pad_series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad), start, times)
+    rot_series = (SeriesWriter(out, "rotor", rotor.p, cell_nodes(rotor), start, times)
                   if model.rotor == "elastic" and itf.rotor_nodes is not None else None)
     # every node of the mesh (with the mid-edge nodes of a quadratic one)
     n_pad, last, thermal = pad.p.shape[1], None, run.thermal

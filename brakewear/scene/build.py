@@ -13,6 +13,7 @@ from __future__ import annotations
 import logging
 from dataclasses import replace
 
+from ..wear.bounds import check_run_bounds
 from ..wear.limits import WearLimits
 from ..wear.run import Run
 
@@ -50,6 +51,7 @@ def build_run(scene, model=None, checkpoint=None) -> Run:
               scene.friction(), numerics=n, interface=scene.interface.model, limits=limits,
               thermal=_thermal(scene, model), schedule=scene.schedule, vehicle=scene.vehicle)
     run = run.resolved(scene.line_pressure, scene.interface.options, checkpoint)
+    check_run_bounds(run)          # before anything is written
     if scene.interface.nonconforming:
         run = replace(run, initial_gap=scene.initial_gap(run.interface.x))
     logger.info("scene %r: %s interface, %d DOFs", scene.name, type(run.interface).__name__,

@@ -325,6 +325,10 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
     units = _units(tables)
 
     shown: dict[str, tuple] = {}      # key -> (unit, factor, offset, value as written)
+    # the [units] table itself: what a message about a computed value speaks
+    shown.update({f"units.{q}": ((u, 1.0, UNITS[q][u], None) if q == "temperature"
+                                 else (u, UNITS[q][u], 0.0, None))
+                  for q, u in units.items() if q in UNITS and u in UNITS[q]})
 
     def val(t: str, k: str, default: Any = None) -> Any:
         tab = tables.get(t, {})
