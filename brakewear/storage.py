@@ -65,7 +65,8 @@ def save_arrays(path: str | os.PathLike, arrays: dict) -> Path:
     path = Path(path)
     arrays = {k: np.asarray(v) for k, v in arrays.items()}
     if any(a.dtype == object for a in arrays.values()):
-        raise TypeError("save_arrays: object arrays are not stored")
+        raise StoredFileError(f"{path}: Python objects are not stored, only numbers",
+                              path=path)
     tmp = _temporary(path)
     try:
         with open(tmp, "wb") as fh:

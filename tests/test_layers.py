@@ -29,7 +29,8 @@ PKG = ROOT / "brakewear"
 #: the layers, bottom first: a module belongs to the layer of the longest dotted
 #: prefix (below ``brakewear``) that names it
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "checks", "parts", "registry", "analytic", "materials", "laws", "caliper.analytic",
+    ("errors", "checks", "parts", "registry", "storage", "analytic", "materials", "laws",
+     "caliper.analytic",
      "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit", "cleaning.rust_model",
      "cleaning.rust_record"),
     ("geometry", "caliper.geometry"),
