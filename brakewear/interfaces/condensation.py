@@ -383,14 +383,13 @@ def read_cache(path: Path, keys, agree) -> dict | None:
     naming the file, which is removed -- when it is cut, damaged or not a cache
     (``agree(arrays)``: whether their shapes fit together): it is then computed anew."""
     try:
-        z = load_arrays(path, "condensation cache", required=keys)
+        z = load_arrays(path, "the condensation cache", required=keys)
         if all(z[k].dtype.kind == "f" for k in keys) and agree(z):
             return z
-        reason = "its arrays do not fit together"
+        reason = f"the condensation cache {path}'s arrays do not fit together"
     except StoredFileError as e:
         reason = str(e)
-    logger.warning("condensation cache %s is unusable (%s): computing it again and "
-                   "replacing the file", path, reason)
+    logger.warning("%s: computing it again and replacing the file", reason)
     try:
         path.unlink()
     except OSError:
