@@ -145,9 +145,10 @@ def test_brake_model_refuses_before_meshing(monkeypatch):
 # ---------------------------------------------------------------- wear limits --
 
 def _worn_scene(tmp_path, update: str, name: str) -> Path:
-    """48 h of drag at 5 MPa on a coarse mesh; a small pad limit ends it early."""
+    """2 h of drag at 5 MPa on a coarse mesh (within its wear-through horizon, 2 h); a
+    small pad limit ends it early."""
     return _write_scene(tmp_path, name=name, mesh={"size": "12.0"},
-                        environment={"line_pressure": "5.0", "duration": "172800.0"},
+                        environment={"line_pressure": "5.0", "duration": "7200.0"},
                         numerics={"update": f'"{update}"'},
                         output={"figures": "false"},
                         **{"wear.pad": {"limit": "0.5"}})

@@ -177,26 +177,8 @@ def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool =
                              {"rotor_wear": a, **temperature_field(thermal, "rotor", a.size)})
 
     def summarise(last: WearStep, worn) -> dict:
-        summary = {
-            **end_record(worn),
-            "worn_through": worn.record() if isinstance(worn, WornThroughError) else None,
-            "line_pressure_Pa": run.line_pressure, "omega_rad_s": run.omega,
-            "duration_s": duration, "mu": law_record(run.mu), "rotor": model.rotor,
-            "dofs": int(model.dofs), "pad_law": law_record(run.pad_law),
-            "rotor_law": law_record(run.rotor_law),
-            "steps": last.step, "final": rows[-1],
-            "contact_solves": int(sum(int(r["contact_solves"]) for r in rows)),
-            "rejected": int(sum(int(r["rejected"]) for r in rows)),
-            "pad_archard_m3": last.pad_archard, "rotor_archard_m3": last.rotor_archard,
-            "rotor_wear_profile": dict(zip(("r_m", "wear_m"), (
-                a.tolist() for a in ring_profile(itf, last.rotor_wear)))),
-            "run_s": time.perf_counter() - t0, "setup_s": setup_s, "resumed_from_step": start,
-            "files": {"pad": "pad.pvd", "rotor": "rotor.pvd" if rot_series else None,
-                      "history": "history.csv", "checkpoint": "checkpoint.npz"},
-            "thermal": None if thermal is None else thermal_record(thermal, last),
-        }
-        write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
-        return summary
+        return _summary(run, out, rows, last, worn, start=start, run_s=time.perf_counter() - t0,
+                        setup_s=setup_s, rotor=rot_series is not None)
 
     # Order on disk: a step's VTU and history row, then (on the last step) the summary,
     # then the checkpoint (written by wear_history when the next step is asked for):
@@ -230,6 +212,33 @@ def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool =
     if worn is not None:
         worn.summary = summary
         raise worn
+    return summary
+
+
+def _summary(run, out: Path, rows: list, last: WearStep, worn, *, start, run_s: float,
+             setup_s: float, rotor: bool) -> dict:
+    """The summary of a run that ended at ``last`` (``worn``: what ended it early, None:
+    it finished), written to ``out/summary.json``."""
+    model, itf, thermal = run.model, run.interface, run.thermal
+    summary = {
+        **end_record(worn),
+        "worn_through": worn.record() if isinstance(worn, WornThroughError) else None,
+        "line_pressure_Pa": run.line_pressure, "omega_rad_s": run.omega,
+        "duration_s": run.duration, "mu": law_record(run.mu), "rotor": model.rotor,
+        "dofs": int(model.dofs), "pad_law": law_record(run.pad_law),
+        "rotor_law": law_record(run.rotor_law),
+        "steps": last.step, "final": rows[-1],
+        "contact_solves": int(sum(int(r["contact_solves"]) for r in rows)),
+        "rejected": int(sum(int(r["rejected"]) for r in rows)),
+        "pad_archard_m3": last.pad_archard, "rotor_archard_m3": last.rotor_archard,
+        "rotor_wear_profile": dict(zip(("r_m", "wear_m"), (
+            a.tolist() for a in ring_profile(itf, last.rotor_wear)))),
+        "run_s": run_s, "setup_s": setup_s, "resumed_from_step": start,
+        "files": {"pad": "pad.pvd", "rotor": "rotor.pvd" if rotor else None,
+                  "history": "history.csv", "checkpoint": "checkpoint.npz"},
+        "thermal": None if thermal is None else thermal_record(thermal, last),
+    }
+    write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     return summary
 
 

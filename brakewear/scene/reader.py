@@ -324,11 +324,7 @@ def _parse(d: Any, source: str, base: Path | None) -> Scene:
     tables = _tables(d)
     units = _units(tables)
 
-    shown: dict[str, tuple] = {}      # key -> (unit, factor, offset, value as written)
-    # the [units] table itself: what a message about a computed value speaks
-    shown.update({f"units.{q}": ((u, 1.0, UNITS[q][u], None) if q == "temperature"
-                                 else (u, UNITS[q][u], 0.0, None))
-                  for q, u in units.items() if q in UNITS and u in UNITS[q]})
+    shown = _units_shown(units)      # key -> (unit, factor, offset, value as written)
 
     def val(t: str, k: str, default: Any = None) -> Any:
         tab = tables.get(t, {})
@@ -431,6 +427,14 @@ def _table(v: Any, name: str) -> dict:
     if not isinstance(v, Mapping):
         raise fail(name, f"expected a table [{name}], got {type(v).__name__} {v!r}")
     return dict(v)
+
+
+def _units_shown(units: Mapping[str, str]) -> dict[str, tuple]:
+    """The ``[units]`` table as entries ``units.<quantity>`` of the messages' unit map:
+    what a message about a computed value speaks (:func:`brakewear.checks.shown_in`)."""
+    return {f"units.{q}": ((u, 1.0, UNITS[q][u], None) if q == "temperature"
+                           else (u, UNITS[q][u], 0.0, None))
+            for q, u in units.items() if q in UNITS and u in UNITS[q]}
 
 
 def _convert(key: str, v: Any, kind: str, units: Mapping[str, str]) -> Any:

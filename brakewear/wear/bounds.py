@@ -40,7 +40,8 @@ from .limits import WearLimits
 from .nodal import NodalLaws
 from .numerics import NumericsError
 
-__all__ = ["check_run_bounds", "explicit_bound", "explicit_eigen_bound", "shown_time"]
+__all__ = ["check_run_bounds", "check_explicit_step", "explicit_bound", "explicit_eigen_bound",
+           "shown_time"]
 
 
 def shown_time(seconds: float) -> str:
@@ -189,3 +190,31 @@ def check_run_bounds(run) -> float:
             f"to step; allowed: steps >= {need}, scheme = 'implicit' (stable at any "
             "step), or the automatic step control (no steps)")
     return bound / rows
+
+
+def check_explicit_step(loop, state, dt: float, p, act) -> None:
+    """Raise :class:`~brakewear.errors.StepSizeError` if the fixed explicit step ``dt``
+    (s) from ``state`` of the wear ``loop`` is past the stability bound at that state:
+    the row-sum bound there, scaled by ``loop.stability_ratio`` (the sharp bound over
+    it, from the start; computed here, at this state, the first time the row-sum
+    bound is passed when the start did not need it)."""
+    from ..errors import StepSizeError
+
+    w = loop.worst(p, act)
+    bound = 2.0 * loop.stability_ratio / w if w > 0 else math.inf
+    if dt > bound * (1 + 1e-9) and loop.stability_ratio == 1.0:
+        offset = (state.pad_wear - loop.applied[0]) + loop.W @ (state.rotor_wear
+                                                                 - loop.applied[1])
+        if loop.initial_gap is not None:
+            offset = offset + loop.initial_gap
+        sharp = explicit_eigen_bound(loop.itf, loop.laws, loop.v, offset, loop.mu,
+                                     load=loop.load)
+        loop.stability_ratio = max(sharp * w / 2.0, 1.0 + 1e-12)
+        bound = 2.0 * loop.stability_ratio / w
+    if dt > bound * (1 + 1e-9):
+        raise StepSizeError(
+            f"step {state.step + 1}: the fixed step dt = {shown_in('time', dt)} is beyond "
+            f"the explicit scheme's stability bound {shown_in('time', bound)} at this state "
+            "(the wear coefficients have risen since the start); beyond it the wear "
+            "oscillates and grows: use more steps, scheme = 'implicit' or the automatic "
+            "step control", figures={"dt_s": dt, "bound_s": bound})

@@ -25,13 +25,12 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..checks import shown_in
 from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, SolverError,
                       StepSizeError, WearError)
 from ..interfaces import StepCompliance
 from ..laws.base import friction_power
 from ..mesh.rings import RingAverage, ring_coupling
-from .bounds import check_run_bounds, explicit_eigen_bound
+from .bounds import check_explicit_step, check_run_bounds
 from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .nodal import NodalLaws
@@ -335,21 +334,7 @@ class _WearLoop:
                                     lambda: self.worst(p, act),
                                     lambda: self.worst_rotor(p, act), lambda: self.explicit_below(p))
         if control.fixed and self.numerics.scheme == "explicit":
-            w = self.worst(p, act)
-            bound = 2.0 * self.stability_ratio / w if w > 0 else np.inf
-            if dt > bound * (1 + 1e-9) and self.stability_ratio == 1.0:
-                # past the row-sum bound: the sharp one, once, at this state
-                sharp = self.sharp_bound(state)
-                self.stability_ratio = max(sharp * w / 2.0, 1.0 + 1e-12)
-                bound = 2.0 * self.stability_ratio / w
-            if dt > bound * (1 + 1e-9):
-                raise StepSizeError(
-                    f"step {state.step + 1}: the fixed step dt = {shown_in('time', dt)} is "
-                    f"beyond the explicit scheme's stability bound "
-                    f"{shown_in('time', bound)} at this state (the wear coefficients have "
-                    "risen since the start); beyond it the wear oscillates and grows: use "
-                    "more steps, scheme = 'implicit' or the automatic step control",
-                    figures={"dt_s": dt, "bound_s": bound})
+            check_explicit_step(self, state, dt, p, act)
         rejected, solve_s = 0, 0.0
         saved = self.thermal.state_arrays() if self.thermal is not None else None
         while True:
@@ -406,16 +391,6 @@ class _WearLoop:
             check_temperature(record, self.thermal)     # a TemperatureLimitError
         self.finish(state, record, sol, dt)
         return record
-
-    def sharp_bound(self, state) -> float:
-        """Explicit Euler's sharp stability bound (s) at ``state``
-        (:func:`~brakewear.wear.bounds.explicit_eigen_bound`)."""
-        offset = (state.pad_wear - self.applied[0]) + self.W @ (state.rotor_wear
-                                                                 - self.applied[1])
-        if self.initial_gap is not None:
-            offset = offset + self.initial_gap
-        return explicit_eigen_bound(self.itf, self.laws, self.v, offset, self.mu,
-                                    load=self.load)
 
     def explicit_below(self, p) -> float:
         """The step (s) under which the pad's wear compliance is below ``implicit_floor``."""
