@@ -153,8 +153,15 @@ class WearError(InputError):
 
 
 class IdentifiabilityError(WearError):
-    """A calibration asked to fit a parameter its record does not constrain;
-    ``parameters`` maps each such parameter to the reason."""
+    """A calibration asked to fit a parameter its record does not constrain.
+
+    Parameters
+    ----------
+    message
+        Each parameter and why the record does not constrain it.
+    parameters
+        Parameter name -> the reason (kept as the attribute ``parameters``).
+    """
 
     def __init__(self, message: str = "", *, parameters: dict | None = None):
         super().__init__(message)
@@ -162,9 +169,16 @@ class IdentifiabilityError(WearError):
 
 
 class StoredFileError(InputError):
-    """A file brakewear wrote and reads back (a checkpoint, a run's history or
-    record, a cache) that is missing, cut, damaged or not what it should be;
-    ``path`` is the file."""
+    """A file brakewear reads back that is missing, cut, damaged or not what it should be.
+
+    Parameters
+    ----------
+    message
+        The file, what is wrong with it and what to do.
+    path
+        The file (kept as the attribute ``path``): a checkpoint, a run's history
+        or record, a cache.
+    """
 
     def __init__(self, message: str = "", *, path=None):
         super().__init__(message)
