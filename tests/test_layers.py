@@ -37,7 +37,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("mesh", "fem", "solvers", "rough", "caliper.loads", "caliper.parts"),
     ("contact", "caliper.rows"),
     ("model",),
-    ("interfaces", "thermal", "motion", "caliper.condensation", "caliper.sets",
+    ("interfaces", "thermal", "motion", "caliper.condensation", "caliper.sets", "caliper.joint",
      "caliper.interface"),
     ("static", "caliper.static", "duty", "cleaning.routine", "wear", "scene"),
     ("output", "cli", "bench"),

@@ -59,12 +59,17 @@ class CaliperInterface(CondensedInterface):
         A :class:`~brakewear.model.BrakeModel` with ``piston = "rigid"``.
     line_pressure, mu, tol, cache, valid_fraction, memory_budget
         As :class:`~brakewear.interfaces.CondensedInterface`.
+    solver
+        ``"joint"`` (default): the contact and the rows in one active-set
+        iteration on a kept factorisation (:class:`~brakewear.caliper.joint.JointSets`);
+        ``"nested"``: a fixed point of the rows' state around the contact's
+        active sets (:class:`~brakewear.caliper.sets.RowSets`), the reference.
 
     Attributes
     ----------
     rows : CaliperRows
         The caliper's rows and rigid parts.
-    sets : RowSets
+    sets : JointSets or RowSets
         The solver; its ``state`` (the rows' last state) starts the next solve.
     """
 

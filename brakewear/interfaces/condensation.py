@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
+from ..checks import fail, shown_value
 from ..contact.compliant import constraint_rows, drag_loads
 from ..errors import SolverError, StoredFileError
 from ..solvers.threads import blas_threads
@@ -51,7 +52,8 @@ from ..storage import load_arrays, save_arrays
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Condensation", "condense", "cache_dir", "condensation_memory", "CACHE_ENV",
+__all__ = ["Condensation", "condense", "cache_dir", "condensation_memory", "check_scene_size",
+           "CACHE_ENV",
            "Supported"]
 
 #: environment variable naming the cache directory of condensed compliances
@@ -419,3 +421,32 @@ def _compute(cs, line_pressure: float) -> Condensation:
     logger.info("condensed %d contact nodes of %d DOFs in %.1f s (%d free modes)", ns, N,
                 cond.info["seconds"], Z.shape[1])
     return cond
+
+
+def check_scene_size(scene) -> None:
+    """``interface.model = "condensed"``: the condensation of the pad's contact nodes (two
+    dense ``n x n`` compliances, :func:`condensation_memory`)
+    fits the memory budget; estimated from the geometry like the model's size (a scene
+    with its own pad mesh is checked when the run condenses)."""
+    if "pad" in scene.mesh_files:
+        return
+    import math
+
+    from ..caliper.loads import resolve_layout
+    from ..mesh.estimate import estimate_model, memory_budget
+    g = scene.meshed_geometry
+    full = resolve_layout(scene.geometry, scene.layout, scene.rotor) == "full"
+    est = estimate_model(g, scene.mesh_size, scene.rotor, scene.piston, full=full)
+    pad, h = g.pad, g.mesh.pad_size or est.size
+    nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
+    nth = max(2, math.ceil(pad.arc_angle * 0.5 * (pad.inner_radius + pad.outer_radius) / h))
+    n = (nr + 1) * (nth + 1) * (2 if full else 1)
+    need = condensation_memory(n, est.dofs)
+    avail, source = memory_budget(scene.numerics.memory_budget)
+    if need > avail:
+        raise fail("interface.model", f"'condensed' condenses about {n} pad contact nodes of "
+                                      f"a {est.dofs}-DOF model at mesh.size = "
+                                      f"{shown_value('mesh.size', est.size, 'm')}: about "
+                                      f"{need / 1e9:.1f} GB, beyond {source} "
+                                      f"({avail / 1e9:.1f} GB); use a coarser mesh or "
+                                      "interface.model = 'fe'")

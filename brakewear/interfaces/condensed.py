@@ -35,16 +35,15 @@ from scipy.linalg import lu_factor, lu_solve
 
 from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver, Margins
 from ..errors import CondensedRangeError, ContactError, WearError
-from ..checks import fail, shown_value
 from ..solvers.threads import blas_threads
-from .condensation import condensation_memory, condense
+from .condensation import check_scene_size, condense
 from .fe import METHOD, FEInterface
 from .protocol import InterfaceSolution, StepCompliance
 from .registry import register_interface
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["CondensedInterface", "check_scene_size"]
+__all__ = ["CondensedInterface"]
 
 #: factorisations kept per interface (friction x compliance, or sets x friction x
 #: compliance), and the Schur systems of the sets solved from them
@@ -124,7 +123,8 @@ class CondensedInterface:
 
     @classmethod
     def check_scene(cls, scene) -> None:
-        """The scene's condensation fits the memory (:func:`check_scene_size`)."""
+        """The scene's condensation fits the memory
+        (:func:`~brakewear.interfaces.condensation.check_scene_size`)."""
         check_scene_size(scene)
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9, *,
@@ -481,32 +481,3 @@ class DenseSets:
         force = -self.g / self.c
         fmax = max(float(force[active].max()) if active.any() else 0.0, 1e-300)
         return Margins(force, band * fmax, force, band * fmax)
-
-
-def check_scene_size(scene) -> None:
-    """``interface.model = "condensed"``: the condensation of the pad's contact nodes (two
-    dense ``n x n`` compliances, :func:`~brakewear.interfaces.condensation.condensation_memory`)
-    fits the memory budget; estimated from the geometry like the model's size (a scene
-    with its own pad mesh is checked when the run condenses)."""
-    if "pad" in scene.mesh_files:
-        return
-    import math
-
-    from ..caliper.loads import resolve_layout
-    from ..mesh.estimate import estimate_model, memory_budget
-    g = scene.meshed_geometry
-    full = resolve_layout(scene.geometry, scene.layout, scene.rotor) == "full"
-    est = estimate_model(g, scene.mesh_size, scene.rotor, scene.piston, full=full)
-    pad, h = g.pad, g.mesh.pad_size or est.size
-    nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
-    nth = max(2, math.ceil(pad.arc_angle * 0.5 * (pad.inner_radius + pad.outer_radius) / h))
-    n = (nr + 1) * (nth + 1) * (2 if full else 1)
-    need = condensation_memory(n, est.dofs)
-    avail, source = memory_budget(scene.numerics.memory_budget)
-    if need > avail:
-        raise fail("interface.model", f"'condensed' condenses about {n} pad contact nodes of "
-                                      f"a {est.dofs}-DOF model at mesh.size = "
-                                      f"{shown_value('mesh.size', est.size, 'm')}: about "
-                                      f"{need / 1e9:.1f} GB, beyond {source} "
-                                      f"({avail / 1e9:.1f} GB); use a coarser mesh or "
-                                      "interface.model = 'fe'")
