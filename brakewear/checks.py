@@ -12,6 +12,7 @@ import math
 from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import Any, Iterator, Mapping
+from types import MappingProxyType
 
 import numpy as np
 
@@ -24,7 +25,8 @@ __all__ = []
 
 #: key -> (unit, factor, offset, value as written) of the values a scene file gave
 #: in its own units (SI = value * factor + offset); checks show those, not SI.
-_USER_UNITS: ContextVar[Mapping[str, tuple]] = ContextVar("brakewear_user_units", default={})
+_USER_UNITS: ContextVar[Mapping[str, tuple]] = ContextVar(
+    "brakewear_user_units", default=MappingProxyType({}))
 
 
 @contextmanager

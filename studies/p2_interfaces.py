@@ -59,7 +59,8 @@ def run(scene, order: int, mesh: dict, steps: int, interface: str, grid: dict) -
         condense = (time.perf_counter() - t1, time.process_time() - c1)
     pad_law, rotor_law = scene.wear_laws()
     t2, c2 = time.perf_counter(), time.process_time()
-    for s in wear_history(Run(model, scene.line_pressure, scene.omega, scene.duration, pad_law, rotor_law, scene.interface.mu, interface=itf, numerics=Numerics(scheme="implicit", update="gap", steps=steps))):
+    for s in wear_history(  # noqa: B007  (the last step)
+            Run(model, scene.line_pressure, scene.omega, scene.duration, pad_law, rotor_law, scene.interface.mu, interface=itf, numerics=Numerics(scheme="implicit", update="gap", steps=steps))):
         pass
     loop = (time.perf_counter() - t2, time.process_time() - c2)
     return {"order": order, "mesh": mesh, "interface": interface, "dofs": int(model.dofs),

@@ -34,6 +34,10 @@ FACE_COLOURS = {"friction": (0.75, 0.75, 0.72), "leading_chamfer": (0.12, 0.47, 
                 "back": (0.6, 0.6, 0.65), "piston_face": (0.17, 0.63, 0.17)}
 
 
+def _sheet(r: float, g: float) -> float:
+    """``int sqrt(r^2 + g^2) dr``: a chamfer sheet's area per radian of arc."""
+    return 0.5 * (r * math.sqrt(r * r + g * g) + g * g * math.asinh(r / g))
+
 def closed_forms(pad) -> dict:
     """Lining and backplate volumes (m^3) and friction-face area (m^2) of the pad,
     chamfers and slot included (the shapes of :mod:`brakewear.mesh.pad_block`)."""
@@ -50,8 +54,7 @@ def closed_forms(pad) -> dict:
     for length, d in (pad.leading_chamfer, pad.trailing_chamfer):
         if length > 0:
             th, g = length / r_mean, d / (length / r_mean)
-            G = lambda r: 0.5 * (r * math.sqrt(r * r + g * g) + g * g * math.asinh(r / g))  # noqa: E731
-            chamfer_area += th * (G(ro) - G(ri))
+            chamfer_area += th * (_sheet(ro, g) - _sheet(ri, g))
             wedges += 0.25 * d * th * dr2
             chamfer_arc += th
     bri, bro = pad.backplate_radii

@@ -145,7 +145,7 @@ def draw(meshes: dict, path: Path) -> None:
     pv = offscreen_pyvista()
     pl = pv.Plotter(off_screen=True, shape=(2, 2), window_size=[2000, 1400], border=False,
                     lighting="three lights")
-    for col, (name, (geom, m)) in enumerate(meshes.items()):
+    for col, (geom, m) in enumerate(meshes.values()):
         pieces = cutaway(m, geom)
         v = geom.rotor.vents
         title = ("hat rotor, solid ring" if v is None else

@@ -17,7 +17,7 @@ import scipy.sparse.linalg as spla
 
 from brakewear import BrakeModel, CaliperInterface, load_geometry
 from brakewear.caliper import analytic
-from brakewear.caliper.static import abutment_friction_work, part_balance
+from brakewear.caliper.static import abutment_friction_work
 from brakewear.caliper.rows import caliper_rows
 from brakewear.caliper.parts import CaliperParts, rigid_map, seal_springs
 from brakewear.contact.compliant import constraint_rows, drag_loads

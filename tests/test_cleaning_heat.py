@@ -2,7 +2,6 @@
 reduces, the elastic rotor's thermal coning against the hat's figure, the stop-by-stop
 routine against one schedule, and the full model's heat check (studies/cleaning_heat.py)."""
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -10,12 +9,12 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from brakewear import MATERIALS, BrakeModel, FEInterface, Numerics, WearLaw, load_geometry
-from brakewear.duty import KMH, Dwell, Stop, repeated_stops, run_schedule, study_car
+from brakewear.duty import KMH, Dwell, Stop, run_schedule, study_car
 from brakewear.cleaning.routine import run_routine
 from brakewear.cleaning.rust import RustLaw, RustLayer
 from brakewear.thermal import SpeedConvection, ThermalModel
 from brakewear.thermal.coning import RotorConing
-from brakewear.thermal.reduced import HAT_CONING_PER_K, ReducedRotorHeat, hat_nodes
+from brakewear.thermal.reduced import ReducedRotorHeat, hat_nodes
 from brakewear.wear import Run
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))

@@ -2,7 +2,6 @@
 writes summary.json with its status and the reason: a drag and a schedule."""
 import json
 from dataclasses import replace
-from functools import partial
 
 import pytest
 

@@ -61,7 +61,7 @@ def _builtin_raises() -> collections.Counter:
     for path in sorted(PKG.rglob("*.py")):
         module = path.relative_to(PKG).as_posix()
 
-        def visit(node, scope):
+        def visit(node, scope, module=module):
             for child in ast.iter_child_nodes(node):
                 if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
                     visit(child, (*scope, child.name))

@@ -175,7 +175,8 @@ def test_full_model_wears_both_pads_as_the_half_model(rim):
     for layout in ("half", "full"):
         m = BrakeModel(rim, size=SIZE, layout=layout)
         itf = FEInterface(m, 1e6, 0.4)
-        for s in wear_history(Run(m, 1e6, 55.0, 3600.0, law, WearLaw(5e-16), 0.4, numerics=Numerics(scheme="implicit", update="gap", steps=4), interface=itf)):
+        for s in wear_history(  # noqa: B007  (the last step)
+            Run(m, 1e6, 55.0, 3600.0, law, WearLaw(5e-16), 0.4, numerics=Numerics(scheme="implicit", update="gap", steps=4), interface=itf)):
             pass
         out = (np.isin(itf.pad_nodes, face_nodes(m.meshes["pad"], "friction_out")) if m.full
                else np.zeros(itf.pad_nodes.size, dtype=bool))
@@ -253,7 +254,8 @@ def test_geometry_update_and_thermal_coupling_on_both_faces(rim):
     out = {}
     for layout in ("half", "full"):
         m = BrakeModel(rim, size=SIZE, layout=layout)
-        for s in wear_history(Run(m, 1e6, 55.0, 72000.0, law, rlaw, 0.4, numerics=Numerics(scheme="implicit", update="geometry", steps=3))):
+        for s in wear_history(  # noqa: B007  (the last step)
+            Run(m, 1e6, 55.0, 72000.0, law, rlaw, 0.4, numerics=Numerics(scheme="implicit", update="geometry", steps=3))):
             pass
         m = BrakeModel(rim, size=SIZE, layout=layout)
         th = ThermalModel(m)

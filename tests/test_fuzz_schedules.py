@@ -20,7 +20,7 @@ from brakewear.duty import Drag, Dwell, Stop, Vehicle, run_schedule  # noqa: E40
 from brakewear.errors import BrakewearError  # noqa: E402
 from brakewear.interfaces import FEInterface  # noqa: E402
 from brakewear.model import BrakeModel  # noqa: E402
-from brakewear.wear import Run
+from brakewear.wear import Run  # noqa: E402
 
 #: examples per run (the issue's floor is 200)
 EXAMPLES = 220

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import pytest
@@ -214,5 +215,5 @@ def test_errors_come_before_meshing(tmp_path, monkeypatch):
 
 def test_geometry_is_frozen():
     g = load_geometry()
-    with pytest.raises(Exception):
+    with pytest.raises(dataclasses.FrozenInstanceError):
         g.rotor.inner_radius = 0.1  # type: ignore[misc]

@@ -77,11 +77,13 @@ def test_rigid_body_modes_zero_fixed_rows():
 
 def test_solves_are_repeatable_and_leave_the_global_rng_alone(ring):
     m, K, Kd, fd, fixed = ring
-    np.random.seed(7)
-    expected_next = np.random.rand()
-    np.random.seed(7)
+    # the global generator itself is what is checked
+    np.random.seed(7)  # noqa: NPY002
+    expected_next = np.random.rand()  # noqa: NPY002
+    np.random.seed(7)  # noqa: NPY002
     u1 = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8).solve(fd)
-    assert np.random.rand() == expected_next, "the build consumed the caller's random numbers"
+    drawn = np.random.rand()  # noqa: NPY002
+    assert drawn == expected_next, "the build consumed the caller's random numbers"
     u2 = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8).solve(fd)
     assert np.array_equal(u1, u2), "two identical solves differ"
 

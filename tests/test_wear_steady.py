@@ -44,7 +44,8 @@ def end_state(model, scheme):
         return _RUNS[scheme]
     itf = FEInterface(model, P_LINE, MU)
     last = None
-    for last in wear_history(Run(model, P_LINE, OMEGA, DURATION, WearLaw(K_PAD), None, MU, interface=itf, numerics=Numerics(scheme=scheme))):
+    for last in wear_history(  # noqa: B007  (the last step)
+            Run(model, P_LINE, OMEGA, DURATION, WearLaw(K_PAD), None, MU, interface=itf, numerics=Numerics(scheme=scheme))):
         pass
     # the pressure at the end of the last step (records hold the start-of-step pressure)
     sol = itf.solve(last.pad_wear, last.active)

@@ -3,8 +3,15 @@ import importlib.util
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
-from brakewear.wear import Run
+
+from brakewear.errors import StepSizeError, WearError
+from brakewear.interfaces import FEInterface
+from brakewear.laws.base import WearLaw
+from brakewear.mesh.rings import rotor_wear_rate
+from brakewear.model import BrakeModel
+from brakewear.wear import Numerics, Run, wear_history
 
 spec = importlib.util.spec_from_file_location(
     "wear_steps", Path(__file__).parents[1] / "studies" / "wear_steps.py")
@@ -32,17 +39,6 @@ def test_fixed_steps_converge_at_first_order(tmp_path):
 
 
 # --- the wear_tol step control (local wear error) --------------------------------------
-
-import numpy as np  # noqa: E402
-
-from brakewear.model import BrakeModel
-from brakewear.interfaces import FEInterface
-from brakewear.errors import StepSizeError
-from brakewear.wear import wear_history
-from brakewear.errors import WearError
-from brakewear.laws.base import WearLaw
-from brakewear.mesh.rings import rotor_wear_rate
-from brakewear.wear import Numerics
 
 
 @pytest.mark.parametrize("bad", [0.0, -1e-6, float("nan"), float("inf"), "1e-6", True])

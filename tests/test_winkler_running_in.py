@@ -28,7 +28,7 @@ def test_keys_and_files(res):
     for rows in res["per_time"].values():
         assert [r["j"] for r in rows] == list(range(STEPS + 1))
     for st in res["stages"]:
-        for k, pr in st["profiles"].items():
+        for pr in st["profiles"].values():
             assert len(pr["pressure_mean_radius_MPa"]) == len(res["profile_axes"]["theta_deg"])
             assert len(pr["pad_wear_centre_um"]) == len(res["profile_axes"]["centre_radius_m"])
     out = res["_out"]
@@ -46,7 +46,7 @@ def test_force_balance_of_fe_and_winkler(res):
         tol = 1e-8 if k == "fe" else 1e-12
         for r in rows:
             assert abs(r["force_rel_error"]) <= tol, (k, r["j"], r["force_rel_error"])
-    for k, recs in res["records"].items():
+    for recs in res["records"].values():
         assert len(recs) == STEPS + 1
         for s in recs:   # worn volume = Archard integral (same bookkeeping in both loops)
             assert abs(s.pad_volume - s.pad_archard) <= 1e-9 * s.pad_archard

@@ -57,7 +57,7 @@ class _BackwardSweeps:
     the reversed vectors (:func:`_reversed_csr`): the same updates in the
     same order, the sums within a row taken in reverse order (equal to
     rounding).  pyamg's backward kernel walks memory downwards and runs
-    2.2x slower than its forward one on these matrices (docs/performance.md).
+    2.2x slower than its forward one on these matrices (docs/solvers.md).
     A copy costs about three forward sweeps, and much more where fresh
     memory is slow (the same 8M-entry copy has been measured at 13 to 300 ms
     on one shared machine), so:

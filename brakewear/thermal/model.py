@@ -137,7 +137,7 @@ class ThermalModel:
             raise ThermalError("the brake model has no pad body")
         # ---- input checks first (nothing is assembled before they pass)
         for b in self.bodies:
-            for e, m in model.materials[b]:
+            for _, m in model.materials[b]:
                 check_thermal(m, body_label(b, m), THERMAL_FIELDS)
         g = model.geometry
         rotor_mat = (self._face_material("rotor") if "rotor" in self.bodies
