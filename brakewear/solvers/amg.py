@@ -93,8 +93,8 @@ def rigid_body_modes(coords: np.ndarray, fixed: np.ndarray | None = None) -> np.
 
 #: pyamg ``smoothed_aggregation_solver`` options of every hierarchy.  Node
 #: aggregation on the 3x3-block matrix with a small strength threshold (0.02
-#: or 0.1 instead of 0.05 cost more in all: docs/solvers.md, "AMG
-#: settings").  Energy-minimising prolongation (2 CG steps) instead of one
+#: or 0.1 instead of 0.05 cost more in all: docs/amg_settings.md).
+#: Energy-minimising prolongation (2 CG steps) instead of one
 #: Jacobi step: on the brake systems sparser coarse operators and 25-30 % fewer
 #: iterations for about the same setup (on the structured rotor ring of the
 #: elasticity benchmark it saves no iterations and its setup costs ~40 % more;
