@@ -29,6 +29,7 @@ import mesh_convergence_p2 as mc2  # noqa: E402
 
 from brakewear import BrakeModel, CondensedInterface, FEInterface, Numerics  # noqa: E402
 from brakewear import wear_history  # noqa: E402
+from brakewear.mesh.convergence import pad_grid  # noqa: E402
 from brakewear.scene import load_scene  # noqa: E402
 from brakewear.wear import Run
 
@@ -77,7 +78,7 @@ def main(meshes=MESHES, steps: int = 48, interfaces=("fe", "condensed"),
          p1=mc2.P1_DATA, out=None) -> list:
     """Each mesh on each interface; the rows (and ``data/p2_interfaces.json`` in ``out``)."""
     scene = load_scene("default")
-    grid = mc.grids(scene.geometry)
+    grid = pad_grid(scene.geometry)
     record = json.loads(Path(p1).read_text()) if p1 is not None else None
     ref = None if record is None else mc2.reference(record, "P1", "end")
     rows = []

@@ -57,6 +57,7 @@ from pathlib import Path
 
 import numpy as np
 
+from brakewear.mesh.convergence import interpolate
 from brakewear.mesh.surface import surface_nodes
 from brakewear.interfaces import WinklerInterface, calibrate
 from brakewear.model import BrakeModel
@@ -153,10 +154,6 @@ def _study(name: str):
     return module
 
 
-#: ``field`` given at ``xy`` (2, n), linearly interpolated at ``target`` (2, m)
-_on = _study("mesh_convergence").interpolate
-
-
 def errors(case: dict, ref: dict) -> dict:
     """Errors of ``case`` against ``ref`` (see the module docstring)."""
     X, A = ref["_xy"], ref["_area"]
@@ -167,7 +164,8 @@ def errors(case: dict, ref: dict) -> dict:
     if case is ref:
         wear, p = ref["_pad_wear"], ref["_pressure"]
     else:
-        wear, p = _on(case["_pad_wear"], case["_xy"], X), _on(case["_pressure"], case["_xy"], X)
+        wear = interpolate(case["_pad_wear"], case["_xy"], X)
+        p = interpolate(case["_pressure"], case["_xy"], X)
     # no wear outside the radii a run has wear nodes at (an unmeshed rotor's
     # rings span the pad's radii only)
     rw = np.interp(ref["_rotor_r"], case["_rotor_r"], case["_rotor_wear"], left=0.0, right=0.0)

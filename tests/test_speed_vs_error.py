@@ -7,11 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from brakewear.mesh.convergence import interpolate, pad_grid
+
 _path = Path(__file__).parents[1] / "studies" / "speed_vs_error.py"
 _spec = importlib.util.spec_from_file_location("speed_vs_error", _path)
 sve = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(sve)
-mc = sve._study("mesh_convergence")
 
 METRICS = {"pad_wear_l2", "pressure_l2", "pad_wear_max", "pressure_max", "r_eff",
            "rotor_wear_l2"}
@@ -86,9 +87,9 @@ def test_interpolation_to_the_reference_nodes_is_exact_for_linear_fields():
     xy = rng.uniform(0, 1, (2, 200))
     target = rng.uniform(0.2, 0.8, (2, 50))
     f = lambda p: 2.0 + 3.0 * p[0] - 1.5 * p[1]   # noqa: E731
-    assert np.abs(sve._on(f(xy), xy, target) - f(target)).max() < 1e-12
+    assert np.abs(interpolate(f(xy), xy, target) - f(target)).max() < 1e-12
     far = np.array([[5.0], [5.0]])                  # outside the hull: nearest value
-    assert np.isfinite(sve._on(f(xy), xy, far)).all()
+    assert np.isfinite(interpolate(f(xy), xy, far)).all()
 
 
 def test_pareto_front():
@@ -111,9 +112,9 @@ def test_base_size_must_be_one_of_the_sizes():
 def _converged_file(tmp_path, case, run, when="mid"):
     """A convergence-study JSON whose estimate is ``case``'s own fields on the grid."""
     from brakewear.geometry import load_geometry
-    g = mc.grids(load_geometry())
-    field = {"pad_wear": sve._on(case["_pad_wear"], case["_xy"], g["xy"]),
-             "pressure": sve._on(case["_pressure"], case["_xy"], g["xy"]),
+    g = pad_grid(load_geometry())
+    field = {"pad_wear": interpolate(case["_pad_wear"], case["_xy"], g["xy"]),
+             "pressure": interpolate(case["_pressure"], case["_xy"], g["xy"]),
              "rotor_wear": np.interp(g["r"], case["_rotor_r"], case["_rotor_wear"])}
     est = {q: {"field": field[q].tolist()} for q in field}
     est.update({q: {"estimate": case[k]} for q, k in (("pad_wear_max", "pad_wear_max_m"),
