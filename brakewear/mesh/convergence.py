@@ -12,7 +12,8 @@ is not in its asymptotic range and has no estimate.
 Fields computed on different meshes are compared on one grid:
 :func:`pad_grid` lays cell-centred points over a pad face, :func:`interpolate`
 takes each mesh's nodal values there, :func:`radial_profile` reduces a rotor
-face to its ring means.  :func:`field_richardson` then takes the order from
+face to its ring means; :func:`pad_profiles` picks a pad's nodes along its mean
+radius and its centre line.  :func:`field_richardson` then takes the order from
 the (weighted) L2 norms of the differences and the estimate point by point.
 :func:`fitted_rate` is the least-squares slope of ``log(err)`` against
 ``log(h)`` when the errors themselves are known.
@@ -30,7 +31,8 @@ from collections.abc import Sequence
 import numpy as np
 
 __all__ = ["observed_rate", "richardson", "field_richardson", "settle", "estimate",
-           "fitted_rate", "relative_l2", "pad_grid", "interpolate", "radial_profile"]
+           "fitted_rate", "relative_l2", "pad_grid", "pad_profiles", "interpolate",
+           "radial_profile"]
 
 
 def observed_rate(f: Sequence[float], r: Sequence[float]) -> float:
@@ -254,6 +256,45 @@ def pad_grid(geometry, n_r: int = 24, n_t: int = 40) -> dict:
     return {"xy": np.vstack([(R * np.cos(T)).ravel(), (R * np.sin(T)).ravel()]),
             "area": (R * dr * dt).ravel(), "r": r, "r_weight": np.full(n_r, dr),
             "theta": t, "arc_xy": r_mid * np.vstack([np.cos(t), np.sin(t)])}
+
+
+def pad_profiles(xy: np.ndarray, geometry) -> dict:
+    """Pad friction nodes along the two profiles a pad field is read on.
+
+    Parameters
+    ----------
+    xy
+        (2, n) coordinates of the pad's friction nodes (m), on a mesh structured
+        in radius (rows of nodes of one radius, to 0.1 um).
+    geometry
+        The brake geometry (its pad's radii and centre angle).
+
+    Returns
+    -------
+    dict
+        ``mean`` (the row of nodes closest to the mean radius, by angle) with its
+        ``mean_radius_m`` and ``theta_deg``; ``centre`` (in every row, the node
+        closest to the pad's centre line, by radius) with ``centre_radius_m`` and
+        ``centre_dtheta_deg_max``, the largest angle of those nodes off the line.
+    """
+    r = np.hypot(xy[0], xy[1])
+    th = np.arctan2(xy[1], xy[0])
+    pad = geometry.pad
+    r_mid = 0.5 * (pad.inner_radius + pad.outer_radius)
+    rows = np.unique(np.round(r, 7))
+    r_row = rows[np.argmin(np.abs(rows - r_mid))]
+    sel = np.nonzero(np.abs(r - r_row) < 1e-6)[0]
+    sel = sel[np.argsort(th[sel])]
+    dth = np.abs(np.angle(np.exp(1j * (th - pad.center_angle))))
+    centre = []
+    for rr in rows:
+        on = np.nonzero(np.abs(r - rr) < 1e-6)[0]
+        centre.append(on[np.argmin(dth[on])])
+    centre = np.array(centre)
+    centre = centre[np.argsort(r[centre])]
+    return {"mean_radius_m": float(r_row), "mean": sel, "theta_deg": np.degrees(th[sel]),
+            "centre": centre, "centre_radius_m": r[centre],
+            "centre_dtheta_deg_max": float(np.degrees(dth[centre].max()))}
 
 
 def interpolate(values: np.ndarray, xy: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -12,7 +12,9 @@
 * :func:`temperature_field` -- a body's ``temperature_C`` for its VTU;
 * :func:`thermal_record` -- the summary's ``thermal`` entry;
 * :func:`end_record` -- the summary's ``status`` and ``ended`` entries: how
-  the run ended and, when it ended early, why.
+  the run ended and, when it ended early, why;
+* :func:`archard_volumes` -- the worn volumes the step records imply;
+* :func:`pr_spread` -- how far a pressure field is from ``p r = const``.
 """
 from __future__ import annotations
 
@@ -26,7 +28,7 @@ from ..errors import InputError, TemperatureLimitError, WornThroughError
 logger = logging.getLogger(__name__)
 
 __all__ = ["WearStep", "thermal_state", "step_figures", "thermal_columns", "HeatTally",
-           "temperature_field", "thermal_record", "end_record"]
+           "temperature_field", "thermal_record", "end_record", "archard_volumes", "pr_spread"]
 
 @dataclass
 class WearStep:
@@ -256,6 +258,68 @@ def end_record(exc: BaseException | None) -> dict:
         "figures": _plain(exc.record() if isinstance(exc, WornThroughError) else
                           getattr(exc, "figures", None) or {}),
         "where": dict(getattr(exc, "where", None) or {})}}
+
+
+def archard_volumes(itf, history: list, pad_law, rotor_law, omega: float,
+                    scheme: str) -> tuple[float, float]:
+    """The worn volumes a wear history's records imply: ``sum k p v A dt`` per surface.
+
+    The implicit schemes wear the pad with the end-of-step pressure (unless the
+    step was taken explicitly), ``"implicit"`` the rotor too, ``"implicit_pad"``
+    the rotor with the start's.  Against the history's own ``pad_volume`` and
+    ``rotor_volume`` this checks the bookkeeping of a run (conservation).
+
+    Parameters
+    ----------
+    itf
+        The run's interface (its pad nodes' ``r`` and ``area``).
+    history
+        The :class:`~brakewear.wear.WearStep` records of the run, in order.
+    pad_law, rotor_law
+        The wear laws (``rate(p, v)``); ``rotor_law`` None: the rotor does not wear.
+    omega
+        Rotor speed (rad/s), constant over the run.
+    scheme
+        The run's ``Numerics.scheme``.
+
+    Returns
+    -------
+    tuple of float
+        Pad and rotor volume (m^3).
+    """
+    v = omega * itf.r
+    pad = rot = 0.0
+    for s in history:
+        end = scheme != "explicit" and not s.explicit
+        p_pad = s.pressure_end if end else s.pressure
+        p_rot = s.pressure_end if end and scheme == "implicit" else s.pressure
+        pad += float((pad_law.rate(p_pad, v) * itf.area).sum()) * s.dt
+        if rotor_law is not None:
+            rot += float((rotor_law.rate(p_rot, v) * itf.area).sum()) * s.dt
+    return pad, rot
+
+
+def pr_spread(p: np.ndarray, r: np.ndarray, active: np.ndarray, area: np.ndarray) -> dict:
+    """How far a pressure field is from the run-in state ``p r = const`` over the contact.
+
+    Parameters
+    ----------
+    p, r, area
+        Nodal pressure (Pa), radius (m) and area (m^2) of the pad's friction nodes.
+    active
+        The nodes in contact (boolean mask).
+
+    Returns
+    -------
+    dict
+        ``range_over_mean``: ``(max - min) / mean`` of ``p r``; ``cv``: its
+        area-weighted coefficient of variation.  Both are 0 at the steady state
+        of uniform wear on a disc.
+    """
+    pr, A = (p * r)[active], area[active]
+    m = float((A * pr).sum() / A.sum())
+    return {"range_over_mean": float((pr.max() - pr.min()) / m),
+            "cv": float(np.sqrt((A * (pr - m) ** 2).sum() / A.sum()) / m)}
 
 
 def _plain(d: dict) -> dict:
