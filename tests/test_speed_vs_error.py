@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from brakewear.mesh.convergence import interpolate, pad_grid
+from studyload import load_study
 
 _path = Path(__file__).parents[1] / "studies" / "speed_vs_error.py"
 _spec = importlib.util.spec_from_file_location("speed_vs_error", _path)
@@ -94,7 +95,7 @@ def test_interpolation_to_the_reference_nodes_is_exact_for_linear_fields():
 
 def test_pareto_front():
     pts = [(1.0, 0.5), (2.0, 0.6), (3.0, 0.1), (0.5, 0.9), (4.0, 0.1)]
-    assert sve.pareto(pts) == [3, 0, 2]
+    assert load_study("tradeoff_report").pareto(pts) == [3, 0, 2]
 
 
 def test_element_order_on_the_cylinder():
@@ -132,13 +133,13 @@ def _converged_file(tmp_path, case, run, when="mid"):
 def test_the_converged_reference_is_read_at_the_runs_time(tmp_path):
     case = sve.run_case(1.5e-2, 600.0, 2)
     path = _converged_file(tmp_path, case, sve.RUN)
-    ref = sve.converged_reference(path, 600.0, 2, {})
+    ref = sve.converged_reference(path, 600.0, 2, sve.RUN)
     assert ref["name"].startswith("Richardson estimate")
     e = sve.errors(case, ref)
     # the run against its own fields on the grid: only the interpolation is left
     assert e["pad_wear_l2"] < 1e-3 and abs(e["pad_wear_max"]) < 1e-12, e
     assert abs(e["r_eff"]) < 1e-12 and e["rotor_wear_l2"] < 0.05, e
     # another time step, another line pressure or a missing file: no such reference
-    assert sve.converged_reference(path, 600.0, 4, {}) is None
-    assert sve.converged_reference(path, 600.0, 2, {"line_pressure": 2e6}) is None
-    assert sve.converged_reference(tmp_path / "none.json", 600.0, 2, {}) is None
+    assert sve.converged_reference(path, 600.0, 4, sve.RUN) is None
+    assert sve.converged_reference(path, 600.0, 2, {**sve.RUN, "line_pressure": 2e6}) is None
+    assert sve.converged_reference(tmp_path / "none.json", 600.0, 2, sve.RUN) is None
