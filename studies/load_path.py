@@ -38,8 +38,7 @@ import numpy as np
 from brakewear.geometry import CaliperGeometry, load_geometry
 from brakewear.mesh.convergence import richardson
 from brakewear.model import BrakeModel
-from brakewear.static import caliper_balance, pad_balance
-from brakewear.static import solve_contact, static_summary
+from brakewear.static import caliper_balance, pad_balance, solve_contact, static_summary
 from brakewear.thermal.strain import heated_subdomain_load
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
