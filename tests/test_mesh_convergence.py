@@ -5,7 +5,13 @@ import json
 import numpy as np
 import pytest
 
-from brakewear.mesh.convergence import field_richardson, richardson
+from brakewear.mesh.convergence import (
+    estimate,
+    field_richardson,
+    fitted_rate,
+    relative_l2,
+    richardson,
+)
 from studyload import load_study
 
 mc = load_study("mesh_convergence")
@@ -100,3 +106,32 @@ def test_pad_wear_converges_on_three_p1_meshes():
     assert est["rate"] > 0.8, f"observed pad wear rate {est['rate']:.3g}"
     assert est["errors"][-1] < 0.05, f"finest pad wear error estimate {est['errors'][-1]:.3%}"
     assert est["errors"][0] > est["errors"][1] > est["errors"][2]
+
+
+def test_estimate_keeps_a_settled_rate_and_withdraws_an_unsettled_one():
+    levels = (2.0, 3.0, 4.0, 6.0)
+    ratios = tuple(b / a for a, b in zip(levels[:-1], levels[1:]))
+    f = [3.0 + 0.7 / n ** 1.5 for n in levels]
+    est = estimate(f, ratios)
+    assert est["rates"] == pytest.approx([1.5, 1.5], rel=1e-9)
+    assert est["estimate"] == pytest.approx(3.0, rel=1e-12) and est["asymptotic"]
+    # the triple before the finest changes direction: no estimate, however good the last
+    est = estimate([3.1, 3.3, 3.2, 3.15], ratios)
+    assert est["estimate"] is None and est["errors"] == [None] * 4 and not est["asymptotic"]
+
+
+def test_fitted_rate_and_relative_l2():
+    h = np.array([0.1, 0.05, 0.025])
+    assert fitted_rate(h, 3.0 * h ** 2) == pytest.approx(2.0, rel=1e-12)
+    w = np.array([1.0, 2.0, 1.0])
+    ref = np.array([1.0, 2.0, 3.0])
+    assert relative_l2(1.01 * ref, ref, w) == pytest.approx(0.01, rel=1e-12)
+
+
+def test_the_docstring_examples_run():
+    import doctest
+
+    import brakewear.mesh.convergence as conv
+
+    res = doctest.testmod(conv)
+    assert res.attempted >= 2 and res.failed == 0

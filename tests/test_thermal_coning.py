@@ -98,3 +98,27 @@ def test_axisymmetric_model_converges():
     m = hc.section_mesh(g, 0.002)
     clamp = fem.FacetBasis(m, fem.ElementTriP1(), facets=m.boundaries["clamp"]).dx.sum()
     assert clamp == pytest.approx(g.rotor.hat.bolt_circle_radius - g.rotor.hat.bore_radius)
+
+
+def test_the_docstring_examples_run():
+    import doctest
+
+    res = doctest.testmod(hc)
+    assert res.attempted >= 1 and res.failed == 0
+
+
+def test_a_heated_subdomain_load_is_self_equilibrated_and_refuses_an_unknown_one():
+    from brakewear.errors import ThermalError
+    from brakewear.model import BrakeModel
+    from brakewear.thermal.strain import heated_subdomain_load
+
+    model = BrakeModel("floating", size=12e-3, layout="full")
+    f = heated_subdomain_load(model, "rotor", "ring", 100.0).reshape(-1, 3)
+    # a free thermal strain loads nothing as a whole: each direction sums to zero
+    assert np.abs(f.sum(axis=0)).max() < 1e-9 * np.abs(f).sum()
+    off, n = model.offsets["rotor"], model.meshes["rotor"].nvertices
+    assert np.abs(f[off:off + n]).sum() > 0 and not np.delete(f, np.s_[off:off + n], 0).any()
+    with pytest.raises(ThermalError, match="no subdomain 'hub'"):
+        heated_subdomain_load(model, "rotor", "hub", 100.0)
+    with pytest.raises(ThermalError, match="materials"):
+        heated_subdomain_load(model, "pad", "friction_layer", 100.0)
