@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import skfem as fem
 
-from ..errors import InputError
+from ..errors import ThermalError
 from ..fem import apply_dirichlet
 from ..fem.forms import lame_parameters
 from ..solvers.direct import direct_solve
@@ -184,7 +184,8 @@ def hat_cone_estimate(geom, dT: float, ring: str = "plate", L: float | None = No
     the thickness growth ``alpha dT t`` included).
     """
     if ring not in ("plate", "rigid"):
-        raise InputError(f"ring = {ring!r}; allowed: 'plate', 'rigid'")
+        raise ThermalError(f"hat_cone_estimate: ring = {ring!r} is not allowed; "
+                           "allowed: 'plate', 'rigid'")
     ro_, hat, mat = geom.rotor, geom.rotor.hat, geom.rotor.material
     E, nu, alpha = mat.elastic.E, mat.elastic.nu, mat.thermal.alpha
     t, ro, ri = ro_.thickness, ro_.outer_radius, ro_.inner_radius
