@@ -153,8 +153,7 @@ class CaliperInterface(CondensedInterface):
         if mu is not None:
             self.set_mu(mu)
         self.sets.mu = self.mu
-        cond, rows, p = self.cond, self.rows, self.line_pressure
-        n_c = cond.n_c
+        cond = self.cond
         dq, dz = (np.zeros(cond.H.shape[0]), 0.0) if load is None else self.thermal_gap(load)
         g = self.g0 + offset
         comp = StepCompliance.of(compliance)

@@ -282,7 +282,7 @@ class JointSets(RowSets):
         seen: set = set()
         back = None              # (the last settled rows' state, its contact set, moves left)
         its = 0
-        for outer in range(1, MAX_OUTER + 1):
+        for outer in range(1, MAX_OUTER + 1):  # noqa: B007  (the count is reported)
             problem.st = st
             try:
                 act_new, report = solve_dense_sets(problem, start_gap, act, self.gap_tol,
@@ -404,7 +404,7 @@ class _RowState:
 
     def result(self):
         """``(lam, alpha, lam_s, q, g, g_s)`` of the last solve, the rows' gaps added."""
-        js, rows, cond, n_c = self.js, self.js.rows, self.js.cond, self.js.n_c
+        rows, cond, n_c = self.js.rows, self.js.cond, self.js.n_c
         g_s = (self.gap_s + self.Hc[n_c:] @ self.lam + cond.H[n_c:, n_c:] @ self.lam_s
                + cond.E[n_c:] @ self.alpha - rows.R @ self.q + rows.compliance * self.lam_s)
         return self.lam, self.alpha, self.lam_s, self.q, self.g, g_s
