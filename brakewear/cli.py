@@ -58,14 +58,14 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     import numpy as np
 
     from .checks import check_number, check_plausible, user_units
-    from .output.face_maps import plot_face_map
-    from .output.figures import plot_field, plot_named_surfaces
     from .geometry.files import load_geometry
     from .mesh.estimate import check_model_size
     from .mesh.io import write_mesh
     from .model import BrakeModel
-    from .output.runs import check_out
+    from .output.face_maps import plot_face_map
+    from .output.figures import plot_field, plot_named_surfaces
     from .output.folder import check_new_out, clear_run
+    from .output.runs import check_out
 
     # the whole input is checked before anything is meshed or written
     out = check_new_out(check_out(out, "--out"), overwrite=overwrite, can_resume=False)
@@ -272,8 +272,8 @@ def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = Fal
     once and draws none.  ``imports``: modules of a user's parts (``--import``).
     """
     from .errors import SolverError, WornThroughError
-    from .output.runs import check_out, run_scene
     from .output.folder import check_new_out, clear_run, finished_run
+    from .output.runs import check_out, run_scene
     from .parts import import_parts
     from .scene import load_scene
 
@@ -352,7 +352,7 @@ class _Interrupted(Exception):
 
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
-    ap = argparse.ArgumentParser(prog="brakewear", description="Disc-brake pad and rotor wear by 3D FE.")
+    ap = argparse.ArgumentParser(prog="brakewear", description="Disc-brake pad and rotor wear.")
     ap.add_argument("--version", action="version", version=f"brakewear {__version__}")
     ap.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -446,9 +446,10 @@ def main(argv: list[str] | None = None) -> int:
             print(f"brakewear demo: {s['solver']['dofs']} DOFs, line pressure "
                   f"{s['line_pressure_Pa'] / 1e6:g} MPa, clamp force {s['clamp_force_N']:.1f} N")
             print(f"  interface: force {i['normal_force_N']:.3f} N (balance error "
-                  f"{i['force_balance_error']:.1e}), pressure mean {i['pressure_mean_Pa'] / 1e6:.3f} "
-                  f"MPa, max {i['pressure_max_Pa'] / 1e6:.3f} MPa")
-            print(f"  solve: {s['solver']['iterations']} AMG-CG iterations, total {s['run_s']:.1f} s")
+                  f"{i['force_balance_error']:.1e}), pressure mean "
+                  f"{i['pressure_mean_Pa'] / 1e6:.3f} MPa, max {i['pressure_max_Pa'] / 1e6:.3f} "
+                  f"MPa\n  solve: {s['solver']['iterations']} AMG-CG iterations, total "
+                  f"{s['run_s']:.1f} s")
             print(f"  wrote: {', '.join(s['files'])}")
             if args.wear_duration is None or args.wear_duration > 0:
                 w = run_demo_wear(Path(args.out) / "running_in", args.wear_duration, args.quiet,

@@ -102,7 +102,7 @@ class SolverError(BrakewearError, RuntimeError):
         self.figures = dict(figures or {})
         self.where: dict = {}
 
-    def within(self, **where) -> "SolverError":
+    def within(self, **where) -> SolverError:
         """Add where the error happened (keys already set by an inner loop are kept);
         returns the error itself, to re-raise."""
         if not hasattr(self, "where"):      # a subclass that set up its own state

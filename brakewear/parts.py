@@ -20,11 +20,11 @@ import importlib
 import importlib.util
 import logging
 import sys
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from importlib.metadata import entry_points
 from pathlib import Path
 from types import ModuleType
-from typing import Iterable, Iterator
 
 from .checks import fail
 from .errors import InputError, SceneError

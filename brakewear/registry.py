@@ -27,8 +27,9 @@ from __future__ import annotations
 
 import importlib
 import logging
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, fields, is_dataclass
-from typing import Any, Iterable, Iterator, Mapping
+from typing import Any
 
 from .checks import check_choice, check_number, fail
 from .errors import InputError, SceneError

@@ -355,7 +355,7 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
         {"inboard_force_N": ..., "outboard_force_N": ..., "force": rel,
         "pin_moment_Nm": [mx, my, mz]}}``.
     """
-    from .caliper.loads import pad_support_dofs      # caliper_loads sits beside model, above static
+    from .caliper.loads import pad_support_dofs  # caliper_loads sits beside model, above static
 
     _traction_only(model)
     pad, off = model.meshes["pad"], model.offsets["pad"]
@@ -383,7 +383,7 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
         out[side] = {"force": float(np.linalg.norm(e.sum(axis=0)) / F),
                      "moment": float(np.linalg.norm(m) / (F * R))}
     if model.piston == "rigid":
-        from .caliper.static import part_balance     # each piston, the housing, the bracket
+        from .caliper.static import part_balance  # each piston, the housing, the bracket
 
         out.update(part_balance(result, line_pressure))
     elif model.full:

@@ -29,7 +29,8 @@ for _ in range(a["repeats"]):
                               numerics=Numerics(steps=a["steps"], scheme="implicit"))))
     times.append(time.perf_counter() - t0)
     cpu.append(time.process_time() - c0)
-print(json.dumps({"times_s": times, "cpu_s": cpu, "thermal_imported": "brakewear.thermal" in sys.modules,
+print(json.dumps({"times_s": times, "cpu_s": cpu,
+                  "thermal_imported": "brakewear.thermal" in sys.modules,
                   "package": brakewear.__file__, "pad_volume_m3": h[-1].pad_volume,
                   "rotor_volume_m3": h[-1].rotor_volume,
                   "pad_wear": h[-1].pad_wear.tolist()}))

@@ -140,7 +140,8 @@ def run(model, scene, mu: float, numerics, duration: float, sense: int,
     pad_law, rotor_law = scene.wear_laws()
     xi = along_motion(itf, sense)
     history, rows = [], []
-    for s in wear_history(Run(model, scene.line_pressure, scene.omega, duration, pad_law, rotor_law, mu, numerics=numerics, interface=itf)):
+    for s in wear_history(Run(model, scene.line_pressure, scene.omega, duration, pad_law,
+                              rotor_law, mu, numerics=numerics, interface=itf)):
         history.append(s)
         prof = profile_numbers(xi, itf.area, s.pad_wear, band)
         rows.append({"time_s": s.time, "mean_um": prof["mean_um"],

@@ -104,7 +104,19 @@ def run_mesh(scene, mesh: dict, steps: int, t_mid: float | None = None, order: i
     pad_law, rotor_law = scene.wear_laws()
     num = Numerics(scheme="implicit", update="gap", steps=steps)
     snaps, solves = {}, 0
-    for s in wear_history(Run(model, scene.line_pressure, scene.omega, scene.duration, pad_law, rotor_law, scene.interface.mu, numerics=num, interface=itf)):
+    for s in wear_history(
+        Run(
+            model,
+            scene.line_pressure,
+            scene.omega,
+            scene.duration,
+            pad_law,
+            rotor_law,
+            scene.interface.mu,
+            numerics=num,
+            interface=itf,
+        )
+    ):
         solves += s.contact_solves
         if t_mid is not None and "mid" not in snaps and s.time >= t_mid * (1 - 1e-9):
             snaps["mid"] = snapshot(itf, s, grid)

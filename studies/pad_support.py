@@ -41,9 +41,9 @@ from pathlib import Path
 
 import numpy as np
 
+from brakewear.caliper.geometry import SupportGeometry
 from brakewear.contact import solve_contact, with_supports
 from brakewear.contact.supports import abutment_faces
-from brakewear.caliper.geometry import SupportGeometry
 from brakewear.mesh.surface import surface_nodes
 from brakewear.model import BrakeModel
 

@@ -1,4 +1,4 @@
-"""The rotors of geometry/floating.toml: the hat rotor and its vented ring, meshed, cut open, against closed-form volumes.
+"""The rotors of geometry/floating.toml: hat rotor and vented ring, meshed, cut open, and volumes.
 
 Two rotors: ``hat``, the floating brake's solid friction ring on its hat
 (``geometry/floating.toml`` as it is), and ``vented``, the same with the
@@ -35,8 +35,8 @@ from pathlib import Path
 import numpy as np
 import skfem as fem
 
-from brakewear.geometry import load_geometry
 from brakewear.caliper.geometry import VentGeometry
+from brakewear.geometry import load_geometry
 from brakewear.mesh.rotor import full_rotor_mesh, rotor_volume
 
 #: the vented ring of geometry/floating.toml's commented [rotor.vents] table (m)

@@ -98,7 +98,19 @@ def run_case(size: float, duration: float, steps: int, scheme: str = "implicit",
         kw["interface"] = FEInterface(model, lp, mu)
     itf = kw["interface"]
     last, solves, solve_s = None, 0, 0.0
-    for s in wear_history(Run(model, lp, om, duration, pad_law, rotor_law, mu, **kw, numerics=Numerics(steps=steps, scheme=scheme, update=update))):
+    for s in wear_history(
+        Run(
+            model,
+            lp,
+            om,
+            duration,
+            pad_law,
+            rotor_law,
+            mu,
+            **kw,
+            numerics=Numerics(steps=steps, scheme=scheme, update=update),
+        )
+    ):
         last = s
         solves += s.contact_solves
         solve_s += s.solve_s

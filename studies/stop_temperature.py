@@ -66,7 +66,7 @@ def column_axis(depth: float, cells: int, ratio: float = RATIO) -> np.ndarray:
 
 
 def column_mesh(x: np.ndarray) -> fem.MeshTet:
-    """A column of one cell's section (as wide as the first cell), heated face ``heated`` at x = 0."""
+    """A column of one cell's section (as wide as the first cell), heated face at x = 0."""
     w = x[1]
     m = fem.MeshTet.init_tensor(x, np.array([0.0, w]), np.array([0.0, w]))
     return m.with_boundaries({"heated": lambda X: X[0] < 1e-9 * w})
@@ -203,20 +203,35 @@ def brake_stop(size: float = 12e-3, steps: int = 16, line_pressure: float = 5e6,
     half = g.rotor.thickness / 2
     slab_bulk = an.bulk_temperature_rise(stored["rotor"], A_swept * half * th_r.rho, th_r.c)
     return {
-        "size_m": size, "steps": steps, "T_ambient_K": T0, "line_pressure_Pa": line_pressure, "mu": mu,
-        "v0_m_s": v0, "mass_kg": mass, "torque_Nm": torque, "decel_m_s2": decel,
-        "t_stop_s": t_stop, "omega0_rad_s": omega0,
-        "friction_work_J": work, "vehicle_face_J": vehicle.stop_energy(v0, 0.0, decel)["face_J"],
-        "stored_J": stored, "mc_J_K": mc, "mc_geometry_J_K": float(mc_geometry),
+        "size_m": size,
+        "steps": steps,
+        "T_ambient_K": T0,
+        "line_pressure_Pa": line_pressure,
+        "mu": mu,
+        "v0_m_s": v0,
+        "mass_kg": mass,
+        "torque_Nm": torque,
+        "decel_m_s2": decel,
+        "t_stop_s": t_stop,
+        "omega0_rad_s": omega0,
+        "friction_work_J": work,
+        "vehicle_face_J": vehicle.stop_energy(v0, 0.0, decel)["face_J"],
+        "stored_J": stored,
+        "mc_J_K": mc,
+        "mc_geometry_J_K": float(mc_geometry),
         "mean_rise_K": sum(stored.values()) / sum(mc.values()),
         "bulk_rise_K": an.bulk_temperature_rise(work, 1.0, sum(mc.values())),
         "bulk_rise_geometry_K": an.bulk_temperature_rise(work, 1.0, mc_geometry),
-        "rotor_share": stored["rotor"] / work, "rotor_flux0_W_m2": q_rotor,
+        "rotor_share": stored["rotor"] / work,
+        "rotor_flux0_W_m2": q_rotor,
         "rotor_bulk_rise_K": stored["rotor"] / mc["rotor"],
         "swept_slab_bulk_rise_K": slab_bulk,
-        "closed_form_peak_rise_K": closed, "ring_mean_peak_rise_K": peak["ring_mean_K"] - T0,
+        "closed_form_peak_rise_K": closed,
+        "ring_mean_peak_rise_K": peak["ring_mean_K"] - T0,
         "ring_mean_peak_time_s": peak["t_s"],
-        "face_max_rise_K": max(h["face_max_K"] for h in hist) - T0, "history": hist}
+        "face_max_rise_K": max(h["face_max_K"] for h in hist) - T0,
+        "history": hist,
+    }
 
 
 def main(cells: int = 10, steps: int = 32, after: float = 0.5,

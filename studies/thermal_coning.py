@@ -18,7 +18,8 @@ Two elastic problems, each checked against an independent estimate:
     holds its outboard inner corner back, so the ring's section rotates:
     the ring cones.  Compared with (1) an axisymmetric P2 FE model of the
     same section (forms of this module) and (2) the closed form of
-    :func:`brakewear.thermal.hat_cone.hat_cone_estimate` (rigid-section ring on a Timoshenko cylindrical
+    :func:`~brakewear.thermal.hat_cone.hat_cone_estimate` (rigid-section ring on a Timoshenko
+    cylindrical
     shell clamped at the flange).  The temperature is element-wise (ring
     elements ``dT``, hat elements 0), so the step at the junction is exact on
     every mesh.
@@ -41,9 +42,9 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import sys
 import time
 from dataclasses import replace
-import sys
 from pathlib import Path
 
 import numpy as np

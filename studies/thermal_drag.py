@@ -83,7 +83,9 @@ def run(model: BrakeModel, thermal: bool, p_line: float, omega: float, mu: float
     t0, c0 = time.perf_counter(), time.process_time()
     th = ThermalModel(model, contact_conductance=h_c) if thermal else None
     build = time.perf_counter() - t0
-    hist = list(wear_history(Run(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu, thermal=th, numerics=Numerics(steps=steps, scheme="implicit"))))
+    num = Numerics(steps=steps, scheme="implicit")
+    hist = list(wear_history(Run(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu,
+                                 thermal=th, numerics=num)))
     return hist, th, time.perf_counter() - t0, build, time.process_time() - c0
 
 

@@ -76,7 +76,9 @@ def run(model, itf, lp, omega, duration, steps, pad_law, rotor_law, mu):
     recs, wall = [], []
     t0 = time.perf_counter()
     kw = {} if itf is None else {"interface": itf}
-    for s in wear_history(Run(model, lp, omega, duration * (steps + 1) / steps, pad_law, rotor_law, mu, **kw, numerics=Numerics(steps=steps + 1, scheme="implicit"))):
+    num = Numerics(steps=steps + 1, scheme="implicit")
+    for s in wear_history(Run(model, lp, omega, duration * (steps + 1) / steps, pad_law,
+                              rotor_law, mu, **kw, numerics=num)):
         t1 = time.perf_counter()
         logger.info("%s step %d: t = %.0f s, interface solve %.4g s, step %.4g s",
                     type(itf).__name__, s.step, s.time, s.solve_s, t1 - t0)

@@ -17,13 +17,12 @@ import scipy.sparse.linalg as spla
 
 from brakewear import BrakeModel, CaliperInterface, load_geometry
 from brakewear.caliper import analytic
-from brakewear.caliper.static import abutment_friction_work
-from brakewear.caliper.rows import caliper_rows
 from brakewear.caliper.parts import CaliperParts, rigid_map, seal_springs
-from brakewear.contact.compliant import constraint_rows, drag_loads
+from brakewear.caliper.rows import caliper_rows
 from brakewear.caliper.sets import CLOSED, SLIP_DOWN, SLIP_UP, STICK, RowSets
-from brakewear.static import pad_balance
-from brakewear.static import solve_contact
+from brakewear.caliper.static import abutment_friction_work
+from brakewear.contact.compliant import constraint_rows, drag_loads
+from brakewear.static import pad_balance, solve_contact
 
 SIZE = 12e-3
 

@@ -15,17 +15,27 @@ FILES = sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md"),
 HISTORY = [
     (r"\b[Ss]ession[ -]\d+\b|\b[Ss]essions \d", "a work period"),
     (r"\bthe issue\b|\b[Ii]ssue #?\d+\b", "an issue"),
-    (r"\bcommit\s+(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b|"
-     r"`(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}`", "a commit hash"),
-    (r"\b20\d\d-\d\d-\d\d\b|\b\d{1,2} (Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]* 20\d\d\b",
-     "a date of work"),
+    (
+        r"\bcommit\s+(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b|"
+        r"`(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}`",
+        "a commit hash",
+    ),
+    (
+        r"\b20\d\d-\d\d-\d\d\b|"
+        r"\b\d{1,2} (Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]* 20\d\d\b",
+        "a date of work",
+    ),
     (r"\bwork period\b|\bother agents\b|\bthis session\b", "the development"),
-    (r"\b(git archive|(main|master) at) (?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b",
-     "a commit hash"),
+    (
+        r"\b(git archive|(main|master) at) (?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b",
+        "a commit hash",
+    ),
     (r"(?i)\b(an)?other engineers?\b|\b(an)?other engineer's", "other people's jobs"),
-    (r"(?i)\bbefore the (work|change|changes|fix|refactor)\b|\bthe old code\b|"
-     r"\b(the )?old defaults?\b|\bwhat was changed\b|^(#+ |\*\*)what changed\b",
-     "how the code changed"),
+    (
+        r"(?i)\bbefore the (work|change|changes|fix|refactor)\b|\bthe old code\b|"
+        r"\b(the )?old defaults?\b|\bwhat was changed\b|^(#+ |\*\*)what changed\b",
+        "how the code changed",
+    ),
 ]
 
 

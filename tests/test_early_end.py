@@ -10,8 +10,7 @@ from brakewear.contact.lagrange import solve_contact
 from brakewear.errors import ActiveSetError, TemperatureLimitError
 from brakewear.interfaces import fe
 from brakewear.output.runs import run_scene
-from brakewear.scene import InterfaceSpec, OutputSpec, Scene, load_scene
-from brakewear.scene import ThermalSpec
+from brakewear.scene import InterfaceSpec, OutputSpec, Scene, ThermalSpec, load_scene
 
 
 @pytest.fixture(scope="module")

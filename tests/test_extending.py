@@ -16,16 +16,24 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pytest
 
-from brakewear.duty import (ApplicationRecord, application_kinds, register_application,
-                            unregister_application)
+from brakewear.duty import (
+    ApplicationRecord,
+    application_kinds,
+    register_application,
+    unregister_application,
+)
 from brakewear.errors import SceneError, WearError
-from brakewear.interfaces import (InterfaceSolution, interface_models, register_interface,
-                                  unregister_interface)
+from brakewear.interfaces import (
+    InterfaceSolution,
+    interface_models,
+    register_interface,
+    unregister_interface,
+)
 from brakewear.laws.base import archard_rate, register_wear_law, unregister_wear_law
+from brakewear.mesh.rings import ring_wear_nodes
 from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.output.runs import run_scene
 from brakewear.registry import OptionKey
-from brakewear.mesh.rings import ring_wear_nodes
 from brakewear.scene import load_scene
 from brakewear.wear import ConstantSpeed, check_resume
 

@@ -202,8 +202,13 @@ def test_the_registration_shape_is_read_from_the_class(registered):
     from dataclasses import dataclass
 
     from brakewear.duty import Drag, register_application
-    from brakewear.interfaces import (FEInterface, allowed_for, capabilities_of,
-                                      interface_model, register_interface)
+    from brakewear.interfaces import (
+        FEInterface,
+        allowed_for,
+        capabilities_of,
+        interface_model,
+        register_interface,
+    )
     from brakewear.laws.base import register_wear_law, wear_law_model
 
     class Mine(FEInterface):

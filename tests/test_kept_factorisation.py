@@ -4,8 +4,13 @@ taken over when too many equations differ, singular systems refused, GMRES."""
 import numpy as np
 import pytest
 
-from brakewear.solvers.kept_factorisation import (FULL, IDENT, KeptFactorisation, SingularState,
-                                                  gmres)
+from brakewear.solvers.kept_factorisation import (
+    FULL,
+    IDENT,
+    KeptFactorisation,
+    SingularState,
+    gmres,
+)
 
 N = 40
 

@@ -3,8 +3,16 @@ import numpy as np
 import pytest
 
 from brakewear.errors import InputError, RoughnessError
-from brakewear.rough import (Topography, hurst_fit, radial_psd, read_topography, rms_height,
-                             rms_slope, self_affine, self_affine_psd)
+from brakewear.rough import (
+    Topography,
+    hurst_fit,
+    radial_psd,
+    read_topography,
+    rms_height,
+    rms_slope,
+    self_affine,
+    self_affine_psd,
+)
 
 L = 1e-3
 

@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from brakewear.errors import ConvergenceError
 from brakewear.fem import apply_dirichlet, assemble_pressure, assemble_stiffness, boundary_dofs
 from brakewear.materials import get_material
 from brakewear.mesh import annulus_mesh
-from brakewear.errors import ConvergenceError
 from brakewear.solvers import amg_solver, direct_solve, rigid_body_modes
 
 
@@ -351,6 +351,7 @@ def test_backward_sweep_over_the_reversed_copy_is_pyamgs_backward_sweep():
     also for an unsymmetric matrix with unsorted column indices; the copy is made after
     _COPY_AFTER sweeps of the same matrix, kept for it and remade for another."""
     from pyamg.relaxation.relaxation import gauss_seidel
+
     from brakewear.solvers.cycle import _COPY_AFTER, _BackwardSweeps
 
     rng = np.random.default_rng(5)

@@ -172,8 +172,9 @@ def johnson_modulus(E: float, nu: float, thickness: float, constrained: bool = T
     """
     for name, val in (("E", E), ("thickness", thickness)):
         if not (np.isfinite(val) and val > 0):
-            raise FoundationError(f"johnson_modulus: {name} = {val!r} is not allowed; need a finite "
-                             "value > 0")
+            raise FoundationError(
+                f"johnson_modulus: {name} = {val!r} is not allowed; need a finite value > 0"
+            )
     if not (-1.0 < nu < 0.5):
         raise FoundationError(f"johnson_modulus: nu = {nu!r} is not allowed; need -1 < nu < 0.5")
     if constrained:

@@ -239,7 +239,10 @@ def stop_peak_time(t_stop: float) -> float:
 
 def stop_peak_temperature(q0: float, t_stop: float, kappa: float, rho: float, c: float,
                           T0: float = 0.0) -> float:
-    """Largest surface temperature of a stop: ``T0 + (2 sqrt(2) / 3) q0 sqrt(t_s) / (e sqrt(pi))``."""
+    """Largest surface temperature of a stop.
+
+    ``T0 + (2 sqrt(2) / 3) q0 sqrt(t_s) / (e sqrt(pi))``.
+    """
     e = np.sqrt(kappa * rho * c)
     return float(T0 + 2.0 * np.sqrt(2.0) / 3.0 * q0 * np.sqrt(t_stop) / (e * np.sqrt(np.pi)))
 

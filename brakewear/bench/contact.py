@@ -9,19 +9,27 @@ import statistics
 import subprocess
 import sys
 import time
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
 from ..errors import BenchError
+from ..static import solve_tied
 from .common import fmt, peak_rss_mb
 from .kkt import direct_active_set_row, kkt_solves, kkt_system
-from ..static import solve_tied
 
 logger = logging.getLogger(__name__)
 
 
-__all__ = ['CONTACT_SIZES', 'CONTACT_CASES', 'CONTACT_SUPERLU_MAX', 'brake_resolution', 'run_contact_case', 'bench_contact', 'format_contact_table']
+__all__ = [
+    "CONTACT_SIZES",
+    "CONTACT_CASES",
+    "CONTACT_SUPERLU_MAX",
+    "brake_resolution",
+    "run_contact_case",
+    "bench_contact",
+    "format_contact_table",
+]
 
 #: the default sizes (``--sizes 5e4 1.5e5 5e5`` adds the 500k class, about a minute a case)
 CONTACT_SIZES = (50e3, 150e3)
@@ -58,7 +66,7 @@ _CONTACT_TIME_KEYS = ("assemble_s", "contact_solve_s", "elasticity_solve_s", "di
                       "fixed_set_solve_s", "direct_kkt_pardiso_sym_s", "direct_active_set_s")
 
 
-def brake_resolution(target_dofs: float) -> tuple[float, "object"]:
+def brake_resolution(target_dofs: float) -> tuple[float, object]:
     """Mesh size (m) of the default brake with about ``target_dofs`` DOFs and the model."""
     from ..model import BrakeModel
 
@@ -103,9 +111,6 @@ def _faster_of_two(run):
 
 
 def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> dict:
-    from ..contact.lagrange import solve_contact
-    from ..fem.boundary import apply_dirichlet
-    from ..solvers.amg import amg_solver
     from ..contact.hertz import (
         DELTA,
         GAP_TOL,
@@ -114,6 +119,9 @@ def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
         hertz_resolution,
         solve_problem,
     )
+    from ..contact.lagrange import solve_contact
+    from ..fem.boundary import apply_dirichlet
+    from ..solvers.amg import amg_solver
 
     row = _contact_row_base("hertz", target)
     ha = hertz_resolution(target)

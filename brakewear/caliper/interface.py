@@ -24,18 +24,18 @@ import time
 
 import numpy as np
 
-from .rows import caliper_rows
-from .parts import bracket_springs
-from ..contact.supports import support_springs
 from ..checks import fail
+from ..contact.supports import support_springs
 from ..errors import ContactError, SolverError, WearError
-from .condensation import condense_caliper
-from .joint import JointSets
-from .sets import RowSets
 from ..interfaces.condensed import CondensedInterface
 from ..interfaces.fe import METHOD, FEInterface
 from ..interfaces.protocol import InterfaceSolution, StepCompliance
 from ..interfaces.registry import register_interface
+from .condensation import condense_caliper
+from .joint import JointSets
+from .parts import bracket_springs
+from .rows import caliper_rows
+from .sets import RowSets
 
 logger = logging.getLogger(__name__)
 
@@ -201,7 +201,7 @@ class CaliperInterface(CondensedInterface):
                                ring_H=comp.ring_compliance() if rings else None,
                                ring_key=comp.ring_key if rings else b"")
 
-    def at_line_pressure(self, line_pressure: float) -> "CaliperInterface":
+    def at_line_pressure(self, line_pressure: float) -> CaliperInterface:
         """This interface under another line pressure (Pa): condensation, eliminated
         systems, factorisations and the rows' last state shared."""
         new = copy.copy(self)
@@ -209,7 +209,7 @@ class CaliperInterface(CondensedInterface):
         new.fe = self.fe.at_line_pressure(line_pressure)
         return new
 
-    def with_load_path(self, geometry) -> "CaliperInterface":
+    def with_load_path(self, geometry) -> CaliperInterface:
         """This interface for ``geometry``: the same brake (rotor, pad, piston places,
         fingers, mesh) with other load-path parameters (seal, clearance, friction,
         bridge and bore tilt, stiffnesses) on the same meshes: the rows rebuilt, the

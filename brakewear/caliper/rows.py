@@ -53,10 +53,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.sparse as sp
 
+from ..contact.supports import SUPPORT_ENDS, abutment_faces, end_normal, face_weights
+from ..contact.surface import project_nodes
 from ..errors import ContactError
 from .parts import CaliperParts, ring_points, seal_springs, seal_stiffness
-from ..contact.supports import SUPPORT_ENDS, face_weights, abutment_faces, end_normal
-from ..contact.surface import project_nodes
 
 logger = logging.getLogger(__name__)
 
@@ -142,7 +142,7 @@ class CaliperRows:
         """(n,) bool: the normal (unilateral) rows."""
         return self.friction_of < 0
 
-    def subset(self, keep) -> "CaliperRows":
+    def subset(self, keep) -> CaliperRows:
         """The rows ``keep`` (a mask or indices; a kept friction row's normal row must be
         kept too) with the same rigid parts."""
         idx = np.arange(self.n)[keep]

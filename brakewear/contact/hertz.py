@@ -65,14 +65,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ContactError, GeometryError, MeshError
 from ..analytic import effective_modulus, hertz_sphere, hertz_sphere_pressure
-from .lagrange import solve_contact
-from .pairs import pair_to_rigid
+from ..errors import ContactError, GeometryError, MeshError
 from ..fem.assembly import assemble_stiffness
 from ..fem.boundary import boundary_dofs
 from ..materials import Isotropic
 from ..mesh.structured import KUHN, mapped_mesh, structured_tets
+from .lagrange import solve_contact
+from .pairs import pair_to_rigid
 
 logger = logging.getLogger(__name__)
 
@@ -146,7 +146,9 @@ RECOVERY = 2.0      # pressure recovery window half-width / h (see recovered_pre
 GAP_TOL = 1e-4
 
 
-def boussinesq(x: np.ndarray, F: float, E: float = MATERIAL.E, nu: float = MATERIAL.nu) -> np.ndarray:
+def boussinesq(
+    x: np.ndarray, F: float, E: float = MATERIAL.E, nu: float = MATERIAL.nu
+) -> np.ndarray:
     """Displacement (3, n) of a half-space z < 0 under a point force ``F`` at
     the origin pressing into the body (along -z).
 

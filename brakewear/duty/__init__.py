@@ -15,8 +15,8 @@
 
 from . import applications, cycle, kinds, runner, schedule, vehicle
 from .applications import *  # noqa: F403
-from .kinds import *  # noqa: F403
 from .cycle import *  # noqa: F403
+from .kinds import *  # noqa: F403
 from .runner import *  # noqa: F403
 from .schedule import *  # noqa: F403
 from .vehicle import *  # noqa: F403

@@ -36,8 +36,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import BrakewearError, InputError
-from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..mesh.rings import ring_profile
+from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..wear.records import end_record, temperature_field, thermal_record
 from .runner import run_schedule
 

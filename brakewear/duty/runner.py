@@ -31,10 +31,10 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..errors import ConvergenceError, DutyError, SolverError
+from ..mesh.surface import face_nodes
 from ..wear.records import HeatTally, thermal_state
 from ..wear.run import Run
 from ..wear.stepper import wear_history
-from ..mesh.surface import face_nodes
 from .applications import ApplicationRecord
 from .schedule import check_schedule
 from .vehicle import FACES, effective_radius, line_pressure_for_torque
@@ -109,7 +109,7 @@ class _Brake:
         rocking onto its other edge) is bracketed instead of oscillated around."""
         p, lo, hi = guess, None, None        # (p, h(p)) with h < 0 and h > 0
         last = None                          # the previous (p, h)
-        for it in range(1, max_iter + 1):
+        for _ in range(1, max_iter + 1):
             r = self.r_eff(self.solve(p).pressure, p)
             g = line_pressure_for_torque(torque, self.mu, self.clamp_area, r)
             h = p - g

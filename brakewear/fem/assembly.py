@@ -18,9 +18,9 @@ from __future__ import annotations
 import logging
 import os
 from collections import deque
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -57,7 +57,7 @@ class BlockPattern:
     keys: np.ndarray
 
     @classmethod
-    def from_element_dofs(cls, sdofs: np.ndarray, n: int, chunk: int = 200_000) -> "BlockPattern":
+    def from_element_dofs(cls, sdofs: np.ndarray, n: int, chunk: int = 200_000) -> BlockPattern:
         nb, ne = sdofs.shape
         graph = None
         for s in range(0, ne, chunk):

@@ -3,11 +3,17 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Mapping
 
+from ..caliper.geometry import (
+    CaliperGeometry,
+    HatGeometry,
+    PistonGuide,
+    SupportGeometry,
+    VentGeometry,
+)
 from ..materials import Material
-from ..caliper.geometry import CaliperGeometry, HatGeometry, PistonGuide, SupportGeometry, VentGeometry
 
 logger = logging.getLogger(__name__)
 

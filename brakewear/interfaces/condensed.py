@@ -161,7 +161,7 @@ class CondensedInterface:
         self._ringed = {}                   # (mu, rings' step) -> H with the rings' compliance
 
     # -------------------------------------------------------------- protocol --
-    def at_line_pressure(self, line_pressure: float) -> "CondensedInterface":
+    def at_line_pressure(self, line_pressure: float) -> CondensedInterface:
         """This interface under another line pressure (Pa): the condensation and
         its factorisations shared (the load's share scales)."""
         new = copy.copy(self)

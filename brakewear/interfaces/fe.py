@@ -7,14 +7,14 @@ import logging
 
 import numpy as np
 
+from ..checks import check_line_pressure
 from ..contact.compliant import compliant_preconditioner, solve_compliant_contact
 from ..contact.lagrange import contact_preconditioner, solve_contact
 from ..mesh.quadratic import quadratic_face_areas, slave_basis
-from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from ..mesh.rings import face_rings, ring_wear_nodes
-from ..checks import check_line_pressure
-from .protocol import InterfaceSolution, StepCompliance
+from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from ..registry import OptionKey
+from .protocol import InterfaceSolution, StepCompliance
 from .registry import register_interface
 
 logger = logging.getLogger(__name__)
@@ -137,7 +137,7 @@ class FEInterface:
         dz = 3 * pair.slave + 2
         self.normal_stiffness = np.asarray(abs(cs.K[dz][:, dz]).sum(axis=1)).ravel()
 
-    def rebuilt(self, model, opening: float = 0.0) -> "FEInterface":
+    def rebuilt(self, model, opening: float = 0.0) -> FEInterface:
         """This interface on ``model``, the same brake in a moved (worn) geometry
         (:class:`~brakewear.motion.brake.BrakeMotion`): the reference areas, radii and
         rotor rings stay, the contact system is the moved model's.  ``opening``
@@ -147,7 +147,7 @@ class FEInterface:
         new.rebuild(opening)
         return new
 
-    def at_line_pressure(self, line_pressure: float) -> "FEInterface":
+    def at_line_pressure(self, line_pressure: float) -> FEInterface:
         """This interface under another line pressure (Pa): the load scaled, the
         assembled system, its hierarchies and the geometry shared (no assembly)."""
         check_line_pressure(line_pressure)
@@ -176,7 +176,8 @@ class FEInterface:
         layer: the implicit wear step (:mod:`brakewear.contact.compliant`; the
         rotor's rings, when the compliance has them, as extra unknowns,
         :mod:`brakewear.contact.compliant_rings`), whose Krylov solves start
-        from ``x0`` (the previous step's displacement), when given.  ``load`` is an extra nodal load of the model's DOFs (the
+        from ``x0`` (the previous step's displacement), when given.  ``load`` is an extra nodal
+        load of the model's DOFs (the
         thermal strain), ``mu`` the friction coefficient of this solve (a number
         or one per pad friction node).
 

@@ -7,10 +7,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ContactLostError, FoundationSolveError, WearError
-from ..mesh.surface import surface_nodes
 from ..mesh.rings import ring_wear_nodes
-from .protocol import InterfaceSolution, StepCompliance
+from ..mesh.surface import surface_nodes
 from ..registry import OptionKey
+from .protocol import InterfaceSolution, StepCompliance
 from .registry import register_interface
 
 logger = logging.getLogger(__name__)

@@ -103,7 +103,7 @@ class StepCompliance:
         object.__setattr__(self, "ring_area", area)
 
     @classmethod
-    def of(cls, compliance) -> "StepCompliance | None":
+    def of(cls, compliance) -> StepCompliance | None:
         """``compliance`` as a :class:`StepCompliance`: None stays None, an array
         is the pad's alone (m/Pa per pad node)."""
         if compliance is None or isinstance(compliance, cls):
@@ -221,7 +221,8 @@ class Interface(Protocol):
     settings : dict
         Its own settings (numbers, strings, arrays): a checkpoint is resumed
         only by a run whose interface reports the same.
-    accepts_load, follows_geometry, per_node_friction, quadratic, any_line_pressure, implicit_rings : bool
+    accepts_load, follows_geometry, per_node_friction, quadratic : bool
+    any_line_pressure, implicit_rings : bool
         Its capabilities (:data:`~brakewear.interfaces.registry.CAPABILITIES`;
         a missing one counts as False): a nodal load (thermal strain) in
         :meth:`solve`; :meth:`rebuilt` on a moved model; ``mu`` per pad node;
@@ -251,7 +252,7 @@ class Interface(Protocol):
     settings: dict
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
-              compliance: "StepCompliance | np.ndarray | None" = None,
+              compliance: StepCompliance | np.ndarray | None = None,
               x0: np.ndarray | None = None,
               load: np.ndarray | None = None, mu: float | None = None) -> InterfaceSolution:
         """Contact with ``offset`` (m) added to the gap.

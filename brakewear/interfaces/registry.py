@@ -37,8 +37,9 @@ register themselves in their modules: ``"fe"``
 from __future__ import annotations
 
 import logging
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Any, Mapping
+from typing import Any
 
 from ..checks import fail
 from ..registry import Registry

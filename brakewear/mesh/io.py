@@ -10,16 +10,16 @@ it has the named groups the model needs (:data:`MESH_GROUPS`).
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from os import PathLike
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 import skfem as fem
 
 from ..errors import MeshError, MeshFileError
-from .structured import _oriented
 from .skfem_compat import decode_cell_data, encode_cell_data, mesh_with_sets
+from .structured import _oriented
 from .topology import _with_boundaries, _with_subdomains, ensure_topology
 
 logger = logging.getLogger(__name__)

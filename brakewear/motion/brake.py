@@ -28,14 +28,14 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from ..mesh.quadratic import quadratic_face_areas
 from ..contact.surface import mortar_coupling
 from ..errors import MeshError, MeshQualityError, MotionError
 from ..fem.assembly import assemble_stiffness, stiffness_update
-from .follower import SurfaceFollower
-from ..mesh.surface import is_quadratic, quadratic_faces, surface_nodes, tributary_areas
+from ..mesh.quadratic import quadratic_face_areas
 from ..mesh.skfem_compat import moved_mesh
+from ..mesh.surface import is_quadratic, quadratic_faces, surface_nodes, tributary_areas
 from ..mesh.topology import facet_indices
+from .follower import SurfaceFollower
 
 logger = logging.getLogger(__name__)
 

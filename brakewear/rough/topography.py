@@ -110,7 +110,7 @@ class Topography:
         y = (np.arange(ny) - (ny - 1) / 2) * dy
         return np.meshgrid(x, y, indexing="ij")
 
-    def scaled(self, factor: float) -> "Topography":
+    def scaled(self, factor: float) -> Topography:
         """The same surface with its heights times ``factor``."""
         return Topography(self.heights * float(factor), self.pixel, self.periodic,
                           self.source)

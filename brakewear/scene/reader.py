@@ -13,9 +13,10 @@ from __future__ import annotations
 import logging
 import math
 import sys
+from collections.abc import Mapping
 from os import PathLike
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..checks import fail, file_messages, user_units
 from ..errors import GeometryError, SceneError

@@ -1,12 +1,11 @@
 """Scenes: one brake model plus what to compute, in SI units.
 
-A scene names the brake geometry, the **components** (rigid or elastic
-rotor, piston as a traction or a body), the **interface** (FE contact or a
-Winkler foundation, the surfaces it joins, friction), the **environment**
-(line pressure, rotor speed, duration, ambient temperature), the **wear
-laws** of pad and rotor, optional **thermal** coupling, the **numerics** of
-the wear loop and the **output**.  :class:`Scene` and its tables check their
-values on construction and raise :class:`~brakewear.errors.SceneError`
+A scene names the brake geometry, the **components** (rigid or elastic rotor, piston as
+a traction or a body), the **interface** (FE contact or a Winkler foundation, the
+surfaces it joins, friction), the **environment** (line pressure, rotor speed, duration,
+ambient temperature), the **wear laws** of pad and rotor, optional **thermal** coupling,
+the **numerics** of the wear loop and the **output**. :class:`Scene` and its tables
+check their values on construction and raise :class:`~brakewear.errors.SceneError`
 naming the key; files are read by :mod:`brakewear.scene.reader` and run by
 :func:`brakewear.output.runs.run_scene`.
 """
@@ -15,9 +14,10 @@ from __future__ import annotations
 import json
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from os import PathLike
-from typing import Any, Mapping
+from typing import Any
 
 from ..checks import (
     check_choice,
@@ -164,8 +164,8 @@ class Scene:
         check_bounds(self)
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
-        from ..mesh.estimate import check_model_size
         from ..caliper.loads import resolve_layout
+        from ..mesh.estimate import check_model_size
         check_model_size(self.meshed_geometry, self.mesh_size, self.rotor, self.piston,
                          nodes=nodes,
                          full=resolve_layout(self.geometry, self.layout, self.rotor) == "full",

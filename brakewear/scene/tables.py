@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import MISSING, dataclass, field, fields
-from typing import Any, Mapping
+from typing import Any
 
 from ..checks import check_bool, check_choice, check_int, check_number, check_plausible, fail
 from ..interfaces.registry import interface_model, model_options

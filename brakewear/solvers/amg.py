@@ -240,7 +240,7 @@ class AMGSolver:
 
     def refreshed(self, A: sp.spmatrix, depth: int | None = None,
                   dA: sp.spmatrix | None = None,
-                  buffers: LevelBuffers | None = None) -> "AMGSolver":
+                  buffers: LevelBuffers | None = None) -> AMGSolver:
         """A new solver for ``A`` on this hierarchy's aggregates; ``self`` is not changed.
 
         Keeps the aggregates and prolongators and updates the level operators
@@ -298,7 +298,9 @@ class AMGSolver:
             levels.append(lv)
         new = copy.copy(self)
         new.A = A
-        new.ml = pyamg.multilevel.MultilevelSolver(levels, coarse_solver=self.options["coarse_solver"])
+        new.ml = pyamg.multilevel.MultilevelSolver(
+            levels, coarse_solver=self.options["coarse_solver"]
+        )
         if levels[-1].A is base[-1].A:  # unchanged coarsest operator: share its factorisation
             new.ml.coarse_solver = self.ml.coarse_solver
         change_smoothers(new.ml, *self.smoothers)

@@ -74,7 +74,7 @@ class _BackwardSweeps:
     serve the levels the two share and whose pool it uses.
     """
 
-    def __init__(self, n_levels: int, inherit: "_BackwardSweeps | None" = None):
+    def __init__(self, n_levels: int, inherit: _BackwardSweeps | None = None):
         self.copies: list = [None] * n_levels  # (A, indptr, indices, data) per level
         self.uses: list = [(None, 0)] * n_levels  # (A, backward sweeps so far) per level
         self.inherit = inherit

@@ -100,7 +100,9 @@ def shell_edge_stiffness(beta: float, D: float, L: float = np.inf) -> np.ndarray
 
     def val(fn, x, k):
         far, A, B = fn
-        return _decaying(beta, x, A, B, k) if not far else (-1) ** k * _decaying(beta, L - x, A, B, k)
+        return (
+            _decaying(beta, x, A, B, k) if not far else (-1) ** k * _decaying(beta, L - x, A, B, k)
+        )
 
     M = np.array([[val(fn, x, k) for fn in basis] for x, k in ((0, 0), (0, 1), (L, 0), (L, 1))])
     K = np.zeros((2, 2))

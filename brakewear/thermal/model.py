@@ -15,7 +15,7 @@ from __future__ import annotations
 import inspect
 import logging
 from collections import OrderedDict
-from typing import Mapping, Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -24,8 +24,8 @@ from ..checks import check_order
 from ..errors import ThermalError
 from ..fem.heat import THERMAL_FIELDS, HeatConduction, body_label, check_thermal
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
-from ..mesh.topology import ensure_topology
 from ..mesh.rings import face_rings, rotor_wear_rate
+from ..mesh.topology import ensure_topology
 from .convection import SpeedConvection, radiation_coefficient, rounded
 from .partition import heat_flux, partition_effusivity
 from .strain import model_thermal_load, thermal_stress

@@ -2,15 +2,15 @@
 from __future__ import annotations
 
 import logging
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
 from ..errors import ThermalError
-from ..fem.heat import body_label, check_thermal, material_groups, thermal_coupling
 from ..fem.forms import scalar_element
+from ..fem.heat import body_label, check_thermal, material_groups, thermal_coupling
 from ..fem.stress import element_stress
 from ..materials import Material
 

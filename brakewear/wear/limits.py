@@ -65,7 +65,7 @@ class WearLimits:
 
     @classmethod
     def for_model(cls, model, pad: float | None = None, rotor: float | None = None,
-                  update: str = "gap") -> "WearLimits":
+                  update: str = "gap") -> WearLimits:
         """The limits of ``model`` (a BrakeModel): the given ones, else the defaults.
 
         With ``update = "geometry"`` the pad's limit is at most

@@ -141,7 +141,7 @@ class Run:
 
     # ------------------------------------------------------------- resolve --
     def resolved(self, line_pressure: float | None = None, options: dict | None = None,
-                 checkpoint=None) -> "Run":
+                 checkpoint=None) -> Run:
         """This run with its interface built, or the given interface at the run's
         line pressure; checked against the :class:`~brakewear.interfaces.Interface`
         protocol and the run's needs.  The one place a run's interface is built:
@@ -161,7 +161,7 @@ class Run:
         return self if itf is self.interface else replace(self, interface=itf,
                                                           interface_record=record)
 
-    def at(self, **changes) -> "Run":
+    def at(self, **changes) -> Run:
         """This run with ``changes`` (a schedule's application: its line pressure,
         speed, duration and gap), its interface posed at the new line pressure."""
         run = replace(self, **changes)

@@ -73,7 +73,7 @@ class WearState:
     dt_last: float = float("nan")
 
     @classmethod
-    def fresh(cls, n_pad: int, n_rotor: int, dt_next: float | None = None) -> "WearState":
+    def fresh(cls, n_pad: int, n_rotor: int, dt_next: float | None = None) -> WearState:
         """The unworn start."""
         return cls(0, 0.0, np.zeros(n_pad), np.zeros(n_rotor), dt_next=dt_next)
 
@@ -96,7 +96,7 @@ class WearState:
 
     @classmethod
     def load(cls, path: str | os.PathLike, prints: dict, n_pad: int,
-             n_rotor: int, units: dict | None = None) -> tuple["WearState", dict]:
+             n_rotor: int, units: dict | None = None) -> tuple[WearState, dict]:
         """The state in ``path`` and its other arrays (thermal state), after checking
         it belongs to this run: same fingerprint (:func:`check_fingerprint`, changed
         values shown in ``units``), same numbers of wear nodes."""
@@ -199,8 +199,8 @@ _LENGTHS = ("radius", "thickness", "diameter", "length", "size", "clearance", "w
 
 def _file_unit(key: str, units: dict | None) -> tuple[str, float] | None:
     """``(unit, SI value of one unit)`` the geometry file gives ``key`` in, or None."""
-    from ..geometry.sections import STIFFNESS_UNITS
     from ..geometry.parts import ANGLE_UNITS, LENGTH_UNITS, MODULUS_UNITS
+    from ..geometry.sections import STIFFNESS_UNITS
 
     if not units or not key.startswith("geometry."):
         return None
