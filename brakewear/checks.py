@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from contextvars import ContextVar
-from typing import Any, Iterator, Mapping
+from types import MappingProxyType
+from typing import Any
 
 import numpy as np
 
@@ -24,7 +26,8 @@ __all__ = []
 
 #: key -> (unit, factor, offset, value as written) of the values a scene file gave
 #: in its own units (SI = value * factor + offset); checks show those, not SI.
-_USER_UNITS: ContextVar[Mapping[str, tuple]] = ContextVar("brakewear_user_units", default={})
+_USER_UNITS: ContextVar[Mapping[str, tuple]] = ContextVar(
+    "brakewear_user_units", default=MappingProxyType({}))
 
 
 @contextmanager
@@ -62,6 +65,23 @@ def user_scale(key: str) -> tuple[str, float, float] | None:
     factor + offset), or None (SI, or not from a scene file)."""
     m = _USER_UNITS.get().get(key)
     return None if m is None else (m[0], m[1], m[2])
+
+
+#: the unit a computed value is shown in outside a scene file: (name, factor, offset)
+_DEFAULT_SHOWN = {"length": ("mm", 1e-3, 0.0), "pressure": ("MPa", 1e6, 0.0),
+                  "time": ("s", 1.0, 0.0), "angular_speed": ("rad/s", 1.0, 0.0),
+                  "temperature": ("C", 1.0, 273.15)}
+
+
+def shown_in(kind: str, value: float, digits: int = 4, decimals: int | None = None) -> str:
+    """``value`` (SI) of a quantity ``kind`` (``"length"``, ``"pressure"``, ``"time"``,
+    ``"angular_speed"``, ``"temperature"``) in the unit the scene file's ``[units]``
+    gives it (outside a scene file: mm, MPa, s, rad/s, C), to ``digits`` significant
+    digits (or ``decimals`` decimals)."""
+    m = _USER_UNITS.get().get(f"units.{kind}")
+    name, factor, offset = _DEFAULT_SHOWN[kind] if m is None else m[:3]
+    x = (value - offset) / factor
+    return f"{x:.{decimals}f} {name}" if decimals is not None else f"{x:.{digits}g} {name}"
 
 
 def shown_value(key: str, value: Any, unit: str) -> str:
@@ -172,16 +192,27 @@ def check_plausible(key: str, value: Any, table: str | None = None,
     if value is None or isinstance(value, bool) or not isinstance(value, (int, float)):
         return
     unit, e_lo, w_lo, w_hi, e_hi, why = PLAUSIBLE[table or key]
-    v, (el, wl, wh, eh) = _shown(key, value, unit, tuple(
+    # a value checked under its own name, or under the scene key it stands for
+    shown_key = key if key in _USER_UNITS.get() or table is None else table
+    v, (el, wl, wh, eh) = _shown(shown_key, value, unit, tuple(
         math.nan if b is None else b for b in (e_lo, w_lo, w_hi, e_hi)))
     if (e_lo is not None and value < e_lo) or (e_hi is not None and value > e_hi):
         allowed = (f"{el} to {eh}" if e_lo is not None and e_hi is not None
                    else f"at most {eh}" if e_hi is not None else f"at least {el}")
         raise fail(key, f"{v} is implausible; {why}; allowed: {allowed}", kind)
     if (w_lo is not None and value < w_lo) or (w_hi is not None and value > w_hi):
+        # once per quantity and value: a scene's line pressure is checked where it is
+        # read, and again by the model and the interface it builds
+        if (table or key, value) in _WARNED:
+            return
+        _WARNED.add((table or key, value))
         bound = f"below {wl}" if w_lo is not None and value < w_lo else f"above {wh}"
-        logger.warning("%s = %s is unusual (%s; %s); check the value and its unit", key, v,
-                       bound, why)
+        logger.warning("%s = %s is unusual (%s; %s); check the value and its unit",
+                       shown_key, v, bound, why)
+
+
+#: (quantity, value) pairs :func:`check_plausible` has warned about (each once)
+_WARNED: set = set()
 
 
 def check_line_pressure(line_pressure: Any) -> None:
@@ -219,9 +250,29 @@ def read_csv_rows(path, what: str, kind: type[InputError] = SceneError
 
     path = Path(path)
     try:
-        lines = [ln for ln in path.read_text(encoding="utf-8-sig").splitlines()
-                 if ln.strip() and not ln.lstrip().startswith("#")]
+        numbered = [(n, ln) for n, ln in enumerate(path.read_text(encoding="utf-8-sig")
+                                                   .splitlines(), start=1)
+                    if ln.strip() and not ln.lstrip().startswith("#")]
     except OSError as e:
         raise kind(f"{path}: cannot read {what} ({e.strerror})") from None
-    rows = list(csv.DictReader(lines))
-    return rows, list(rows[0]) if rows else []
+    except UnicodeDecodeError as e:
+        raise kind(f"{path}: cannot read {what}: not a text file ({e.reason} at byte "
+                   f"{e.start})") from None
+    try:
+        table = list(csv.reader([ln for _, ln in numbered]))
+    except csv.Error as e:
+        raise kind(f"{path}: cannot read {what}: not a CSV table ({e})") from None
+    if not table:
+        return [], []
+    header = table[0]
+    twice = next((c for i, c in enumerate(header) if c in header[:i]), None)
+    if twice is not None:
+        raise kind(f"{path}, line {numbered[0][0]}: the column {twice!r} is named twice in "
+                   f"the header; name each column once")
+    for (n, _), cells in zip(numbered[1:], table[1:]):
+        if len(cells) != len(header):
+            raise kind(f"{path}, line {n}: {len(cells)} cells, the header has {len(header)} "
+                       "(a row cut short, or a stray comma); give every row a cell per "
+                       "column, empty where nothing was measured")
+    rows = [dict(zip(header, cells)) for cells in table[1:]]
+    return rows, list(header)

@@ -4,7 +4,7 @@
 or a scene file, docs/scenes.md): the wear history with a progress bar in
 simulated time, checkpoints in the output folder, ``--resume`` to continue;
 a folder that already holds a run is refused unless ``--resume`` or
-``--overwrite`` (:mod:`brakewear.output.folder`).
+``--overwrite`` (:mod:`brakewear.output.folder`); ``--import`` your own parts.
 ``brakewear demo`` runs the main job on the default brake: mesh, solve under
 a line pressure with the pad tied to the rotor, write figures, VTU files and
 a JSON summary; then the default scene (running-in under drag) into
@@ -58,14 +58,14 @@ def run_demo(out: str | Path = "brakewear-out", geometry: str = "default",
     import numpy as np
 
     from .checks import check_number, check_plausible, user_units
-    from .output.face_maps import plot_face_map
-    from .output.figures import plot_field, plot_named_surfaces
     from .geometry.files import load_geometry
     from .mesh.estimate import check_model_size
     from .mesh.io import write_mesh
     from .model import BrakeModel
-    from .output.runs import check_out
+    from .output.face_maps import plot_face_map
+    from .output.figures import plot_field, plot_named_surfaces
     from .output.folder import check_new_out, clear_run
+    from .output.runs import check_out
 
     # the whole input is checked before anything is meshed or written
     out = check_new_out(check_out(out, "--out"), overwrite=overwrite, can_resume=False)
@@ -261,22 +261,25 @@ def _print_run(scene: str, s: dict) -> None:
 
 
 def run_scene_file(scene: str, out: str | Path | None = None, resume: bool = False,
-              quiet: bool = False, overwrite: bool = False) -> dict:
+                   quiet: bool = False, overwrite: bool = False,
+                   imports: tuple[str, ...] | list[str] = ()) -> dict:
     """Load a scene (name or file), check it, run it into ``out``; return the summary.
 
     ``out`` defaults to ``brakewear-<scene name>``; a folder that already holds
     a run is refused unless ``overwrite`` (its run's files are removed once the
     scene is checked) or ``resume``.  A progress bar (stderr) advances in
     simulated time unless ``quiet``; a ``resume`` of a finished run says so at
-    once and draws none.
+    once and draws none.  ``imports``: modules of a user's parts (``--import``).
     """
     from .errors import SolverError, WornThroughError
-    from .output.runs import check_out, run_scene
     from .output.folder import check_new_out, clear_run, finished_run
+    from .output.runs import check_out, run_scene
+    from .parts import import_parts
     from .scene import load_scene
 
     if out is not None:
         check_out(out, "--out")
+    import_parts(imports, "--import")
     sc = load_scene(scene)
     if getattr(sc, "tribometer", False):       # a tribometer test (docs/validation.md)
         from .tribology.command import run_tribometer_file
@@ -352,7 +355,7 @@ class _Interrupted(Exception):
 
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
-    ap = argparse.ArgumentParser(prog="brakewear", description="Disc-brake pad and rotor wear by 3D FE.")
+    ap = argparse.ArgumentParser(prog="brakewear", description="Disc-brake pad and rotor wear.")
     ap.add_argument("--version", action="version", version=f"brakewear {__version__}")
     ap.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -370,6 +373,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="replace the run that --out already holds (without it, such a "
                         "folder is refused)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument("--import", dest="imports", action="append", default=[], metavar="MODULE",
+                   help="import MODULE (a name or a .py file) first: it registers your own "
+                        "parts (docs/extending.md); repeatable")
     n = sub.add_parser("new-scene", help="write a starting geometry and scene file for your "
                                          "own brake (docs/howto_own_brake.md)",
                        description="Write NAME.toml (a brake geometry) and NAME_scene.toml (a "
@@ -429,7 +435,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.command == "run":
             s = run_scene_file(args.scene, args.out, args.resume, args.quiet,
-                               overwrite=args.overwrite)
+                               overwrite=args.overwrite, imports=args.imports)
             if "test" in s:
                 from .tribology.command import summary_lines
                 print("\n".join(summary_lines(args.scene, s)))
@@ -447,9 +453,10 @@ def main(argv: list[str] | None = None) -> int:
             print(f"brakewear demo: {s['solver']['dofs']} DOFs, line pressure "
                   f"{s['line_pressure_Pa'] / 1e6:g} MPa, clamp force {s['clamp_force_N']:.1f} N")
             print(f"  interface: force {i['normal_force_N']:.3f} N (balance error "
-                  f"{i['force_balance_error']:.1e}), pressure mean {i['pressure_mean_Pa'] / 1e6:.3f} "
-                  f"MPa, max {i['pressure_max_Pa'] / 1e6:.3f} MPa")
-            print(f"  solve: {s['solver']['iterations']} AMG-CG iterations, total {s['run_s']:.1f} s")
+                  f"{i['force_balance_error']:.1e}), pressure mean "
+                  f"{i['pressure_mean_Pa'] / 1e6:.3f} MPa, max {i['pressure_max_Pa'] / 1e6:.3f} "
+                  f"MPa\n  solve: {s['solver']['iterations']} AMG-CG iterations, total "
+                  f"{s['run_s']:.1f} s")
             print(f"  wrote: {', '.join(s['files'])}")
             if args.wear_duration is None or args.wear_duration > 0:
                 w = run_demo_wear(Path(args.out) / "running_in", args.wear_duration, args.quiet,
@@ -470,7 +477,8 @@ def main(argv: list[str] | None = None) -> int:
         ck = Path(e.out) / "checkpoint.npz"
         where = (f"the checkpoint {ck} holds the last saved step (every "
                  f"{e.scene.output.checkpoint_every} steps); continue with:\n  brakewear run "
-                 f"{args.scene} --out {e.out} --resume" if ck.exists() else
+                 f"{args.scene} --out {e.out} --resume"
+                 + "".join(f" --import {m}" for m in args.imports) if ck.exists() else
                  "no checkpoint was written yet: run again without --resume")
         print(f"brakewear: interrupted at step {e.step}; {where}", file=sys.stderr)
         return EXIT_INTERRUPTED

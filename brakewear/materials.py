@@ -47,7 +47,17 @@ def _poisson(owner: str, name: str, value: float) -> float:
 
 @dataclass(frozen=True)
 class Isotropic:
-    """Isotropic linear elasticity: Young's modulus ``E`` (Pa), Poisson ``nu``."""
+    """Isotropic linear elasticity.
+
+    Parameters
+    ----------
+    E
+        Young's modulus (Pa).
+    nu
+        Poisson's ratio.
+    name
+        For messages.
+    """
 
     E: float
     nu: float
@@ -92,6 +102,8 @@ class TransverselyIsotropic:
         (``-eps_x / eps_z`` for ``sigma_z`` alone).
     G_t
         Shear modulus in the planes containing z (yz, xz).
+    name
+        For messages.
     """
 
     E_p: float
@@ -140,8 +152,19 @@ class TransverselyIsotropic:
 
 @dataclass(frozen=True)
 class Thermal:
-    """Thermal data: density (kg/m^3), heat capacity (J/kg K), conductivity
-    (W/m K), expansion coefficient (1/K)."""
+    """Thermal data of a material.
+
+    Parameters
+    ----------
+    rho
+        Density (kg/m^3).
+    c
+        Specific heat capacity (J/kg K).
+    kappa
+        Conductivity (W/m K).
+    alpha
+        Linear expansion coefficient (1/K).
+    """
 
     rho: float
     c: float
@@ -156,7 +179,21 @@ class Thermal:
 
 @dataclass(frozen=True)
 class Material:
-    """A named material: elastic law, thermal data, Archard wear coefficient (1/Pa)."""
+    """A named material.
+
+    Parameters
+    ----------
+    name
+        What geometry files and messages call it.
+    elastic
+        Its elastic law (:class:`Isotropic` or :class:`TransverselyIsotropic`).
+    thermal
+        Its :class:`Thermal` data.
+    wear_k
+        Its Archard wear coefficient (1/Pa), or None (it does not wear).
+    notes
+        Free text (where it is used).
+    """
 
     name: str
     elastic: Isotropic | TransverselyIsotropic
@@ -203,7 +240,23 @@ MATERIALS: dict[str, Material] = {
 
 
 def get_material(name: str) -> Material:
-    """Look up a material by name; unknown names raise with the allowed list."""
+    """Look up a material by name.
+
+    Parameters
+    ----------
+    name
+        A key of :data:`MATERIALS`.
+
+    Returns
+    -------
+    Material
+        The material.
+
+    Raises
+    ------
+    MaterialError
+        For an unknown name, listing the known ones.
+    """
     try:
         return MATERIALS[name]
     except (KeyError, TypeError):

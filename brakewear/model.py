@@ -27,24 +27,31 @@ from os import PathLike
 import numpy as np
 import scipy.sparse as sp
 
-from .checks import check_line_pressure, check_plausible
-from .contact.basis import check_supports
-from .contact.pairs import (ContactPair, ContactSystem, merge_pairs, pair_to_rigid,
-                            pair_to_surface, plane_height, rotor_drag)
-from .contact.supports import with_supports
-from .contact.quadratic import face_values
-from .contact.surface import project_nodes, tie_prolongation
-from .errors import MeshError, MotionError, SceneError
-from .fem.assembly import BlockPattern, assemble_stiffness
-from .fem.boundary import boundary_dofs
-from .geometry.files import load_geometry
-from .geometry.parts import BrakeGeometry
 from .caliper.loads import (
     clamp_loads,
     pad_support_dofs,
     resolve_layout,
     uniform_traction,
 )
+from .checks import check_line_pressure, check_plausible
+from .contact.basis import check_supports
+from .contact.pairs import (
+    ContactPair,
+    ContactSystem,
+    merge_pairs,
+    pair_to_rigid,
+    pair_to_surface,
+    plane_height,
+    rotor_drag,
+)
+from .contact.quadratic import face_values
+from .contact.supports import with_supports
+from .contact.surface import project_nodes, tie_prolongation
+from .errors import MeshError, MotionError, SceneError
+from .fem.assembly import BlockPattern, assemble_stiffness
+from .fem.boundary import boundary_dofs
+from .geometry.files import load_geometry
+from .geometry.parts import BrakeGeometry
 from .mesh.brake import (
     component_materials,
     element_materials,
@@ -100,6 +107,9 @@ class BrakeModel:
         any format :func:`~brakewear.mesh.read_mesh` reads) or ``skfem``
         mesh, with the named surfaces and volumes of :data:`MESH_GROUPS`;
         the other bodies are meshed from the geometry.
+    memory_budget
+        GB the model may use (None: ``BRAKEWEAR_MEMORY_GB`` or the available
+        memory): the mesh size is checked against it before meshing.
     """
 
     def __init__(self, geometry: BrakeGeometry | str = "default", piston: str = "traction",
@@ -176,7 +186,7 @@ class BrakeModel:
             return None
         return self._K[body], self._patterns[body]
 
-    def with_geometry(self, meshes: dict, stiffness: dict | None = None) -> "BrakeModel":
+    def with_geometry(self, meshes: dict, stiffness: dict | None = None) -> BrakeModel:
         """The same brake with some bodies' meshes replaced by moved ones (same
         topology, e.g. worn faces, :class:`~brakewear.motion.brake.BrakeMotion`).
 
@@ -196,7 +206,7 @@ class BrakeModel:
         new._patterns = dict(self._patterns)   # the block patterns follow the topology
         return new
 
-    def remeshed(self, meshes: dict, order: int) -> "BrakeModel":
+    def remeshed(self, meshes: dict, order: int) -> BrakeModel:
         """The same brake (geometry, bodies, layout, element materials) on other meshes
         of every body, of element ``order`` (renumbered, nothing assembled)."""
         if set(meshes) != set(self.bodies):
@@ -236,7 +246,9 @@ class BrakeModel:
             slave = face_nodes(smesh, sf)
             if mb == "rotor":     # chamfers leave the plane: only the face in touch is tied
                 plane = -self.geometry.rotor.thickness if sf == "friction_out" else 0.0
-                slave = slave[np.abs(smesh.p[2, slave] - plane) < 1e-9 * self.geometry.pad.thickness]
+                slave = slave[
+                    np.abs(smesh.p[2, slave] - plane) < 1e-9 * self.geometry.pad.thickness
+                ]
             proj = project_nodes(smesh.p[:, slave], mmesh, mf,
                                  search_radius=0.5 * self.geometry.mesh.size + 1e-9)
             nodes, weights, _ = face_values(mmesh, mf, proj)
@@ -364,10 +376,11 @@ class BrakeModel:
     def contact_system(self, line_pressure: float = 1e6, mu: float = 0.0,
                        method: str = "segment", search_radius: float | None = None
                        ) -> ContactSystem:
-        """The assembled pad-rotor contact problem, ready for :func:`brakewear.contact.lagrange.solve_contact`.
+        """The assembled pad-rotor contact problem, for the Lagrange contact solve.
 
-        Ties (piston) are already eliminated; node numbers are the retained
-        ones.  A wear loop keeps this and only changes ``pair.g0``.
+        :func:`brakewear.contact.lagrange.solve_contact` takes it.  Ties (piston) are
+        already eliminated; node numbers are the retained ones.  A wear loop keeps this and
+        only changes ``pair.g0``.
         """
         check_line_pressure(line_pressure)
         if not (np.isfinite(mu) and mu >= 0):

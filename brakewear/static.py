@@ -39,7 +39,29 @@ __all__ = ["StaticResult", "solve_tied", "solve_contact", "body_stresses", "stat
 
 @dataclass
 class StaticResult:
-    """Result of a static solve of the brake under a line pressure."""
+    """Result of a static solve of the brake under a line pressure.
+
+    Parameters
+    ----------
+    u
+        Body -> displacement (3 N_body,) in DOF order ``3 s + i``.
+    interface_nodes
+        The pad's vertex indices on the friction face.
+    interface_force
+        (3, n) force the rotor exerts on each of those nodes (N).
+    interface_pressure
+        (n,) normal pressure at those nodes (Pa).
+    clamp_force
+        Line pressure times the hydraulic piston area (N).
+    info
+        The solver's figures.
+    active
+        Contact status per interface node (contact solves; None when tied).
+    normal_z
+        z of the rotor face's normal toward each node (+-1), or None.
+    support_force
+        The pad's DOFs: abutment stops, rails and springs (N), or None.
+    """
 
     u: dict                      # body -> displacement (3 N_body,) in DOF order 3 s + i
     interface_nodes: np.ndarray  # pad vertex indices on the friction face
@@ -175,7 +197,20 @@ def _contact_result(model, cs: ContactSystem, cres, extra: dict) -> StaticResult
 
 
 def body_stresses(model, result: StaticResult) -> dict:
-    """Nodal von Mises stress per body (Pa): body name -> (nodes,) array."""
+    """Nodal von Mises stress per body.
+
+    Parameters
+    ----------
+    model
+        The :class:`~brakewear.model.BrakeModel` solved.
+    result
+        Its :class:`StaticResult`.
+
+    Returns
+    -------
+    dict
+        Body name -> (nodes,) von Mises stress (Pa).
+    """
     out = {}
     for b in model.bodies:
         se = element_stress(model.meshes[b], result.u[b], model.materials[b])
@@ -214,8 +249,21 @@ def face_report(model, result, mask: np.ndarray, area: np.ndarray) -> dict:
 
 
 def static_summary(model, result) -> dict:
-    """A JSON-ready summary of a static solve: interface (all faces together,
-    and per face), bodies, solver."""
+    """A JSON-ready summary of a static solve.
+
+    Parameters
+    ----------
+    model
+        The :class:`~brakewear.model.BrakeModel` solved.
+    result
+        Its :class:`StaticResult`.
+
+    Returns
+    -------
+    dict
+        The interface (all faces together, and per face), the bodies and the
+        solver's figures.
+    """
     g = model.geometry
     area = model.friction_areas()
     faces = {k: face_report(model, result, m, area) for k, m in
@@ -307,7 +355,7 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
         {"inboard_force_N": ..., "outboard_force_N": ..., "force": rel,
         "pin_moment_Nm": [mx, my, mz]}}``.
     """
-    from .caliper.loads import pad_support_dofs      # caliper_loads sits beside model, above static
+    from .caliper.loads import pad_support_dofs  # caliper_loads sits beside model, above static
 
     _traction_only(model)
     pad, off = model.meshes["pad"], model.offsets["pad"]
@@ -335,7 +383,7 @@ def pad_balance(model, result, line_pressure: float, extra: dict | None = None) 
         out[side] = {"force": float(np.linalg.norm(e.sum(axis=0)) / F),
                      "moment": float(np.linalg.norm(m) / (F * R))}
     if model.piston == "rigid":
-        from .caliper.static import part_balance     # each piston, the housing, the bracket
+        from .caliper.static import part_balance  # each piston, the housing, the bracket
 
         out.update(part_balance(result, line_pressure))
     elif model.full:

@@ -1,4 +1,4 @@
-"""CPU cost of AMG settings on the brake systems (docs/performance.md, "AMG settings").
+"""CPU cost of AMG settings on the brake systems (docs/amg_settings.md).
 
 Two cases, each timed with ``time.process_time`` (the solves are single
 threaded, so CPU time is steadier than wall time on a shared machine):

@@ -67,7 +67,9 @@ def main(line_pressure_mpa: float = 1.0, mu: float = 0.4, size_mm: float | None 
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
         with open(out / "brake_contact.json", "w") as fh:
-            json.dump(result, fh, indent=2, default=lambda o: o.item() if hasattr(o, "item") else str(o))
+            json.dump(
+                result, fh, indent=2, default=lambda o: o.item() if hasattr(o, "item") else str(o)
+            )
         if figures:
             from brakewear.output.figures import plot_field
             pad = model.meshes["pad"]

@@ -67,7 +67,7 @@ if __name__ == "__main__":
     print(f"{'order':>5} {'size mm':>7} {'dofs':>7} {'time s':>6} {'contact':>7} "
           f"{'p max MPa':>9} {'r_c mm':>7} {'theta_c':>7}")
     for r in res["rows"]:
-        print(f"{'P%d' % r['order']:>5} {r['size_mm']:>7.1f} {r['dofs']:>7} {r['time_s']:>6.1f} "
+        print(f"{'P' + str(r['order']):>5} {r['size_mm']:>7.1f} {r['dofs']:>7} {r['time_s']:>6.1f} "
               f"{r['contact_share']:>7.1%} {r['pressure_max_MPa']:>9.3f} {r['centre_r_mm']:>7.2f} "
               f"{r['centre_theta_deg']:>7.2f}")
     share = np.array([r["contact_share"] for r in res["rows"]])

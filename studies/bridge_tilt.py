@@ -37,12 +37,12 @@ from brakewear.geometry import load_geometry
 from brakewear.interfaces import FEInterface
 from brakewear.mesh.surface import face_nodes
 from brakewear.model import BrakeModel
-from brakewear.wear import wear_history
 from brakewear.static import solve_contact
+from brakewear.wear import wear_history
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from load_path import MESH, face_numbers, meshed  # noqa: E402  (a sibling script)
 from brakewear.wear import Run
+from load_path import MESH, face_numbers, meshed  # noqa: E402  (a sibling script)
 
 TILTS = (0.0, 0.05, 0.1, 0.2, 0.4)        # mrad per kN of clamp force
 LINE_PRESSURE = 1e6                        # Pa
@@ -93,8 +93,19 @@ def run_tilt(geom, tilt: float, hours: float, steps: int) -> dict:
         pad_law = WearLaw(g.pad.friction_material.wear_k)
         rotor_law = WearLaw(g.rotor.material.wear_k)
         itf = FEInterface(model, LINE_PRESSURE, MU)
-        for step in wear_history(Run(model, LINE_PRESSURE, OMEGA, 3600.0 * hours, pad_law, rotor_law, MU, interface=itf, numerics=Numerics(scheme="implicit", update="gap",
-                                                   steps=steps))):
+        for step in wear_history(  # noqa: B007  (the last step)
+            Run(
+                model,
+                LINE_PRESSURE,
+                OMEGA,
+                3600.0 * hours,
+                pad_law,
+                rotor_law,
+                MU,
+                interface=itf,
+                numerics=Numerics(scheme="implicit", update="gap", steps=steps),
+            )
+        ):
             pass
         row["worn"] = wear_profile(model, itf, step)
     row["wall_s"] = time.perf_counter() - t0

@@ -37,8 +37,7 @@ from brakewear import CaliperInterface, Numerics, WearLaw
 from brakewear.geometry import load_geometry
 from brakewear.mesh.surface import face_nodes
 from brakewear.model import BrakeModel
-from brakewear.wear import wear_history
-from brakewear.wear import Run
+from brakewear.wear import Run, wear_history
 
 LINE_PRESSURE = 1e6                        # Pa
 MU = 0.4
@@ -99,7 +98,19 @@ def run(abutment_friction: float, size: float, hours: float) -> dict:
     pad = g.pad.friction_material.wear_k
     rotor = g.rotor.material.wear_k
     last = None
-    for last in wear_history(Run(model, LINE_PRESSURE, OMEGA, 3600.0 * hours, WearLaw(pad), WearLaw(rotor), MU, interface=itf, numerics=Numerics(steps=10, scheme="implicit"))):
+    for last in wear_history(  # noqa: B007  (the last step)
+        Run(
+            model,
+            LINE_PRESSURE,
+            OMEGA,
+            3600.0 * hours,
+            WearLaw(pad),
+            WearLaw(rotor),
+            MU,
+            interface=itf,
+            numerics=Numerics(steps=10, scheme="implicit"),
+        )
+    ):
         pass
     return {"abutment_friction": abutment_friction, "clamp_force_N": F,
             "face_force_N": force, "face_force_share": {k: v / F for k, v in force.items()},

@@ -6,7 +6,7 @@ and its mirror image, condensed onto their contact faces
 (:mod:`brakewear.tribology.bodies`), loaded by a normal load with the initial gap
 of a cylinder (plane strain: R = 10 mm, 200 kN/m) or a sphere (R = 5 mm, 10 N),
 then by a tangential load Q below mu P (:func:`brakewear.contact.friction.solve_friction`).
-Compared with the closed forms of :mod:`brakewear.analytic_tribometer`: the
+Compared with the closed forms of :mod:`brakewear.analytic.tribometer`: the
 shear traction and the stick zone, and what the slip adds to the tangential
 approach (the approach minus the approach with mu = 1e6, all stuck).
 

@@ -170,11 +170,11 @@ def _row(rec, thermal, coning, reduced, w, car) -> dict:
         friction = rec.target_face_J * 2 * car.brakes_per_axle / car.axle_share
         heat = rec.heat["heat_pad_J"] + rec.heat["heat_rotor_J"]
         row.update(line_pressure_MPa=rec.line_pressure / 1e6, kinetic_J=rec.kinetic_J,
-                   road_J=rec.road_J, regenerated_J=rec.regenerated_J, friction_J=friction,
-                   closure=(rec.road_J + rec.regenerated_J + friction) / rec.kinetic_J - 1,
+                   road_J=rec.road_net_J, regenerated_J=rec.regenerated_J, friction_J=friction,
+                   closure=(rec.road_net_J + rec.regenerated_J + friction) / rec.kinetic_J - 1,
                    target_face_J=rec.target_face_J, friction_face_J=rec.friction_face_J,
                    torque_drift=rec.torque_drift,
-                   model_closure=(rec.road_J + rec.regenerated_J + friction
+                   model_closure=(rec.road_net_J + rec.regenerated_J + friction
                                   * (1 + rec.torque_drift)) / rec.kinetic_J - 1,
                    heat_J=heat, heat_rotor_J=rec.heat["heat_rotor_J"],
                    heat_over_friction=heat / (2 * rec.friction_face_J) - 1,

@@ -46,7 +46,19 @@ def _running_in(model, itf, steps: int, line_pressure: float = 1e6):
     rotor = WearLaw(g.rotor.material.wear_k or MATERIALS["grey_cast_iron"].wear_k)
     t0 = time.perf_counter()
     last, times = None, []
-    for last in wear_history(Run(model, line_pressure, 55.0, 3600.0, pad, rotor, 0.4, interface=itf, numerics=Numerics(steps=steps, scheme="implicit"))):
+    for last in wear_history(  # noqa: B007  (the last step)
+        Run(
+            model,
+            line_pressure,
+            55.0,
+            3600.0,
+            pad,
+            rotor,
+            0.4,
+            interface=itf,
+            numerics=Numerics(steps=steps, scheme="implicit"),
+        )
+    ):
         times.append(time.perf_counter() - t0 - sum(times))
     _running_in.step_times = np.array(times)
     return last, time.perf_counter() - t0

@@ -27,8 +27,6 @@ import logging
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
 from brakewear.scene import load_scene
 from brakewear.tribology import run_tribometer
 
@@ -101,7 +99,9 @@ def draw(data: dict, path: Path) -> Path:
     a.set_ylabel("flat's scar depth at its centre (um)")
     a.set_title(f"{data['scene']}: the depth converges in N")
     a.legend(fontsize=8)
-    err = lambda r: max(abs(r["depth_centre_m"] / ref - 1.0), 1e-6)
+    def err(r):
+        return max(abs(r["depth_centre_m"] / ref - 1.0), 1e-6)
+
     b.loglog([r["cycles_simulated"] for r in fixed], [err(r) for r in fixed], "o-",
              label="fixed jumps")
     b.loglog([r["cycles_simulated"] for r in ctrl], [err(r) for r in ctrl], "s-",

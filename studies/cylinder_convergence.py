@@ -19,10 +19,16 @@ import numpy as np
 import skfem as fem
 
 from brakewear.analytic import thick_cylinder_displacement
-from brakewear.output.figures import label_log_axis
-from brakewear.fem import apply_dirichlet, assemble_pressure, assemble_stiffness, boundary_dofs, scalar_element
+from brakewear.fem import (
+    apply_dirichlet,
+    assemble_pressure,
+    assemble_stiffness,
+    boundary_dofs,
+    scalar_element,
+)
 from brakewear.materials import Isotropic
 from brakewear.mesh import annulus_mesh
+from brakewear.output.figures import label_log_axis
 from brakewear.solvers import amg_solver
 
 # rotor-like ring: radii of a friction ring, cast-iron stiffness, 10 MPa inside
@@ -164,4 +170,6 @@ if __name__ == "__main__":
         print(f"{x['order']:>5} {x['n']:>3} {x['dofs']:>7} {x['l2']:>10.3e} {x['energy']:>10.3e} "
               f"{x['iterations']:>4} {x['time_s']:>6.2f}")
     for o in (1, 2):
-        print(f"P{o}: L2 rate {res[f'p{o}_l2_rate']:.2f}, energy rate {res[f'p{o}_energy_rate']:.2f}")
+        print(
+            f"P{o}: L2 rate {res[f'p{o}_l2_rate']:.2f}, energy rate {res[f'p{o}_energy_rate']:.2f}"
+        )

@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from brakewear import analytic as an
-from brakewear.interfaces import WinklerInterface, calibrate, compare, fe_lever_arm
 from brakewear.analytic import johnson_modulus
+from brakewear.interfaces import WinklerInterface, calibrate, compare, fe_lever_arm
 from brakewear.model import BrakeModel
 from brakewear.static import solve_contact
 

@@ -9,25 +9,15 @@ up.  The couple of the two tips the pad toward the end where rotor material
 enters under it (the leading end), which then carries more pressure and wears
 more: the worn pad is tapered from leading to trailing.
 
-The numbers, for each mu:
-
-* ``taper``: (mean pad wear over the leading band - over the trailing band) /
-  mean pad wear; a band is the outer ``band`` (15 %) of the arc at each end,
-  wear averaged over the nodal areas (over radius and angle);
-* ``lead_minus_trail_um``: the same difference in um;
-* ``slope_um_per_deg``: the least-squares slope (area-weighted) of the pad
-  wear against the angle along the rotor's motion (from the leading toward
-  the trailing end; < 0: the leading end is worn more);
-* ``cop_start_deg``, ``cop_end_deg`` (and ``_mm``, along the arc at the
-  centre of pressure's radius): the circumferential centre of pressure at
-  first contact and in the worn state at the end, measured from the pad's
-  centre line along the rotor's motion (< 0: toward the leading end);
-* ``lever_start_mm``, ``lever_end_mm`` (mu > 0): the height above the
-  friction face of the abutment reaction's line of action
-  (:func:`brakewear.interfaces.fe_lever_arm`); statics makes the centre of
-  pressure's shift ``-lever mu <cos theta>`` (``statics_shift_mm``);
-* ``archard_error``: |worn volume - sum over the steps of k p v A dt| / worn
-  volume, pad and rotor, summed here from the step records.
+The numbers, for each mu: ``taper`` (leading minus trailing band wear over the
+mean; a band is the outer ``band`` of the arc at each end) and the difference in
+um; ``slope_um_per_deg`` (area-weighted slope of the wear against the angle
+along the rotor's motion; < 0: the leading end worn more); the centre of
+pressure at first contact and worn (``cop_*``, from the pad's centre line along
+the motion); the abutment reaction's lever above the friction face
+(:func:`brakewear.interfaces.fe_lever_arm`) and the centre-of-pressure shift
+statics gives, ``-lever mu <cos theta>``; ``archard_error``, the worn volume
+against :func:`brakewear.wear.records.archard_volumes`.
 
 Which end leads follows from the pair's drag direction (the rotor's surface
 velocity, ``BrakeModel.contact_pair(...).drag``): in the default brake the
@@ -42,6 +32,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import sys
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -50,8 +41,11 @@ import numpy as np
 
 from brakewear.interfaces import FEInterface, fe_lever_arm
 from brakewear.scene import load_scene
-from brakewear.wear import wear_history
-from brakewear.wear import Run
+from brakewear.wear import Run, wear_history
+from brakewear.wear.records import archard_volumes
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from running_in_report import taper_figure  # noqa: E402  (a sibling script, not a package)
 
 BAND = 0.15     # fraction of the arc at each end that makes a band
 
@@ -137,26 +131,6 @@ def lever_arm(itf, sol) -> float:
     return fe_lever_arm(model, fe)
 
 
-def archard_volumes(itf, history: list, pad_law, rotor_law, omega: float,
-                    scheme: str) -> tuple[float, float]:
-    """Sum over the steps of ``k p v A dt`` for pad and rotor (m^3), from the records.
-
-    The implicit schemes wear the pad with the end-of-step pressure (unless the
-    step was taken explicitly), ``"implicit"`` the rotor too, ``"implicit_pad"``
-    the rotor with the start's.
-    """
-    v = omega * itf.r
-    pad = rot = 0.0
-    for s in history:
-        end = scheme != "explicit" and not s.explicit
-        p_pad = s.pressure_end if end else s.pressure
-        p_rot = s.pressure_end if end and scheme == "implicit" else s.pressure
-        pad += float((pad_law.rate(p_pad, v) * itf.area).sum()) * s.dt
-        if rotor_law is not None:
-            rot += float((rotor_law.rate(p_rot, v) * itf.area).sum()) * s.dt
-    return pad, rot
-
-
 def run(model, scene, mu: float, numerics, duration: float, sense: int,
         band: float = BAND) -> dict:
     """One running-in of ``scene`` on ``model`` with friction ``mu``: its numbers
@@ -166,7 +140,8 @@ def run(model, scene, mu: float, numerics, duration: float, sense: int,
     pad_law, rotor_law = scene.wear_laws()
     xi = along_motion(itf, sense)
     history, rows = [], []
-    for s in wear_history(Run(model, scene.line_pressure, scene.omega, duration, pad_law, rotor_law, mu, numerics=numerics, interface=itf)):
+    for s in wear_history(Run(model, scene.line_pressure, scene.omega, duration, pad_law,
+                              rotor_law, mu, numerics=numerics, interface=itf)):
         history.append(s)
         prof = profile_numbers(xi, itf.area, s.pad_wear, band)
         rows.append({"time_s": s.time, "mean_um": prof["mean_um"],
@@ -288,84 +263,6 @@ def _public(res: dict) -> dict:
                              "y_mm": (f["itf"].x[1] * 1e3).round(4).tolist(),
                              "pad_wear_um": (f["pad_wear"] * 1e6).round(5).tolist()}}
     return {**res, "runs": runs}
-
-
-def _face_triangles(itf) -> np.ndarray:
-    """The friction face's triangles (ntri, 3) in the interface's node numbering."""
-    pad = itf.model.meshes["pad"]
-    tri = pad.facets[:, pad.boundaries["friction"]]
-    local = -np.ones(pad.nvertices, dtype=np.int64)
-    local[itf.pad_nodes] = np.arange(itf.pad_nodes.size)
-    return local[tri[:3]].T
-
-
-def taper_figure(res: dict, path: Path) -> Path:
-    """Wear along the arc, the leading/trailing difference and the centre of
-    pressure over the drag, and the wear maps of the friction face, per mu."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.tri import Triangulation
-
-    runs = list(res["runs"].values())
-    band = res["settings"]["band"]
-    fig = plt.figure(figsize=(12, 4.2 + 3.6 * ((len(runs) + 1) // 2)))
-    grid = fig.add_gridspec(1 + (len(runs) + 1) // 2, 2, height_ratios=[1.15] + [1] * (
-        (len(runs) + 1) // 2))
-    a, b = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])
-    b2 = b.twinx()
-    lo, hi = min(r["profile_deg"][0] for r in runs), max(r["profile_deg"][-1] for r in runs)
-    for edge in (lo, hi - band * (hi - lo)):
-        a.axvspan(edge, edge + band * (hi - lo), color="0.92")
-    for i, r in enumerate(runs):
-        a.plot(r["profile_deg"], r["profile_um"], "o-", ms=3, color=f"C{i}",
-               label=f"mu = {r['mu']:g}: taper {100 * r['taper']:+.1f} %, "
-                     f"slope {r['slope_um_per_deg']:+.3f} um/deg")
-        hist = r["history"]
-        t = [row["time_s"] / 60 for row in hist]
-        b.plot(t, [row["lead_minus_trail_um"] for row in hist], "-", color=f"C{i}",
-               label=f"mu = {r['mu']:g}: lead - trail")
-        b2.plot(t, [row["cop_deg"] for row in hist], "--", color=f"C{i}",
-                label=f"mu = {r['mu']:g}: centre of pressure")
-    a.text(lo, a.get_ylim()[1], " leading end", va="top", fontsize=9)
-    a.text(hi, a.get_ylim()[1], "trailing end ", va="top", ha="right", fontsize=9)
-    a.set_xlabel("angle from the pad centre line along the rotor's motion (deg)")
-    a.set_ylabel("pad wear, mean over radius (um)")
-    a.set_title(f"Pad wear along the arc after {res['settings']['duration_s'] / 60:.0f} min "
-                f"(shaded: the {100 * band:.0f} % bands)", fontsize=10)
-    a.legend(fontsize=8, loc="lower center")
-    a.grid(alpha=0.3)
-    b.axhline(0.0, color="k", lw=0.6)
-    b.set_xlabel("time (min)")
-    b.set_ylabel("leading minus trailing band wear (um), solid")
-    b2.set_ylabel("centre of pressure (deg; < 0: toward leading), dashed")
-    b.set_title("Taper and centre of pressure over the drag", fontsize=10)
-    lines = b.get_legend_handles_labels()
-    lines2 = b2.get_legend_handles_labels()
-    b.legend(lines[0] + lines2[0], lines[1] + lines2[1], fontsize=8, loc="center right")
-    b.grid(alpha=0.3)
-    vmax = max(float(r["_fields"]["pad_wear"].max()) for r in runs) * 1e6
-    vmin = min(float(r["_fields"]["pad_wear"].min()) for r in runs) * 1e6
-    levels = np.linspace(vmin, vmax, 21)
-    for i, r in enumerate(runs):
-        ax = fig.add_subplot(grid[1 + i // 2, i % 2])
-        f = r["_fields"]
-        tri = Triangulation(f["xi"], f["itf"].r * 1e3, _face_triangles(f["itf"]))
-        cs = ax.tricontourf(tri, f["pad_wear"] * 1e6, levels=levels, cmap="viridis")
-        ax.set_title(f"pad wear (um), mu = {r['mu']:g}; rotor moves left to right",
-                     fontsize=10)
-        ax.set_xlabel("angle along the rotor's motion (deg); leading end at the left")
-        ax.set_ylabel("radius (mm)")
-        fig.colorbar(cs, ax=ax, format="%.0f")
-    fig.suptitle(f"Default scene, {res['settings']['line_pressure_Pa'] / 1e6:g} MPa, "
-                 f"{res['settings']['omega_rad_s']:g} rad/s, mesh "
-                 f"{res['settings']['mesh_size_mm']:g} mm: friction tilts the pad toward "
-                 "its leading end", fontsize=11)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
 
 
 def _cli(argv=None) -> int:

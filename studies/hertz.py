@@ -21,11 +21,33 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.analytic import hertz_sphere_pressure
-from brakewear.contact.hertz import (A0, DELTA, ES, FINE_XY, FINE_Z, FIT_R, GAP_TOL,  # noqa: F401
-                                    GROWTH, L_OVER_A, MATERIAL, RECOVERY, R, HertzProblem,
-                                    axis, block_mesh, boussinesq, hertz_dofs, hertz_problem,
-                                    hertz_resolution, measure, mirrored_tets,
-                                    recovered_pressure, solve, solve_problem, sphere_height)
+from brakewear.contact.hertz import (  # noqa: F401
+    A0,
+    DELTA,
+    ES,
+    FINE_XY,
+    FINE_Z,
+    FIT_R,
+    GAP_TOL,
+    GROWTH,
+    L_OVER_A,
+    MATERIAL,
+    RECOVERY,
+    HertzProblem,
+    R,
+    axis,
+    block_mesh,
+    boussinesq,
+    hertz_dofs,
+    hertz_problem,
+    hertz_resolution,
+    measure,
+    mirrored_tets,
+    recovered_pressure,
+    solve,
+    solve_problem,
+    sphere_height,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -74,6 +96,7 @@ def _plot_convergence(result: dict, path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     from brakewear.output.figures import label_log_axis
 
     rows = result["rows"]

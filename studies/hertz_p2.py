@@ -139,7 +139,7 @@ def _table(result: dict) -> str:
     lines = [f"{'order':>5} {'h/a':>7} {'dofs':>7} {'time s':>7} {'p0 err':>9} {'p0 nodal':>9} "
              f"{'a err':>9} {'delta':>9} {'L2':>8}"]
     for r in result["rows"]:
-        lines.append(f"{'P%d' % r['order']:>5} {r['h_over_a']:>7.4f} {r['dofs']:>7} "
+        lines.append(f"{'P' + str(r['order']):>5} {r['h_over_a']:>7.4f} {r['dofs']:>7} "
                      f"{r['time_s']:>7.1f} {r['p0_err']:>+9.2e} {r['p0_nodal_err']:>+9.2e} "
                      f"{r['a_err']:>+9.2e} {r['delta_err']:>+9.2e} {r['l2_err']:>8.2e}")
     for k, v in result["summary"].items():

@@ -1,58 +1,27 @@
 """The caliper's load path: how much of the rotor the pads touch, idealised against real.
 
 Static contact of two brakes under line pressures from light to firm, with and
-without friction:
-
-- ``idealised``: ``geometry/default.toml`` as the half model has always taken
-  it: a solid 40 mm disc footprint snapped to the backplate's facets, both
-  backplate ends held in-plane, the outboard pad a mirror image of the inboard
-  one, the ring clamped at its inner radius;
-- ``floating``: ``geometry/floating.toml``, a single-piston floating caliper:
-  the piston's 54/57 mm rim on a backplate larger than the lining, two
-  fingers on the outboard pad, the bracket's abutments, the rotor on its hat;
-  both pads and the whole rotor thickness (``layout = "full"``);
-- ``floating_hot``: the same with the friction ring 100 K warmer than the hat
-  (the first seconds of a firm stop): the hat cones the ring
-  (studies/thermal_coning.py) and the faces no longer conform.
-
-With conforming flat faces and linear elasticity the contact problem is
-proportional: pressure scales with the line pressure and coverage does not
-change with it (the table shows it to the solver's tolerance).  What makes
-coverage depend on the line pressure is a non-conformity, here the ring's
-thermal cone, which the line pressure has to flatten.
+without friction: ``idealised`` (``geometry/default.toml``, the half model),
+``floating`` (``geometry/floating.toml``: both pads, the whole rotor on its hat,
+the piston's rim, the fingers, the abutments) and ``floating_hot`` (the ring
+100 K warmer than the hat: it cones, and the faces no longer conform; with
+conforming faces the problem is proportional and coverage does not change with
+the line pressure).
 
 For each case, pressure and friction coefficient: per friction face the
-contact coverage (share of the face's area whose nodes carry pressure), the
-centre of pressure (radius, angle from the pad's centre line along the
-rotor's motion), the largest pressure over the nominal one (clamp force over
-the lining's area), each pad's force and moment balance
-(:func:`brakewear.static.pad_balance`) and, in the full model, the caliper's:
-the pistons' and the fingers' forces, the relative residual of their sum and
-the couple the pins carry (:func:`brakewear.static.caliper_balance`).  Two checks of the half model:
+coverage, the centre of pressure, the largest pressure over the nominal one,
+each pad's and (full model) the caliper's balance
+(:func:`brakewear.static.pad_balance`, :func:`brakewear.static.caliper_balance`);
+the half model against the full one where its assumption holds (a fixed
+caliper) and where it does not (the fingers); the coverage of each face with
+the ring ``dT`` warmer than the hat (:func:`hat_coverage`); the coverage at
+0.5 MPa under mesh refinement with its Richardson estimate
+(:func:`coverage_convergence`).  docs/load_path.md tells what each shows.
 
-- where its assumption holds (a fixed caliper with the floating brake's
-  piston rim on both sides, the ring clamped at its inner radius), ``full``
-  against ``half``;
-- where it does not (the floating caliper's fingers, on the same clamped
-  ring), the half model (the outboard pad taken as the inboard one) against
-  the full model.
-
-Two more questions of the floating brake:
-
-- the hat cones a heated ring (studies/thermal_coning.py): with the friction
-  ring ``dT`` warmer than the hat (the first seconds of a hard stop), how the
-  coverage of each face changes (:func:`hat_coverage`);
-- coverage at 0.5 MPa under mesh refinement: pad, lining layers and rotor
-  refined together, the observed rate and a Richardson estimate
-  (:func:`coverage_convergence`).
-
-Run ``python studies/load_path.py [--out DIR] [--pressures 0.25 0.5 1 2 4]
-[--mu 0 0.4] [--pad-size MM] [--levels 1 1.5 2]``; writes
-``DIR/data/load_path.json`` and the pressure maps
-``DIR/figures/load_path_mu0.png``, ``load_path_mu0.4.png``.  With
-``--caliper-only`` it solves no contact and writes only the caliper's balance
-of every full-model case, ``DIR/data/load_path_caliper.json``
-(:func:`caliper_main`; seconds on any mesh).
+Run ``python studies/load_path.py [--out DIR] [--pressures 0.25 0.5 1 2 4] [--mu 0 0.4]
+[--pad-size MM] [--levels 1 1.5 2]``: ``DIR/data/load_path.json`` and the maps
+``DIR/figures/load_path_mu*.png``; ``--caliper-only``: no contact, the caliper's
+balance of every full-model case (:func:`caliper_main`), ``load_path_caliper.json``.
 """
 from __future__ import annotations
 
@@ -67,12 +36,13 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.geometry import CaliperGeometry, load_geometry
+from brakewear.mesh.convergence import richardson
 from brakewear.model import BrakeModel
-from brakewear.static import caliper_balance, pad_balance
-from brakewear.static import solve_contact, static_summary
+from brakewear.static import caliper_balance, pad_balance, solve_contact, static_summary
+from brakewear.thermal.strain import heated_subdomain_load
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from thermal_coning import thermal_load  # noqa: E402  (a sibling script, not a package)
+from pressure_maps import draw_maps  # noqa: E402  (a sibling script, not a package)
 
 PRESSURES_MPA = (0.25, 0.5, 1.0, 2.0, 4.0)
 MUS = (0.0, 0.4)
@@ -127,26 +97,13 @@ def pressure_field(model, res) -> dict:
             for k, f in faces.items()}
 
 
-def ring_load(model, dT: float) -> np.ndarray | None:
-    """The load (every DOF) of the friction ring's elements ``dT`` (K) warmer than
-    the hat (a hat rotor; None for dT = 0)."""
-    if dT == 0.0:
-        return None
-    rotor, off = model.meshes["rotor"], model.offsets["rotor"]
-    unit = thermal_load(rotor, model.geometry.rotor.material, np.ones(rotor.p.shape[1]),
-                        elements=rotor.subdomains["ring"])
-    load = np.zeros(model.dofs)
-    load[3 * off:3 * off + unit.size] = dT * unit
-    return load
-
-
 def solve_case(geom, layout: str, pressures, mus, dT: float = 0.0,
                fields: bool = False) -> dict:
     """Contact at every pressure and mu (the ring ``dT`` warmer than the hat);
     the model is built once."""
     t0 = time.perf_counter()
     model = BrakeModel(geom, layout=layout)
-    load = ring_load(model, dT)
+    load = None if dT == 0.0 else heated_subdomain_load(model, "rotor", "ring", dT)
     rows, maps = [], {}
     for mu in mus:
         for p_mpa in pressures:
@@ -188,48 +145,13 @@ def half_differences(full: dict, half: dict) -> list:
     return out
 
 
-#: the cases drawn in the pressure maps
+#: the cases drawn in the pressure maps, and their rows (case, face, label)
 MAPPED = ("idealised", "floating", "floating_hot")
-
-
-def draw_maps(runs: dict, mu: float, pressures, path: Path) -> Path:
-    """Pressure over nominal on every face (rows) at every pressure (columns)."""
-    from brakewear.output.figures import offscreen_pyvista
-
-    pv = offscreen_pyvista()
-    faces = [("idealised", "in", "idealised (half model)"),
-             ("floating", "in", "floating: inboard (piston rim)"),
-             ("floating", "out", "floating: outboard (fingers)"),
-             ("floating_hot", "in", f"floating, ring +{HOT_RING_K:g} K: inboard"),
-             ("floating_hot", "out", f"floating, ring +{HOT_RING_K:g} K: outboard")]
-    pl = pv.Plotter(off_screen=True, shape=(len(faces), len(pressures)),
-                    window_size=[320 * len(pressures), 300 * len(faces)], border=False)
-    for i, (case, face, label) in enumerate(faces):
-        geom = runs[case]["geometry"]
-        nominal = geom.clamp_area / geom.pad.area
-        for j, p_mpa in enumerate(pressures):
-            m = runs[case]["maps"][(mu, p_mpa)][face]
-            f = m["facets"]
-            used, inv = np.unique(f, return_inverse=True)
-            pts = np.vstack([m["xy"][:, used], np.zeros(used.size)]).T
-            surf = pv.PolyData(np.ascontiguousarray(pts),
-                               np.vstack([np.full(f.shape[1], 3), inv.reshape(f.shape)]).T.ravel())
-            surf.point_data["p / p_nominal"] = m["p"][used] / (p_mpa * 1e6 * nominal)
-            pl.subplot(i, j)
-            pl.add_mesh(surf, scalars="p / p_nominal", cmap="inferno", clim=(0.0, 3.0),
-                        show_scalar_bar=(i == len(faces) - 1 and j == len(pressures) - 1),
-                        scalar_bar_args={"title": "p / p_nominal", "color": "black",
-                                         "vertical": True, "position_x": 0.8,
-                                         "position_y": 0.1, "height": 0.8, "width": 0.08,
-                                         "n_labels": 4, "fmt": "%.0f",
-                                         "title_font_size": 12, "label_font_size": 11})
-            pl.add_text(f"{label}\n{p_mpa:g} MPa", font_size=7, color="black")
-            pl.view_xy()
-            pl.set_background("white")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    pl.screenshot(str(path))
-    pl.close()
-    return path
+MAP_ROWS = (("idealised", "in", "idealised (half model)"),
+            ("floating", "in", "floating: inboard (piston rim)"),
+            ("floating", "out", "floating: outboard (fingers)"),
+            ("floating_hot", "in", f"floating, ring +{HOT_RING_K:g} K: inboard"),
+            ("floating_hot", "out", f"floating, ring +{HOT_RING_K:g} K: outboard"))
 
 
 def hat_coverage(geom, dTs=(0.0, 100.0, 200.0), line_pressure: float = 1e6,
@@ -239,7 +161,8 @@ def hat_coverage(geom, dTs=(0.0, 100.0, 200.0), line_pressure: float = 1e6,
     model = BrakeModel(geom, layout="full")
     rows = []
     for dT in dTs:
-        res = solve_contact(model, line_pressure, mu=mu, tol=1e-12, load=ring_load(model, dT))
+        load = None if dT == 0.0 else heated_subdomain_load(model, "rotor", "ring", dT)
+        res = solve_contact(model, line_pressure, mu=mu, tol=1e-12, load=load)
         rows.append({"dT_K": dT, "faces": face_numbers(model, res, line_pressure)})
     return rows
 
@@ -253,33 +176,12 @@ def level_mesh(n: float) -> dict:
             "rotor_layers": max(1, round(n))}
 
 
-def richardson_h(h, f) -> dict:
-    """Observed rate and Richardson estimate from the last three of values ``f``
-    on meshes of relative size ``h`` (any ratios): ``p`` solves
-    ``(h1^p - h2^p) / (h2^p - h3^p) = (f1 - f2) / (f2 - f3)``; not in the
-    asymptotic range (no estimate) where the differences change sign."""
-    from scipy.optimize import brentq
-
-    (h1, h2, h3), (f1, f2, f3) = h[-3:], f[-3:]
-    if (f1 - f2) * (f2 - f3) <= 0:
-        return {"rate": None, "estimate": None, "asymptotic": False}
-    target = (f1 - f2) / (f2 - f3)
-    g = lambda p: (h1 ** p - h2 ** p) / (h2 ** p - h3 ** p) - target  # noqa: E731
-    lo, hi = 1e-3, 10.0
-    if g(lo) * g(hi) > 0:
-        return {"rate": None, "estimate": None, "asymptotic": False}
-    p = brentq(g, lo, hi)
-    f0 = f3 - (f2 - f3) * h3 ** p / (h2 ** p - h3 ** p)
-    return {"rate": p, "estimate": f0, "asymptotic": True,
-            "errors": [v / f0 - 1.0 for v in f]}
-
-
 def coverage_convergence(levels=(1.0, 1.5, 2.0), line_pressure: float = 0.5e6,
                          mus=MUS) -> dict:
     """Coverage of both faces of the floating brake at ``line_pressure`` on
     meshes refined by the levels (element sizes ``1 / level`` relative): per
     face and mu the values, the observed rate and the Richardson estimate of
-    the three finest (:func:`richardson_h`)."""
+    the three finest (:func:`brakewear.mesh.convergence.richardson`)."""
     geom = load_geometry("floating")
     runs = []
     for n in levels:
@@ -292,14 +194,15 @@ def coverage_convergence(levels=(1.0, 1.5, 2.0), line_pressure: float = 0.5e6,
 def analyse_coverage(cc: dict) -> dict:
     """Rates and estimates of a :func:`coverage_convergence` record (coverage and
     centre-of-pressure radius of each face and mu)."""
-    h = [1.0 / n for n in cc["levels"]]
+    lv = cc["levels"]
+    ratios = [b / a for a, b in zip(lv[:-1], lv[1:])]
     cc["estimate"] = {}
     for k, mu in enumerate(r["mu"] for r in cc["runs"][0]["rows"]):
         for face in ("in", "out"):
             for q in ("coverage", "cop_r_mm"):
                 vals = [run["rows"][k]["faces"][face][q] for run in cc["runs"]]
                 cc["estimate"][f"{q}_mu{mu:g}_{face}"] = {"values": vals,
-                                                          **richardson_h(h, vals)}
+                                                          **richardson(vals, ratios)}
     return cc
 
 
@@ -327,7 +230,8 @@ def main(pressures=PRESSURES_MPA, mus=MUS, mesh: dict | None = None, out: Path |
         (out / "data" / "load_path.json").write_text(json.dumps(result, indent=1))
         if figures:
             for mu in mus:
-                draw_maps(runs, mu, pressures, out / "figures" / f"load_path_mu{mu:g}.png")
+                draw_maps(runs, MAP_ROWS, mu, pressures,
+                          out / "figures" / f"load_path_mu{mu:g}.png")
     print_table(result)
     return result
 

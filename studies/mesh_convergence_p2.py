@@ -1,26 +1,14 @@
 """Mesh convergence of the default scene's running-in with quadratic (P2) elements,
 and its error against run time beside the linear (P1) family.
 
-The running-in of ``studies/mesh_convergence.py`` (the default scene's physics,
-the same equal implicit steps, gap-offset update) with ``BrakeModel(order=2)``
-on the levels of that study (level ``n``: in-plane size ``18 / n`` mm and
-``round(n)`` element layers through the friction layer, the backplate and the
-rotor half), taken coarser than P1's: a quadratic tetrahedron carries a linear
-bending stress through its thickness, so one or two layers through the
-backplate no longer lock.
-
-Each P2 mesh is measured twice:
-
-- against the converged estimate of the P1 family (the Richardson estimate of
-  ``docs/data/mesh_convergence.json``: its pad wear field, largest pad wear,
-  worn volume, effective friction radius and largest rotor wear; the largest
-  pressure and the rotor wear profile have no P1 estimate and are compared
-  with the finest P1 mesh instead);
-- against the Richardson estimate of the P2 family itself.
-
-The two estimates are compared: they agree when the relative L2 distance of
-their pad wear fields is within the sum of their uncertainties (each
-estimate's shift to rate 1, ``shift_rate1``).
+The running-in of ``studies/mesh_convergence.py`` with ``BrakeModel(order=2)``
+on that study's levels taken coarser (a quadratic tetrahedron carries a linear
+bending stress through its thickness: one or two layers through the backplate
+do not lock).  Each P2 mesh is measured against the converged estimate of the
+P1 family (``docs/data/mesh_convergence.json``; where P1 has no estimate, its
+finest mesh) and against the P2 family's own; the two estimates agree when
+their pad wear fields lie within the sum of their uncertainties
+(``shift_rate1``).
 
 Run ``python studies/mesh_convergence_p2.py [--levels 1 1.5 2 3 4] [--out DIR]``:
 writes ``DIR/data/mesh_convergence_p2.json`` (every run, the estimates, the
@@ -39,8 +27,12 @@ from pathlib import Path
 
 import numpy as np
 
+from brakewear.mesh.convergence import fitted_rate, relative_l2
+from brakewear.scene.accuracy import TARGET
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import mesh_convergence as mc  # noqa: E402  (a sibling script, not a package)
+import mesh_convergence as mc  # noqa: E402  (sibling scripts, not a package)
+from convergence_report import order_table, pct, plot_p2, rates_line  # noqa: E402
 
 logger = logging.getLogger(__name__)
 
@@ -49,8 +41,6 @@ ROOT = Path(__file__).resolve().parents[1]
 P1_DATA = ROOT / "docs" / "data" / "mesh_convergence.json"
 #: P2 levels (coarse to fine): 18, 12, 9, 6, 4.5 mm with 1, 2, 2, 3, 4 layers
 LEVELS = (1.0, 1.5, 2.0, 3.0, 4.0)
-#: the pad wear error the default scene's mesh is chosen for
-TARGET = 0.02
 
 
 # ------------------------------------------------------------ estimates --
@@ -84,16 +74,6 @@ def matching_state(case: dict, p1_case: dict) -> str:
                      "same run (or of one with the same step that passes its duration)")
 
 
-def _rel_l2(a, b, w) -> float:
-    """Relative L2 distance of field ``a`` from ``b`` with weights ``w``."""
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    return float(np.sqrt((w * (a - b) ** 2).sum() / (w * b ** 2).sum()))
-
-
-def _weights(q: str, grid: dict) -> np.ndarray:
-    return np.asarray(grid["r_weight"] if q == "rotor_wear" else grid["area"], dtype=float)
-
-
 def errors_from(end: dict, ref: dict, grid: dict) -> dict:
     """Relative errors of one run's end state from the reference ``ref``: from its
     estimate where it has one, else (key ``"<q>_vs_finest"``) from its finest mesh."""
@@ -107,9 +87,9 @@ def errors_from(end: dict, ref: dict, grid: dict) -> dict:
     for q in mc.FIELDS:
         f0 = ref["fields"][q]
         if f0 is not None:
-            e[q] = _rel_l2(end[q], f0, _weights(q, grid))
+            e[q] = relative_l2(end[q], f0, mc.weights(q, grid))
         elif q in ref["finest"] and q in end:
-            e[q + "_vs_finest"] = _rel_l2(end[q], ref["finest"][q], _weights(q, grid))
+            e[q + "_vs_finest"] = relative_l2(end[q], ref["finest"][q], mc.weights(q, grid))
     return e
 
 
@@ -124,10 +104,11 @@ def agreement(own: dict, p1: dict, grid: dict) -> dict:
         out["scalars"][q] = None if a is None or b is None else a / b - 1.0
     for q in mc.FIELDS:
         a, b = own["fields"][q], p1["fields"][q]
-        out["fields"][q] = None if a is None or b is None else _rel_l2(a, b, _weights(q, grid))
+        out["fields"][q] = None if a is None or b is None else relative_l2(
+            a, b, mc.weights(q, grid))
     a, b = own["finest"].get("pad_wear"), p1["finest"].get("pad_wear")
     out["finest_pad_wear"] = (None if a is None or b is None
-                              else _rel_l2(a, b, _weights("pad_wear", grid)))
+                              else relative_l2(a, b, mc.weights("pad_wear", grid)))
     d = out["fields"]["pad_wear"]
     s1, s2 = p1["shift_rate1"], own["shift_rate1"]
     band = None if s1 is None or s2 is None else s1 + s2
@@ -184,8 +165,7 @@ def rate_vs(runs: list, key: str = "p1_estimate") -> float | None:
     err = [r["errors"][key].get("pad_wear") for r in runs]
     if len(runs) < 2 or any(e is None or e <= 0 for e in err):
         return None
-    h = [r["mesh"]["size"] for r in runs]
-    return float(np.polyfit(np.log(h), np.log(err), 1)[0])
+    return fitted_rate([r["mesh"]["size"] for r in runs], err)
 
 
 def error_rows(p1_record: dict, p2: dict, when: str = "end") -> list:
@@ -226,88 +206,7 @@ def write(result: dict, out: Path, figures: bool = True) -> None:
         default=lambda x: x.tolist() if hasattr(x, "tolist") else float(x)))
     if figures and "error_vs_time" in result:
         (out / "figures").mkdir(parents=True, exist_ok=True)
-        plot(result, out / "figures" / "mesh_convergence_p2.png")
-
-
-def plot(result: dict, path: Path) -> None:
-    """(a) pad wear error against wall time, P1 and P2; (b) the P2 meshes' pad wear
-    along the mid-radius arc against the two estimates."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(1, 2, figsize=(14, 5.8))
-    a = ax[0]
-    rows = result["error_vs_time"]
-    for order, kind, style, lab in (
-            (1, "level", "o-", "P1 levels n (size 18/n mm, n layers)"),
-            (1, "candidate", "*", "P1 graded candidates (pad finer than rotor)"),
-            (2, "level", "s-", "P2 levels n, from the P1 estimate")):
-        pts = [r for r in rows if r["order"] == order and r["kind"] == kind
-               and r["err_pad_wear"] is not None]
-        if pts:
-            a.loglog([r["cpu_s"] for r in pts], [r["err_pad_wear"] for r in pts], style,
-                     ms=9 if kind == "candidate" else 6, label=lab,
-                     color="C3" if order == 2 else ("k" if kind == "candidate" else "C0"))
-        for r in pts:
-            if kind == "level":
-                a.annotate(f"n={r['level']:g}", (r["cpu_s"], r["err_pad_wear"]),
-                           textcoords="offset points", xytext=(5, 3), fontsize=7,
-                           color="C3" if order == 2 else "C0")
-    own = [r for r in rows if r["order"] == 2 and r.get("err_pad_wear_own") is not None]
-    if own:
-        rate = result["orders"]["P2"]["end"]["pad_wear"]["rate"]
-        a.loglog([r["cpu_s"] for r in own], [r["err_pad_wear_own"] for r in own], "s:",
-                 color="C3", mfc="none",
-                 label=f"P2 levels, from the P2 estimate (its rate {rate:.2f})")
-    a.axhline(TARGET, color="0.5", lw=0.8, ls="--")
-    a.text(a.get_xlim()[0] * 1.1, TARGET * 1.05, "2 %", fontsize=8, color="0.4")
-    # CPU time: the wall time of a run on 2 shared cores varies with the others' load
-    a.set_xlabel("CPU time of the run (s), one process on 2 cores")
-    a.set_ylabel("pad wear after the hour: relative L2 error")
-    a.set_title("(a) error against run time, P1 and P2 (error from the P1 Richardson "
-                "estimate)", fontsize=9)
-    a.grid(True, which="both", alpha=0.3)
-    if a.get_legend_handles_labels()[0]:
-        a.legend(fontsize=7.5, loc="lower left")
-    else:
-        a.text(0.5, 0.5, "no Richardson estimate: no errors to show", ha="center",
-               transform=a.transAxes)
-    _plot_arc(ax[1], result)
-    c = result["case"]
-    fig.suptitle(f"Default scene's running-in, {c['duration_s']:g} s, {c['steps']} implicit "
-                 "steps: linear (P1) and quadratic (P2) tetrahedra", fontsize=11)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
-def _plot_arc(a, result: dict) -> None:
-    """Panel (b): pad wear along the mid-radius arc of each P2 mesh and the estimates."""
-    grid = result["grid"]
-    th = np.degrees(np.asarray(grid["theta"]))
-    xy, arc = np.asarray(grid["xy"]), np.asarray(grid["arc_xy"])
-    p2 = result["orders"]["P2"]
-    for i, r in enumerate(p2["runs"]):
-        a.plot(th, np.asarray(r["end"]["pad_wear_arc"]) * 1e6, color=f"C{i}", lw=1.2,
-               label=f"P2 n={r['level']:g}: {mc.label(r)}")
-    f2 = p2["end"]["pad_wear"]["field"]
-    if f2 is not None:
-        a.plot(th, mc.interpolate(np.asarray(f2), xy, arc) * 1e6, "r--", lw=2,
-               label="P2 Richardson estimate")
-    f1 = result.get("p1_field")
-    if f1 is not None:
-        a.plot(th, mc.interpolate(np.asarray(f1), xy, arc) * 1e6, "k:", lw=2,
-               label="P1 Richardson estimate")
-    a.set_xlabel("theta (deg); the rotor enters at the leading edge, theta < 0")
-    a.set_ylabel("pad wear at the mid radius (um)")
-    a.set_title("(b) P2 pad wear along the mid-radius arc", fontsize=9)
-    a.grid(True, alpha=0.3)
-    a.legend(fontsize=7)
-
-
-def _pct(v, signed: bool = True) -> str:
-    return "-" if v is None else (f"{v:+.2%}" if signed else f"{v:.2%}")
+        plot_p2(result, out / "figures" / "mesh_convergence_p2.png")
 
 
 def p2_table(result: dict) -> str:
@@ -325,42 +224,25 @@ def p2_table(result: dict) -> str:
             f"{r['cpu_s']:.1f} | "
             f"{q['pad_wear_max'] * 1e6:.2f} | {q['pad_wear_volume'] * 1e9:.1f} | "
             f"{q['pressure_max'] / 1e6:.3f} | {q['r_eff'] * 1e3:.2f} | "
-            f"{_pct(e1.get('pad_wear'), False)} | {_pct(e1.get('pad_wear_max'))} | "
-            f"{_pct(e1.get('pad_wear_volume'))} | {_pct(e1.get('r_eff'))} | "
-            f"{_pct(own['pad_wear'], False)} | {_pct(own['pad_wear_max'])} | "
-            f"{_pct(e1.get('rotor_wear_vs_finest'), False)} |")
-    return "\n".join(lines)
-
-
-def order_table(result: dict) -> str:
-    """The one table of both orders: order, mesh, DOFs, time, pad wear error."""
-    lines = ["| order | mesh (size, layers f/b/r) | DOFs | wall s | CPU s | err pad wear L2 "
-             "(P1 estimate) | err pad wear L2 (P2 estimate) |",
-             "|---|---|---:|---:|---:|---:|---:|"]
-    for r in sorted(result["error_vs_time"], key=lambda r: (r["order"], r["cpu_s"])):
-        name = (f"n={r['level']:g}: " if r["kind"] == "level" else "candidate ") + r["mesh"]
-        lines.append(f"| P{r['order']} | {name} | {r['dofs']} | {r['wall_s']:.1f} | "
-                     f"{r['cpu_s']:.1f} | "
-                     f"{_pct(r['err_pad_wear'], False)} | "
-                     f"{_pct(r.get('err_pad_wear_own'), False)} |")
+            f"{pct(e1.get('pad_wear'), False)} | {pct(e1.get('pad_wear_max'))} | "
+            f"{pct(e1.get('pad_wear_volume'))} | {pct(e1.get('r_eff'))} | "
+            f"{pct(own['pad_wear'], False)} | {pct(own['pad_wear_max'])} | "
+            f"{pct(e1.get('rotor_wear_vs_finest'), False)} |")
     return "\n".join(lines)
 
 
 def summary(result: dict) -> str:
     """Rates, the two estimates' agreement and the cheapest mesh within the target."""
-    est = result["orders"]["P2"]["end"]
-    rates = "; ".join(f"{k} {est[k]['rate']:.2f}" + ("" if est[k].get("asymptotic") else
-                                                      " (no estimate)") + " (triples: "
-                      + ", ".join(f"{x:.2f}" for x in est[k].get("rates", [])) + ")"
-                      for k in (*mc.FIELDS, *mc.SCALARS))
+    rates = rates_line(result["orders"]["P2"]["end"], (*mc.FIELDS, *mc.SCALARS),
+                       "no estimate")
     lines = [f"P2 observed rates from the three finest levels: {rates}."]
     ag = result.get("agreement")
     if ag is not None:
-        s = "".join(f"; {k} {_pct(v)}" for k, v in ag["scalars"].items() if v is not None)
+        s = "".join(f"; {k} {pct(v)}" for k, v in ag["scalars"].items() if v is not None)
         lines.append(f"P2 estimate against P1 estimate: pad wear field "
-                     f"{_pct(ag['fields']['pad_wear'], False)} (relative L2; band "
-                     f"{_pct(ag['pad_wear_band'], False)}, agree: {ag['pad_wear_agree']}){s}; "
-                     f"finest P2 mesh from finest P1 mesh {_pct(ag['finest_pad_wear'], False)}.")
+                     f"{pct(ag['fields']['pad_wear'], False)} (relative L2; band "
+                     f"{pct(ag['pad_wear_band'], False)}, agree: {ag['pad_wear_agree']}){s}; "
+                     f"finest P2 mesh from finest P1 mesh {pct(ag['finest_pad_wear'], False)}.")
     for order, r in result.get("cheapest", {}).items():
         lines.append(f"{order}: cheapest within {TARGET:.0%}: " + (
             "none" if r is None else f"{r['mesh']} ({r['dofs']} DOFs, {r['cpu_s']:.1f} s CPU, "
@@ -385,7 +267,7 @@ def _cli(argv=None) -> dict:
     if a.replot:
         res = json.loads(Path(a.replot).read_text())
         (Path(a.out) / "figures").mkdir(parents=True, exist_ok=True)
-        plot(res, Path(a.out) / "figures" / "mesh_convergence_p2.png")
+        plot_p2(res, Path(a.out) / "figures" / "mesh_convergence_p2.png")
     else:
         logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(name)s %(message)s")
         mc.logger.setLevel(logging.INFO)

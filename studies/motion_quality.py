@@ -120,8 +120,10 @@ def pad_section_figure(path, fraction: float = 0.5, size: float | None = None) -
     ia = np.searchsorted(ua, np.round(ang, 9))
     iz = np.searchsorted(uz, np.round(p0[2, sel], 9))
     fig, axes = plt.subplots(2, 1, figsize=(9, 4.8), sharex=True)
-    for ax, p, title in ((axes[0], p0, "new"),
-                         (axes[1], p1, f"worn: 0 -> {fraction:g} x friction layer, leading -> trailing")):
+    for ax, p, title in (
+        (axes[0], p0, "new"),
+        (axes[1], p1, f"worn: 0 -> {fraction:g} x friction layer, leading -> trailing"),
+    ):
         S = np.full((ua.size, uz.size), np.nan)
         Z = np.full((ua.size, uz.size), np.nan)
         S[ia, iz], Z[ia, iz] = rk * ang * 1e3, p[2, sel] * 1e3

@@ -26,9 +26,14 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import mesh_convergence as mc  # noqa: E402  (sibling scripts, not a package)
 import mesh_convergence_p2 as mc2  # noqa: E402
-
-from brakewear import BrakeModel, CondensedInterface, FEInterface, Numerics  # noqa: E402
-from brakewear import wear_history  # noqa: E402
+from brakewear import (  # noqa: E402
+    BrakeModel,
+    CondensedInterface,
+    FEInterface,
+    Numerics,
+    wear_history,  # noqa: E402
+)
+from brakewear.mesh.convergence import pad_grid  # noqa: E402
 from brakewear.scene import load_scene  # noqa: E402
 from brakewear.wear import Run
 
@@ -59,7 +64,19 @@ def run(scene, order: int, mesh: dict, steps: int, interface: str, grid: dict) -
         condense = (time.perf_counter() - t1, time.process_time() - c1)
     pad_law, rotor_law = scene.wear_laws()
     t2, c2 = time.perf_counter(), time.process_time()
-    for s in wear_history(Run(model, scene.line_pressure, scene.omega, scene.duration, pad_law, rotor_law, scene.interface.mu, interface=itf, numerics=Numerics(scheme="implicit", update="gap", steps=steps))):
+    for s in wear_history(  # noqa: B007  (the last step)
+        Run(
+            model,
+            scene.line_pressure,
+            scene.omega,
+            scene.duration,
+            pad_law,
+            rotor_law,
+            scene.interface.mu,
+            interface=itf,
+            numerics=Numerics(scheme="implicit", update="gap", steps=steps),
+        )
+    ):
         pass
     loop = (time.perf_counter() - t2, time.process_time() - c2)
     return {"order": order, "mesh": mesh, "interface": interface, "dofs": int(model.dofs),
@@ -76,7 +93,7 @@ def main(meshes=MESHES, steps: int = 48, interfaces=("fe", "condensed"),
          p1=mc2.P1_DATA, out=None) -> list:
     """Each mesh on each interface; the rows (and ``data/p2_interfaces.json`` in ``out``)."""
     scene = load_scene("default")
-    grid = mc.grids(scene.geometry)
+    grid = pad_grid(scene.geometry)
     record = json.loads(Path(p1).read_text()) if p1 is not None else None
     ref = None if record is None else mc2.reference(record, "P1", "end")
     rows = []

@@ -1,4 +1,4 @@
-"""The pad of geometry/floating.toml: its mesh in two views, its volumes and areas against closed forms.
+"""The pad of geometry/floating.toml: its mesh in two views, volumes and areas by closed forms.
 
 Left: the friction face seen from the rotor, with the chamfers and the
 radial slot.  Right: the back seen from the caliper, with the piston's rim
@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 import skfem as fem
 
-from brakewear.output.figures import facets_to_pyvista, offscreen_pyvista
 from brakewear.geometry import load_geometry
 from brakewear.mesh import pad_mesh
+from brakewear.output.figures import facets_to_pyvista, offscreen_pyvista
 
 FACE_COLOURS = {"friction": (0.75, 0.75, 0.72), "leading_chamfer": (0.12, 0.47, 0.71),
                 "trailing_chamfer": (0.84, 0.15, 0.16), "slot": (1.0, 0.5, 0.05),
@@ -33,6 +33,10 @@ FACE_COLOURS = {"friction": (0.75, 0.75, 0.72), "leading_chamfer": (0.12, 0.47, 
                 "leading": (0.65, 0.8, 0.9), "trailing": (0.95, 0.7, 0.7),
                 "back": (0.6, 0.6, 0.65), "piston_face": (0.17, 0.63, 0.17)}
 
+
+def _sheet(r: float, g: float) -> float:
+    """``int sqrt(r^2 + g^2) dr``: a chamfer sheet's area per radian of arc."""
+    return 0.5 * (r * math.sqrt(r * r + g * g) + g * g * math.asinh(r / g))
 
 def closed_forms(pad) -> dict:
     """Lining and backplate volumes (m^3) and friction-face area (m^2) of the pad,
@@ -50,15 +54,15 @@ def closed_forms(pad) -> dict:
     for length, d in (pad.leading_chamfer, pad.trailing_chamfer):
         if length > 0:
             th, g = length / r_mean, d / (length / r_mean)
-            G = lambda r: 0.5 * (r * math.sqrt(r * r + g * g) + g * g * math.asinh(r / g))  # noqa: E731
-            chamfer_area += th * (G(ro) - G(ri))
+            chamfer_area += th * (_sheet(ro, g) - _sheet(ri, g))
             wedges += 0.25 * d * th * dr2
             chamfer_arc += th
     bri, bro = pad.backplate_radii
-    return {"lining_volume": 0.5 * pad.arc_angle * dr2 * pad.friction_thickness - wedges
-            - slot * depth,
-            "backplate_volume": 0.5 * pad.arc_angle * (bro ** 2 - bri ** 2) * pad.backplate_thickness,
-            "friction_area": 0.5 * (pad.arc_angle - chamfer_arc) * dr2 - slot + chamfer_area}
+    return {
+        "lining_volume": 0.5 * pad.arc_angle * dr2 * pad.friction_thickness - wedges - slot * depth,
+        "backplate_volume": 0.5 * pad.arc_angle * (bro**2 - bri**2) * pad.backplate_thickness,
+        "friction_area": 0.5 * (pad.arc_angle - chamfer_arc) * dr2 - slot + chamfer_area,
+    }
 
 
 def measured(m: fem.Mesh) -> dict:
@@ -134,8 +138,10 @@ def main(size_mm: float = 2.5, out: str = "docs/figures", data: str = "docs/data
     geom = load_geometry("floating")
     result = {"geometry": "floating", "size_mm": size_mm, "orders": {}}
     exact = closed_forms(geom.pad)
-    print(f"{'order':>5} {'nodes':>7} {'tets':>7}  {'quantity':<17} {'mesh':>12} {'closed form':>12} "
-          f"{'rel. diff':>10}")
+    print(
+        f"{'order':>5} {'nodes':>7} {'tets':>7}  {'quantity':<17} {'mesh':>12} {'closed form':>12} "
+        f"{'rel. diff':>10}"
+    )
     for order in (1, 2):
         m = pad_mesh(geom, size=size_mm * 1e-3, order=order)
         got = measured(m)

@@ -41,9 +41,9 @@ from pathlib import Path
 
 import numpy as np
 
+from brakewear.caliper.geometry import SupportGeometry
 from brakewear.contact import solve_contact, with_supports
 from brakewear.contact.supports import abutment_faces
-from brakewear.caliper.geometry import SupportGeometry
 from brakewear.mesh.surface import surface_nodes
 from brakewear.model import BrakeModel
 
@@ -118,8 +118,8 @@ def main(size: float = 6.0, mu_values: tuple[float, ...] = (0.0, 0.4), clearance
                                                  clearance * 1e-3) for mu in mu_values}
             for kind in SUPPORTS}
     if 0.0 in mu_values:
-        for kind, by_mu in runs.items():
-            for key, v in by_mu.items():
+        for by_mu in runs.values():
+            for v in by_mu.values():
                 v["shift_mm"] = v["cop_mm"] - by_mu["mu=0"]["cop_mm"]
     res = {"settings": {"mesh_size_mm": size, "rotor": rotor, "dofs": int(model.dofs),
                         "line_pressure_Pa": line_pressure, "clearance_mm": clearance,

@@ -1,9 +1,9 @@
 """How long the README's commands take, measured by one script: idle, and with a busy second core.
 
 ```
-python studies/readme_timing.py                       # every command, idle then busy; writes the docs
+python studies/readme_timing.py                # every command, idle then busy; writes the docs
 python studies/readme_timing.py --only floating thermal --loads idle
-python studies/readme_timing.py --dry-run             # the commands it would run; nothing run or written
+python studies/readme_timing.py --dry-run      # the commands it would run; nothing run or written
 ```
 
 The commands, each in a fresh process (wall time, and the CPU time of the
@@ -65,7 +65,17 @@ def commands(root: Path, venv: Path, work: Path, no_cache: bool = False) -> dict
     return {
         "install": pip + [f"{root}[test]"],
         "demo": [bw, "demo", "--out", str(work / "demo"), "--quiet"],
-        "tests": [py, "-m", "pytest", "-n", "auto", "-q", "-p", "no:cacheprovider", "--durations=40"],
+        "tests": [
+            py,
+            "-m",
+            "pytest",
+            "-n",
+            "auto",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            "--durations=40",
+        ],
         "floating": [bw, "run", "floating", "--out", str(work / "floating"), "--quiet"],
         "thermal": [bw, "run", "thermal", "--out", str(work / "thermal"), "--quiet"],
     }

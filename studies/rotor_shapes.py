@@ -1,4 +1,4 @@
-"""The rotors of geometry/floating.toml: the hat rotor and its vented ring, meshed, cut open, against closed-form volumes.
+"""The rotors of geometry/floating.toml: hat rotor and vented ring, meshed, cut open, and volumes.
 
 Two rotors: ``hat``, the floating brake's solid friction ring on its hat
 (``geometry/floating.toml`` as it is), and ``vented``, the same with the
@@ -35,8 +35,8 @@ from pathlib import Path
 import numpy as np
 import skfem as fem
 
-from brakewear.geometry import load_geometry
 from brakewear.caliper.geometry import VentGeometry
+from brakewear.geometry import load_geometry
 from brakewear.mesh.rotor import full_rotor_mesh, rotor_volume
 
 #: the vented ring of geometry/floating.toml's commented [rotor.vents] table (m)
@@ -145,7 +145,7 @@ def draw(meshes: dict, path: Path) -> None:
     pv = offscreen_pyvista()
     pl = pv.Plotter(off_screen=True, shape=(2, 2), window_size=[2000, 1400], border=False,
                     lighting="three lights")
-    for col, (name, (geom, m)) in enumerate(meshes.items()):
+    for col, (geom, m) in enumerate(meshes.values()):
         pieces = cutaway(m, geom)
         v = geom.rotor.vents
         title = ("hat rotor, solid ring" if v is None else

@@ -33,8 +33,14 @@ from pathlib import Path
 import numpy as np
 
 from brakewear import analytic as an
-from brakewear.rough import (HalfSpace, Topography, contact_stiffness, hertz_calibrated_bed,
-                             self_affine, solve_normal)
+from brakewear.rough import (
+    HalfSpace,
+    Topography,
+    contact_stiffness,
+    hertz_calibrated_bed,
+    self_affine,
+    solve_normal,
+)
 
 #: The problem, in SI units (the answers are ratios; any consistent set gives the same).
 PROBLEM = {"R_m": 0.01, "E_star_Pa": 1e9, "nu": 0.3, "a_hertz_m": 0.5e-3, "side_over_a": 8.0,

@@ -28,15 +28,14 @@ from pathlib import Path
 
 import numpy as np
 
+from brakewear import Numerics
 from brakewear.analytic import uniform_wear_torque
-from brakewear.output.runs import step_figures
+from brakewear.interfaces import FEInterface
+from brakewear.laws.base import WearLaw
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
-from brakewear.interfaces import FEInterface
-from brakewear.wear import wear_history
-from brakewear.laws.base import WearLaw
-from brakewear import Numerics
-from brakewear.wear import Run
+from brakewear.output.runs import step_figures
+from brakewear.wear import Run, wear_history
 
 logger = logging.getLogger(__name__)
 
@@ -79,7 +78,19 @@ def main(size_mm: float = 4.0, duration: float = 14400.0, out: str | Path = "doc
     targets = sorted(stages)
     prev = (np.zeros(itf.area.size), np.zeros(itf.rotor_area.size), 0.0)
     last = None
-    for last in wear_history(Run(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), WearLaw(K_ROTOR), MU, interface=itf, numerics=Numerics(scheme="implicit", dp_tol=dp_tol))):
+    for last in wear_history(
+        Run(
+            model,
+            P_LINE,
+            OMEGA,
+            duration,
+            WearLaw(K_PAD),
+            WearLaw(K_ROTOR),
+            MU,
+            interface=itf,
+            numerics=Numerics(scheme="implicit", dp_tol=dp_tol),
+        )
+    ):
         row = step_figures(last, itf, MU)
         # the record's pressure is the one at the start of its step
         row["start_time_s"] = prev[2]

@@ -41,6 +41,7 @@ from collections import Counter
 from pathlib import Path
 
 import numpy as np
+
 from brakewear.wear import Run
 
 logger = logging.getLogger(__name__)
@@ -82,7 +83,19 @@ def run_one(size_mm: float, settings: dict, duration: float | None = None,
     model = sc.build_model()
     itf = FEInterface(model, sc.line_pressure, sc.interface.mu, num.tol)
     limits, solves, last = Counter(), 0, None
-    for last in wear_history(Run(model, sc.line_pressure, sc.omega, T, pad_law, rotor_law, sc.interface.mu, numerics=num, interface=itf)):
+    for last in wear_history(
+        Run(
+            model,
+            sc.line_pressure,
+            sc.omega,
+            T,
+            pad_law,
+            rotor_law,
+            sc.interface.mu,
+            numerics=num,
+            interface=itf,
+        )
+    ):
         limits[last.limit] += 1
         solves += last.contact_solves
     A, r = itf.area, itf.r

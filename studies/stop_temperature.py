@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -34,11 +35,14 @@ import skfem as fem
 from brakewear import analytic as an
 from brakewear.duty import KMH, Stop, Vehicle, brake_torque, effective_radius
 from brakewear.fem import HeatConduction
-from brakewear.output.figures import label_log_axis
 from brakewear.materials import MATERIALS
+from brakewear.mesh.convergence import fitted_rate
 from brakewear.model import BrakeModel
-from brakewear.thermal import ThermalModel
 from brakewear.static import solve_contact
+from brakewear.thermal import ThermalModel
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from thermal_figures import stop_figure  # noqa: E402  (a sibling script, not a package)
 
 T_STOP = 4.0          # s: 100 km/h at 7 m/s^2
 T_AMB = 293.15        # K
@@ -62,7 +66,7 @@ def column_axis(depth: float, cells: int, ratio: float = RATIO) -> np.ndarray:
 
 
 def column_mesh(x: np.ndarray) -> fem.MeshTet:
-    """A column of one cell's section (as wide as the first cell), heated face ``heated`` at x = 0."""
+    """A column of one cell's section (as wide as the first cell), heated face at x = 0."""
     w = x[1]
     m = fem.MeshTet.init_tensor(x, np.array([0.0, w]), np.array([0.0, w]))
     return m.with_boundaries({"heated": lambda X: X[0] < 1e-9 * w})
@@ -122,11 +126,6 @@ def relative_error(T: float, exact: float) -> float:
     return float(abs(T - exact) / (exact - T_AMB))
 
 
-def rate(h, err) -> float:
-    """Slope of ``log err`` against ``log h`` (least squares)."""
-    return float(np.polyfit(np.log(h), np.log(err), 1)[0])
-
-
 def convergence(kind: str, levels, fixed: int, material: str = "grey_cast_iron") -> dict:
     """Errors under refinement in space (``levels`` = cells) or in time (``levels`` =
     steps per stop), with the fitted rates.
@@ -153,8 +152,8 @@ def convergence(kind: str, levels, fixed: int, material: str = "grey_cast_iron")
             for key in errors:
                 errors[key].append(run["errors"][key])
     return {"kind": kind, "material": material, "fixed": fixed, "levels": list(levels),
-            "h": h, **errors, "rate_peak": rate(h, errors["peak"]),
-            "rate_end": rate(h, errors["end"])}
+            "h": h, **errors, "rate_peak": fitted_rate(h, errors["peak"]),
+            "rate_end": fitted_rate(h, errors["end"])}
 
 
 def brake_stop(size: float = 12e-3, steps: int = 16, line_pressure: float = 5e6,
@@ -204,104 +203,35 @@ def brake_stop(size: float = 12e-3, steps: int = 16, line_pressure: float = 5e6,
     half = g.rotor.thickness / 2
     slab_bulk = an.bulk_temperature_rise(stored["rotor"], A_swept * half * th_r.rho, th_r.c)
     return {
-        "size_m": size, "steps": steps, "T_ambient_K": T0, "line_pressure_Pa": line_pressure, "mu": mu,
-        "v0_m_s": v0, "mass_kg": mass, "torque_Nm": torque, "decel_m_s2": decel,
-        "t_stop_s": t_stop, "omega0_rad_s": omega0,
-        "friction_work_J": work, "vehicle_face_J": vehicle.stop_energy(v0, 0.0, decel)["face_J"],
-        "stored_J": stored, "mc_J_K": mc, "mc_geometry_J_K": float(mc_geometry),
+        "size_m": size,
+        "steps": steps,
+        "T_ambient_K": T0,
+        "line_pressure_Pa": line_pressure,
+        "mu": mu,
+        "v0_m_s": v0,
+        "mass_kg": mass,
+        "torque_Nm": torque,
+        "decel_m_s2": decel,
+        "t_stop_s": t_stop,
+        "omega0_rad_s": omega0,
+        "friction_work_J": work,
+        "vehicle_face_J": vehicle.stop_energy(v0, 0.0, decel)["face_J"],
+        "stored_J": stored,
+        "mc_J_K": mc,
+        "mc_geometry_J_K": float(mc_geometry),
         "mean_rise_K": sum(stored.values()) / sum(mc.values()),
         "bulk_rise_K": an.bulk_temperature_rise(work, 1.0, sum(mc.values())),
         "bulk_rise_geometry_K": an.bulk_temperature_rise(work, 1.0, mc_geometry),
-        "rotor_share": stored["rotor"] / work, "rotor_flux0_W_m2": q_rotor,
+        "rotor_share": stored["rotor"] / work,
+        "rotor_flux0_W_m2": q_rotor,
         "rotor_bulk_rise_K": stored["rotor"] / mc["rotor"],
         "swept_slab_bulk_rise_K": slab_bulk,
-        "closed_form_peak_rise_K": closed, "ring_mean_peak_rise_K": peak["ring_mean_K"] - T0,
+        "closed_form_peak_rise_K": closed,
+        "ring_mean_peak_rise_K": peak["ring_mean_K"] - T0,
         "ring_mean_peak_time_s": peak["t_s"],
-        "face_max_rise_K": max(h["face_max_K"] for h in hist) - T0, "history": hist}
-
-
-def plot(res: dict, path: Path) -> Path:
-    """The figure: the column against the closed form, convergence, the brake's stop."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(2, 3, figsize=(15, 8.5))
-    t_stop = res["settings"]["t_stop_s"]
-    for (name, run), color in zip(res["column"].items(), ("C0", "C3")):
-        th = MATERIALS[name].thermal
-        t = np.linspace(0, t_stop * (1 + res["settings"]["after"]), 400)
-        exact = an.stop_surface_temperature(t, run["q0_W_m2"], t_stop, th.kappa, th.rho, th.c)
-        ax[0, 0].plot(t, exact, color=color, label=f"{name}: closed form")
-        ax[0, 0].plot(run["t_s"], np.subtract(run["T_surface_K"], T_AMB), "o", ms=3.5,
-                      color=color, mfc="none", label=f"{name}: FE")
-    ax[0, 0].axvline(t_stop / 2, color="0.6", lw=0.8, ls=":")
-    ax[0, 0].axvline(t_stop, color="0.6", lw=0.8, ls=":")
-    ax[0, 0].set(xlabel="t (s)", ylabel="surface rise (K)",
-                 title=f"column, {res['settings']['cells']} cells, "
-                       f"{res['settings']['steps']} steps per stop")
-    ax[0, 0].legend(fontsize=8)
-    run = res["column"]["grey_cast_iron"]
-    th = MATERIALS["grey_cast_iron"].thermal
-    for (key, prof), color in zip(run["profiles"].items(), ("C1", "C2")):
-        x = np.linspace(0, max(prof["x_m"]) / 2, 300)
-        exact = an.stop_temperature(x, prof["t_s"], run["q0_W_m2"], t_stop, th.kappa, th.rho,
-                                    th.c)
-        ax[0, 1].plot(1e3 * x, exact, color=color, label=f"t = {prof['t_s']:g} s ({key})")
-        ax[0, 1].plot(1e3 * np.array(prof["x_m"]), np.subtract(prof["T_K"], T_AMB), "o",
-                      color=color, mfc="none")
-    ax[0, 1].set(xlim=(0, 1e3 * max(prof["x_m"]) / 2), xlabel="depth (mm)", ylabel="rise (K)",
-                 title="grey cast iron inside: closed form (lines), FE nodes")
-    ax[0, 1].legend(fontsize=8)
-    _plot_brake(ax[0, 2], res["brake"][-1])
-    for a, study, unit, slope in ((ax[1, 0], res["space"], "first cell / sqrt(a t_s)", 2),
-                                  (ax[1, 1], res["time"], "dt (s)", 1)):
-        for key, mark in (("peak", "o-"), ("end", "s-")):
-            a.loglog(study["h"], study[key], mark,
-                     label=f"t = t_s{' / 2' if key == 'peak' else ''}: rate "
-                           f"{study['rate_' + key]:.2f}")
-        h = np.array(study["h"])
-        a.loglog(h, study["end"][0] * (h / h[0]) ** slope, "k:", lw=0.8, label=f"slope {slope}")
-        label_log_axis(a.xaxis, h)
-        a.set(xlabel=unit, ylabel="relative error of the surface rise",
-              title=f"{study['kind']}: " + (f"{study['fixed']} steps (Richardson in dt)"
-                                            if study["kind"] == "space"
-                                            else f"{study['fixed']} cells"))
-        a.legend(fontsize=8)
-    _plot_bulk(ax[1, 2], res["brake"][-1])
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
-
-
-def _plot_brake(a, b: dict) -> None:
-    th = MATERIALS["grey_cast_iron"].thermal
-    t = np.linspace(0, b["t_stop_s"], 200)
-    a.plot(t, an.stop_surface_temperature(t, b["rotor_flux0_W_m2"], b["t_stop_s"], th.kappa,
-                                          th.rho, th.c), "k", label="half-space, mean ring flux")
-    h, T0 = b["history"], b["T_ambient_K"]
-    ts = [0] + [x["t_s"] for x in h]
-    a.plot(ts, [0] + [x["ring_mean_K"] - T0 for x in h], "o-", ms=3.5,
-           label="FE rotor face, mean over the swept ring")
-    a.plot(ts, [0] + [x["face_max_K"] - T0 for x in h], "s-", ms=3.5, label="FE rotor face, max")
-    a.axhline(b["rotor_bulk_rise_K"], color="0.5", ls="--", lw=0.8,
-              label="rotor bulk rise at the end")
-    a.set(xlabel="t (s)", ylabel="rise (K)",
-          title=f"default brake, {1e3 * b['size_m']:g} mm mesh: rotor face over the stop")
-    a.legend(fontsize=8)
-
-
-def _plot_bulk(a, b: dict) -> None:
-    h = b["history"]
-    mc = sum(b["mc_J_K"].values())
-    ts = [0] + [x["t_s"] for x in h]
-    a.plot(ts, [0] + [x["work_J"] / mc for x in h], "k", label="friction work / sum(m c)")
-    a.plot(ts, [0] + [x["stored_J"] / mc for x in h], "o", mfc="none",
-           label="FE: capacity-weighted mean rise")
-    a.set(xlabel="t (s)", ylabel="rise (K)",
-          title=f"pad + rotor, no convection: bulk rise {b['bulk_rise_K']:.2f} K")
-    a.legend(fontsize=8)
+        "face_max_rise_K": max(h["face_max_K"] for h in hist) - T0,
+        "history": hist,
+    }
 
 
 def main(cells: int = 10, steps: int = 32, after: float = 0.5,
@@ -324,7 +254,7 @@ def main(cells: int = 10, steps: int = 32, after: float = 0.5,
         out.mkdir(parents=True, exist_ok=True)
         (out / "stop_temperature.json").write_text(json.dumps(res, indent=1) + "\n")
         if figures:
-            plot(res, out / "stop_temperature.png")
+            stop_figure(res, out / "stop_temperature.png")
     return res
 
 

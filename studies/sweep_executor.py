@@ -9,9 +9,9 @@ imported only when asked for.
 from __future__ import annotations
 
 import argparse
+from collections.abc import Iterator
 from concurrent.futures import Executor, ProcessPoolExecutor
 from contextlib import contextmanager
-from typing import Iterator
 
 
 def add_executor_options(parser: argparse.ArgumentParser, workers: int = 2) -> None:
@@ -32,7 +32,7 @@ def study_executor(dask: str | None = None, workers: int = 2) -> Iterator[Execut
         with ProcessPoolExecutor(max_workers=workers) as executor:
             yield executor
         return
-    from dask.distributed import Client   # optional dependency
+    from dask.distributed import Client  # optional dependency
 
     with (Client() if dask == "local" else Client(dask)) as client:
         yield client.get_executor()

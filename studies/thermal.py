@@ -32,10 +32,10 @@ import skfem as fem
 from brakewear import analytic as an
 from brakewear import static
 from brakewear.contact import solve_contact
-from brakewear.output.figures import label_log_axis
+from brakewear.fem import HeatConduction
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
-from brakewear.fem import HeatConduction
+from brakewear.output.figures import label_log_axis
 from brakewear.thermal import ThermalModel
 
 PAD = MATERIALS["pad_resin"]

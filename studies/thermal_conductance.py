@@ -42,7 +42,19 @@ def drag(model, h_c: float, duration: float, steps: int) -> dict:
     th = bw.ThermalModel(model, contact_conductance=h_c)
     rows, stop = [], None
     try:
-        for s in bw.wear_history(Run(model, 1e6, 55.0, duration, bw.WearLaw(5e-15), bw.WearLaw(5e-16), mu=0.4, thermal=th, numerics=bw.Numerics(steps=steps, update="gap"))):
+        for s in bw.wear_history(
+            Run(
+                model,
+                1e6,
+                55.0,
+                duration,
+                bw.WearLaw(5e-15),
+                bw.WearLaw(5e-16),
+                mu=0.4,
+                thermal=th,
+                numerics=bw.Numerics(steps=steps, update="gap"),
+            )
+        ):
             rows.append({"time_s": s.time, "pad_T_max_C": s.pad_temperature_max - 273.15,
                          "rotor_T_max_C": s.rotor_temperature_max - 273.15,
                          "heat_pad_W": s.heat["heat_pad_W"],

@@ -18,7 +18,8 @@ Two elastic problems, each checked against an independent estimate:
     holds its outboard inner corner back, so the ring's section rotates:
     the ring cones.  Compared with (1) an axisymmetric P2 FE model of the
     same section (forms of this module) and (2) the closed form of
-    :func:`hat_cone_estimate` (rigid-section ring on a Timoshenko cylindrical
+    :func:`~brakewear.thermal.hat_cone.hat_cone_estimate` (rigid-section ring on a Timoshenko
+    cylindrical
     shell clamped at the flange).  The temperature is element-wise (ring
     elements ``dT``, hat elements 0), so the step at the junction is exact on
     every mesh.
@@ -41,6 +42,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import sys
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -48,15 +50,22 @@ from pathlib import Path
 import numpy as np
 import skfem as fem
 
-from brakewear.fem import apply_dirichlet, assemble_stiffness, boundary_dofs, scalar_element
-from brakewear.fem.forms import lame_parameters
-from brakewear.fem.heat import thermal_coupling
-from brakewear.geometry import load_geometry
 from brakewear.caliper.geometry import HatGeometry
+from brakewear.fem import apply_dirichlet, assemble_stiffness, boundary_dofs, scalar_element
+from brakewear.geometry import load_geometry
 from brakewear.mesh import full_rotor_mesh, rotor_mesh
+from brakewear.mesh.convergence import fitted_rate
 from brakewear.solvers.amg import amg_solver
-from brakewear.solvers.direct import direct_solve
-from brakewear.thermal.strain import thermal_stress
+from brakewear.thermal.hat_cone import (
+    axisymmetric_cone,
+    face_cone,
+    hat_cone_estimate,
+    plate_curvature,
+)
+from brakewear.thermal.strain import thermal_load, thermal_stress
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from thermal_figures import coning_figure  # noqa: E402  (a sibling script, not a package)
 
 logger = logging.getLogger("thermal_coning")
 
@@ -76,227 +85,9 @@ def hat_geometry(base=None):
 
 # ---------------------------------------------------------------- closed forms
 
-def plate_curvature(alpha: float, dT: float, t: float) -> float:
-    """Curvature (1/m) of a free plate with a linear through-thickness rise ``dT``."""
-    return alpha * dT / t
-
-
-def shell_constants(E: float, nu: float, a: float, h: float) -> tuple[float, float]:
-    """``beta = (3 (1 - nu^2) / (a h)^2)^(1/4)`` (1/m) and ``D = E h^3 / 12 (1 - nu^2)``."""
-    return (3.0 * (1.0 - nu ** 2) / (a * h) ** 2) ** 0.25, E * h ** 3 / (12.0 * (1.0 - nu ** 2))
-
-
-def _decaying(beta: float, y: float, A: float, B: float, k: int) -> float:
-    """``d^k/dy^k`` of ``exp(-beta y) (A cos beta y + B sin beta y)``."""
-    for _ in range(k):
-        A, B = beta * (B - A), -beta * (A + B)
-    return float(np.exp(-beta * y) * (A * np.cos(beta * y) + B * np.sin(beta * y)))
-
-
-def shell_edge_stiffness(beta: float, D: float, L: float = np.inf) -> np.ndarray:
-    """Edge stiffness (per unit circumference) of a cylindrical shell under
-    axisymmetric bending: ``[Q, M] = K [w0, theta0]`` for the radial
-    displacement ``w0`` and slope ``theta0 = dw/dx`` of the edge ``x = 0``,
-    the other end ``x = L`` clamped (Timoshenko's beam on elastic foundation,
-    ``D w'''' + 4 beta^4 D w = 0``).  ``L = inf``: the semi-infinite shell,
-    ``K = 2 beta D [[2 beta^2, beta], [beta, 1]]``."""
-    if not np.isfinite(L):
-        return 2.0 * beta * D * np.array([[2.0 * beta ** 2, beta], [beta, 1.0]])
-    # four solutions: decaying from x = 0 and from x = L
-    basis = [(0, 1.0, 0.0), (0, 0.0, 1.0), (1, 1.0, 0.0), (1, 0.0, 1.0)]
-
-    def val(fn, x, k):
-        far, A, B = fn
-        return _decaying(beta, x, A, B, k) if not far else (-1) ** k * _decaying(beta, L - x, A, B, k)
-
-    M = np.array([[val(fn, x, k) for fn in basis] for x, k in ((0, 0), (0, 1), (L, 0), (L, 1))])
-    K = np.zeros((2, 2))
-    for j, rhs in enumerate(np.eye(4)[:2]):
-        c = np.linalg.solve(M, rhs)
-        # energy = (D w''' w - D w'' w')|_0 ... : generalized forces (D w'''(0), -D w''(0))
-        K[0, j] = D * sum(ci * val(fn, 0.0, 3) for ci, fn in zip(c, basis))
-        K[1, j] = -D * sum(ci * val(fn, 0.0, 2) for ci, fn in zip(c, basis))
-    return K
-
-
-def annulus_edge(b: float, a: float, nu: float, r: np.ndarray | float | None = None):
-    """The free annulus ``b < r < a`` loaded on its inner edge only.
-
-    Returns ``s = (1/b^2 - 1/a^2) / ((1 - nu) b / a^2 + (1 + nu) / b)``: the
-    inner-edge stiffness is ``E t s`` in plane (Lame, radial line load) and
-    ``E t^3 s / 12`` in bending (Kirchhoff plate, edge moment; slope
-    ``phi(r) ~ (1 - nu) r / ((1 + nu) a^2) + 1 / r``).  With ``r``: also
-    ``phi(r) / phi(b)`` and ``int_b^r phi / phi(b)``.
-    """
-    s = (1 / b ** 2 - 1 / a ** 2) / ((1 - nu) * b / a ** 2 + (1 + nu) / b)
-    if r is None:
-        return s
-    k = (1 - nu) / ((1 + nu) * a ** 2)
-    r = np.asarray(r, dtype=float)
-    slope = (k * r + 1 / r) / (k * b + 1 / b)
-    rise = (0.5 * k * (r ** 2 - b ** 2) + np.log(r / b)) / (k * b + 1 / b)
-    return s, slope, rise
-
-
-def hat_cone_estimate(geom, dT: float, ring: str = "plate", L: float | None = None) -> dict:
-    """Closed-form cone of a hat rotor whose ring is heated by ``dT`` (hat cold).
-
-    The ring (with the neck: radii ``b = r_lo .. ro``, thickness ``t``) grows
-    freely by ``alpha dT r`` and takes on top of that a radial shift ``U`` and
-    a rotation ``psi`` of its inner edge.  ``ring="plate"``: a free annular
-    plate (membrane stiffness ``E t s`` and bending stiffness ``E t^3 s/12``
-    of :func:`annulus_edge`; the slope falls off toward the outer edge);
-    ``ring="rigid"``: a rigid section that stores only hoop strain
-    (``E t ln(ro/b) / a`` and ``E t^3 ln(ro/b) / (12 a)``; slope uniform).
-    The wall (mid radius ``a``, thickness ``h``) is a cylindrical shell
-    clamped at the flange's mid-plane (``L = height - flange/2``;
-    :func:`shell_edge_stiffness`), joined at ``(a, -t)``: its edge moves by
-    ``w0 = alpha dT a + U + psi t/2`` and turns with the ring,
-    ``theta0 = psi``.  The energy, minimised over ``(U, psi)``, is a 2x2
-    system.  Returns ``psi`` (rad, the inner edge), ``cone`` (the slope at
-    the friction band's mid radius; negative: the outer edge moves toward the
-    hat) and ``runout`` (m, ``u_z`` of the inboard face at the outer radius,
-    the thickness growth ``alpha dT t`` included).
-    """
-    if ring not in ("plate", "rigid"):
-        raise ValueError(f"ring = {ring!r}; allowed: 'plate', 'rigid'")
-    ro_, hat, mat = geom.rotor, geom.rotor.hat, geom.rotor.material
-    E, nu, alpha = mat.elastic.E, mat.elastic.nu, mat.thermal.alpha
-    t, ro, ri = ro_.thickness, ro_.outer_radius, ro_.inner_radius
-    a, h = hat.wall_radius, hat.wall_thickness
-    b = min(ri, a - 0.5 * h)
-    L = hat.height - 0.5 * hat.flange_thickness if L is None else L
-    beta, D = shell_constants(E, nu, a, h)
-    Ks = shell_edge_stiffness(beta, D, L)
-    rm = 0.5 * (ri + ro)
-    if ring == "plate":
-        sk, slope, rise = annulus_edge(b, ro, nu, np.array([rm, ro]))
-        k = E * t * sk * b / a  # per unit length of the junction circle
-        slope, rise = float(slope[0]), float(rise[1])
-    else:
-        k = E * t * np.log(ro / b) / a
-        slope, rise = 1.0, ro - a
-    kr = np.diag([k, k * t ** 2 / 12.0])
-    J = np.array([[1.0, 0.5 * t], [0.0, 1.0]])  # (U, psi) -> (w0, theta0)
-    w_free = np.array([alpha * dT * a, 0.0])
-    U, psi = np.linalg.solve(kr + J.T @ Ks @ J, -J.T @ Ks @ w_free)
-    return {"ring": ring, "psi": float(psi), "cone": float(psi * slope), "U": float(U),
-            "runout": float(psi * rise + alpha * dT * t), "beta": float(beta), "L": float(L),
-            "beta_L": float(beta * L), "k_ring": kr.diagonal().tolist(), "K_shell": Ks.tolist()}
-
-
 # ------------------------------------------------------- axisymmetric FE model
 
-def _section_blocks(geom) -> list[tuple[float, float, float, float]]:
-    """The hat rotor's section as rectangles (r0, r1, z0, z1), ring first."""
-    ro_, hat = geom.rotor, geom.rotor.hat
-    t, ri, ro = ro_.thickness, ro_.inner_radius, ro_.outer_radius
-    wi, wo = hat.wall_radius - 0.5 * hat.wall_thickness, hat.wall_radius + 0.5 * hat.wall_thickness
-    zb = -t - hat.height
-    return [(min(ri, wi), ro, -t, 0.0), (wi, wo, zb, -t),
-            (hat.bore_radius, wo, zb, zb + hat.flange_thickness)]
-
-
-def section_mesh(geom, size: float) -> fem.MeshTri:
-    """Triangles of the (r, z) section: one tensor grid through every break,
-    cells outside the blocks dropped.  Subdomains ``ring`` and ``hat``, facets
-    ``clamp`` (mounting face out to the bolt circle) and ``face`` (z = 0)."""
-    blocks = _section_blocks(geom)
-
-    def axis(k):
-        extra = [geom.rotor.hat.bolt_circle_radius] if k == 0 else []
-        br = np.unique(np.round([b[i] for b in blocks for i in (2 * k, 2 * k + 1)] + extra, 12))
-        parts = [np.linspace(a, b, max(2, int(np.ceil((b - a) / size))) + 1)
-                 for a, b in zip(br[:-1], br[1:])]
-        return np.unique(np.concatenate(parts))
-
-    m = fem.MeshTri.init_tensor(axis(0), axis(1))
-    c = m.p[:, m.t].mean(axis=1)
-    inside = np.zeros(m.t.shape[1], dtype=bool)
-    for r0, r1, z0, z1 in blocks:
-        inside |= (c[0] > r0) & (c[0] < r1) & (c[1] > z0) & (c[1] < z1)
-    t = m.t[:, inside]
-    used = np.unique(t)
-    renum = np.zeros(m.p.shape[1], dtype=np.int64)
-    renum[used] = np.arange(used.size)
-    m = fem.MeshTri(np.ascontiguousarray(m.p[:, used]), np.ascontiguousarray(renum[t]))
-    zb, rb, tol = blocks[1][2], geom.rotor.hat.bolt_circle_radius, 1e-9
-    m = m.with_boundaries({"clamp": lambda x: (np.abs(x[1] - zb) < tol) & (x[0] < rb + tol),
-                           "face": lambda x: np.abs(x[1]) < tol})
-    zc = m.p[1, m.t].mean(axis=0)
-    return m.with_subdomains({"ring": np.nonzero(zc > blocks[0][2])[0],
-                              "hat": np.nonzero(zc < blocks[0][2])[0]})
-
-
-def _axi_strain(u, r):
-    """(rr, zz, theta-theta, engineering rz) strains of an axisymmetric (u_r, u_z) field."""
-    g = u.grad
-    return [g[0][0], g[1][1], u[0] / r, g[0][1] + g[1][0]]
-
-
-def axisymmetric_cone(geom, dT: float, size: float) -> dict:
-    """The hat rotor's section solved as an axisymmetric body (P2 triangles).
-
-    ``2 pi r`` weights the isotropic forms; the thermal load of the ring's
-    elements is ``int (3 lambda + 2 mu) alpha dT tr eps(v) r``.  Returns the
-    cone angle, run-out and the inboard face's ``u_z(r)``.
-    """
-    mat = geom.rotor.material
-    lam, mu = lame_parameters(mat.elastic.E, mat.elastic.nu)
-    C = np.full((3, 3), lam) + 2 * mu * np.eye(3)
-    m = section_mesh(geom, size)
-    e = fem.ElementVector(fem.ElementTriP2())
-
-    @fem.BilinearForm
-    def stiff(u, v, w):
-        eu, ev = _axi_strain(u, w.x[0]), _axi_strain(v, w.x[0])
-        s = sum(C[i, j] * eu[j] * ev[i] for i in range(3) for j in range(3))
-        return (s + mu * eu[3] * ev[3]) * w.x[0]
-
-    @fem.LinearForm
-    def thermal(v, w):
-        ev = _axi_strain(v, w.x[0])
-        return (3 * lam + 2 * mu) * mat.thermal.alpha * dT * (ev[0] + ev[1] + ev[2]) * w.x[0]
-
-    basis = fem.Basis(m, e, intorder=4)
-    K = stiff.assemble(basis)
-    f = thermal.assemble(fem.Basis(m, e, intorder=4, elements=m.subdomains["ring"]))
-    fixed = basis.get_dofs("clamp").all()
-    Kd, fd = apply_dirichlet(K, f, fixed)
-    u = direct_solve(Kd, fd)
-    face = basis.get_dofs("face")
-    xr = np.concatenate([basis.doflocs[0, face.nodal["u^1"]], basis.doflocs[0, face.facet["u^1"]]])
-    uz = np.concatenate([u[face.nodal["u^2"]], u[face.facet["u^2"]]])
-    out = _cone_from_face(geom, xr, uz)
-    out.update(dofs=int(K.shape[0]), mesh=m, u=u, basis=basis)
-    return out
-
-
-def _cone_from_face(geom, r: np.ndarray, uz: np.ndarray) -> dict:
-    """Cone angle (rad) at the band's mid radius and run-out (m) at the outer
-    radius from a cubic fit of ``u_z(r)`` over the friction band."""
-    ri, ro = geom.rotor.inner_radius, geom.rotor.outer_radius
-    sel = r >= ri - 1e-9
-    c = np.polyfit(r[sel] - ri, uz[sel], 3)
-    rm = 0.5 * (ro - ri)
-    return {"cone": float(np.polyval(np.polyder(c), rm)), "runout": float(np.polyval(c, ro - ri)),
-            "fit_rms": float(np.sqrt(np.mean((np.polyval(c, r[sel] - ri) - uz[sel]) ** 2))),
-            "r": r[sel], "uz": uz[sel]}
-
-
 # ------------------------------------------------------------------- 3D solves
-
-def thermal_load(mesh: fem.Mesh, material, T: np.ndarray, elements=None) -> np.ndarray:
-    """``G T``: the load of the thermal strain ``alpha T I`` (T per scalar DOF),
-    ``G`` from :func:`brakewear.fem.heat.thermal_coupling` on the mesh's own
-    (P1 or P2) elements, optionally on an element subset."""
-    el = scalar_element(mesh)
-    # the library's rule: one point is exact for P1; degree 4 on the curved P2 elements
-    kw = {"intorder": 1 if el.maxdeg == 1 else 4, "elements": elements}
-    G = thermal_coupling(material.voigt(), material.thermal.alpha).assemble(
-        fem.Basis(mesh, el, **kw), fem.Basis(mesh, fem.ElementVector(el), **kw))
-    return G @ T
-
 
 def _solve(K, f, fixed, coords, tol=1e-10) -> tuple[np.ndarray, dict]:
     Kd, fd = apply_dirichlet(K, f, fixed)
@@ -352,7 +143,7 @@ def hat_cone(size: float, order: int, dT: float = DT, hat_size: float | None = N
              geom=None) -> dict:
     """(b): the hat rotor, ring elements heated by ``dT``, hat cold, mounting
     face clamped to the bolt circle.  Cone angle and run-out of the inboard
-    face (:func:`_cone_from_face`) and the face's ``u_z(r)``."""
+    face (:func:`~brakewear.thermal.hat_cone.face_cone`) and the face's ``u_z(r)``."""
     g = hat_geometry() if geom is None else geom
     mat = g.rotor.material
     m = full_rotor_mesh(g, size=size, order=order, hat_size=size if hat_size is None else hat_size)
@@ -362,7 +153,7 @@ def hat_cone(size: float, order: int, dT: float = DT, hat_size: float | None = N
     fixed = boundary_dofs(m, "rotor_clamp")
     u, info = _solve(K, f, fixed, X)
     face = np.abs(X[2]) < 1e-9 * g.rotor.outer_radius
-    out = _cone_from_face(g, np.hypot(X[0, face], X[1, face]), u[2::3][face])
+    out = face_cone(g, np.hypot(X[0, face], X[1, face]), u[2::3][face])
     out.update(size_mm=1e3 * size, order=order, **info)
     return out
 
@@ -384,10 +175,6 @@ def _axisymmetric_reference(g, dT: float, sizes) -> tuple[dict, dict]:
           f"{', '.join(f'{1e3 * h:g}' for h in sizes)} mm (rate {rate:.2f}) -> "
           f"{1e3 * ref['cone']:.4f} mrad")
     return runs[-1], ref
-
-
-def _rate(h, err) -> float:
-    return float(np.polyfit(np.log(h), np.log(err), 1)[0])
 
 
 def main(out: str | Path | None = "docs", plate_sizes=(0.016, 0.012, 0.008),
@@ -438,7 +225,7 @@ def main(out: str | Path | None = "docs", plate_sizes=(0.016, 0.012, 0.008),
                      "hat_size_ratio": hat_size_ratio,
                      "hat_mm": {k: 1e3 * getattr(HAT, k) for k in HAT.__dataclass_fields__}},
         "plate": plate,
-        "plate_rate": _rate([p["size_mm"] for p in plate], [p["kappa_error"] for p in plate]),
+        "plate_rate": fitted_rate([p["size_mm"] for p in plate], [p["kappa_error"] for p in plate]),
         "axisymmetric": {"cone_mrad": 1e3 * ref["cone"], "runout_um": 1e6 * ref["runout"],
                          "finest_cone_mrad": 1e3 * axi["cone"], "dofs": axi["dofs"],
                          "runs_cone_mrad": [1e3 * c for c in ref["cones"]], "rate": ref["rate"],
@@ -469,53 +256,8 @@ def main(out: str | Path | None = "docs", plate_sizes=(0.016, 0.012, 0.008),
         (out / "data" / "thermal_coning.json").write_text(json.dumps(res, indent=1) + "\n")
         if figures:
             (out / "figures").mkdir(parents=True, exist_ok=True)
-            _figure(g, axi, est, hat[-1], dT, out / "figures" / "thermal_coning.png")
+            coning_figure(g, axi, est, hat[-1], dT, out / "figures" / "thermal_coning.png")
     return res
-
-
-def _figure(g, axi, est, hat3d, dT, path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.tri import Triangulation
-
-    m, u, basis = axi["mesh"], axi["u"], axi["basis"]
-    ur, uz = u[basis.nodal_dofs[0]], u[basis.nodal_dofs[1]]
-    raw = 0.1 * g.rotor.outer_radius / max(np.abs(ur).max(), np.abs(uz).max())
-    decade = 10.0 ** np.floor(np.log10(raw))
-    scale = decade * max(k for k in (1, 2, 5) if k * decade <= raw)  # a round 1-2-5 factor
-    fig, ax = plt.subplots(1, 2, figsize=(13, 5), width_ratios=(1.1, 1))
-    tri = Triangulation(1e3 * m.p[0], 1e3 * m.p[1], m.t.T)
-    ax[0].triplot(tri, color="0.8", lw=0.3)
-    td = Triangulation(1e3 * (m.p[0] + scale * ur), 1e3 * (m.p[1] + scale * uz), m.t.T)
-    pc = ax[0].tripcolor(td, 1e6 * uz, shading="gouraud", cmap="coolwarm")
-    fig.colorbar(pc, ax=ax[0], label="u_z (um)")
-    ax[0].set(aspect="equal", xlabel="r (mm)", ylabel="z (mm)",
-              title=f"hat section: ring +{dT:.0f} K, hat cold\n(grey: undeformed; "
-                    f"displacement x {scale:.0f})")
-    ri, ro, t = g.rotor.inner_radius, g.rotor.outer_radius, g.rotor.thickness
-    ax[1].plot(1e3 * hat3d["r"], 1e6 * hat3d["uz"], ".", ms=2, color="0.5",
-               label=f"3D FE, P{hat3d['order']}, {hat3d['size_mm']:.0f} mm (every face node)")
-    o = np.argsort(axi["r"])
-    ax[1].plot(1e3 * axi["r"][o], 1e6 * axi["uz"][o], "k-", lw=1.5, label="axisymmetric FE")
-    r = np.linspace(ri, ro, 50)
-    alpha = g.rotor.material.thermal.alpha
-    e = est["plate"]
-    b = min(ri, g.rotor.hat.wall_radius - 0.5 * g.rotor.hat.wall_thickness)
-    rise = annulus_edge(b, ro, g.rotor.material.elastic.nu, r)[2]
-    ax[1].plot(1e3 * r, 1e6 * (e["psi"] * rise + alpha * dT * t), "C1--",
-               label="closed form: annular plate on a cylindrical shell")
-    e = est["rigid"]
-    ax[1].plot(1e3 * r, 1e6 * (e["psi"] * (r - g.rotor.hat.wall_radius) + alpha * dT * t), "C2:",
-               label="closed form: rigid-section ring on the shell")
-    ax[1].set(xlabel="r (mm)", ylabel="u_z of the inboard friction face (um)",
-              title=f"cone at mid band: {1e3 * hat3d['cone']:.2f} mrad (3D), "
-                    f"{1e3 * axi['cone']:.2f} mrad (axisymmetric)\nring +{dT:.0f} K")
-    ax[1].grid(alpha=0.3)
-    ax[1].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
 
 
 if __name__ == "__main__":

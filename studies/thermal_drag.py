@@ -43,22 +43,31 @@ Run ``python studies/thermal_drag.py [--out DIR] [--size MM] [--duration S]
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import logging
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from brakewear.mesh.surface import surface_nodes, tributary_areas
-from brakewear.model import BrakeModel
-from brakewear.wear import Numerics, Run, wear_history
-from brakewear.thermal import ThermalModel
 from brakewear.laws.base import WearLaw
 from brakewear.mesh.rings import rotor_rings
+from brakewear.mesh.surface import surface_nodes, tributary_areas
+from brakewear.model import BrakeModel
+from brakewear.thermal import ThermalModel
+from brakewear.wear import Numerics, Run, wear_history
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from drag_report import (  # noqa: E402  (sibling scripts, not a package)
+    plot_history,
+    plot_pressure,
+    plot_temperatures,
+    plot_wear,
+    summary_of,
+    write_tables,
+)
+from fresh_timing import external_timing, law_args  # noqa: E402
 
 logger = logging.getLogger("thermal_drag")
 
@@ -67,36 +76,6 @@ PAD_LAW = WearLaw(5e-15, activation_energy=5e4, T_threshold=503.15)
 ROTOR_LAW = WearLaw(5e-16)
 H_C = 1e5
 
-_FRESH = """
-import json, sys, time
-import brakewear
-from brakewear import BrakeModel
-from brakewear import FEInterface, wear_history
-from brakewear import WearLaw
-from brakewear.mesh.rings import rotor_rings
-from brakewear import Numerics
-from brakewear.wear import Run
-a = json.loads(sys.argv[1])
-m = BrakeModel(size=a["size"])
-times, cpu = [], []
-for _ in range(a["repeats"]):
-    t0, c0 = time.perf_counter(), time.process_time()
-    h = list(wear_history(Run(m, a["p"], a["omega"], a["duration"], WearLaw(*a["pad"]),
-                              WearLaw(*a["rotor"]), mu=a["mu"],
-                              numerics=Numerics(steps=a["steps"], scheme="implicit"))))
-    times.append(time.perf_counter() - t0)
-    cpu.append(time.process_time() - c0)
-print(json.dumps({"times_s": times, "cpu_s": cpu, "thermal_imported": "brakewear.thermal" in sys.modules,
-                  "package": brakewear.__file__, "pad_volume_m3": h[-1].pad_volume,
-                  "rotor_volume_m3": h[-1].rotor_volume,
-                  "pad_wear": h[-1].pad_wear.tolist()}))
-"""
-
-
-def _law_args(law: WearLaw) -> list:
-    return [law.k, law.a, law.b, law.T_threshold, law.activation_energy]
-
-
 def run(model: BrakeModel, thermal: bool, p_line: float, omega: float, mu: float,
         duration: float, steps: int, h_c: float = H_C):
     """One drag: (list of WearStep, ThermalModel or None, run seconds, build seconds,
@@ -104,54 +83,10 @@ def run(model: BrakeModel, thermal: bool, p_line: float, omega: float, mu: float
     t0, c0 = time.perf_counter(), time.process_time()
     th = ThermalModel(model, contact_conductance=h_c) if thermal else None
     build = time.perf_counter() - t0
-    hist = list(wear_history(Run(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu, thermal=th, numerics=Numerics(steps=steps, scheme="implicit"))))
+    num = Numerics(steps=steps, scheme="implicit")
+    hist = list(wear_history(Run(model, p_line, omega, duration, PAD_LAW, ROTOR_LAW, mu=mu,
+                                 thermal=th, numerics=num)))
     return hist, th, time.perf_counter() - t0, build, time.process_time() - c0
-
-
-def end_pressure(model, p_line: float, mu: float, hist, th=None):
-    """Contact pressure of the final worn state (t = duration), with the final thermal
-    load: (pressure, active) at the pad friction nodes (the last step's end state)."""
-    last = hist[-1]
-    return last.pressure_end, last.active_end
-
-
-def _summary(hist, area, th, p_end, act_end) -> dict:
-    last = hist[-1]
-    out = {
-        "pad_volume_m3": last.pad_volume, "rotor_volume_m3": last.rotor_volume,
-        "pad_archard_m3": last.pad_archard,
-        "pad_wear_max_um": 1e6 * float(last.pad_wear.max()),
-        "pad_wear_mean_um": 1e6 * float((last.pad_wear * area).sum() / area.sum()),
-        "rotor_wear_max_um": 1e6 * float(last.rotor_wear.max()),
-        "contact_fraction_first": float(hist[0].active.mean()),
-        "contact_fraction_last": float(last.active.mean()),
-        "contact_area_fraction_last": float(area[last.active].sum() / area.sum()),
-        "peak_pressure_last_MPa": 1e-6 * float(last.pressure.max()),
-        "mean_pressure_over_contact_last_MPa": 1e-6 * float(
-            (last.pressure * area).sum() / max(area[last.active].sum(), 1e-300)),
-        "pressure_time_s": last.time - last.dt,
-        "contact_fraction_end": float(act_end.mean()),
-        "contact_area_fraction_end": float(area[act_end].sum() / area.sum()),
-        "peak_pressure_end_MPa": 1e-6 * float(p_end.max()),
-    }
-    if th is not None:
-        b = th.heat_balance()
-        # heat_in_W includes the conductance exchange received; to_contact_W is
-        # the pad's gross outflow through it: the difference is the net heat in
-        pad_net = b["bodies"]["pad"]["heat_in_W"] - b["bodies"]["pad"]["to_contact_W"]
-        out.update({
-            "pad_face_T_max_C": float(th.face_temperature("pad").max()) - C0,
-            "pad_face_T_mean_C": float(np.average(th.face_temperature("pad"),
-                                                  weights=th.pad_area)) - C0,
-            "rotor_face_T_max_C": float(th.face_temperature("rotor").max()) - C0,
-            "pad_T_min_C": float(th.T["pad"].min()) - C0,
-            "friction_power_last_W": b["friction_power_W"],
-            "pad_net_share_last": pad_net / b["friction_power_W"],
-            "heat_balance_error_max": max(s.heat_balance_error for s in hist),
-            "pad_k_factor_max": float(np.max(PAD_LAW.coefficient(th.face_temperature("pad"))
-                                             / PAD_LAW.k)),
-        })
-    return out
 
 
 def _per_radius(r: np.ndarray, w: np.ndarray, area: np.ndarray):
@@ -160,19 +95,6 @@ def _per_radius(r: np.ndarray, w: np.ndarray, area: np.ndarray):
     ring, radii = rotor_rings(r, 1e-6)
     a = np.bincount(ring, weights=area)
     return radii, np.bincount(ring, weights=w * area) / a
-
-
-def _fresh_process_times(size, p, omega, mu, duration, steps, repeats,
-                         tree: str | Path | None = None) -> dict:
-    """Time the thermal=None loop in a new interpreter, run from ``tree`` (a source
-    tree of brakewear; default this one: its package is imported, not an installed one)."""
-    arg = json.dumps({"size": size, "p": p, "omega": omega, "mu": mu, "duration": duration,
-                      "steps": steps, "repeats": repeats, "pad": _law_args(PAD_LAW),
-                      "rotor": _law_args(ROTOR_LAW)})
-    tree = Path(__file__).resolve().parents[1] if tree is None else Path(tree).resolve()
-    res = subprocess.run([sys.executable, "-c", _FRESH, arg], check=True, capture_output=True,
-                         text=True, cwd=tree)
-    return json.loads(res.stdout.strip().splitlines()[-1])
 
 
 def fixed_partition(size: float = 6e-3, duration: float = 30.0, steps: int = 10,
@@ -191,159 +113,6 @@ def fixed_partition(size: float = 6e-3, duration: float = 30.0, steps: int = 10,
             "line_pressure_Pa": line_pressure, "omega_rad_s": omega, "mu": mu, "runs": rows}
 
 
-# ------------------------------------------------------------------ figures --
-def plot_temperatures(model, th, duration, fig_dir: Path) -> list[Path]:
-    from brakewear.output.figures import plot_field
-
-    paths = []
-    for body, view, what in (("pad", (0.5, -0.8, -1.0), "friction face from below"),
-                             ("rotor", (0.3, -0.7, 1.0), "friction face from above")):
-        p = fig_dir / f"thermal_drag_T_{body}.png"
-        plot_field(model.meshes[body], th.T[body] - C0, p,
-                   f"{body} temperature after the {duration:g} s drag, thermal on ({what})",
-                   label=f"{body} T (C)", cmap="inferno", view=view)
-        paths.append(p)
-    return paths
-
-
-def plot_pressure(model, panels, path: Path) -> Path:
-    """Pad friction-face pressure maps side by side, one colour scale, seen from the rotor."""
-    from brakewear.output.figures import facets_to_pyvista, offscreen_pyvista
-
-    pv = offscreen_pyvista()
-    pad = model.meshes["pad"]
-    nodes = surface_nodes(pad, "friction")
-    facets = pad.boundaries["friction"]
-    used = np.unique(pad.facets[:, facets])
-    vmax = max(float(p.max()) for _, p in panels) * 1e-6
-    pl = pv.Plotter(off_screen=True, window_size=[560 * len(panels) + 140, 760],
-                    shape=(1, len(panels)), border=False)
-    for i, (title, p) in enumerate(panels):
-        vals = np.zeros(pad.p.shape[1])
-        vals[nodes] = 1e-6 * p
-        surf = facets_to_pyvista(pad, facets)
-        surf.point_data["p (MPa)"] = vals[used]
-        pl.subplot(0, i)
-        pl.add_mesh(surf, scalars="p (MPa)", cmap="viridis", clim=(0.0, vmax),
-                    show_edges=True, edge_color=(0.6, 0.6, 0.6), line_width=0.3,
-                    show_scalar_bar=(i == len(panels) - 1),
-                    scalar_bar_args={"title": "p (MPa)", "color": "black", "fmt": "%.1f",
-                                     "vertical": True, "position_x": 0.82, "position_y": 0.2,
-                                     "height": 0.6, "width": 0.1})
-        pl.add_text(title, position="upper_edge", font_size=10, color="black")
-        if i == 0:
-            pl.add_text("pad friction face seen from the rotor: inner radius on the right",
-                        position="lower_left", font_size=11, color="black")
-        b = np.array(surf.bounds)
-        c = 0.5 * (b[0::2] + b[1::2])
-        d = 2.3 * max(b[1] - b[0], b[3] - b[2])
-        if i == len(panels) - 1:   # keep the colour bar off the pad
-            c = c - np.array([0.3 * (b[1] - b[0]), 0.0, 0.0])  # screen right is -x
-        pl.camera.focal_point = tuple(c)
-        pl.camera.position = (c[0], c[1], c[2] - d)
-        pl.camera.up = (0.0, 1.0, 0.0)
-        pl.set_background("white")
-    pl.screenshot(str(path))
-    pl.close()
-    return path
-
-
-def plot_wear(rows: list[dict], pad_pts: dict, path: Path, duration: float) -> Path:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    r = np.array([x["r_mm"] for x in rows])
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    ax = axes[0]
-    for key, colour, label in (("off", "tab:blue", "thermal off"), ("on", "tab:red", "thermal on")):
-        rr, w = pad_pts[key]
-        ax.plot(rr, w, ".", color=colour, alpha=0.25, ms=4)
-        ax.plot(r, [x[f"pad_{key}_um"] for x in rows], "o-", color=colour,
-                label=f"{label} (mean per radius; dots: nodes)")
-    ax.set_xlabel("radius (mm)")
-    ax.set_ylabel("pad wear (um)")
-    ax.set_title(f"pad wear after the {duration:g} s drag")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    ax = axes[1]
-    for key, colour, label in (("off", "tab:blue", "thermal off"), ("on", "tab:red", "thermal on")):
-        rr = np.array([x["r_mm"] for x in pad_pts[f"rotor_{key}"]])
-        ax.plot(rr, [x["w_um"] for x in pad_pts[f"rotor_{key}"]], "s-", color=colour,
-                label=label)
-    ax.set_xlabel("radius (mm)")
-    ax.set_ylabel("rotor wear (um, revolution average)")
-    ax.set_title("rotor wear per ring")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
-
-
-def plot_history(step_rows: list[dict], T_ambient_C: float, path: Path) -> Path:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    runs = {k: [x for x in step_rows if x["run"] == k] for k in ("off", "on")}
-    on = runs["on"]
-    t = [0.0] + [x["time_s"] for x in on]
-    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
-    ax = axes[0, 0]
-    ax.plot(t, [T_ambient_C] + [x["pad_face_T_max_C"] for x in on], "r-", label="pad face max")
-    ax.plot(t, [T_ambient_C] + [x["rotor_face_T_max_C"] for x in on], "k--",
-            label="rotor face max")
-    ax.axhline(PAD_LAW.T_threshold - C0, color="grey", lw=0.8, ls=":",
-               label="pad wear threshold (230 C)")
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("temperature (C)")
-    ax.set_title("thermal on: face temperatures")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    ax = axes[0, 1]
-    for key, style in (("off", "b.-"), ("on", "r.-")):
-        rows = runs[key]
-        ax.plot([x["time_s"] - x["dt_s"] for x in rows],
-                [100 * x["contact_fraction"] for x in rows], style, label=f"thermal {key}")
-    ax.set_ylim(0, 105)
-    ax.set_xlabel("time (s, start of step)")
-    ax.set_ylabel("pad friction nodes in contact (%)")
-    ax.set_title("contact")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    ax = axes[1, 0]
-    for key, style in (("off", "b.-"), ("on", "r.-")):
-        rows = runs[key]
-        ax.plot([0.0] + [x["time_s"] for x in rows],
-                [0.0] + [1e9 * x["pad_volume_m3"] for x in rows], style,
-                label=f"pad, thermal {key}")
-        ax.plot([0.0] + [x["time_s"] for x in rows],
-                [0.0] + [1e10 * x["rotor_volume_m3"] for x in rows], style[0] + "--",
-                label=f"rotor x 10, thermal {key}")
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("worn volume (mm^3)")
-    ax.set_title("worn volume")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    ax = axes[1, 1]
-    ax.semilogy([x["time_s"] for x in on], [max(x["heat_balance_error"], 1e-17) for x in on],
-                "o-", ms=3, label="thermal on")
-    ax.axhline(1e-8, color="r", lw=0.8, ls=":", label="1e-8 (test bound)")
-    ax.set_ylim(1e-17, 1e-6)
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("|heat in - friction power| / power")
-    ax.set_title("heat balance per step")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3, which="both")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
-
-
-# --------------------------------------------------------------------- main --
 def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
          out: str | Path | None = "docs", line_pressure: float = 1e6, omega: float = 55.0,
          mu: float = 0.4, repeats: int = 3, figures: bool = True,
@@ -395,35 +164,17 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
               # wall time outside the contact solves: heat steps, thermal loads, bookkeeping
               "outside_solves_off_s": [t - s for t, s in zip(times["off"], solve["off"])],
               "outside_solves_on_s": [t - s for t, s in zip(times["on"], solve["on"])]}
-    if fresh_process:
-        fresh = _fresh_process_times(size, line_pressure, omega, mu, duration, steps, repeats)
-        if fresh["thermal_imported"]:
-            raise RuntimeError("a thermal=None run imported brakewear.thermal")
-        timing["off_fresh_process_s"] = fresh["times_s"]
-        timing["off_fresh_process_median_s"] = float(np.median(fresh["times_s"]))
-        timing["cpu_off_fresh_process_s"] = fresh["cpu_s"]
-        timing["cpu_off_fresh_process_median_s"] = float(np.median(fresh["cpu_s"]))
-        timing["fresh_process_imported_thermal"] = fresh["thermal_imported"]
-        timing["fresh_over_in_process_off"] = timing["off_fresh_process_median_s"] / med["off"]
-        timing["fresh_pad_wear_max_diff_m"] = float(np.abs(
-            np.asarray(fresh["pad_wear"]) - off[-1].pad_wear).max())
-    if baseline is not None:
-        base = _fresh_process_times(size, line_pressure, omega, mu, duration, steps, repeats,
-                                    tree=baseline)
-        if not str(base["package"]).startswith(str(Path(baseline).resolve())):
-            raise RuntimeError(f"baseline run imported {base['package']}, not {baseline}")
-        timing["off_baseline_s"] = base["times_s"]
-        timing["off_baseline_median_s"] = float(np.median(base["times_s"]))
-        timing["cpu_off_baseline_s"] = base["cpu_s"]
-        timing["cpu_off_baseline_median_s"] = float(np.median(base["cpu_s"]))
-        timing["baseline_over_in_process_off"] = timing["off_baseline_median_s"] / med["off"]
-        timing["baseline_pad_wear_max_diff_m"] = float(np.abs(
-            np.asarray(base["pad_wear"]) - off[-1].pad_wear).max())
+    for key, tree in (("fresh_process", None if fresh_process else False),
+                      ("baseline", baseline if baseline is not None else False)):
+        if tree is not False:
+            timing.update(external_timing(key, tree, off[-1].pad_wear, med["off"], size,
+                                          line_pressure, omega, mu, duration, steps, repeats,
+                                          PAD_LAW, ROTOR_LAW))
 
-    ends = {"off": end_pressure(model, line_pressure, mu, off),
-            "on": end_pressure(model, line_pressure, mu, on, th)}
-    summary = {"off": _summary(off, area, None, *ends["off"]),
-               "on": _summary(on, area, th, *ends["on"])}
+    # the worn state at t = duration: the last step's end pressure
+    ends = {k: (h[-1].pressure_end, h[-1].active_end) for k, h in (("off", off), ("on", on))}
+    summary = {"off": summary_of(off, area, None, PAD_LAW, *ends["off"]),
+               "on": summary_of(on, area, th, PAD_LAW, *ends["on"])}
     if len(off) >= 2:
         # the implicit step wore the pad with its end pressure: p = dh / (dt k v)
         eps = off[-1].dt * PAD_LAW.rate(1.0, omega * r_pad)
@@ -467,9 +218,9 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
                      "partition": "effusivity", "pad_share_partition": th.partition,
                      "h_conv_W_m2K": 40.0, "T_ambient_C": th.T_ambient - C0,
                      "pad_law": dict(zip(("k", "a", "b", "T_threshold_K",
-                                          "activation_energy_J_mol"), _law_args(PAD_LAW))),
+                                          "activation_energy_J_mol"), law_args(PAD_LAW))),
                      "rotor_law": dict(zip(("k", "a", "b", "T_threshold_K",
-                                            "activation_energy_J_mol"), _law_args(ROTOR_LAW))),
+                                            "activation_energy_J_mol"), law_args(ROTOR_LAW))),
                      "pad_friction_nodes": int(nodes.size),
                      "nodes": {b: int(m.p.shape[1]) for b, m in model.meshes.items()}},
         "summary": summary, "timing": timing,
@@ -485,17 +236,7 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
     (out / "data").mkdir(parents=True, exist_ok=True)
     (out / "figures").mkdir(parents=True, exist_ok=True)
     (out / "data" / "thermal_drag_scene.json").write_text(json.dumps(res, indent=1) + "\n")
-    for name, table in (("thermal_drag_steps.csv", step_rows),
-                        ("thermal_drag_wear_profile.csv",
-                         [{"surface": "pad", "r_mm": x["r_mm"], "off_um": x["pad_off_um"],
-                           "on_um": x["pad_on_um"]} for x in rows]
-                         + [{"surface": "rotor", "r_mm": x["r_mm"], "off_um": x["w_um"],
-                             "on_um": y["w_um"]} for x, y in zip(rotor["off"], rotor["on"])])):
-        keys = list(dict.fromkeys(k for row in table for k in row))
-        with open(out / "data" / name, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=keys)
-            w.writeheader()
-            w.writerows(table)
+    write_tables(out / "data", step_rows, rows, rotor)
     if figures:
         fig = out / "figures"
         res["figures"] = [str(p) for p in plot_temperatures(model, th, duration, fig)]
@@ -509,6 +250,7 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30,
                "rotor_off": rotor["off"], "rotor_on": rotor["on"]}
         res["figures"].append(str(plot_wear(rows, pts, fig / "thermal_drag_wear.png", duration)))
         res["figures"].append(str(plot_history(step_rows, th.T_ambient - C0,
+                                               PAD_LAW.T_threshold - C0,
                                                fig / "thermal_drag_history.png")))
     return res
 

@@ -41,7 +41,20 @@ def main(size: float = 6e-3, duration: float = 90.0, steps: int = 30, repeats: i
         for name, c in cases().items():
             th = None if c.get("thermal") is False else bw.ThermalModel(model)
             t0, c0 = time.perf_counter(), time.process_time()
-            s = list(bw.wear_history(Run(model, 1e6, 55.0, duration, *c["laws"], mu=c["mu"], thermal=th, numerics=bw.Numerics(steps=steps, update=c["update"]))))
+            s = list(
+                bw.wear_history(
+                    Run(
+                        model,
+                        1e6,
+                        55.0,
+                        duration,
+                        *c["laws"],
+                        mu=c["mu"],
+                        thermal=th,
+                        numerics=bw.Numerics(steps=steps, update=c["update"]),
+                    )
+                )
+            )
             rows[name] = {"wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0,
                           "per_step_ms": 1e3 * (time.perf_counter() - t0) / steps,
                           "pad_T_max_C": s[-1].pad_temperature_max - 273.15,

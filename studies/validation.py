@@ -39,6 +39,8 @@ def run(name: str, figures: Path | None = None) -> dict:
             figures.mkdir(parents=True, exist_ok=True)
             shutil.copy(Path(tmp) / "profile.png", figures / f"validation_{name}.png")
     s.pop("measured_profile", None)
+    if "profile" in s["validation"]:  # the packaged file by its name, not this machine's path
+        s["validation"]["profile"] = Path(s["validation"]["profile"]).name
     return {"scene": name, "test": s["test"], "cycles": s["cycles"], "cycle": s["cycle"],
             "cycles_simulated": s["cycles_simulated"], "jumps": s["jumps"],
             "wall_s": s["cost"]["run_s"], "cpu_s": s["cost"]["cpu_s"],

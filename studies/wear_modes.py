@@ -31,13 +31,12 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.motion.brake import element_quality
-from brakewear.model import BrakeModel
-from brakewear.interfaces import FEInterface
-from brakewear.wear import wear_history
-from brakewear.laws.base import WearLaw
 from brakewear import Numerics
-from brakewear.wear import Run
+from brakewear.interfaces import FEInterface
+from brakewear.laws.base import WearLaw
+from brakewear.model import BrakeModel
+from brakewear.motion.brake import element_quality
+from brakewear.wear import Run, wear_history
 
 logger = logging.getLogger(__name__)
 
@@ -70,7 +69,23 @@ def history(update: str, size: float, fractions=FRACTIONS, dh_fraction: float = 
                 else model
             t0 = time.perf_counter()
             last = None
-            for last in wear_history(Run(m, P_LINE, OMEGA, t_end, law, None, MU, numerics=Numerics(scheme="implicit", update=update, dh_fraction=dh_fraction, dp_tol=dp_tol)), checkpoint=ck, every=10 ** 6, resume=steps > 0):
+            for last in wear_history(
+                Run(
+                    m,
+                    P_LINE,
+                    OMEGA,
+                    t_end,
+                    law,
+                    None,
+                    MU,
+                    numerics=Numerics(
+                        scheme="implicit", update=update, dh_fraction=dh_fraction, dp_tol=dp_tol
+                    ),
+                ),
+                checkpoint=ck,
+                every=10**6,
+                resume=steps > 0,
+            ):
                 solves += last.contact_solves
             run_s += time.perf_counter() - t0
             steps = last.step

@@ -43,11 +43,10 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
-from brakewear.wear import WEAR_TOL_GROWTH, Numerics, wear_history
 from brakewear.laws.base import WearLaw
-from brakewear.wear import Run
+from brakewear.model import BrakeModel
+from brakewear.wear import WEAR_TOL_GROWTH, Numerics, Run, wear_history
 
 logger = logging.getLogger(__name__)
 
@@ -66,7 +65,19 @@ def run(model, itf, scheme: str, duration: float, steps: int | None = None,
     t0 = time.perf_counter()
     last, solves, n = None, 0, 0   # the first solve is counted in the first record
     t, H = [0.0], [np.zeros(itf.area.size)]
-    for last in wear_history(Run(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), None, MU, interface=itf, numerics=Numerics(steps=steps, scheme=scheme, **kw))):
+    for last in wear_history(
+        Run(
+            model,
+            P_LINE,
+            OMEGA,
+            duration,
+            WearLaw(K_PAD),
+            None,
+            MU,
+            interface=itf,
+            numerics=Numerics(steps=steps, scheme=scheme, **kw),
+        )
+    ):
         solves += last.contact_solves
         n += 1
         t.append(last.time)
@@ -153,10 +164,12 @@ def main(size_mm: float = 8.0, out: str | Path = "docs", quick: bool = False,
                         "explicit_monotone_bound_s": bound, "duration_s": T,
                         "long_duration_s": 10 * T, "longer_duration_s": 100 * T,
                         "wear_tol_growth_max": WEAR_TOL_GROWTH}}
-    studies = {"explicit": convergence(model, itf, "explicit", T, counts, ref_steps, hist),
-               "implicit": convergence(model, itf, "implicit", T, counts, ref_steps, hist),
-               "implicit_long": convergence(model, itf, "implicit", 10 * T, counts, ref_steps, hist),
-               "implicit_100": convergence(model, itf, "implicit", 100 * T, counts, ref_steps, hist)}
+    studies = {
+        "explicit": convergence(model, itf, "explicit", T, counts, ref_steps, hist),
+        "implicit": convergence(model, itf, "implicit", T, counts, ref_steps, hist),
+        "implicit_long": convergence(model, itf, "implicit", 10 * T, counts, ref_steps, hist),
+        "implicit_100": convergence(model, itf, "implicit", 100 * T, counts, ref_steps, hist),
+    }
     # the automatic step controls against the same references
     control = []
     dp_tols = (0.2, 0.05) if quick else (0.4, 0.2, 0.1, 0.05, 0.02)

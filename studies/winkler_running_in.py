@@ -1,25 +1,15 @@
 """Running-in with the Winkler interface against the FE contact: profiles, errors, speed.
 
-Run ``python studies/winkler_running_in.py [--size MM] [--duration S] [--steps N]
-[--out DIR]`` from the repository root.  The default brake (elastic rotor) at
-1 MPa line pressure, 55 rad/s, mu 0.4, Archard pad k 5e-15 1/Pa and rotor
-k 5e-16 1/Pa, wears through a running-in with the implicit (backward Euler)
-scheme and a fixed step sequence, once with the FE contact and once with
-each Winkler interface:
-
-- ``johnson``: Johnson's layer modulus with the rotor layer in series,
-  uncalibrated (geometric lever arm);
-- ``stiffness``: uniform modulus scaled to the FE stiffness (FE lever arm);
-- ``pressure``: per-node modulus fitted to the FE pressure (at the load and
-  mu of the run), so it starts on the FE pressure.
-
-All four runs use the same steps.  At several stages it compares the pad
-pressure and pad wear (along the mean radius against angle, along the centre
-line against radius), the rotor wear against radius (ring means), the
-``p r`` spread, and the time of the interface solves per step (``solve_s``).
-Writes ``winkler_running_in.json``, ``winkler_running_in_steps.csv`` and
-``winkler_running_in_profiles.csv`` (``OUT/data``) and
-``winkler_running_in_{pressure,wear,history}.png`` (``OUT/figures``).
+The default brake (elastic rotor) at 1 MPa, 55 rad/s, mu 0.4, Archard pad k
+5e-15 1/Pa and rotor 5e-16 1/Pa, run in with implicit equal steps once with the
+FE contact and once with each Winkler interface: ``johnson`` (Johnson's layer
+modulus, the rotor layer in series, uncalibrated), ``stiffness`` (a uniform
+modulus scaled to the FE stiffness), ``pressure`` (a modulus per node fitted to
+the FE pressure).  At several stages it compares the pad pressure and wear (along
+the mean radius and the centre line), the rotor's ring-mean wear, the ``p r``
+spread and the interface solve time per step.  Run ``python
+studies/winkler_running_in.py [--size MM] [--duration S] [--steps N] [--out DIR]``:
+``OUT/data/winkler_running_in*.{json,csv}``, ``OUT/figures/winkler_running_in_*.png``.
 
 The pressure of a :class:`~brakewear.wear.WearStep` is the one at the
 start of its step and its wear the one at the end, so the runs take one step
@@ -30,81 +20,45 @@ wear of record ``j - 1``.
 from __future__ import annotations
 
 import argparse
-import csv
-import json
 import logging
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from brakewear.interfaces import WinklerInterface, calibrate, compare
+from brakewear import Numerics
+from brakewear.interfaces import (
+    FEInterface,
+    FoundationInterface,
+    WinklerInterface,
+    calibrate,
+    compare,
+)
+from brakewear.laws.base import WearLaw
+from brakewear.mesh.convergence import pad_profiles, relative_l2
 from brakewear.mesh.rings import ring_profile
 from brakewear.model import BrakeModel
-from brakewear.interfaces import FoundationInterface
-from brakewear.wear import wear_history
-from brakewear.laws.base import WearLaw
-from brakewear import Numerics
 from brakewear.static import solve_contact
-from brakewear.wear import Run
+from brakewear.wear import Run, wear_history
+from brakewear.wear.records import pr_spread
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from running_in_report import replot, speed_record, write  # noqa: E402  (a sibling script)
 
 logger = logging.getLogger(__name__)
 
 VARIANTS = ("johnson", "stiffness", "pressure")
-LABELS = {"fe": "FE contact (elastic rotor)",
-          "johnson": "Winkler, Johnson modulus (uncalibrated)",
-          "stiffness": "Winkler, stiffness-calibrated",
-          "pressure": "Winkler, pressure-calibrated (per node)"}
-STYLES = {"fe": dict(color="k", marker="o", ls="-", ms=3, lw=1.6),
-          "johnson": dict(color="tab:orange", marker="s", ls="--", ms=2.5, lw=1),
-          "stiffness": dict(color="tab:blue", marker="^", ls="-.", ms=2.5, lw=1),
-          "pressure": dict(color="tab:green", marker="v", ls=":", ms=2.5, lw=1.3)}
-
-
-# ------------------------------------------------------------------ helpers --
-
-def profile_nodes(xy: np.ndarray, geometry) -> dict:
-    """Node selections of the two profiles: the row of pad nodes closest to the
-    mean radius (sorted by angle) and, in every row of constant radius, the node
-    closest to the pad's centre line (sorted by radius)."""
-    r = np.hypot(xy[0], xy[1])
-    th = np.arctan2(xy[1], xy[0])
-    pad = geometry.pad
-    r_mid = 0.5 * (pad.inner_radius + pad.outer_radius)
-    rows = np.unique(np.round(r, 7))
-    r_row = rows[np.argmin(np.abs(rows - r_mid))]
-    sel = np.nonzero(np.abs(r - r_row) < 1e-6)[0]
-    sel = sel[np.argsort(th[sel])]
-    dth = np.abs(np.angle(np.exp(1j * (th - pad.center_angle))))
-    centre = []
-    for rr in rows:
-        on = np.nonzero(np.abs(r - rr) < 1e-6)[0]
-        centre.append(on[np.argmin(dth[on])])
-    centre = np.array(centre)
-    centre = centre[np.argsort(r[centre])]
-    return {"mean_radius_m": float(r_row), "mean": sel, "theta_deg": np.degrees(th[sel]),
-            "centre": centre, "centre_radius_m": r[centre],
-            "centre_dtheta_deg_max": float(np.degrees(dth[centre].max()))}
+#: the differences of a state without wear yet
+NONE = {"max_abs": 0.0, "max_rel": float("nan"), "l2_rel": float("nan")}
 
 
 def field_errors(a: np.ndarray, ref: np.ndarray, area: np.ndarray) -> dict:
     """Max and area-weighted L2 difference of ``a`` against ``ref`` (absolute and
     relative to max |ref| / the L2 norm of ref)."""
-    d = a - ref
-    nref = float(np.sqrt((area * ref ** 2).sum()))
-    mref = float(np.abs(ref).max())
-    return {"max_abs": float(np.abs(d).max()),
-            "max_rel": float(np.abs(d).max() / mref) if mref > 0 else float("nan"),
-            "l2_rel": float(np.sqrt((area * d ** 2).sum()) / nref) if nref > 0 else float("nan")}
-
-
-def pr_spread(p: np.ndarray, r: np.ndarray, active: np.ndarray, area: np.ndarray) -> dict:
-    """Spread of ``p r`` over the nodes in contact: (max - min) / mean, and the
-    area-weighted coefficient of variation (steady-state running-in has p r ~ const)."""
-    pr, A = (p * r)[active], area[active]
-    m = float((A * pr).sum() / A.sum())
-    return {"range_over_mean": float((pr.max() - pr.min()) / m),
-            "cv": float(np.sqrt((A * (pr - m) ** 2).sum() / A.sum()) / m)}
+    d, mref = float(np.abs(a - ref).max()), float(np.abs(ref).max())
+    return {"max_abs": d, "max_rel": d / mref if mref > 0 else float("nan"),
+            "l2_rel": relative_l2(a, ref, area)}
 
 
 def stage_indices(steps: int, n: int = 4) -> list[int]:
@@ -122,7 +76,9 @@ def run(model, itf, lp, omega, duration, steps, pad_law, rotor_law, mu):
     recs, wall = [], []
     t0 = time.perf_counter()
     kw = {} if itf is None else {"interface": itf}
-    for s in wear_history(Run(model, lp, omega, duration * (steps + 1) / steps, pad_law, rotor_law, mu, **kw, numerics=Numerics(steps=steps + 1, scheme="implicit"))):
+    num = Numerics(steps=steps + 1, scheme="implicit")
+    for s in wear_history(Run(model, lp, omega, duration * (steps + 1) / steps, pad_law,
+                              rotor_law, mu, **kw, numerics=num)):
         t1 = time.perf_counter()
         logger.info("%s step %d: t = %.0f s, interface solve %.4g s, step %.4g s",
                     type(itf).__name__, s.step, s.time, s.solve_s, t1 - t0)
@@ -139,8 +95,6 @@ def state(recs, j):
         return p, act, np.zeros_like(recs[0].pad_wear), np.zeros_like(recs[0].rotor_wear)
     return p, act, recs[j - 1].pad_wear, recs[j - 1].rotor_wear
 
-
-# --------------------------------------------------------------------- main --
 
 def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
          out: str | Path | None = "docs", line_pressure: float = 1e6, omega: float = 55.0,
@@ -200,7 +154,6 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
     # the runs
     runs, walls, itfs = {}, {}, {}
     logger.info("FE run: %d steps", steps + 1)
-    from brakewear.interfaces import FEInterface
     itfs["fe"] = FEInterface(model, line_pressure, mu)
     runs["fe"], walls["fe"] = run(model, itfs["fe"], line_pressure, omega, duration, steps,
                                   pad_law, rotor_law, mu)
@@ -211,7 +164,7 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
 
     A = itfs["fe"].area
     r = itfs["fe"].r
-    prof = profile_nodes(itfs["fe"].x[:2], g)
+    prof = pad_profiles(itfs["fe"].x[:2], g)
     F = line_pressure * g.piston.hydraulic_area
     times = [duration * j / steps for j in range(steps + 1)]
     stages = stage_indices(steps, n_stages)
@@ -219,9 +172,6 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
     # rotor wear against radius: FE rings (rotor face nodes) and Winkler rings (pad radii)
     rf = ring_profile(itfs["fe"])[0]
     in_pad = (rf >= g.pad.inner_radius - 1e-9) & (rf <= g.pad.outer_radius + 1e-9)
-
-    def rotor_profile(key, rw):
-        return ring_profile(itfs[key], rw)
 
     xy = itfs["fe"].x[:2]
 
@@ -238,7 +188,7 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
     per_time = {k: [] for k in runs}
     for j in range(steps + 1):
         pf, af, wf, rwf = state(runs["fe"], j)
-        rr_fe, rv_fe = rotor_profile("fe", rwf)
+        rr_fe, rv_fe = ring_profile(itfs["fe"], rwf)
         for k in runs:
             p, act, w, rw = state(runs[k], j)
             row = {"j": j, "time_s": times[j], "force_N": float((A * p).sum()),
@@ -251,12 +201,11 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
                    **{f"pr_{n}": v for n, v in pr_spread(p, r, act, A).items()}}
             if k != "fe":
                 ep = field_errors(p, pf, A)
-                ew = field_errors(w, wf, A) if j > 0 else {"max_abs": 0.0, "max_rel": float("nan"),
-                                                           "l2_rel": float("nan")}
-                rr, rv = rotor_profile(k, rw)
+                ew = field_errors(w, wf, A) if j > 0 else NONE
+                rr, rv = ring_profile(itfs[k], rw)
                 rv_i = np.interp(rr_fe[in_pad], rr, rv)
                 er = field_errors(rv_i, rv_fe[in_pad], np.ones(int(in_pad.sum()))) if j > 0 \
-                    else {"max_abs": 0.0, "max_rel": float("nan"), "l2_rel": float("nan")}
+                    else NONE
                 row.update({"pressure_max_abs_diff_MPa": ep["max_abs"] / 1e6,
                             "pressure_max_rel_diff": ep["max_rel"],
                             "pressure_l2_rel": ep["l2_rel"],
@@ -268,20 +217,8 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
                             "rotor_wear_l2_rel": er["l2_rel"]})
             per_time[k].append(row)
 
-    # speed per step: the interface solves of each step (solve_s); steps 1..steps
-    speed = {"fe_solve_s": [s.solve_s for s in runs["fe"]],
-             "fe_step_wall_s": walls["fe"]}
-    for k in winkler:
-        ws = np.array([s.solve_s for s in runs[k]])
-        fs = np.array(speed["fe_solve_s"])
-        speed[k] = {"solve_s": ws.tolist(), "step_wall_s": walls[k],
-                    "median_solve_s": float(np.median(ws)),
-                    "ratio_of_medians": float(np.median(fs) / np.median(ws)),
-                    "median_of_ratios": float(np.median(fs / ws)),
-                    "min_ratio": float((fs / ws).min()),
-                    "wall_ratio_of_medians": float(np.median(walls["fe"]) /
-                                                   np.median(walls[k]))}
-    speed["fe_median_solve_s"] = float(np.median(speed["fe_solve_s"]))
+    speed = speed_record([s.solve_s for s in runs["fe"]], walls,
+                         {k: [s.solve_s for s in runs[k]] for k in winkler})
     # the Winkler runs again (cheap), to see how much of their step time is noise
     # of the shared machine: per step, the median over the repeats
     for k in winkler:
@@ -300,7 +237,7 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
         st = {"j": j, "time_s": times[j], "profiles": {}}
         for k in runs:
             p, act, w, rw = state(runs[k], j)
-            rr, rv = rotor_profile(k, rw)
+            rr, rv = ring_profile(itfs[k], rw)
             st["profiles"][k] = {
                 "pressure_mean_radius_MPa": (p[prof["mean"]] / 1e6).tolist(),
                 "pressure_centre_MPa": (p[prof["centre"]] / 1e6).tolist(),
@@ -330,194 +267,9 @@ def main(size: float | None = None, duration: float = 1500.0, steps: int = 15,
                          "fe_rotor_ring_radius_m": rf.tolist()},
     }
     if out is not None:
-        _write(Path(out), result, runs, figures, g)
+        write(Path(out), result, runs, figures, g)
     result["records"] = runs
     return result
-
-
-# ------------------------------------------------------------------ output --
-
-def _jsonable(o):
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if hasattr(o, "item"):
-        return o.item()
-    return str(o)
-
-
-def _write(out: Path, res: dict, runs: dict, figures: bool, g) -> None:
-    d = out / "data"
-    d.mkdir(parents=True, exist_ok=True)
-    with open(d / "winkler_running_in.json", "w") as fh:
-        json.dump(res, fh, indent=1, default=_jsonable)
-    # every record's fields (to redo stages or plots without rerunning)
-    arrays = {}
-    for k, recs in runs.items():
-        for name in ("pressure", "pad_wear", "rotor_wear"):
-            arrays[f"{k}_{name}"] = np.array([getattr(s, name) for s in recs], dtype=np.float32)
-        arrays[f"{k}_active"] = np.array([s.active for s in recs])
-    np.savez_compressed(d / "winkler_running_in_fields.npz", **arrays)
-    # per time and model
-    rows = []
-    sp = res["speed"]
-    for k, lst in res["per_time"].items():
-        for row in lst:
-            j = row["j"]
-            solve = sp["fe_solve_s"][j] if k == "fe" else sp[k]["solve_s"][j]
-            rows.append({"model": k, **row, "solve_s_step_from_here": solve})
-    keys = []
-    for row in rows:
-        keys += [c for c in row if c not in keys]
-    with open(d / "winkler_running_in_steps.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
-    # stage profiles (long format)
-    with open(d / "winkler_running_in_profiles.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["time_s", "model", "profile", "coordinate", "value"])
-        ax = res["profile_axes"]
-        for st in res["stages"]:
-            for k, pr in st["profiles"].items():
-                for name, xs in (("pressure_mean_radius_MPa", ax["theta_deg"]),
-                                 ("pad_wear_mean_radius_um", ax["theta_deg"]),
-                                 ("pressure_centre_MPa", ax["centre_radius_m"]),
-                                 ("pad_wear_centre_um", ax["centre_radius_m"]),
-                                 ("rotor_wear_um", pr["rotor_ring_radius_m"])):
-                    for x, v in zip(xs, pr[name]):
-                        w.writerow([f"{st['time_s']:.6g}", k, name, f"{x:.6g}", f"{v:.6g}"])
-    if figures:
-        f = out / "figures"
-        f.mkdir(parents=True, exist_ok=True)
-        _figure_profiles(f / "winkler_running_in_pressure.png", res, "pressure", g)
-        _figure_profiles(f / "winkler_running_in_wear.png", res, "wear", g)
-        _figure_history(f / "winkler_running_in_history.png", res)
-
-
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def _figure_profiles(path, res, what, g):
-    plt = _plt()
-    stages = res["stages"]
-    ax_ = res["profile_axes"]
-    nrow = 2 if what == "pressure" else 3
-    fig, axs = plt.subplots(nrow, len(stages), figsize=(3.6 * len(stages), 3.0 * nrow + 0.6),
-                            squeeze=False, sharey="row")
-    lead = np.degrees(g.pad.center_angle + 0.5 * g.pad.arc_angle)
-    for c, st in enumerate(stages):
-        for k, pr in st["profiles"].items():
-            sty = STYLES[k]
-            if what == "pressure":
-                axs[0, c].plot(ax_["theta_deg"], pr["pressure_mean_radius_MPa"], label=LABELS[k],
-                               **sty)
-                axs[1, c].plot(np.array(ax_["centre_radius_m"]) * 1e3, pr["pressure_centre_MPa"],
-                               **sty)
-            else:
-                axs[0, c].plot(ax_["theta_deg"], pr["pad_wear_mean_radius_um"], label=LABELS[k],
-                               **sty)
-                axs[1, c].plot(np.array(ax_["centre_radius_m"]) * 1e3, pr["pad_wear_centre_um"],
-                               **sty)
-                axs[2, c].plot(np.array(pr["rotor_ring_radius_m"]) * 1e3, pr["rotor_wear_um"],
-                               **{**sty, "marker": None if k == "fe" else sty["marker"]})
-        t = st["time_s"]
-        axs[0, c].set_title(f"t = {t:.0f} s" + (" (new pad)" if t == 0 else ""))
-        axs[0, c].axvline(lead, color="0.7", lw=0.8)
-        axs[0, c].set_xlabel("angle (deg), leading edge at grey line")
-        axs[1, c].set_xlabel("radius (mm), pad centre line")
-        if nrow == 3:
-            axs[2, c].set_xlabel("radius (mm)")
-            axs[2, c].set_xlim(0.98 * g.pad.inner_radius * 1e3, 1.02 * g.pad.outer_radius * 1e3)
-    r_m = res["settings"]["mean_radius_profile_m"] * 1e3
-    if what == "pressure":
-        axs[0, 0].set_ylabel(f"pad pressure (MPa)\nat r = {r_m:.1f} mm")
-        axs[1, 0].set_ylabel("pad pressure (MPa)\non the centre line")
-        title = "Pad pressure during running-in: FE contact against Winkler interfaces"
-    else:
-        axs[0, 0].set_ylabel(f"pad wear (um)\nat r = {r_m:.1f} mm")
-        axs[1, 0].set_ylabel("pad wear (um)\non the centre line")
-        axs[2, 0].set_ylabel("rotor wear (um)\nring mean")
-        title = "Pad and rotor wear during running-in: FE contact against Winkler interfaces"
-    s = res["settings"]
-    fig.suptitle(f"{title}\n{s['line_pressure_Pa'] / 1e6:g} MPa, {s['omega_rad_s']:g} rad/s, "
-                 f"mu {s['mu']:g}, implicit, dt {s['dt_s']:g} s, mesh {s['size_m'] * 1e3:g} mm",
-                 fontsize=10)
-    h, lab = axs[0, 0].get_legend_handles_labels()
-    fig.legend(h, lab, loc="lower center", ncol=4, fontsize=8, frameon=False)
-    fig.tight_layout(rect=(0, 0.05, 1, 1))
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def _figure_history(path, res):
-    plt = _plt()
-    fig, axs = plt.subplots(2, 4, figsize=(18, 7.5))
-    pt = res["per_time"]
-    for k, rows in pt.items():
-        t = [r_["time_s"] for r_ in rows]
-        sty = {**STYLES[k], "label": LABELS[k]}
-        axs[0, 0].plot(t, [r_["pr_cv"] for r_ in rows], **sty)
-        axs[0, 1].plot(t, [r_["pressure_max_MPa"] for r_ in rows], **sty)
-        axs[0, 2].plot(t, [r_["contact_fraction"] for r_ in rows], **sty)
-        axs[0, 3].plot(t, [r_["cop_r_mm"] for r_ in rows], **sty)
-        if k != "fe":
-            axs[1, 0].plot(t, [r_["pressure_l2_rel"] for r_ in rows], **sty)
-            axs[1, 1].plot(t[1:], [r_["pad_wear_l2_rel"] for r_ in rows][1:], **sty)
-    axs[0, 0].set_ylabel("p r spread: CV over the contact")
-    axs[0, 1].set_ylabel("peak pad pressure (MPa)")
-    axs[0, 2].set_ylabel("contact area fraction")
-    axs[0, 3].set_ylabel("radius of the centre of pressure (mm)")
-    c_inv = res["settings"]["cop_at_p_r_const"]["cop_r_mm"]
-    axs[0, 3].axhline(c_inv, color="0.5", lw=0.8, ls="--")
-    axs[0, 3].text(0.02, c_inv, "p r = const", color="0.4", fontsize=8, va="bottom",
-                   transform=axs[0, 3].get_yaxis_transform())
-    axs[1, 0].set_ylabel("pressure error, L2 relative to FE")
-    axs[1, 1].set_ylabel("pad wear error, L2 relative to FE")
-    sp = res["speed"]
-    n = len(sp["fe_solve_s"])
-    axs[1, 3].semilogy(range(1, n + 1), sp["fe_solve_s"], **{**STYLES["fe"], "label": LABELS["fe"]})
-    for k in pt:
-        if k != "fe":
-            axs[1, 3].semilogy(range(1, n + 1), sp[k]["solve_s"],
-                               **{**STYLES[k], "label": f"{LABELS[k]}: FE/Winkler "
-                                  f"{sp[k]['median_of_ratios']:.0f}x"})
-            if "retimed_solve_s" in sp[k]:
-                axs[1, 3].semilogy(range(1, n + 1), sp[k]["retimed_solve_s"],
-                                   color=STYLES[k]["color"], lw=0.8, alpha=0.5)
-    axs[1, 3].set_xlabel("step")
-    axs[1, 3].set_ylabel("interface solve time per step (s)")
-    axs[1, 3].legend(fontsize=7)
-    for k in pt:
-        if k != "fe":
-            rows = pt[k]
-            axs[1, 2].plot([r_["time_s"] for r_ in rows][1:],
-                           [r_["rotor_wear_l2_rel"] for r_ in rows][1:], **STYLES[k])
-    axs[1, 2].set_ylabel("rotor wear (ring means) error, L2 rel. to FE")
-    for a in list(axs.flat[:7]):
-        a.set_xlabel("time (s)")
-    h, lab = axs[0, 0].get_legend_handles_labels()
-    fig.legend(h, lab, loc="lower center", ncol=4, fontsize=8, frameon=False)
-    fig.suptitle("Running-in: FE contact against Winkler interfaces (history and cost per step)",
-                 fontsize=10)
-    fig.tight_layout(rect=(0, 0.05, 1, 0.97))
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def replot(out: str | Path = "docs") -> None:
-    """Redraw the figures from the JSON a run wrote (no solve)."""
-    from brakewear.geometry import load_geometry
-    out = Path(out)
-    res = json.loads((out / "data" / "winkler_running_in.json").read_text())
-    g = load_geometry("default")
-    f = out / "figures"
-    _figure_profiles(f / "winkler_running_in_pressure.png", res, "pressure", g)
-    _figure_profiles(f / "winkler_running_in_wear.png", res, "wear", g)
-    _figure_history(f / "winkler_running_in_history.png", res)
 
 
 def _cli(argv=None) -> None:

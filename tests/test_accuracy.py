@@ -8,12 +8,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from brakewear.scene import accuracy as acc
-from brakewear.scene.accuracy import accuracy_lines, mesh_accuracy
 from brakewear.cli import main
 from brakewear.geometry import load_geometry
 from brakewear.mesh import mesh_layers, pad_mesh
+from brakewear.scene import accuracy as acc
 from brakewear.scene import load_scene, scene_file
+from brakewear.scene.accuracy import accuracy_lines, mesh_accuracy
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -134,7 +134,10 @@ def test_winkler_bed_calibrated_on_hertz(match, ratios):
 
 def test_hertz_stiffness_is_the_derivative_of_the_load():
     R, Es, delta = 0.01, 2e9, 3e-6
-    load = lambda d: 4 / 3 * Es * np.sqrt(R) * d ** 1.5
+
+    def load(d):
+        return 4 / 3 * Es * np.sqrt(R) * d ** 1.5
+
     F = load(delta)
     dd = 1e-6 * delta
     assert an.hertz_sphere_stiffness(F, R, Es) == pytest.approx(
@@ -222,7 +225,7 @@ def test_inerfc_values_and_integrals():
     assert an.inerfc(1, z) == pytest.approx(np.exp(-z * z) / np.sqrt(np.pi) - z * erfc(z),
                                             rel=1e-14)
     for n in (1, 2, 3):       # i^n erfc(z) = int_z^inf i^(n-1) erfc
-        integral = quad(lambda s: an.inerfc(n - 1, s), z, np.inf, epsabs=0, epsrel=1e-12)[0]
+        integral = quad(lambda s, n=n: an.inerfc(n - 1, s), z, np.inf, epsabs=0, epsrel=1e-12)[0]
         assert an.inerfc(n, z) == pytest.approx(integral, rel=1e-10), n
     with pytest.raises(ValueError, match="n = -1"):
         an.inerfc(-1, z)
@@ -270,7 +273,7 @@ def test_stop_temperature_obeys_fourier_at_the_surface_and_stores_the_heat():
         dTdx = (an.stop_temperature(h, t, **STOP) - an.stop_temperature(0.0, t, **STOP)) / h
         flux = float(an.stop_flux(t, STOP["q0"], ts))
         assert -k * dTdx == pytest.approx(flux, rel=1e-5, abs=1e-5 * STOP["q0"]), t
-        stored = quad(lambda x: rho * c * an.stop_temperature(x, t, **STOP), 0, 40 * depth,
+        stored = quad(lambda x, t=t: rho * c * an.stop_temperature(x, t, **STOP), 0, 40 * depth,
                       epsabs=0, epsrel=1e-11, limit=200)[0]
         heat = an.stop_heat(0.0, t, STOP["q0"], ts)
         assert stored == pytest.approx(heat, rel=1e-8), (t, stored, heat)

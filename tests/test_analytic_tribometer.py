@@ -1,5 +1,5 @@
 """The tribometer closed forms on their own: doctests, equilibrium, the half-plane
-kernel they come from, limits and round trips (brakewear.analytic_tribometer)."""
+kernel they come from, limits and round trips (brakewear.analytic.tribometer)."""
 import doctest
 import math
 
@@ -8,7 +8,7 @@ import pytest
 from scipy.integrate import quad
 
 import brakewear.analytic as an
-import brakewear.analytic_tribometer as at
+import brakewear.analytic.tribometer as at
 from brakewear.errors import ContactError
 
 P, MU, R, ES = 1.0e5, 0.6, 0.01, 1.1e11          # N/m, -, m, Pa
@@ -44,7 +44,9 @@ def test_cylinder_traction_balances_q_and_stays_in_the_cone(ratio):
 
 def _log_potential(w, a, x):
     """int_{-a}^{a} w(s) ln|x - s| ds, through s = a sin(theta) (w may be singular at +-a)."""
-    f = lambda th: w(a * np.sin(th)) * a * np.cos(th) * np.log(abs(x - a * np.sin(th)))
+    def f(th):
+        return w(a * np.sin(th)) * a * np.cos(th) * np.log(abs(x - a * np.sin(th)))
+
     brk = [math.asin(max(-1.0, min(1.0, x / a)))] if abs(x) < a else []
     return quad(f, -np.pi / 2, np.pi / 2, points=brk or None, limit=400, epsabs=0,
                 epsrel=1e-11)[0]
@@ -57,8 +59,12 @@ def test_cylinder_slip_is_the_half_plane_response_to_the_traction():
     Q = 0.6 * MU * P
     r = at.cattaneo_mindlin_cylinder(P, Q, MU, R, ES)
     a, c = r["a"], r["c"]
-    q = lambda s: at.cattaneo_mindlin_cylinder_traction(s, P, Q, MU, R, ES)
-    u = lambda x: -2.0 / (math.pi * ES) * _log_potential(q, a, x)
+    def q(s):
+        return at.cattaneo_mindlin_cylinder_traction(s, P, Q, MU, R, ES)
+
+    def u(x):
+        return -2.0 / (math.pi * ES) * _log_potential(q, a, x)
+
     u0 = u(0.0)
     for x in (0.3 * c, 0.9 * c):
         assert u(x) - u0 == pytest.approx(0.0, abs=1e-7 * abs(u0))
@@ -74,8 +80,10 @@ def test_cylinder_slip_compliance_is_the_kernel_on_the_traction_difference(ratio
     Q = ratio * MU * P
     r = at.cattaneo_mindlin_cylinder(P, Q, MU, R, ES)
     a = r["a"]
-    dq = lambda s: (at.cattaneo_mindlin_cylinder_traction(s, P, Q, MU, R, ES)
-                    - Q / (math.pi * np.sqrt(np.clip(a * a - s * s, 1e-300, None))))
+    def dq(s):
+        return (at.cattaneo_mindlin_cylinder_traction(s, P, Q, MU, R, ES)
+                - Q / (math.pi * np.sqrt(np.clip(a * a - s * s, 1e-300, None))))
+
     # the surface moves along the load by -(2 / (pi E*)) int q ln|x - s| ds from remote points
     d = -2.0 / (math.pi * ES) * _log_potential(dq, a, 0.0)
     expected = at.cattaneo_mindlin_cylinder_slip_compliance(P, Q, MU, R, ES)
@@ -148,7 +156,9 @@ def test_conforming_block_on_ring_geometry_and_balance():
                                                                                 rel=1e-10)
         # the load: int (p0 cos - p1) cos R dtheta over the scar
         th0 = r["theta0"]
-        load = quad(lambda t: (r["p0"] * math.cos(t) - r["p1"]) * math.cos(t) * Rr, -th0, th0)[0]
+        p0, p1 = r["p0"], r["p1"]
+        load = quad(lambda t, p0=p0, p1=p1: (p0 * math.cos(t) - p1) * math.cos(t) * Rr,
+                    -th0, th0)[0]
         assert load == pytest.approx(Pb, rel=1e-10)
         assert r["depth"] == pytest.approx(Rr - math.sqrt(Rr ** 2 - r["width"] ** 2 / 4))
         assert r["ring_depth"] == pytest.approx(0.2 * k * Pb * s / (2 * math.pi * Rr))

@@ -91,7 +91,9 @@ def test_fast_assembly_matches_bilinear_form(order):
     m = annulus_mesh(0.09, 0.15, 0.01, 2, 8, 2, angle=np.pi / 2, order=order)
     K, pattern = assemble_stiffness(m, C, chunk=29)
     elem = scalar_element(m)
-    ref = elasticity_form(C).assemble(fem.Basis(m, fem.ElementVector(elem), intorder=_intorder(elem)))
+    ref = elasticity_form(C).assemble(
+        fem.Basis(m, fem.ElementVector(elem), intorder=_intorder(elem))
+    )
     assert abs(K - ref).max() <= 1e-12 * abs(ref).max()
     K2, _ = assemble_stiffness(m, C, pattern=pattern)
     assert abs(K2 - K).max() <= 1e-12 * abs(ref).max()
@@ -235,8 +237,8 @@ def test_direct_active_set_runs_on_the_shared_driver_with_any_factorisation():
     from scipy.sparse.linalg import spsolve
 
     from brakewear.contact import solve_contact
-    from brakewear.errors import ActiveSetError
     from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.errors import ActiveSetError
 
     prob = hertz_problem(0.5)
     vals = prob.fixed_values(hertz_force())

@@ -12,14 +12,13 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from brakewear.caliper.loads import clamp_loads, jaw_pressure
 from brakewear.errors import SceneError
 from brakewear.geometry import load_geometry
-from brakewear.caliper.loads import clamp_loads, jaw_pressure
 from brakewear.mesh.brake import pad_mesh
 from brakewear.mesh.mirror import mirrored_pads
 from brakewear.model import BrakeModel
-from brakewear.static import pad_balance
-from brakewear.static import solve_contact, static_summary
+from brakewear.static import pad_balance, solve_contact, static_summary
 
 
 @pytest.fixture(scope="module")

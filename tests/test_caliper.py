@@ -17,21 +17,23 @@ import scipy.sparse.linalg as spla
 
 from brakewear import BrakeModel, CaliperInterface, load_geometry
 from brakewear.caliper import analytic
-from brakewear.caliper.static import abutment_friction_work, part_balance
-from brakewear.caliper.rows import caliper_rows
 from brakewear.caliper.parts import CaliperParts, rigid_map, seal_springs
-from brakewear.contact.compliant import constraint_rows, drag_loads
+from brakewear.caliper.rows import caliper_rows
 from brakewear.caliper.sets import CLOSED, SLIP_DOWN, SLIP_UP, STICK, RowSets
-from brakewear.static import pad_balance
-from brakewear.static import solve_contact
+from brakewear.caliper.static import abutment_friction_work
+from brakewear.contact.compliant import constraint_rows, drag_loads
+from brakewear.static import pad_balance, solve_contact
 
 SIZE = 12e-3
 
 
 def _floating(**guide):
+    # abutments of low friction (0.03): each end face's friction acts on the face as a
+    # whole, and below about 0.04 both bearing faces slip at 1 MPa (a test of both laws:
+    # the rim's friction sticks)
     g = load_geometry("floating")
     return replace(g, piston=replace(g.piston, guide=replace(g.piston.guide, **guide)),
-                   support=replace(g.support, abutment_friction=0.2))
+                   support=replace(g.support, abutment_friction=0.03))
 
 
 @pytest.fixture(scope="module")
@@ -129,6 +131,23 @@ def test_the_condensed_answer_is_the_fe_answer_of_its_state(solved):
     # and the state is admissible in the FE solution: open contact nodes open
     g = constraint_rows(itf.fe.cs.pair, u.size) @ u + itf.g0 + offset
     assert g[~sol.active].min() > -1e-10 * np.ptp(itf.fe.cs.coords, axis=1).max()
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: analytic.bonded_ring_axial_stiffness(1e6, 0.02, 0.01, 5e-3), "r_i < r_o"),
+    (lambda: analytic.bonded_ring_torsion_stiffness(1e6, 0.01, 0.01, 5e-3), "r_i < r_o"),
+    (lambda: analytic.bonded_ring_torsion_stiffness(-1e6, 0.01, 0.02, 5e-3),
+     r"G: -1000000\.0 Pa is not allowed; it must be > 0 Pa"),
+    (lambda: analytic.bonded_strip_compression_modulus(1e6, 2e-3, 0.0), "thickness"),
+    (lambda: analytic.ring_tilt_stiffness(float("nan"), 0.02), "axial_stiffness: nan"),
+    (lambda: analytic.rigid_ring_liftoff_moment(-5.0, 0.02), "force"),
+    (lambda: analytic.bore_contact_tilt(1e-4, 0.0), "engagement"),
+])
+def test_the_closed_forms_refuse_what_is_not_a_part(call, match):
+    """No negative stiffness, no ZeroDivisionError: a named GeometryError (exit 2)."""
+    from brakewear.errors import GeometryError
+    with pytest.raises(GeometryError, match=match):
+        call()
 
 
 def test_seal_springs_are_the_bonded_ring_closed_forms():
@@ -283,15 +302,15 @@ def test_the_caliper_is_a_registered_interface_model(solved):
     is refused naming components.piston."""
     from brakewear import Run
     from brakewear.errors import SceneError, WearError
-    from brakewear.interfaces import interface_model
+    from brakewear.interfaces import capabilities_of, interface_model
     from brakewear.laws.base import WearLaw
     from brakewear.scene import InterfaceSpec, Scene
     from brakewear.wear import Numerics
 
     model, itf, offset, _ = solved
     entry = interface_model("caliper")
-    assert {"accepts_load", "implicit_rings"} <= entry.capabilities
-    assert not {"follows_geometry", "quadratic"} & entry.capabilities
+    assert {"accepts_load", "implicit_rings"} <= capabilities_of(entry)
+    assert not {"follows_geometry", "quadratic"} & capabilities_of(entry)
     run = Run(model, 1e6, 55.0, 10.0, WearLaw(k=5e-15), mu=0.4,
               interface="caliper").resolved()
     assert isinstance(run.interface, CaliperInterface)

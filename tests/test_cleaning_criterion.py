@@ -3,11 +3,11 @@ and the vehicle-based cleaning study on a coarse mesh."""
 
 import numpy as np
 import pytest
-from studyload import load_study
 
 from brakewear import FEInterface, WearError
 from brakewear.cleaning.corrosion import CorrodedRotor, coning_gap
 from brakewear.model import BrakeModel
+from studyload import load_study
 
 study = load_study("cleaning_stops")
 

@@ -2,7 +2,6 @@
 reduces, the elastic rotor's thermal coning against the hat's figure, the stop-by-stop
 routine against one schedule, and the full model's heat check (studies/cleaning_heat.py)."""
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -10,12 +9,12 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from brakewear import MATERIALS, BrakeModel, FEInterface, Numerics, WearLaw, load_geometry
-from brakewear.duty import KMH, Dwell, Stop, repeated_stops, run_schedule, study_car
 from brakewear.cleaning.routine import run_routine
 from brakewear.cleaning.rust import RustLaw, RustLayer
+from brakewear.duty import KMH, Dwell, Stop, run_schedule, study_car
 from brakewear.thermal import SpeedConvection, ThermalModel
 from brakewear.thermal.coning import RotorConing
-from brakewear.thermal.reduced import HAT_CONING_PER_K, ReducedRotorHeat, hat_nodes
+from brakewear.thermal.reduced import ReducedRotorHeat, hat_nodes
 from brakewear.wear import Run
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
@@ -69,7 +68,10 @@ def test_reduced_rotor_follows_the_full_heat_conduction(hat):
         else:
             T = _full_march(heat, T, 0 * F0, 0 * F0, 43.4, 43.4, 106.1, 5.0, scale)
             red.cool(106.1, 43.4)
-        ring, hatm = mm[~hat_n] @ T[~hat_n] / mm[~hat_n].sum(), mm[hat_n] @ T[hat_n] / mm[hat_n].sum()
+        ring, hatm = (
+            mm[~hat_n] @ T[~hat_n] / mm[~hat_n].sum(),
+            mm[hat_n] @ T[hat_n] / mm[hat_n].sum(),
+        )
         assert abs(red.T_ring - th.T_ambient - ring) < 0.02 * ring
         assert abs(red.T_hat - th.T_ambient - hatm) < 0.02 * ring
     # steady state at the basis's reference speed: the full solve, to round-off
@@ -119,7 +121,22 @@ def test_the_routine_run_stop_by_stop_is_the_schedule_run_whole():
     pad = WearLaw(MATERIALS["pad_resin"].wear_k)
     k_iron = MATERIALS["grey_cast_iron"].wear_k
     old = CorrodedRotor(itf, g.pad.inner_radius, g.pad.outer_radius, 3e-6, 1e-12, k_iron)
-    whole = [r for r in run_schedule(Run(model, pad_law=pad, rotor_law=old.law, mu=0.4, schedule=sched, vehicle=car, numerics=num, interface=itf), on_step=lambda r, s, pw, rw: old.update(rw))]
+    whole = [
+        r
+        for r in run_schedule(
+            Run(
+                model,
+                pad_law=pad,
+                rotor_law=old.law,
+                mu=0.4,
+                schedule=sched,
+                vehicle=car,
+                numerics=num,
+                interface=itf,
+            ),
+            on_step=lambda r, s, pw, rw: old.update(rw),
+        )
+    ]
     layer = RustLayer(itf, RustLaw(thickness=3e-6, k_rust=1e-12), k_iron, pad)
     parts = [s.record for s in run_routine(model, itf, sched, car, layer, 0.4,
                                            numerics=num)]

@@ -36,9 +36,22 @@ def test_the_routine_is_the_fewest_stops_then_the_lowest_deceleration_then_speed
 
 def test_inputs_come_from_their_priors():
     pri = cr.inputs()
-    assert {"thickness", "k_rust", "threshold", "mu_factor", "pad_wear_factor", "mu", "coning",
-            "thermal_coning_factor", "convection_factor", "pad_modulus", "mass", "rolling_resistance",
-            "drag_area", "drivetrain_drag"} <= set(pri)
+    assert {
+        "thickness",
+        "k_rust",
+        "threshold",
+        "mu_factor",
+        "pad_wear_factor",
+        "mu",
+        "coning",
+        "thermal_coning_factor",
+        "convection_factor",
+        "pad_modulus",
+        "mass",
+        "rolling_resistance",
+        "drag_area",
+        "drivetrain_drag",
+    } <= set(pri)
     med = cr.medians()
     assert med["k_rust"] == pytest.approx(1e-12, rel=1e-12)
     assert med["threshold"] == pytest.approx(0.05e6, rel=1e-12)

@@ -37,7 +37,7 @@ from pathlib import Path  # noqa: E402
 import pytest  # noqa: E402
 
 import brakewear.cli as cli  # noqa: E402
-from brakewear.scene import scene_file
+from brakewear.scene import scene_file  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 

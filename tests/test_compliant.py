@@ -2,8 +2,7 @@
 import numpy as np
 import pytest
 
-from brakewear.contact import compliant_preconditioner, solve_compliant_contact
-from brakewear.contact import solve_contact
+from brakewear.contact import compliant_preconditioner, solve_compliant_contact, solve_contact
 from brakewear.model import BrakeModel
 
 

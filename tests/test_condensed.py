@@ -6,8 +6,18 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from brakewear import (BrakeModel, CondensedInterface, CondensedRangeError, FEInterface,
-                       Numerics, SolverError, ThermalModel, WearError, WearLaw, wear_history)
+from brakewear import (
+    BrakeModel,
+    CondensedInterface,
+    CondensedRangeError,
+    FEInterface,
+    Numerics,
+    SolverError,
+    ThermalModel,
+    WearError,
+    WearLaw,
+    wear_history,
+)
 from brakewear.interfaces.condensation import condense, free_modes
 from brakewear.wear import Run
 
@@ -61,7 +71,22 @@ def test_the_free_mode_of_the_supported_pad_is_its_normal_translation(pair):
 
 def _history(model, itf, scheme, thermal=False, steps=None, duration=20.0):
     th = ThermalModel(model, contact_conductance=1e4) if thermal else None
-    return list(wear_history(Run(model, 1e6, 50.0, duration, WearLaw(5e-14), WearLaw(1e-15), 0.4, interface=itf, thermal=th, numerics=Numerics(steps=steps, scheme=scheme, tol=1e-12))))
+    return list(
+        wear_history(
+            Run(
+                model,
+                1e6,
+                50.0,
+                duration,
+                WearLaw(5e-14),
+                WearLaw(1e-15),
+                0.4,
+                interface=itf,
+                thermal=th,
+                numerics=Numerics(steps=steps, scheme=scheme, tol=1e-12),
+            )
+        )
+    )
 
 
 def _same_histories(model, scheme, steps, thermal):
@@ -129,7 +154,21 @@ def test_offsets_beyond_the_range_are_refused_with_the_alternative(pair):
                                                   r"numerics.update = 'geometry'"):
         cd.solve(off, None)
     with pytest.raises(WearError, match="FEInterface"):
-        next(wear_history(Run(model, 1e6, 50.0, 10.0, WearLaw(5e-14), None, 0.4, interface=cd, numerics=Numerics(update="geometry"))))
+        next(
+            wear_history(
+                Run(
+                    model,
+                    1e6,
+                    50.0,
+                    10.0,
+                    WearLaw(5e-14),
+                    None,
+                    0.4,
+                    interface=cd,
+                    numerics=Numerics(update="geometry"),
+                )
+            )
+        )
 
 
 def test_the_cleaning_study_answers_the_same_on_either_interface():
@@ -176,6 +215,7 @@ def test_the_cost_study_times_amg_columns_against_the_lu():
 
 def test_the_monte_carlo_runs_on_a_dask_cluster_as_in_one_process():
     from dask.distributed import Client, LocalCluster
+
     from studyload import load_study
 
     study = load_study("cleaning_stops")
@@ -202,15 +242,30 @@ def test_a_resumed_condensed_run_repeats_the_uninterrupted_one(tmp_path):
 
     def run(**kw):
         itf = CondensedInterface(model, 1e6, 0.4, cache=tmp_path)
-        return wear_history(Run(model, 1e6, 50.0, 60.0, law, None, 0.4, interface=itf, numerics=Numerics(steps=6, scheme="implicit")), **kw)
+        return wear_history(
+            Run(
+                model,
+                1e6,
+                50.0,
+                60.0,
+                law,
+                None,
+                0.4,
+                interface=itf,
+                numerics=Numerics(steps=6, scheme="implicit"),
+            ),
+            **kw,
+        )
 
     whole = list(run())
     ck = tmp_path / "run.npz"
     gen = run(checkpoint=ck, every=1)
-    assert len(list(islice(gen, 3))) == 3        # stopped after step 3 (its checkpoint)
+    # stopped while step 3 is handled: step 2 is the last checkpointed (a step is
+    # checkpointed once the caller asks for the next)
+    assert len(list(islice(gen, 3))) == 3
     gen.close()
     rest = list(run(checkpoint=ck, every=1, resume=True))
-    assert [s.step for s in rest] == [4, 5, 6]
+    assert [s.step for s in rest] == [3, 4, 5, 6]
     assert np.array_equal(rest[-1].pad_wear, whole[-1].pad_wear)
     assert np.array_equal(rest[-1].pressure_end, whole[-1].pressure_end)
 

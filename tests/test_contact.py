@@ -3,17 +3,19 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from brakewear.errors import ContactSearchError
-from brakewear.mesh.surface import facet_normals, surface_nodes, tributary_areas
 from brakewear.contact import project_nodes, tie_prolongation
+from brakewear.errors import ContactSearchError
 from brakewear.fem import apply_dirichlet, assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.materials import Isotropic
 from brakewear.mesh import mapped_mesh, structured_tets
+from brakewear.mesh.surface import facet_normals, surface_nodes, tributary_areas
 from brakewear.solvers import direct_solve
 
 
 def block(n, z0, z1, L=1.0):
-    p, t = structured_tets(np.linspace(0, L, n + 1), np.linspace(0, L, n + 1), np.linspace(z0, z1, 3))
+    p, t = structured_tets(
+        np.linspace(0, L, n + 1), np.linspace(0, L, n + 1), np.linspace(z0, z1, 3)
+    )
     m = mapped_mesh(p, t, lambda x: x)
     return m.with_boundaries({"bottom": lambda x: np.abs(x[2] - z0) < 1e-12,
                               "top": lambda x: np.abs(x[2] - z1) < 1e-12})

@@ -8,8 +8,8 @@ import scipy.sparse as sp
 import brakewear.contact.active_set as aset
 import brakewear.contact.elimination as el
 import brakewear.contact.lagrange as bc
-from brakewear.errors import ContactLostError
 from brakewear.contact import contact_preconditioner, pair_to_rigid, pair_to_surface, solve_contact
+from brakewear.errors import ContactLostError
 from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.materials import Isotropic
 from brakewear.mesh import mapped_mesh, structured_tets
@@ -276,8 +276,8 @@ def test_stale_rule_reference_is_a_solve_of_at_least_four_iterations(monkeypatch
     a 2-iteration first solve (Hertz's, from its small initial set) reduces the residual
     far faster per iteration than any long tight solve, which then all looked stale (at
     491k DOFs: a 9 s rebuild per active set)."""
-    from brakewear.solvers import AMGSolver
     from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.solvers import AMGSolver
 
     solves, refs = [], []
     real_solve, real_stale = AMGSolver.solve, bc._stale
@@ -313,8 +313,8 @@ def test_after_the_loose_phase_medium_solves_then_one_tight_confirmation(monkeyp
     started from the last set's unknowns; since it starts from the last displacement
     the sets settle before the medium solves could save anything: 25 either way, and
     at most one iteration apart on the brake and Hertz up to 490k DOFs.)"""
-    from brakewear.solvers import AMGSolver
     from brakewear.contact.hertz import DELTA, GAP_TOL, hertz_force, hertz_problem
+    from brakewear.solvers import AMGSolver
 
     tols = []
     real_solve = AMGSolver.solve

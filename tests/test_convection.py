@@ -59,7 +59,9 @@ def test_a_spinning_rotor_cools_faster_and_its_balance_holds(model):
     law = SpeedConvection.vented()
     th0, still = _cooled(model, 0.0, law)
     th1, spinning = _cooled(model, 55.0, law)
-    assert th1.heat["rotor"].h_scale == 1.0 and th0.heat["rotor"].h_scale == pytest.approx(0.1, rel=2 ** (1 / 16) - 1)
+    assert th1.heat["rotor"].h_scale == 1.0 and th0.heat["rotor"].h_scale == pytest.approx(
+        0.1, rel=2 ** (1 / 16) - 1
+    )
     assert spinning > 5 * still > 0
     assert th1.face_temperature("rotor").mean() < th0.face_temperature("rotor").mean()
     # the pad's constant coefficient does not follow the speed
@@ -147,7 +149,20 @@ def test_a_dwell_driven_at_speed_cools_the_vented_rotor_more(model):
     end = {}
     for label, dwell in (("rest", Dwell(60.0)), ("driven", Dwell(60.0, speed=80 / 3.6))):
         th = ThermalModel(model, h_conv={"pad": 40.0, "rotor": SpeedConvection.vented()})
-        list(run_schedule(Run(model, pad_law=WearLaw(5e-15), rotor_law=WearLaw(5e-16), mu=0.4, schedule=[Stop(80 / 3.6, decel=3.0), dwell], vehicle=car, thermal=th, numerics=Numerics(steps=3))))
+        list(
+            run_schedule(
+                Run(
+                    model,
+                    pad_law=WearLaw(5e-15),
+                    rotor_law=WearLaw(5e-16),
+                    mu=0.4,
+                    schedule=[Stop(80 / 3.6, decel=3.0), dwell],
+                    vehicle=car,
+                    thermal=th,
+                    numerics=Numerics(steps=3),
+                )
+            )
+        )
         end[label] = float(th.face_temperature("rotor").mean())
     rise = end["rest"] - 293.15
     assert rise > 10.0

@@ -15,28 +15,74 @@ FILES = sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md"),
 HISTORY = [
     (r"\b[Ss]ession[ -]\d+\b|\b[Ss]essions \d", "a work period"),
     (r"\bthe issue\b|\b[Ii]ssue #?\d+\b", "an issue"),
-    (r"\bcommit\s+(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b|"
-     r"`(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}`", "a commit hash"),
-    (r"\b20\d\d-\d\d-\d\d\b|\b\d{1,2} (Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]* 20\d\d\b",
-     "a date of work"),
+    (
+        r"\bcommit\s+(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b|"
+        r"`(?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}`",
+        "a commit hash",
+    ),
+    (
+        r"\b20\d\d-\d\d-\d\d\b|"
+        r"\b\d{1,2} (Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]* 20\d\d\b",
+        "a date of work",
+    ),
     (r"\bwork period\b|\bother agents\b|\bthis session\b", "the development"),
-    (r"\b(git archive|(main|master) at) (?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b",
-     "a commit hash"),
+    (
+        r"\b(git archive|(main|master) at) (?=[0-9a-f]*[a-f])(?=[0-9a-f]*\d)[0-9a-f]{7,40}\b",
+        "a commit hash",
+    ),
     (r"(?i)\b(an)?other engineers?\b|\b(an)?other engineer's", "other people's jobs"),
-    (r"(?i)\bbefore the (work|change|changes|fix|refactor)\b|\bthe old code\b|"
-     r"\b(the )?old defaults?\b|\bwhat was changed\b|^(#+ |\*\*)what changed\b",
-     "how the code changed"),
+    (
+        r"(?i)\bbefore the (work|change|changes|fix|refactor)\b|\bthe old code\b|"
+        r"\b(the )?old defaults?\b|\bwhat was changed\b|^(#+ |\*\*)what changed\b",
+        "how the code changed",
+    ),
 ]
 
 
-@pytest.mark.parametrize("path", FILES, ids=lambda p: str(p.relative_to(ROOT)))
-def test_no_development_history(path):
+def test_no_development_history():
     hits = []
-    for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
-        for pattern, what in HISTORY:
-            if re.search(pattern, line):
-                hits.append(f"{path.relative_to(ROOT)}:{n}: {what}: {line.strip()[:100]}")
+    for path in FILES:
+        for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            for pattern, what in HISTORY:
+                if re.search(pattern, line):
+                    hits.append(f"{path.relative_to(ROOT)}:{n}: {what}: {line.strip()[:100]}")
+    assert len(FILES) > 100, f"only {len(FILES)} files read"
     assert not hits, "\n".join(hits)
+
+
+#: a data field that records the development (the code's commit, a work period)
+HISTORY_KEY = r"(?i)commit|^git_|session|^issue"
+
+
+def _keys(value):
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield k
+            yield from _keys(v)
+    elif isinstance(value, list):
+        for v in value:
+            yield from _keys(v)
+
+
+def test_data_files_carry_no_development_history():
+    """docs/data's JSON (and JSON-lines) files hold the numbers, not the commit that made
+    them."""
+    import json
+
+    hits, files = [], sorted([*(ROOT / "docs" / "data").glob("*.json"),
+                              *(ROOT / "docs" / "data").glob("*.jsonl")])
+    for path in files:
+        text = path.read_text(encoding="utf-8")
+        try:
+            records = [json.loads(text)]
+        except json.JSONDecodeError:
+            records = [json.loads(s) for s in text.splitlines() if s.strip()]
+        keys = {k for r in records for k in _keys(r) if re.search(HISTORY_KEY, k)}
+        hits += [f"{path.relative_to(ROOT)}: {k}" for k in sorted(keys)]
+    assert files, "no data files found"
+    assert not hits, "fields that tell the development:\n" + "\n".join(hits)
+    assert [k for k in ["code_commit", "git_sha", "session", "issue", "dofs", "mu"]
+            if re.search(HISTORY_KEY, k)] == ["code_commit", "git_sha", "session", "issue"]
 
 
 def test_the_history_patterns_catch_what_they_should():
@@ -72,17 +118,18 @@ def test_citations_point_to_the_shipped_references():
     assert not hits, "cite docs/references.md instead:\n" + "\n".join(hits)
 
 
-@pytest.mark.parametrize("path", [p for p in FILES if p.suffix == ".md"],
-                         ids=lambda p: str(p.relative_to(ROOT)))
-def test_relative_links_point_to_files(path):
-    text = path.read_text(encoding="utf-8")
-    bad = []
-    for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", text):
-        if re.match(r"[a-z]+://|mailto:", target):
-            continue
-        if not (path.parent / target).exists():
-            bad.append(target)
-    assert not bad, f"{path.relative_to(ROOT)}: broken links {bad}"
+def test_relative_links_point_to_files():
+    bad, links = [], 0
+    for path in [p for p in FILES if p.suffix == ".md"]:
+        text = path.read_text(encoding="utf-8")
+        for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", text):
+            if re.match(r"[a-z]+://|mailto:", target):
+                continue
+            links += 1
+            if not (path.parent / target).exists():
+                bad.append(f"{path.relative_to(ROOT)}: {target}")
+    assert links > 100, f"only {links} relative links found"
+    assert not bad, "broken links:\n" + "\n".join(bad)
 
 
 # --- the Python snippets of README and docs use the API as it is -------------------------
@@ -123,11 +170,11 @@ def _missing_names(code: str) -> list[str]:
     return missing
 
 
-@pytest.mark.parametrize("path,index,code", SNIPPETS,
-                         ids=[f"{p.relative_to(ROOT)}#{i}" for p, i, _ in SNIPPETS])
-def test_snippets_parse_and_name_what_exists(path, index, code):
-    missing = _missing_names(code)
-    assert not missing, f"{path.name}, python block {index}: no such name: {missing}"
+def test_snippets_parse_and_name_what_exists():
+    missing = [f"{path.relative_to(ROOT)}, python block {index}: no such name: {names}"
+               for path, index, code in SNIPPETS if (names := _missing_names(code))]
+    assert SNIPPETS, "no python snippets found"
+    assert not missing, "\n".join(missing)
 
 
 def test_the_snippet_check_sees_a_stale_name():

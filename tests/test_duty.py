@@ -4,11 +4,19 @@ import numpy as np
 import pytest
 
 from brakewear import DutyError, FEInterface, Numerics, WearLaw
-from brakewear.duty import (Drag, Dwell, Stop, Vehicle, brake_torque, read_schedule_csv,
-                            repeated_stops, run_schedule, schedule_from_table)
+from brakewear.duty import (
+    Drag,
+    Dwell,
+    Stop,
+    Vehicle,
+    brake_torque,
+    read_schedule_csv,
+    repeated_stops,
+    run_schedule,
+    schedule_from_table,
+)
 from brakewear.model import BrakeModel
-from brakewear.wear import ConstantSpeed, LinearSpeed, wear_history
-from brakewear.wear import Run
+from brakewear.wear import ConstantSpeed, LinearSpeed, Run, wear_history
 
 K_PAD, K_ROT = 5e-13, 5e-14
 CAR = Vehicle(mass=1800.0, front_share=0.7, tyre_radius=0.32, brakes_per_axle=2)
@@ -53,7 +61,11 @@ def test_deceleration_beyond_the_tyres_is_refused_before_solving():
     with pytest.raises(DutyError, match=r"deceleration = 12\.0 m/s\^2 .*tyre_mu g = 9\.81"):
         CAR.check_deceleration(12.0)
     with pytest.raises(DutyError, match="a stop needs a vehicle"):
-        next(run_schedule(Run(None, pad_law=WearLaw(K_PAD), mu=0.4, schedule=[Stop(10.0, decel=1.0)])))
+        next(
+            run_schedule(
+                Run(None, pad_law=WearLaw(K_PAD), mu=0.4, schedule=[Stop(10.0, decel=1.0)])
+            )
+        )
 
 
 def test_a_bad_schedule_is_refused_whole_before_any_solve(model, monkeypatch):
@@ -72,7 +84,9 @@ def test_a_bad_schedule_is_refused_whole_before_any_solve(model, monkeypatch):
     sched = [ok, Dwell(60.0), ok, Dwell(60.0), Stop(50 / 3.6, decel=12.0)]
     with pytest.raises(DutyError, match=r"^application 4: deceleration = 12\.0 m/s\^2 is not "
                                         r"allowed; need 0 < deceleration <= tyre_mu g = 9\.81"):
-        run_schedule(Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=sched, vehicle=CAR))
+        run_schedule(
+            Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=sched, vehicle=CAR)
+        )
     # a line pressure whose least deceleration (all of it at the pad's inner radius)
     # is beyond the grip; a dwell from a stop's start that ends before the stop does
     r_in, A = model.geometry.pad.inner_radius, model.geometry.clamp_area
@@ -86,12 +100,26 @@ def test_a_bad_schedule_is_refused_whole_before_any_solve(model, monkeypatch):
             ([drag, drag, Drag(1e6, 5.0, speed=10.0)], None,
              r"^application 2: a drag at a vehicle speed needs a vehicle")):
         with pytest.raises(DutyError, match=match):
-            run_schedule(Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=sched, vehicle=car))
+            run_schedule(
+                Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=sched, vehicle=car)
+            )
     regen = Vehicle(mass=1800.0, regen_share=1.0)
     with pytest.raises(DutyError, match=r"^application 0: .*the motor takes all the braking"):
-        run_schedule(Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=[ok], vehicle=regen))
+        run_schedule(
+            Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=[ok], vehicle=regen)
+        )
     with pytest.raises(DutyError, match=r"^initial_gap: 3 value\(s\)"):
-        run_schedule(Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=[ok], vehicle=CAR, initial_gap=np.zeros(3)))
+        run_schedule(
+            Run(
+                model,
+                pad_law=laws[0],
+                rotor_law=laws[1],
+                mu=0.4,
+                schedule=[ok],
+                vehicle=CAR,
+                initial_gap=np.zeros(3),
+            )
+        )
     assert built == []
 
 
@@ -115,7 +143,9 @@ def test_a_stop_wears_as_a_drag_of_equal_sliding_distance(model):
     theta = stop.angle(5.0)
     runs = []
     for speed, duration in ((stop, 5.0), (ConstantSpeed(60.0), theta / 60.0)):
-        *_, last = wear_history(Run(model, 2e6, speed, duration, WearLaw(K_PAD), WearLaw(K_ROT), 0.4, numerics=num))
+        *_, last = wear_history(
+            Run(model, 2e6, speed, duration, WearLaw(K_PAD), WearLaw(K_ROT), 0.4, numerics=num)
+        )
         runs.append(last)
     a, b = runs
     assert a.sliding_distance == pytest.approx(b.sliding_distance, rel=1e-13)
@@ -129,7 +159,16 @@ def test_a_stop_wears_as_a_drag_of_equal_sliding_distance(model):
 def test_stop_pressure_matches_the_torque_equation_and_energy_balances(model):
     """Without wear (k = 1e-30) the pressure field does not move within a stop: the friction
     work the model dissipates is the vehicle's demand on the face to 1e-8."""
-    (rec,) = run_schedule(Run(model, pad_law=WearLaw(1e-30), mu=0.4, schedule=[Stop(50 / 3.6, decel=1.5)], vehicle=CAR, numerics=Numerics(steps=3, tol=1e-12)))
+    (rec,) = run_schedule(
+        Run(
+            model,
+            pad_law=WearLaw(1e-30),
+            mu=0.4,
+            schedule=[Stop(50 / 3.6, decel=1.5)],
+            vehicle=CAR,
+            numerics=Numerics(steps=3, tol=1e-12),
+        )
+    )
     A = model.geometry.piston.hydraulic_area
     assert brake_torque(rec.line_pressure, 0.4, A, rec.r_eff) == pytest.approx(
         CAR.brake_torque(1.5), rel=1e-9)
@@ -157,7 +196,16 @@ def test_two_pistons_per_side_clamp_with_their_joint_area():
     fixed = replace(g, caliper=CaliperGeometry("fixed"), piston=p1,
                     extra_pistons=(replace(p1, angle=np.radians(12.0)),))
     m = BrakeModel(fixed, size=12e-3, rotor="rigid")
-    (rec,) = run_schedule(Run(m, pad_law=WearLaw(1e-30), mu=0.4, schedule=[Stop(50 / 3.6, decel=1.5)], vehicle=CAR, numerics=Numerics(steps=2, tol=1e-12)))
+    (rec,) = run_schedule(
+        Run(
+            m,
+            pad_law=WearLaw(1e-30),
+            mu=0.4,
+            schedule=[Stop(50 / 3.6, decel=1.5)],
+            vehicle=CAR,
+            numerics=Numerics(steps=2, tol=1e-12),
+        )
+    )
     assert fixed.clamp_area == pytest.approx(2 * p1.hydraulic_area, rel=1e-15)
     assert brake_torque(rec.line_pressure, 0.4, fixed.clamp_area, rec.r_eff) == pytest.approx(
         CAR.brake_torque(1.5), rel=1e-9)
@@ -178,7 +226,16 @@ def test_the_full_model_dissipates_the_demand_on_each_face():
     recs = {}
     for layout in ("half", "full"):
         m = BrakeModel(rim, size=8e-3, layout=layout)
-        (recs[layout],) = run_schedule(Run(m, pad_law=WearLaw(1e-30), mu=0.4, schedule=[Stop(50 / 3.6, decel=1.5)], vehicle=CAR, numerics=Numerics(steps=2, tol=1e-12)))
+        (recs[layout],) = run_schedule(
+            Run(
+                m,
+                pad_law=WearLaw(1e-30),
+                mu=0.4,
+                schedule=[Stop(50 / 3.6, decel=1.5)],
+                vehicle=CAR,
+                numerics=Numerics(steps=2, tol=1e-12),
+            )
+        )
         assert abs(recs[layout].torque_drift) < 1e-8, (layout, recs[layout].torque_drift)
     assert recs["full"].line_pressure == pytest.approx(recs["half"].line_pressure, rel=1e-9)
 
@@ -190,9 +247,31 @@ def test_chained_applications_equal_one_history(model):
     only the gap.  (A stop wears as a drag of its angle: the test above.)"""
     num = Numerics(scheme="implicit", steps=4, tol=1e-12)
     sched = [Drag(2e6, 2.5, omega=40.0), Dwell(30.0)] * 2 + [Drag(2e6, 2.5, omega=40.0)]
-    recs = list(run_schedule(Run(model, pad_law=WearLaw(K_PAD), rotor_law=WearLaw(K_ROT), mu=0.4, schedule=sched, numerics=num)))
+    recs = list(
+        run_schedule(
+            Run(
+                model,
+                pad_law=WearLaw(K_PAD),
+                rotor_law=WearLaw(K_ROT),
+                mu=0.4,
+                schedule=sched,
+                numerics=num,
+            )
+        )
+    )
     assert [r.kind for r in recs] == ["drag", "dwell"] * 2 + ["drag"]
-    *_, one = wear_history(Run(model, 2e6, 40.0, 7.5, WearLaw(K_PAD), WearLaw(K_ROT), 0.4, numerics=Numerics(scheme="implicit", steps=12, tol=1e-12)))
+    *_, one = wear_history(
+        Run(
+            model,
+            2e6,
+            40.0,
+            7.5,
+            WearLaw(K_PAD),
+            WearLaw(K_ROT),
+            0.4,
+            numerics=Numerics(scheme="implicit", steps=12, tol=1e-12),
+        )
+    )
     last = recs[-1]
     assert np.abs(last.pad_wear - one.pad_wear).max() <= 1e-9 * one.pad_wear.max()
     assert np.abs(last.rotor_wear - one.rotor_wear).max() <= 1e-9 * one.rotor_wear.max()
@@ -215,13 +294,40 @@ def test_chained_stops_equal_one_schedule_run(model):
     num = Numerics(scheme="implicit", steps=4, tol=1e-12)
     laws = (WearLaw(K_PAD), WearLaw(K_ROT), 0.4)
     sched = repeated_stops(3, 50 / 3.6, decel=1.5, interval=60.0)
-    one = [r for r in run_schedule(Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=sched, vehicle=CAR, numerics=num))
-           if r.kind == "stop"]
+    one = [
+        r
+        for r in run_schedule(
+            Run(
+                model,
+                pad_law=laws[0],
+                rotor_law=laws[1],
+                mu=0.4,
+                schedule=sched,
+                vehicle=CAR,
+                numerics=num,
+            )
+        )
+        if r.kind == "stop"
+    ]
     itf = FEInterface(model, 1e6, 0.4, num.tol)
     pad, rotor, chained = np.zeros(itf.area.size), np.zeros(itf.rotor_area.size), []
     for k in range(3):
-        part = sched[2 * k:2 * k + 2]                     # a stop and the dwell after it
-        recs = list(run_schedule(Run(model, pad_law=laws[0], rotor_law=laws[1], mu=0.4, schedule=part, vehicle=CAR, numerics=num, interface=itf, initial_gap=pad + itf.W @ rotor)))
+        part = sched[2 * k:2 * k + 2]  # a stop and the dwell after it
+        recs = list(
+            run_schedule(
+                Run(
+                    model,
+                    pad_law=laws[0],
+                    rotor_law=laws[1],
+                    mu=0.4,
+                    schedule=part,
+                    vehicle=CAR,
+                    numerics=num,
+                    interface=itf,
+                    initial_gap=pad + itf.W @ rotor,
+                )
+            )
+        )
         stop = recs[0]
         pad, rotor = pad + recs[-1].pad_wear, rotor + recs[-1].rotor_wear
         chained.append((stop, pad.copy(), rotor.copy()))
@@ -299,8 +405,34 @@ def test_an_implicit_step_whose_contact_set_cycles_is_retried_shorter(model, err
         return solve(offset, active, **kw)
 
     itf.solve = flaky
-    first, *_ = wear_history(Run(model, 2e6, 40.0, 1.0, WearLaw(K_PAD), None, 0.4, interface=itf, numerics=Numerics(scheme="implicit")))
+    first, *_ = wear_history(
+        Run(
+            model,
+            2e6,
+            40.0,
+            1.0,
+            WearLaw(K_PAD),
+            None,
+            0.4,
+            interface=itf,
+            numerics=Numerics(scheme="implicit"),
+        )
+    )
     assert first.rejected == 1 and len(failures) == 1
     failures.clear()
     with pytest.raises(Error, match="scripted"):
-        next(wear_history(Run(model, 2e6, 40.0, 1.0, WearLaw(K_PAD), None, 0.4, interface=itf, numerics=Numerics(scheme="implicit", steps=4))))
+        next(
+            wear_history(
+                Run(
+                    model,
+                    2e6,
+                    40.0,
+                    1.0,
+                    WearLaw(K_PAD),
+                    None,
+                    0.4,
+                    interface=itf,
+                    numerics=Numerics(scheme="implicit", steps=4),
+                )
+            )
+        )

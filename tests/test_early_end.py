@@ -2,7 +2,6 @@
 writes summary.json with its status and the reason: a drag and a schedule."""
 import json
 from dataclasses import replace
-from functools import partial
 
 import pytest
 
@@ -11,8 +10,7 @@ from brakewear.contact.lagrange import solve_contact
 from brakewear.errors import ActiveSetError, TemperatureLimitError
 from brakewear.interfaces import fe
 from brakewear.output.runs import run_scene
-from brakewear.scene import InterfaceSpec, OutputSpec, Scene, load_scene
-from brakewear.scene import ThermalSpec
+from brakewear.scene import InterfaceSpec, OutputSpec, Scene, ThermalSpec, load_scene
 
 
 @pytest.fixture(scope="module")
@@ -96,7 +94,7 @@ def test_ctrl_c_writes_the_summary_of_the_steps_done(small, tmp_path):
 def test_worn_through_names_its_reason(small, tmp_path):
     from brakewear.errors import WornThroughError
     from brakewear.scene import WearSpec
-    sc = Scene(**{**small, "duration": 172800.0, "numerics": Numerics()},
+    sc = Scene(**{**small, "duration": 7200.0, "numerics": Numerics()},
                line_pressure=5e6, pad_wear=replace(WearSpec(), limit=0.5e-3))
     out = tmp_path / "run"
     with pytest.raises(WornThroughError):

@@ -3,9 +3,20 @@ import numpy as np
 import pytest
 import skfem as fem
 
-from brakewear.fem import apply_dirichlet, assemble_pressure, assemble_stiffness, assemble_traction, boundary_dofs, elasticity_form, element_stress, scalar_element, thermal_strain_form, von_mises
-from brakewear.materials import Isotropic, MaterialError, TransverselyIsotropic, get_material
 from brakewear.errors import MeshError
+from brakewear.fem import (
+    apply_dirichlet,
+    assemble_pressure,
+    assemble_stiffness,
+    assemble_traction,
+    boundary_dofs,
+    elasticity_form,
+    element_stress,
+    scalar_element,
+    thermal_strain_form,
+    von_mises,
+)
+from brakewear.materials import Isotropic, MaterialError, TransverselyIsotropic, get_material
 from brakewear.mesh import annulus_mesh, mapped_mesh, structured_tets
 from brakewear.solvers import direct_solve, rigid_body_modes
 
@@ -25,8 +36,9 @@ def test_fast_assembly_matches_skfem_form(order):
                               chunk=29)
     el = fem.ElementVector(scalar_element(m))
     q = 1 if order == 1 else 4
-    Kr = (elasticity_form(C1).assemble(fem.Basis(m, el, intorder=q, elements=np.nonzero(half)[0]))
-          + elasticity_form(C2).assemble(fem.Basis(m, el, intorder=q, elements=np.nonzero(~half)[0])))
+    Kr = elasticity_form(C1).assemble(
+        fem.Basis(m, el, intorder=q, elements=np.nonzero(half)[0])
+    ) + elasticity_form(C2).assemble(fem.Basis(m, el, intorder=q, elements=np.nonzero(~half)[0]))
     err = abs(K.tocsr() - Kr).max() / abs(Kr).max()
     assert err < 1e-13, f"fast assembly differs from skfem by {err:.2e}"
 
@@ -61,7 +73,9 @@ def test_linear_patch_test_is_exact(order):
     u = direct_solve(Kd, fd)
     assert np.abs(u - u_ex).max() < 1e-10 * np.abs(u_ex).max()
     s = element_stress(m, u, mat)
-    eps = np.array([G[0, 0], G[1, 1], G[2, 2], G[1, 2] + G[2, 1], G[0, 2] + G[2, 0], G[0, 1] + G[1, 0]])
+    eps = np.array(
+        [G[0, 0], G[1, 1], G[2, 2], G[1, 2] + G[2, 1], G[0, 2] + G[2, 0], G[0, 1] + G[1, 0]]
+    )
     # relative to the stress magnitude: a zero component carries round-off of
     # order 1e-9 of the largest one, which an absolute tolerance in Pa cannot judge
     s_ex = (mat.voigt() @ eps)[:, None]
@@ -131,7 +145,9 @@ def test_bar_held_at_both_ends_gets_minus_E_alpha_dT():
     u = direct_solve(Kd, fd)
     s = element_stress(m, u, mat) - (mat.voigt() @ np.r_[[alpha * dT] * 3, [0] * 3])[:, None]
     expected = -mat.E * alpha * dT
-    assert np.allclose(s[0], expected, rtol=1e-8, atol=0), f"sigma_xx {s[0].min()}..{s[0].max()} vs {expected}"
+    assert np.allclose(s[0], expected, rtol=1e-8, atol=0), (
+        f"sigma_xx {s[0].min()}..{s[0].max()} vs {expected}"
+    )
     assert np.abs(s[1:]).max() < 1e-8 * abs(expected)
 
 

@@ -24,7 +24,24 @@ def test_heat_equals_friction_work_and_the_demand_is_met_to_the_r_eff_drift(sche
 
     def on_step(rec, s, *_):
         steps.setdefault(rec.index, []).append(s.pressure)
-    recs = [r for r in run_schedule(Run(m, pad_law=WearLaw(5e-14), rotor_law=WearLaw(5e-15), mu=0.4, schedule=SCHEDULE, vehicle=CAR, numerics=Numerics(scheme=scheme, steps=4), thermal=thermal), on_step=on_step) if r.kind != "dwell"]
+
+    recs = [
+        r
+        for r in run_schedule(
+            Run(
+                m,
+                pad_law=WearLaw(5e-14),
+                rotor_law=WearLaw(5e-15),
+                mu=0.4,
+                schedule=SCHEDULE,
+                vehicle=CAR,
+                numerics=Numerics(scheme=scheme, steps=4),
+                thermal=thermal,
+            ),
+            on_step=on_step,
+        )
+        if r.kind != "dwell"
+    ]
     itf_area, itf_r = (lambda i: (i.area, i.r))(_interface(m))
     hot = 0.0
     for rec in recs:

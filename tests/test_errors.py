@@ -36,7 +36,7 @@ ALLOWED = {
     ("scene/reader.py", "_convert", "AssertionError"):
         (1, "every kind of the package's own schema table is handled above it; no input "
             "reaches it"),
-    ("follower.py", "SurfaceFollower._weights", "RuntimeError"):
+    ("motion/follower.py", "SurfaceFollower._weights", "RuntimeError"):
         (1, "a projection lands on a facet of the surface, whose vertices are surface nodes by "
             "construction; no input reaches it"),
     ("mesh/mirror.py", "_find", "RuntimeError"):
@@ -61,7 +61,7 @@ def _builtin_raises() -> collections.Counter:
     for path in sorted(PKG.rglob("*.py")):
         module = path.relative_to(PKG).as_posix()
 
-        def visit(node, scope):
+        def visit(node, scope, module=module):
             for child in ast.iter_child_nodes(node):
                 if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
                     visit(child, (*scope, child.name))

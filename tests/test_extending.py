@@ -16,16 +16,24 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pytest
 
-from brakewear.duty import (ApplicationRecord, application_kinds, register_application,
-                            unregister_application)
+from brakewear.duty import (
+    ApplicationRecord,
+    application_kinds,
+    register_application,
+    unregister_application,
+)
 from brakewear.errors import SceneError, WearError
-from brakewear.interfaces import (InterfaceModel, InterfaceSolution, interface_models,
-                                  register_interface, unregister_interface)
-from brakewear.laws.base import WearLawModel, archard_rate, register_wear_law, unregister_wear_law
+from brakewear.interfaces import (
+    InterfaceSolution,
+    interface_models,
+    register_interface,
+    unregister_interface,
+)
+from brakewear.laws.base import archard_rate, register_wear_law, unregister_wear_law
+from brakewear.mesh.rings import ring_wear_nodes
 from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.output.runs import run_scene
 from brakewear.registry import OptionKey
-from brakewear.mesh.rings import ring_wear_nodes
 from brakewear.scene import load_scene
 from brakewear.wear import ConstantSpeed, check_resume
 
@@ -38,6 +46,13 @@ class ToyBed:
     """The pad's friction face pressed as a rigid body onto a uniform elastic bed:
     ``p_i = k max(0, d - g_i)`` with the approach ``d`` that carries the clamp force.
     The rotor wears in rings (an unmeshed rotor); no capability is declared."""
+
+    name = "toy_bed"
+    keys = (OptionKey("bed_modulus", "num", 1e12, lo=0.0, unit="Pa/m"),)
+
+    @classmethod
+    def build(cls, request):
+        return cls(request.model, request.line_pressure, request.options["bed_modulus"])
 
     def __init__(self, model, line_pressure: float, modulus: float):
         pad = model.meshes["pad"]
@@ -70,13 +85,6 @@ class ToyBed:
         return InterfaceSolution(p, p > 0)
 
 
-def _toy_bed(request):
-    return ToyBed(request.model, request.line_pressure, request.options["bed_modulus"])
-
-
-TOY_BED = InterfaceModel("toy_bed", _toy_bed, keys=(
-    OptionKey("bed_modulus", "num", 1e12, lo=0.0, unit="Pa/m"),))
-
 
 # --- a toy wear law ---------------------------------------------------------------------------
 
@@ -89,15 +97,19 @@ class ToyLaw:
     b: float = 1.0
     needs_temperature: bool = False
 
+    name = "toy_law"
+    keys = (OptionKey("toy_k", "num", lo=0.0, unit="1/Pa"),)
+
+    @classmethod
+    def build(cls, options, material):
+        return cls(options["toy_k"])
+
     def coefficient_at(self, p, v, T=None):
         return np.full(np.broadcast(np.asarray(p), np.asarray(v)).shape, self.k)
 
     def rate(self, p, v, T=None):
         return archard_rate(self, self.coefficient_at(p, v, T), p, v)
 
-
-TOY_LAW = WearLawModel("toy_law", lambda options, material: ToyLaw(options["toy_k"]),
-                       keys=(OptionKey("toy_k", "num", lo=0.0, unit="1/Pa"),))
 
 
 # --- a toy application ------------------------------------------------------------------------
@@ -111,9 +123,10 @@ class Turns:
     turns: float
     omega: float
 
-    kind = "turns"
+    name = "turns"
+    keys = (OptionKey("line_pressure", unit="MPa", scale=1e6), OptionKey("turns"),
+            OptionKey("omega", unit="rad/s"))
     braked = True
-    units = {"line_pressure": ("MPa", 1e6), "turns": ("", 1.0), "omega": ("rad/s", 1.0)}
     needs_vehicle = False
 
     def check(self, ctx):
@@ -123,7 +136,7 @@ class Turns:
         return None
 
     def run(self, brake, index):
-        rec = ApplicationRecord(index, self.kind, 0.0, 2.0 * math.pi * self.turns / self.omega,
+        rec = ApplicationRecord(index, self.name, 0.0, 2.0 * math.pi * self.turns / self.omega,
                                 line_pressure=self.line_pressure, omega0=self.omega,
                                 omega1=self.omega)
         rec.r_eff = brake.r_eff(brake.solve(self.line_pressure).pressure,
@@ -135,8 +148,8 @@ class Turns:
 @pytest.fixture
 def toys():
     """The three toys registered for one test, and taken out again."""
-    register_interface(TOY_BED)
-    register_wear_law(TOY_LAW)
+    register_interface(ToyBed)
+    register_wear_law(ToyLaw)
     register_application(Turns)
     yield
     unregister_interface("toy_bed")
@@ -199,7 +212,9 @@ class _Stop(Exception):
 
 
 def _stopped_then_resumed(scene, out, after: int) -> dict:
-    """Run ``scene`` into ``out``, stop it after step ``after``, resume it to the end."""
+    """Run ``scene`` into ``out``, stop it while step ``after`` is reported (its checkpoint
+    is the one before: a step is checkpointed once the next is asked for), resume it to
+    the end."""
     def stop(step):
         if step.step == after:
             raise _Stop
@@ -227,7 +242,7 @@ def test_a_toy_interface_runs_from_a_scene_file_and_resumes(toys, tmp_path):
     assert whole["pad_archard_m3"] == pytest.approx(first["pad_volume_m3"], rel=1e-12)
     assert whole["steps"] >= 4
     resumed = _stopped_then_resumed(scene, tmp_path / "resumed", after=2)
-    assert resumed["resumed_from_step"] == 2 and resumed["steps"] == whole["steps"]
+    assert resumed["resumed_from_step"] == 1 and resumed["steps"] == whole["steps"]
     assert resumed["final"]["pad_wear_max_m"] == pytest.approx(
         whole["final"]["pad_wear_max_m"], rel=1e-12)
     run = scene.build_run(model)
@@ -319,7 +334,7 @@ def test_a_toy_application_runs_from_a_scene_file(toys, tmp_path):
         text = "\n".join(s for s in text.splitlines() if not s.startswith(key))
     path.write_text(text)
     scene = load_scene(path)
-    assert [a.kind for a in scene.schedule] == ["turns", "drag"]
+    assert [a.name for a in scene.schedule] == ["turns", "drag"]
     summary = run_scene(scene, tmp_path / "out")
     rows = (tmp_path / "out" / "applications.csv").read_text().splitlines()
     head = rows[0].split(",")
@@ -341,17 +356,25 @@ def test_a_decision_entry_builds_the_model_it_chooses(tmp_path):
     keys; names are registered once, and keys are read one way by every model."""
     from brakewear.interfaces import FEInterface, FoundationInterface
 
-    def cheapest(request):
-        return "fe" if "accepts_load" in request.needs else "winkler"
+    class Cheapest:
+        name, accepts_load = "cheapest", True
 
-    register_interface(InterfaceModel("cheapest", decide=cheapest,
-                                      capabilities=frozenset({"accepts_load"})))
+        @staticmethod
+        def decide(request):
+            return "fe" if "accepts_load" in request.needs else "winkler"
+
+    class Again(Cheapest):
+        name = "cheapest"
+
+    class Odd(ToyBed):
+        name, keys = "odd", (OptionKey("winkler_rotor", "num"),)
+
+    register_interface(Cheapest)
     try:
         with pytest.raises(SceneError, match=r"'cheapest' is registered already"):
-            register_interface(InterfaceModel("cheapest", decide=cheapest))
+            register_interface(Again)
         with pytest.raises(SceneError, match=r"interface\.winkler_rotor: read as 'num'"):
-            register_interface(InterfaceModel("odd", _toy_bed,
-                                              keys=(OptionKey("winkler_rotor", "num"),)))
+            register_interface(Odd)
         cold = load_scene(_scene(tmp_path, interface='model = "cheapest"'))
         assert isinstance(cold.build_run().interface, FoundationInterface)
         hot = load_scene(_scene(tmp_path, interface='model = "cheapest"',

@@ -9,11 +9,11 @@ import pytest
 pytest.importorskip("pyvista")
 import matplotlib.image as mpimg
 
-from brakewear.output import face_maps, figures
 from brakewear.cli import main
+from brakewear.model import BrakeModel
+from brakewear.output import face_maps, figures
 from brakewear.output.face_maps import plot_face_map, scale_length
 from brakewear.output.figures import TICK_FORMAT, visible_named_surfaces
-from brakewear.model import BrakeModel
 from brakewear.scene import scene_file
 
 

@@ -7,9 +7,9 @@ import pytest
 pytest.importorskip("pyvista")
 import matplotlib.image as mpimg
 
-from brakewear.output.figures import plot_field, plot_named_surfaces, skfem_to_pyvista
 from brakewear.geometry import load_geometry
 from brakewear.mesh import brake_meshes
+from brakewear.output.figures import plot_field, plot_named_surfaces, skfem_to_pyvista
 
 
 @pytest.fixture(scope="module")

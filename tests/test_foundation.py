@@ -5,12 +5,11 @@ import numpy as np
 import pytest
 
 from brakewear import analytic as an
+from brakewear.analytic import johnson_modulus
 from brakewear.errors import FoundationError, FoundationSolveError
 from brakewear.interfaces import WinklerInterface, calibrate, compare, fe_approach, layer_modulus
-from brakewear.analytic import johnson_modulus
 from brakewear.model import BrakeModel
 from brakewear.static import solve_contact
-
 
 # ------------------------------------------------------------- sphere ---
 

@@ -11,20 +11,18 @@ import numpy as np
 import pytest
 import skfem as fem
 
+from brakewear import Numerics, WearLaw
 from brakewear.errors import SceneError
 from brakewear.fem.footprint import annulus, footprint_load
-from brakewear.mesh.triangle import subdivided_rule, tri6
 from brakewear.geometry import CaliperGeometry, FingerGeometry, load_geometry
 from brakewear.interfaces import FEInterface
 from brakewear.mesh.brake import pad_mesh, rotor_mesh
 from brakewear.mesh.mirror import mirrored_pads
 from brakewear.mesh.surface import face_nodes
+from brakewear.mesh.triangle import subdivided_rule, tri6
 from brakewear.model import BrakeModel
-from brakewear.static import pad_balance
-from brakewear.wear import wear_history
-from brakewear import Numerics, WearLaw
-from brakewear.static import solve_contact, solve_tied, static_summary
-from brakewear.wear import Run
+from brakewear.static import pad_balance, solve_contact, solve_tied, static_summary
+from brakewear.wear import Run, wear_history
 
 SIZE = 6e-3
 
@@ -175,7 +173,19 @@ def test_full_model_wears_both_pads_as_the_half_model(rim):
     for layout in ("half", "full"):
         m = BrakeModel(rim, size=SIZE, layout=layout)
         itf = FEInterface(m, 1e6, 0.4)
-        for s in wear_history(Run(m, 1e6, 55.0, 3600.0, law, WearLaw(5e-16), 0.4, numerics=Numerics(scheme="implicit", update="gap", steps=4), interface=itf)):
+        for s in wear_history(  # noqa: B007  (the last step)
+            Run(
+                m,
+                1e6,
+                55.0,
+                3600.0,
+                law,
+                WearLaw(5e-16),
+                0.4,
+                numerics=Numerics(scheme="implicit", update="gap", steps=4),
+                interface=itf,
+            )
+        ):
             pass
         out = (np.isin(itf.pad_nodes, face_nodes(m.meshes["pad"], "friction_out")) if m.full
                else np.zeros(itf.pad_nodes.size, dtype=bool))
@@ -253,11 +263,35 @@ def test_geometry_update_and_thermal_coupling_on_both_faces(rim):
     out = {}
     for layout in ("half", "full"):
         m = BrakeModel(rim, size=SIZE, layout=layout)
-        for s in wear_history(Run(m, 1e6, 55.0, 72000.0, law, rlaw, 0.4, numerics=Numerics(scheme="implicit", update="geometry", steps=3))):
+        for s in wear_history(  # noqa: B007  (the last step)
+            Run(
+                m,
+                1e6,
+                55.0,
+                72000.0,
+                law,
+                rlaw,
+                0.4,
+                numerics=Numerics(scheme="implicit", update="geometry", steps=3),
+            )
+        ):
             pass
         m = BrakeModel(rim, size=SIZE, layout=layout)
         th = ThermalModel(m)
-        for _ in wear_history(Run(m, 1e6, 55.0, 30.0, law, rlaw, 0.4, thermal=th, interface=FEInterface(m, 1e6, 0.4), numerics=Numerics(scheme="implicit", update="gap", steps=3))):
+        for _ in wear_history(
+            Run(
+                m,
+                1e6,
+                55.0,
+                30.0,
+                law,
+                rlaw,
+                0.4,
+                thermal=th,
+                interface=FEInterface(m, 1e6, 0.4),
+                numerics=Numerics(scheme="implicit", update="gap", steps=3),
+            )
+        ):
             pass
         pad = m.meshes["pad"]
         faces = ("friction_in", "friction_out") if m.full else ("friction",)

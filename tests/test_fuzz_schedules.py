@@ -20,7 +20,7 @@ from brakewear.duty import Drag, Dwell, Stop, Vehicle, run_schedule  # noqa: E40
 from brakewear.errors import BrakewearError  # noqa: E402
 from brakewear.interfaces import FEInterface  # noqa: E402
 from brakewear.model import BrakeModel  # noqa: E402
-from brakewear.wear import Run
+from brakewear.wear import Run  # noqa: E402
 
 #: examples per run (the issue's floor is 200)
 EXAMPLES = 220
@@ -87,7 +87,18 @@ def test_random_schedules_finish_with_energy_closure_or_a_named_error(schedule, 
     records = []
     try:
         with _alarm(HANG_S, what):
-            for rec in run_schedule(Run(model, pad_law=laws[0], rotor_law=laws[1], mu=mu, schedule=schedule, vehicle=CAR, numerics=num, interface=itf)):
+            for rec in run_schedule(
+                Run(
+                    model,
+                    pad_law=laws[0],
+                    rotor_law=laws[1],
+                    mu=mu,
+                    schedule=schedule,
+                    vehicle=CAR,
+                    numerics=num,
+                    interface=itf,
+                )
+            ):
                 records.append(rec)
     except BrakewearError as exc:       # a named error, with its message
         assert type(exc).__name__.endswith("Error") and str(exc), what

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import pytest
@@ -12,8 +13,14 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 import brakewear.mesh as bmesh
-from brakewear.geometry import BrakeGeometry, available_geometries, geometry_file, geometry_from_dict, load_geometry
 from brakewear.errors import GeometryError
+from brakewear.geometry import (
+    BrakeGeometry,
+    available_geometries,
+    geometry_file,
+    geometry_from_dict,
+    load_geometry,
+)
 from brakewear.materials import MATERIALS
 
 
@@ -24,7 +31,8 @@ def default_dict():
 
 
 def modified(d, path, value):
-    """A deep copy of ``d`` with ``path`` ("pad.inner_radius", "caliper.fingers[0].radius") set (or deleted if value is ...)."""
+    """A deep copy of ``d`` with ``path`` ("pad.inner_radius", "caliper.fingers[0].radius")
+    set (or deleted if value is ...)."""
     d = copy.deepcopy(d)
     keys = path.split(".")
     node = d
@@ -108,11 +116,11 @@ BAD = [
     ("pad.friction_thickness", -1.0, "pad.friction_thickness"),
     ("pad.backplate_material", "unobtainium", "pad.backplate_material"),
     ("pad", [1, 2], "pad"),
-    ("piston.diameter", 57.0, "piston.radius"),      # wider than the pad
-    ("piston.radius", 100.0, "piston.radius"),       # footprint below pad.inner_radius
-    ("piston.radius", 125.0, "piston.radius"),       # footprint beyond pad.outer_radius
-    ("piston.angle", 20.0, "piston.angle"),          # footprint across the trailing end
-    ("piston.angle", -40.0, "piston.angle"),         # piston off the pad
+    ("piston.diameter", 57.0, "piston.radius"),  # wider than the pad
+    ("piston.radius", 100.0, "piston.radius"),  # footprint below pad.inner_radius
+    ("piston.radius", 125.0, "piston.radius"),  # footprint beyond pad.outer_radius
+    ("piston.angle", 20.0, "piston.angle"),  # footprint across the trailing end
+    ("piston.angle", -40.0, "piston.angle"),  # piston off the pad
     ("piston.length", 0.0, "piston.length"),
     ("piston.material", 7, "piston.material"),
     ("mesh.size", ..., "mesh.size"),
@@ -126,12 +134,36 @@ BAD = [
     ("materials.goo", {"type": "isotropic", "E": -1.0, "nu": 0.3}, "materials.goo.E"),
     ("materials.goo", {"type": "isotropic", "E": 1.0}, "materials.goo.nu"),
     ("materials.goo", {"type": "isotropic", "E": 1.0, "nu": 0.3, "rho": -5.0}, "materials.goo.rho"),
-    ("materials.goo", {"type": "isotropic", "E": 1.0, "nu": 0.3, "color": 1}, "materials.goo.color"),
+    (
+        "materials.goo",
+        {"type": "isotropic", "E": 1.0, "nu": 0.3, "color": 1},
+        "materials.goo.color",
+    ),
     ("materials.goo", {"type": "plastic", "E": 1.0, "nu": 0.3}, "materials.goo.type"),
-    ("materials.goo", {"type": "transversely_isotropic", "E_p": 8.0, "E_t": 3.0,
-                       "nu_p": 0.6, "nu_tp": 0.2, "G_t": 1.5}, "materials.goo.nu_p"),
-    ("materials.goo", {"type": "transversely_isotropic", "E_p": 8.0, "E_t": 0.1,
-                       "nu_p": 0.3, "nu_tp": 0.9, "G_t": 1.5}, "materials.goo"),
+    (
+        "materials.goo",
+        {
+            "type": "transversely_isotropic",
+            "E_p": 8.0,
+            "E_t": 3.0,
+            "nu_p": 0.6,
+            "nu_tp": 0.2,
+            "G_t": 1.5,
+        },
+        "materials.goo.nu_p",
+    ),
+    (
+        "materials.goo",
+        {
+            "type": "transversely_isotropic",
+            "E_p": 8.0,
+            "E_t": 0.1,
+            "nu_p": 0.3,
+            "nu_tp": 0.9,
+            "G_t": 1.5,
+        },
+        "materials.goo",
+    ),
     ("materials.steel", {"type": "isotropic", "E": 1.0, "nu": 0.3}, "materials.steel"),
 ]
 
@@ -214,5 +246,5 @@ def test_errors_come_before_meshing(tmp_path, monkeypatch):
 
 def test_geometry_is_frozen():
     g = load_geometry()
-    with pytest.raises(Exception):
+    with pytest.raises(dataclasses.FrozenInstanceError):
         g.rotor.inner_radius = 0.1  # type: ignore[misc]

@@ -12,8 +12,13 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from brakewear.errors import GeometryError
-from brakewear.geometry import (CaliperGeometry, SupportGeometry, geometry_file,
-                                geometry_from_dict, load_geometry)
+from brakewear.geometry import (
+    CaliperGeometry,
+    SupportGeometry,
+    geometry_file,
+    geometry_from_dict,
+    load_geometry,
+)
 from test_geometry import modified
 
 

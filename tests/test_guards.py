@@ -14,9 +14,9 @@ import pytest
 from brakewear.cli import main
 from brakewear.errors import GeometryError, MeshFileError, SceneError, WornThroughError
 from brakewear.geometry import load_geometry
+from brakewear.geometry.parts import MESH_BODY_KEYS
 from brakewear.mesh import read_mesh, write_mesh
 from brakewear.mesh.brake import pad_mesh
-from brakewear.geometry.parts import MESH_BODY_KEYS
 from brakewear.mesh.estimate import MEMORY_ENV, check_model_size, estimate_model
 from brakewear.scene import load_scene, scene_file
 from brakewear.static import solve_tied
@@ -145,9 +145,10 @@ def test_brake_model_refuses_before_meshing(monkeypatch):
 # ---------------------------------------------------------------- wear limits --
 
 def _worn_scene(tmp_path, update: str, name: str) -> Path:
-    """48 h of drag at 5 MPa on a coarse mesh; a small pad limit ends it early."""
+    """2 h of drag at 5 MPa on a coarse mesh (within its wear-through horizon, 2 h); a
+    small pad limit ends it early."""
     return _write_scene(tmp_path, name=name, mesh={"size": "12.0"},
-                        environment={"line_pressure": "5.0", "duration": "172800.0"},
+                        environment={"line_pressure": "5.0", "duration": "7200.0"},
                         numerics={"update": f'"{update}"'},
                         output={"figures": "false"},
                         **{"wear.pad": {"limit": "0.5"}})
@@ -182,7 +183,19 @@ def test_rotor_limit_through_wear_history():
     limits = bw.WearLimits(pad=None, rotor=2e-7)
     law = bw.WearLaw(5e-15)
     with pytest.raises(WornThroughError) as e:
-        for _ in bw.wear_history(Run(model, 1e6, 55.0, 3600.0, law, bw.WearLaw(5e-14), mu=0.4, limits=limits, numerics=bw.Numerics(scheme="implicit"))):
+        for _ in bw.wear_history(
+            Run(
+                model,
+                1e6,
+                55.0,
+                3600.0,
+                law,
+                bw.WearLaw(5e-14),
+                mu=0.4,
+                limits=limits,
+                numerics=bw.Numerics(scheme="implicit"),
+            )
+        ):
             pass
     assert e.value.body == "rotor" and e.value.depth >= 2e-7
     assert "rotor worn to its limit" in str(e.value) and "wear.rotor.limit" in str(e.value)
@@ -299,10 +312,12 @@ def test_version_and_python_m():
 
 def test_offscreen_figures_keep_vtk_warnings_off_the_terminal(tmp_path):
     pytest.importorskip("pyvista")
-    code = ("from brakewear.output.figures import plot_named_surfaces\n"
-            "from brakewear.geometry import load_geometry\n"
-            "from brakewear.mesh import brake_meshes\n"
-            f"plot_named_surfaces(brake_meshes(load_geometry(), size=12e-3), r'{tmp_path}/s.png')\n")
+    code = (
+        "from brakewear.output.figures import plot_named_surfaces\n"
+        "from brakewear.geometry import load_geometry\n"
+        "from brakewear.mesh import brake_meshes\n"
+        f"plot_named_surfaces(brake_meshes(load_geometry(), size=12e-3), r'{tmp_path}/s.png')\n"
+    )
     env = dict(os.environ, DISPLAY=":99")           # a display that is not there
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        timeout=120, cwd=ROOT, env=env)
@@ -404,8 +419,11 @@ def test_brake_model_takes_a_users_pad_mesh(tmp_path):
 def test_brake_model_refuses_implausible_loads_before_solving():
     from brakewear.model import BrakeModel
     m = BrakeModel("default", size=12e-3)
-    with pytest.raises(SceneError, match=r"line_pressure: 1000000000000.0 Pa is implausible.*at most "
-                                         r"1e\+08 Pa"):
+    with pytest.raises(
+        SceneError,
+        match=r"line_pressure: 1000000000000.0 Pa is implausible.*at most "
+        r"1e\+08 Pa",
+    ):
         solve_tied(m, 1e12)
     with pytest.raises(SceneError, match=r"mu: 50.0 is implausible.*at most 2"):
         m.contact_system(1e6, mu=50.0)

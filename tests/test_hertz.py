@@ -33,8 +33,11 @@ def test_boussinesq_field_is_the_half_space_point_load():
     d, rho = -x[2], np.linalg.norm(x, axis=0)
     np.testing.assert_allclose(s[2, 2], -3 * F * d ** 3 / (2 * np.pi * rho ** 5), rtol=1e-5)
     hstep = 1e-6
-    div = sum((stress(x + hstep * np.eye(3)[:, [j]])[:, j] - stress(x - hstep * np.eye(3)[:, [j]])[:, j])
-              / (2 * hstep) for j in range(3))
+    div = sum(
+        (stress(x + hstep * np.eye(3)[:, [j]])[:, j] - stress(x - hstep * np.eye(3)[:, [j]])[:, j])
+        / (2 * hstep)
+        for j in range(3)
+    )
     assert np.abs(div).max() * 1e-3 < 1e-4 * np.abs(s).max()
     xs = np.array([[4e-4, -2e-4], [1e-4, 5e-4], [-1e-9, -1e-9]])
     assert np.abs(stress(xs)[:, 2]).max() < 1e-4 * np.abs(stress(xs)).max()

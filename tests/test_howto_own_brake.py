@@ -9,7 +9,7 @@ import pytest
 
 from brakewear.cli import main
 from brakewear.geometry import load_geometry
-from brakewear.scene import load_scene, scene_file, write_new_scene
+from brakewear.scene import load_scene, write_new_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 HOWTO = (ROOT / "docs" / "howto_own_brake.md").read_text()
@@ -64,7 +64,7 @@ def test_the_worked_example_runs(tmp_path, capsys):
 def test_new_scene_writes_files_that_load_as_the_packaged_brake(tmp_path, start):
     geo, scn = write_new_scene("my_brake", tmp_path, start)
     assert (geo.name, scn.name) == ("my_brake.toml", "my_brake_scene.toml")
-    assert geo.read_text().startswith(f"# my_brake: a brake geometry to edit from your drawing")
+    assert geo.read_text().startswith("# my_brake: a brake geometry to edit from your drawing")
     assert "[rotor]" in geo.read_text() and "From the drawing:" in geo.read_text()
     mine, packaged = load_scene(scn), load_scene(start)
     assert mine.name == "my_brake" and Path(mine.geometry.source) == geo

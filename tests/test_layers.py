@@ -29,13 +29,15 @@ PKG = ROOT / "brakewear"
 #: the layers, bottom first: a module belongs to the layer of the longest dotted
 #: prefix (below ``brakewear``) that names it
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "checks", "registry", "analytic", "materials", "laws", "caliper.analytic",
-     "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit", "analytic_tribometer"),
+    ("errors", "checks", "parts", "registry", "storage", "analytic", "materials", "laws",
+     "caliper.analytic",
+     "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit", "cleaning.rust_model",
+     "cleaning.rust_record"),
     ("geometry", "caliper.geometry"),
     ("mesh", "fem", "solvers", "rough", "caliper.loads", "caliper.parts"),
     ("contact", "caliper.rows"),
     ("model",),
-    ("interfaces", "thermal", "motion", "caliper.condensation", "caliper.sets",
+    ("interfaces", "thermal", "motion", "caliper.condensation", "caliper.sets", "caliper.joint",
      "caliper.interface", "tribology.bodies", "tribology.pair"),
     ("static", "caliper.static", "duty", "cleaning.routine", "wear", "scene", "tribology"),
     ("output", "cli", "bench", "tribology.runner", "tribology.output", "tribology.command"),

@@ -8,9 +8,18 @@ import pytest
 
 from brakewear.errors import InputError, LawError, MapError
 from brakewear.laws.base import FrictionLaw, WearLaw
-from brakewear.laws.maps import (EXAMPLE_MAP, FrictionMap, MildSevereWear, NodeFrictionLaw,
-                            NodeWearLaw, StribeckFriction, TableMap, WearMap, example_map,
-                            read_map)
+from brakewear.laws.maps import (
+    EXAMPLE_MAP,
+    FrictionMap,
+    MildSevereWear,
+    NodeFrictionLaw,
+    NodeWearLaw,
+    StribeckFriction,
+    TableMap,
+    WearMap,
+    example_map,
+    read_map,
+)
 from studyload import load_study
 
 RNG = np.random.default_rng(7)
@@ -94,7 +103,9 @@ def test_a_constant_map_gives_the_constant_laws_numbers_bit_for_bit():
                          np.full((3, 2), 5e-15), "k")
     for table in (one_point, full_grid):
         wear = WearMap(table)
-        np.testing.assert_array_equal(wear.coefficient_at(P, V, T), WearLaw(5e-15).coefficient_at(P, V))
+        np.testing.assert_array_equal(
+            wear.coefficient_at(P, V, T), WearLaw(5e-15).coefficient_at(P, V)
+        )
         np.testing.assert_array_equal(wear.rate(P, V, T), WearLaw(5e-15).rate(P, V))
     mu = TableMap(("v", "p"), ((1.0, 7.0, 30.0), (1e5, 1e7)), np.full((3, 2), 0.4), "mu")
     np.testing.assert_array_equal(FrictionMap(mu).mu_at(P, V), FrictionLaw(0.4).mu_at(P, V))
@@ -107,7 +118,11 @@ def test_interpolation_reproduces_multilinear_data_between_the_grid_points(tmp_p
     path = _csv(tmp_path, "linear.csv", _grid_csv(f, ps=(0.5, 1.5, 4.0, 8.0),
                                                  vs=(1.0, 4.0, 30.0), ts=(20.0, 180.0, 500.0)))
     law = FrictionMap(read_map(path, "mu"))
-    p, v, t = RNG.uniform(0.5e6, 8e6, 200), RNG.uniform(1, 30, 200), RNG.uniform(293.15, 773.15, 200)
+    p, v, t = (
+        RNG.uniform(0.5e6, 8e6, 200),
+        RNG.uniform(1, 30, 200),
+        RNG.uniform(293.15, 773.15, 200),
+    )
     exact = f(p, v, t)
     err = np.abs(law.mu_at(p, v, t) - exact) / exact
     assert err.max() < 1e-12, err.max()

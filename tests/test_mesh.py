@@ -5,9 +5,15 @@ import numpy as np
 import pytest
 import skfem as fem
 
-from brakewear.geometry import load_geometry
 from brakewear.errors import MeshFileError
-from brakewear.mesh import brake_meshes, component_materials, element_materials, read_mesh, write_mesh
+from brakewear.geometry import load_geometry
+from brakewear.mesh import (
+    brake_meshes,
+    component_materials,
+    element_materials,
+    read_mesh,
+    write_mesh,
+)
 
 
 @pytest.fixture(scope="module")
@@ -71,14 +77,18 @@ def test_p1_volumes_within_chord_error(geom, meshes):
     }
     vols = {
         "rotor": tet_volumes(meshes["rotor"]).sum(),
-        "friction_layer": tet_volumes(meshes["pad"])[meshes["pad"].subdomains["friction_layer"]].sum(),
+        "friction_layer": tet_volumes(meshes["pad"])[
+            meshes["pad"].subdomains["friction_layer"]
+        ].sum(),
         "backplate": tet_volumes(meshes["pad"])[meshes["pad"].subdomains["backplate"]].sum(),
         "piston": tet_volumes(meshes["piston"]).sum(),
     }
     for k, v in vols.items():
         rel = (ref[k] - v) / ref[k]
         # P1 chords lie inside the circle: the volume is a little too small
-        assert -1e-12 <= rel <= bounds[k], f"{k}: volume {v:.6e} vs {ref[k]:.6e}, rel {rel:.2e}, bound {bounds[k]:.2e}"
+        assert -1e-12 <= rel <= bounds[k], (
+            f"{k}: volume {v:.6e} vs {ref[k]:.6e}, rel {rel:.2e}, bound {bounds[k]:.2e}"
+        )
 
 
 def test_p2_volumes_much_closer(geom, meshes_p2):
@@ -125,13 +135,24 @@ def test_named_facets_lie_where_they_should(geom, meshes):
     rot, pad, pis = meshes["rotor"], meshes["pad"], meshes["piston"]
     expected = {
         "rotor": ["friction", "midplane", "rotor_clamp", "outer"],
-        "pad": ["friction", "back", "piston_face", "abutment", "leading", "trailing", "inner", "outer"],
+        "pad": [
+            "friction",
+            "back",
+            "piston_face",
+            "abutment",
+            "leading",
+            "trailing",
+            "inner",
+            "outer",
+        ],
         "piston": ["piston_face", "piston_back", "piston_side"],
     }
     for body, names in expected.items():
         m = meshes[body]
         for nm in names:
-            assert len(m.boundaries.get(nm, [])) > 0, f"{body}: facet set {nm!r} is empty or missing"
+            assert len(m.boundaries.get(nm, [])) > 0, (
+                f"{body}: facet set {nm!r} is empty or missing"
+            )
         # every boundary facet has a name
         named = np.unique(np.concatenate([m.boundaries[nm] for nm in names]))
         unnamed = np.setdiff1d(m.boundary_facets(), named)
@@ -159,7 +180,9 @@ def test_named_facets_lie_where_they_should(geom, meshes):
     ]
     for label, vals, want in checks:
         err = np.abs(vals - want).max()
-        assert err < 1e-9 * max(1.0, abs(want)) + tol, f"{label}: max |value - {want:.6g}| = {err:.3e}"
+        assert err < 1e-9 * max(1.0, abs(want)) + tol, (
+            f"{label}: max |value - {want:.6g}| = {err:.3e}"
+        )
     # the leading edge is where rotor points (moving in +theta) arrive: the smaller angle
     assert p.leading_angle < p.trailing_angle
     # abutment = backplate part of both end faces
@@ -170,10 +193,14 @@ def test_named_facets_lie_where_they_should(geom, meshes):
     # piston_face of the pad: centroids inside the piston footprint
     c = pad.p[:, pad.facets[:, pad.boundaries["piston_face"]]].mean(axis=1)
     d = np.hypot(c[0] - xc, c[1] - yc)
-    assert d.max() < 0.5 * s.diameter, f"pad piston_face centroid at {d.max():.4e} from the piston axis"
+    assert d.max() < 0.5 * s.diameter, (
+        f"pad piston_face centroid at {d.max():.4e} from the piston axis"
+    )
     area = _area(pad, "piston_face")
     want = np.pi * (0.5 * s.diameter) ** 2
-    assert abs(area - want) / want < 0.15, f"pad piston_face area {area:.4e} vs footprint {want:.4e}"
+    assert abs(area - want) / want < 0.15, (
+        f"pad piston_face area {area:.4e} vs footprint {want:.4e}"
+    )
 
 
 def _area(m, name):
@@ -198,7 +225,9 @@ def test_periodic_ring_closed(meshes):
     assert n_unique == m.p.shape[1], f"{m.p.shape[1] - n_unique} duplicate rotor nodes"
     # no seam: every boundary facet is on one of the four named faces
     named = sum(len(m.boundaries[k]) for k in ("friction", "midplane", "rotor_clamp", "outer"))
-    assert named == len(m.boundary_facets()), f"{len(m.boundary_facets())} boundary facets, {named} named"
+    assert named == len(m.boundary_facets()), (
+        f"{len(m.boundary_facets())} boundary facets, {named} named"
+    )
 
 
 def _edge_lengths_at(m, name, theta_lo, theta_hi):
@@ -207,15 +236,21 @@ def _edge_lengths_at(m, name, theta_lo, theta_hi):
     th = np.arctan2(c[1], c[0])
     sel = (th > theta_lo) & (th < theta_hi)
     x = m.p[:, f[:, sel]]
-    return np.concatenate([np.linalg.norm(x[:, i] - x[:, j], axis=0) for i, j in ((0, 1), (1, 2), (0, 2))])
+    return np.concatenate(
+        [np.linalg.norm(x[:, i] - x[:, j], axis=0) for i, j in ((0, 1), (1, 2), (0, 2))]
+    )
 
 
 def test_rotor_graded_and_comparable_to_pad(geom, meshes):
     p = geom.pad
     pad_h = np.median(_edge_lengths_at(meshes["pad"], "friction", -np.pi, np.pi))
-    rot_h = np.median(_edge_lengths_at(meshes["rotor"], "friction", p.leading_angle, p.trailing_angle))
+    rot_h = np.median(
+        _edge_lengths_at(meshes["rotor"], "friction", p.leading_angle, p.trailing_angle)
+    )
     far_h = np.median(_edge_lengths_at(meshes["rotor"], "friction", np.pi - 0.3, np.pi))
-    assert 0.67 < rot_h / pad_h < 1.5, f"rotor edge {rot_h:.3e} vs pad edge {pad_h:.3e} under the pad"
+    assert 0.67 < rot_h / pad_h < 1.5, (
+        f"rotor edge {rot_h:.3e} vs pad edge {pad_h:.3e} under the pad"
+    )
     assert far_h > 2.0 * rot_h, f"rotor away from the pad {far_h:.3e} not coarser than {rot_h:.3e}"
     # through the thickness: finest at the friction face
     z = np.unique(np.round(meshes["rotor"].p[2], 12))
@@ -311,7 +346,9 @@ def test_read_tagged_surfaces(tmp_path):
     got = read_mesh(path2, required=["friction"])
     assert np.array_equal(np.sort(got.boundaries["friction"]), np.sort(bottom)), \
         f"friction facets {np.sort(got.boundaries['friction'])} vs {np.sort(bottom)}"
-    with pytest.raises(MeshFileError, match=r"rotor_clamp.*groups found: surfaces \['back', 'friction'\]"):
+    with pytest.raises(
+        MeshFileError, match=r"rotor_clamp.*groups found: surfaces \['back', 'friction'\]"
+    ):
         read_mesh(path, required=["rotor_clamp"])
 
 

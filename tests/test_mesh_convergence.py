@@ -5,6 +5,13 @@ import json
 import numpy as np
 import pytest
 
+from brakewear.mesh.convergence import (
+    estimate,
+    field_richardson,
+    fitted_rate,
+    relative_l2,
+    richardson,
+)
 from studyload import load_study
 
 mc = load_study("mesh_convergence")
@@ -16,7 +23,7 @@ def test_richardson_recovers_rate_and_limit_of_f0_plus_c_h_to_the_p(levels, p):
     h = 1.0 / np.array(levels)
     f = 3.0 + 0.7 * h ** p
     ratios = tuple(b / a for a, b in zip(levels[:-1], levels[1:]))
-    res = mc.richardson(tuple(f), ratios)
+    res = richardson(tuple(f), ratios)
     assert res["rate"] == pytest.approx(p, rel=1e-9)
     assert res["estimate"] == pytest.approx(3.0, rel=1e-12)
     assert res["asymptotic"]
@@ -24,7 +31,7 @@ def test_richardson_recovers_rate_and_limit_of_f0_plus_c_h_to_the_p(levels, p):
 
 
 def test_a_sequence_that_changes_direction_has_no_estimate():
-    res = mc.richardson((1.0, 1.2, 1.1), (1.5, 1.5))
+    res = richardson((1.0, 1.2, 1.1), (1.5, 1.5))
     assert np.isnan(res["rate"]) and res["estimate"] is None and not res["asymptotic"]
     assert res["errors"] == [None] * 3
 
@@ -34,7 +41,7 @@ def test_field_richardson_recovers_the_limit_field():
     f0, shape = 1.0 + x, np.sin(3 * x)
     h = 1.0 / np.array([2.0, 3.0, 4.5])
     fields = [f0 + 0.5 * hk ** 2 * shape for hk in h]
-    res = mc.field_richardson(fields, np.full(x.size, 0.02), (1.5, 1.5))
+    res = field_richardson(fields, np.full(x.size, 0.02), (1.5, 1.5))
     assert res["rate"] == pytest.approx(2.0, rel=1e-9)
     assert np.allclose(res["field"], f0, rtol=1e-12)
     norm = np.sqrt((0.02 * f0 ** 2).sum())
@@ -99,3 +106,32 @@ def test_pad_wear_converges_on_three_p1_meshes():
     assert est["rate"] > 0.8, f"observed pad wear rate {est['rate']:.3g}"
     assert est["errors"][-1] < 0.05, f"finest pad wear error estimate {est['errors'][-1]:.3%}"
     assert est["errors"][0] > est["errors"][1] > est["errors"][2]
+
+
+def test_estimate_keeps_a_settled_rate_and_withdraws_an_unsettled_one():
+    levels = (2.0, 3.0, 4.0, 6.0)
+    ratios = tuple(b / a for a, b in zip(levels[:-1], levels[1:]))
+    f = [3.0 + 0.7 / n ** 1.5 for n in levels]
+    est = estimate(f, ratios)
+    assert est["rates"] == pytest.approx([1.5, 1.5], rel=1e-9)
+    assert est["estimate"] == pytest.approx(3.0, rel=1e-12) and est["asymptotic"]
+    # the triple before the finest changes direction: no estimate, however good the last
+    est = estimate([3.1, 3.3, 3.2, 3.15], ratios)
+    assert est["estimate"] is None and est["errors"] == [None] * 4 and not est["asymptotic"]
+
+
+def test_fitted_rate_and_relative_l2():
+    h = np.array([0.1, 0.05, 0.025])
+    assert fitted_rate(h, 3.0 * h ** 2) == pytest.approx(2.0, rel=1e-12)
+    w = np.array([1.0, 2.0, 1.0])
+    ref = np.array([1.0, 2.0, 3.0])
+    assert relative_l2(1.01 * ref, ref, w) == pytest.approx(0.01, rel=1e-12)
+
+
+def test_the_docstring_examples_run():
+    import doctest
+
+    import brakewear.mesh.convergence as conv
+
+    res = doctest.testmod(conv)
+    assert res.attempted >= 2 and res.failed == 0

@@ -120,7 +120,9 @@ def test_bad_layers_in_a_geometry_file_name_file_key_and_range(geometry_dict, ke
 def test_bad_body_size_in_a_geometry_file(geometry_dict):
     d = copy.deepcopy(geometry_dict)
     d["mesh"]["pad_size"] = 30.0
-    with pytest.raises(GeometryError, match=r"my_brake.toml: mesh.pad_size: 30 mm .*\(0, 21.5 mm\]"):
+    with pytest.raises(
+        GeometryError, match=r"my_brake.toml: mesh.pad_size: 30 mm .*\(0, 21.5 mm\]"
+    ):
         geometry_from_dict(d, source="my_brake.toml")
 
 

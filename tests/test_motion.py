@@ -5,13 +5,20 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem as fem
 
-from brakewear.errors import MeshError
 from brakewear.contact.surface import mortar_coupling
-from brakewear.mesh.surface import surface_nodes, tributary_areas
+from brakewear.errors import MeshError
 from brakewear.fem import assemble_stiffness, stiffness_update
-from brakewear.motion.brake import (BrakeMotion, MeshQualityError, SurfaceFollower, check_quality,
-                              element_quality, element_volumes, surface_element_height)
+from brakewear.mesh.surface import surface_nodes, tributary_areas
 from brakewear.model import BrakeModel
+from brakewear.motion.brake import (
+    BrakeMotion,
+    MeshQualityError,
+    SurfaceFollower,
+    check_quality,
+    element_quality,
+    element_volumes,
+    surface_element_height,
+)
 from brakewear.static import solve_contact
 
 COARSE = 6e-3  # m: a coarse brake, a second to build and assemble

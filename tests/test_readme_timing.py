@@ -33,7 +33,9 @@ def test_the_docs_hold_the_markers_the_script_writes_between():
 
 def test_a_pass_idle_and_busy_writes_both_tables(tmp_path):
     readme, perf = tmp_path / "README.md", tmp_path / "performance.md"
-    readme.write_text("intro\n<!-- readme-timing:start -->\nold\n<!-- readme-timing:end -->\ntail\n")
+    readme.write_text(
+        "intro\n<!-- readme-timing:start -->\nold\n<!-- readme-timing:end -->\ntail\n"
+    )
     perf.write_text("<!-- readme-timing-detail:start -->\n<!-- readme-timing-detail:end -->\n")
     data = tmp_path / "timing.json"
     rec = timing.main(loads=("idle", "busy"), lines=_quick(), work=tmp_path / "w",

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import skfem as fem
 
-from brakewear.geometry import load_geometry
 from brakewear.caliper.geometry import HatGeometry, VentGeometry
+from brakewear.geometry import load_geometry
 from brakewear.mesh import rotor_mesh
 from brakewear.mesh.rotor import full_rotor_mesh, rotor_volume, vane_edges
 from brakewear.mesh.topology import ensure_topology

@@ -5,8 +5,14 @@ import pytest
 
 from brakewear import analytic as an
 from brakewear.errors import RoughnessError
-from brakewear.rough import (FoundationBed, HalfSpace, contact_stiffness, hertz_calibrated_bed,
-                             self_affine, solve_normal)
+from brakewear.rough import (
+    FoundationBed,
+    HalfSpace,
+    contact_stiffness,
+    hertz_calibrated_bed,
+    self_affine,
+    solve_normal,
+)
 from studyload import load_study
 
 R, ES, NU = 0.01, 1e9, 0.3

@@ -30,7 +30,7 @@ def test_pixel_kernel_is_the_integral_over_the_pixel(direction):
         total = 0.0
         for x0, x1 in zip(xs[:-1], xs[1:]):
             for y0, y1 in zip(ys[:-1], ys[1:]):
-                total += integrate.dblquad(lambda t, s: f(x - s, y - t), x0, x1, y0, y1,
+                total += integrate.dblquad(lambda t, s, x=x, y=y: f(x - s, y - t), x0, x1, y0, y1,
                                            epsabs=1e-12, epsrel=1e-10)[0]
         K = pixel_kernel(x, y, (dx, dy), Es, nu, direction)
         assert K == pytest.approx(total / (np.pi * Es), rel=1e-7), (x, y)

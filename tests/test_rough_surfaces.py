@@ -3,8 +3,16 @@ import numpy as np
 import pytest
 
 from brakewear.errors import InputError, RoughnessError
-from brakewear.rough import (Topography, hurst_fit, radial_psd, read_topography, rms_height,
-                             rms_slope, self_affine, self_affine_psd)
+from brakewear.rough import (
+    Topography,
+    hurst_fit,
+    radial_psd,
+    read_topography,
+    rms_height,
+    rms_slope,
+    self_affine,
+    self_affine_psd,
+)
 
 L = 1e-3
 
@@ -119,7 +127,8 @@ def test_reader_round_trips(tmp_path):
     ("1 2 3 4\n" * 4, {"pixel_size": -1.0}, "pixel_size"),
     ("1 2 3 4\n" * 4, {"pixel_size": 1.0, "unit": "inch"}, "unit"),
     ("1 2\n3 4\n", {"pixel_size": 1.0}, "at least 4 x 4"),
-    ("1 2 3 nan\n" + "1 2 3 4\n" * 3, {"pixel_size": 1.0}, "non-finite.*row 0, column 3")])
+    ("1 2 3 nan\n" + "1 2 3 4\n" * 3, {"pixel_size": 1.0},
+     r"non-finite.*row 1, column 4 \(counting from 1\)")])
 def test_reader_refuses_bad_files_naming_the_place(tmp_path, content, kw, match):
     f = tmp_path / "h.txt"
     f.write_text(content)

@@ -7,10 +7,11 @@ import pytest
 
 from brakewear import MATERIALS, Numerics, WearError, WearLaw
 from brakewear.cleaning.corrosion import CorrodedRotor
-from brakewear.duty import Drag, run_schedule
 from brakewear.cleaning.rust import RUST_PRIORS, RustedRotorLaw, RustLaw, RustLayer
-from brakewear.cleaning.rust_fit import (calibrate, predict_record, read_dyno_record, synthetic_record,
-                                write_dyno_record)
+from brakewear.cleaning.rust_fit import (calibrate, predict_record, read_dyno_record,
+                                         synthetic_record, write_dyno_record)
+from brakewear.duty import Drag, run_schedule
+from brakewear.errors import IdentifiabilityError
 from brakewear.wear import Run
 
 K_IRON = MATERIALS["grey_cast_iron"].wear_k
@@ -179,13 +180,136 @@ def test_a_record_without_removal_holds_the_thickness(tmp_path):
                                                            rec.friction, None), "test")
     back = read_dyno_record(path)
     assert back.removed is None and back.friction == pytest.approx(rec.friction, abs=1e-5)
-    with pytest.raises(WearError, match="does not identify k_rust, threshold"):
+    with pytest.raises(IdentifiabilityError, match="does not identify threshold: a record "
+                       "without the oxide removed") as e:
         calibrate(back, SHARE, fixed={"thickness": 25e-6})
+    assert set(e.value.parameters) == {"threshold"}
     cal = calibrate(back, SHARE, fit=("k_rust", "mu_factor", "mu_iron"),
                     fixed={"thickness": 25e-6, "threshold": 0.06e6})
     assert "thickness" not in cal.values and cal.fixed["thickness"] == 25e-6
     assert cal.interval_95["k_rust"][0] < 1.2e-12 < cal.interval_95["k_rust"][1]
     assert cal.law().thickness == 25e-6
+
+
+def _study():
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
+    import rust_calibration
+
+    return rust_calibration
+
+
+def test_intervals_cover_and_degenerate_records_are_refused():
+    """240 seeded synthetic records (studies/rust_calibration.py, ``coverage``): the
+    ordinary ones are all fitted and their 95 % intervals hold the known values in
+    93-97 % of the cases over all parameters (binomial: about 2 standard deviations
+    either side of 95 % for 720 intervals) and in at least 90 % for each; every
+    record of a degenerate kind is refused, naming exactly the parameters it does
+    not constrain."""
+    rc = _study()
+    table = rc.coverage({"ordinary": 120, "removal_only": 40, "below": 20, "lasting": 20,
+                         "friction_only": 20, "one_pressure": 20}, seed=7)
+    held = fitted = 0
+    for kind in ("ordinary", "removal_only"):
+        row = table[kind]
+        assert row["accepted"] == row["records"], (kind, row["refused"])
+        for k, n in row["fitted"].items():
+            held, fitted = held + row["covered"][k], fitted + n
+    assert 0.93 <= held / fitted <= 0.97, (held, fitted)
+    for k in ("k_rust", "threshold", "thickness", "mu_factor", "mu_iron"):
+        n = sum(table[kind]["fitted"].get(k, 0) for kind in ("ordinary", "removal_only"))
+        c = sum(table[kind]["covered"].get(k, 0) for kind in ("ordinary", "removal_only"))
+        assert c >= 0.90 * n, (k, c, n)
+    for kind, names in rc.REFUSE.items():
+        row = table[kind]
+        assert row["accepted"] == 0 and row["refused"] == {", ".join(sorted(names)): 20}, \
+            (kind, row)
+
+
+@pytest.mark.slow
+def test_intervals_cover_at_their_stated_rate_over_800_records():
+    """800 ordinary records: each parameter's intervals hold the known value in 92-97.5 %
+    of the fitted ones, and all of them together in 93.5-96.5 % (measured: 92.4 %
+    for mu_factor, 93.7-94.9 % for the others, 93.8 % together: the Laplace intervals
+    run a little short, most for the friction split)."""
+    row = _study().coverage({"ordinary": 800}, seed=200_000)["ordinary"]
+    # a record whose run-out is barely visible is refused for it (measured: 1 of 800,
+    # 1.8 um stops with 0.4 um noise and friction 1.7 % higher on rust)
+    assert row["accepted"] >= 0.99 * 800, row["refused"]
+    for k, n in row["fitted"].items():
+        assert 0.92 <= row["covered"][k] / n <= 0.975, (k, row["covered"][k], n)
+    pooled = sum(row["covered"].values()) / sum(row["fitted"].values())
+    assert 0.935 <= pooled <= 0.965, pooled
+
+
+def test_the_refusals_name_the_parameter_and_why():
+    rc = _study()
+    _, below, share = rc.draw_record("below", 3)
+    with pytest.raises(IdentifiabilityError, match=r"k_rust: no stop removed oxide measurably "
+                       r"\(the fit gains chi-square [-\d.e]+ over nothing removed, [\d.]+ "
+                       r"needed\)") as e:
+        calibrate(below, share)
+    assert "above the record's highest pressure" in e.value.parameters["threshold"]
+    assert e.value.exit_code == 2
+    _, lasting, share = rc.draw_record("lasting", 4)
+    with pytest.raises(IdentifiabilityError) as e:
+        calibrate(lasting, share)
+    assert set(e.value.parameters) == {"thickness", "mu_factor", "mu_iron"}
+    assert "not seen to wear through" in e.value.parameters["thickness"]
+    assert "bound it from below only" in e.value.parameters["thickness"]
+    assert "never split between rust and iron" in e.value.parameters["mu_factor"]
+    # holding what it cannot see, the lasting record still gives the removal law
+    cal = calibrate(lasting, share, fit=("k_rust", "threshold"), fixed={"thickness": 1e-3})
+    assert set(cal.names) == {"k_rust", "threshold"}
+    _, one, share = rc.draw_record("one_pressure", 5)
+    with pytest.raises(IdentifiabilityError, match=r"oxide is removed at [\d.]+ MPa only"):
+        calibrate(one, share)
+
+
+def test_a_run_out_at_the_end_of_a_stop_is_fitted_with_finite_intervals():
+    """The layer wears through exactly as a stop ends: the fit may stop on the kink of
+    the run-out, where one side's derivative of the removal with the thickness is
+    zero; the curvature of both sides gives the thickness a finite interval."""
+    p, s = _design()
+    d = 1.2e-12 * (p - 0.06e6) * s * SHARE
+    law = RustLaw(thickness=float(np.cumsum(d)[13]), k_rust=1.2e-12, threshold=0.06e6,
+                  mu_factor=1.15)
+    for seed in range(5):
+        cal = calibrate(synthetic_record(law, 0.40, p, s, SHARE, seed=seed), SHARE)
+        lo, hi = cal.interval_95["thickness"]
+        assert 0 < lo < cal.values["thickness"] < hi < 2 * cal.values["thickness"], (lo, hi)
+
+
+def test_the_record_model_derivatives_match_differences_and_its_sides_on_a_kink():
+    from brakewear.cleaning.rust_model import COORDINATES, LOG, record_model
+
+    p, s = _design()
+    P = dict(TRUTH, thickness=25.3e-6)
+    mu, rem, J_mu, J_rem = record_model(P, p, s, SHARE, jac=True)
+    for i, c in enumerate(COORDINATES):
+        e = 1e-6
+        Q = dict(P, **{c: P[c] * np.exp(e) if c in LOG else P[c] + e * P[c]})
+        m2, r2 = record_model(Q, p, s, SHARE)
+        step = e if c in LOG else e * P[c]
+        for J, a, b in ((J_mu, m2, mu), (J_rem, r2, rem)):
+            assert np.abs((a - b) / step - J[:, i]).max() <= 1e-5 * np.abs(J[:, i]).max() + \
+                1e-30, c
+    # on the kink h = C_13 the two sides put the thickness's derivative in stop 13 or 14
+    d = 1.2e-12 * (p - 0.06e6) * s * SHARE
+    K = dict(TRUTH, thickness=float(np.cumsum(d)[13]))
+    lo = record_model(K, p, s, SHARE, (-1, 0), jac=True)[3][:, 2]
+    hi = record_model(K, p, s, SHARE, (1, 0), jac=True)[3][:, 2]
+    assert np.flatnonzero(lo).tolist() == [13] and np.flatnonzero(hi).tolist() == [14]
+
+
+def test_a_threshold_interval_stays_at_or_above_zero():
+    law = RustLaw(thickness=25e-6, k_rust=1.2e-12, threshold=2e3, mu_factor=1.15)
+    p, s = _design()
+    lows = [calibrate(synthetic_record(law, 0.4, p, s, SHARE, seed=k), SHARE
+                      ).interval_95["threshold"][0] for k in range(5)]
+    assert min(lows) >= 0.0, lows
 
 
 def test_forward_model_removes_the_layer_and_no_more():

@@ -2,9 +2,8 @@
 import numpy as np
 import pytest
 
-from brakewear.errors import GeometryError
+from brakewear.errors import GeometryError, SceneError
 from brakewear.model import BrakeModel
-from brakewear.errors import SceneError
 from brakewear.static import solve_tied, static_summary
 
 

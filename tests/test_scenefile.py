@@ -8,14 +8,23 @@ import sys
 import numpy as np
 import pytest
 
-from brakewear.errors import GeometryError
+from brakewear.errors import GeometryError, SceneError
 from brakewear.geometry import geometry_file
 from brakewear.mesh import pad_mesh, piston_mesh, rotor_mesh
 from brakewear.output.runs import run_scene
-from brakewear.scene import SURFACES, InterfaceSpec, OutputSpec, Scene, WearSpec, available_scenes, load_scene, scene_file, scene_from_dict
+from brakewear.scene import (
+    SURFACES,
+    InterfaceSpec,
+    OutputSpec,
+    Scene,
+    ThermalSpec,
+    WearSpec,
+    available_scenes,
+    load_scene,
+    scene_file,
+    scene_from_dict,
+)
 from brakewear.wear import Numerics
-from brakewear.errors import SceneError
-from brakewear.scene import ThermalSpec
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -285,7 +294,9 @@ def test_thermal_and_winkler_scenes_run(tmp_path):
     small = dict(geometry=s.geometry, mesh_size=1.2e-2, duration=20.0,
                  numerics=Numerics(steps=2, scheme="implicit"))
     small["output"] = OutputSpec(figures=False)
-    a = run_scene(Scene(**small, thermal=ThermalSpec(enabled=True, contact_conductance=1e5)), tmp_path / "t")
+    a = run_scene(
+        Scene(**small, thermal=ThermalSpec(enabled=True, contact_conductance=1e5)), tmp_path / "t"
+    )
     assert a["steps"] == 2 and a["final"]["pressure_max_Pa"] > 0
     b = run_scene(Scene(**small, interface=InterfaceSpec(model="winkler")), tmp_path / "w")
     assert b["steps"] == 2
@@ -398,6 +409,7 @@ def test_a_face_beyond_T_max_ends_the_run_with_its_figures(tmp_path):
     assert ok["steps"] == 2
     # the temperatures are in the history, the summary and both VTU series
     import csv
+
     import meshio
     rows = list(csv.DictReader(open(tmp_path / "ok" / "history.csv")))
     hot = [float(r["pad_T_max_C"]) for r in rows]

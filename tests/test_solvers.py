@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from brakewear.errors import ConvergenceError
 from brakewear.fem import apply_dirichlet, assemble_pressure, assemble_stiffness, boundary_dofs
 from brakewear.materials import get_material
 from brakewear.mesh import annulus_mesh
-from brakewear.errors import ConvergenceError
 from brakewear.solvers import amg_solver, direct_solve, rigid_body_modes
 
 
@@ -77,11 +77,13 @@ def test_rigid_body_modes_zero_fixed_rows():
 
 def test_solves_are_repeatable_and_leave_the_global_rng_alone(ring):
     m, K, Kd, fd, fixed = ring
-    np.random.seed(7)
-    expected_next = np.random.rand()
-    np.random.seed(7)
+    # the global generator itself is what is checked
+    np.random.seed(7)  # noqa: NPY002
+    expected_next = np.random.rand()  # noqa: NPY002
+    np.random.seed(7)  # noqa: NPY002
     u1 = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8).solve(fd)
-    assert np.random.rand() == expected_next, "the build consumed the caller's random numbers"
+    drawn = np.random.rand()  # noqa: NPY002
+    assert drawn == expected_next, "the build consumed the caller's random numbers"
     u2 = amg_solver(Kd, coords=m.p, fixed=fixed, tol=1e-8).solve(fd)
     assert np.array_equal(u1, u2), "two identical solves differ"
 
@@ -349,6 +351,7 @@ def test_backward_sweep_over_the_reversed_copy_is_pyamgs_backward_sweep():
     also for an unsymmetric matrix with unsorted column indices; the copy is made after
     _COPY_AFTER sweeps of the same matrix, kept for it and remade for another."""
     from pyamg.relaxation.relaxation import gauss_seidel
+
     from brakewear.solvers.cycle import _COPY_AFTER, _BackwardSweeps
 
     rng = np.random.default_rng(5)

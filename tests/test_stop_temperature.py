@@ -14,7 +14,6 @@ import pytest
 
 from brakewear import analytic as an
 from brakewear.materials import MATERIALS
-
 from studyload import load_study
 
 st = load_study("stop_temperature")

@@ -4,6 +4,7 @@ element inverts before the friction layer is worn through."""
 import json
 
 import pytest
+
 from studyload import load_study
 
 study = load_study("motion_quality")
@@ -27,7 +28,9 @@ def test_motion_study_runs_and_its_numbers_hold(tmp_path):
     uniform = {r["fraction"]: r["min_quality"] for r in res["quality"] if not r["taper"]}
     # uniform wear compresses the band evenly: quality scales with the band's height
     assert uniform[0.9] < 0.5 * uniform[0.0]
-    assert json.loads((tmp_path / "data" / "motion_cost.json").read_text())[0]["dofs"] == row["dofs"]
+    assert (
+        json.loads((tmp_path / "data" / "motion_cost.json").read_text())[0]["dofs"] == row["dofs"]
+    )
     lines = (tmp_path / "data" / "motion_quality.csv").read_text().splitlines()
     assert len(lines) == 1 + 6
     assert (tmp_path / "figures" / "motion_pad_section.png").stat().st_size > 10_000

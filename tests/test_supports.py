@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from brakewear.caliper.geometry import SupportGeometry
 from brakewear.contact import (
     ContactPair,
     compliant_preconditioner,
@@ -20,7 +21,6 @@ from brakewear.contact.supports import (
     with_supports,
 )
 from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
-from brakewear.caliper.geometry import SupportGeometry
 from brakewear.materials import Isotropic
 from brakewear.mesh import mapped_mesh, structured_tets
 from brakewear.model import BrakeModel

@@ -17,14 +17,26 @@ import skfem as fem
 from brakewear import analytic as an
 from brakewear import static
 from brakewear.contact import solve_contact
-from brakewear.fem import apply_dirichlet, assemble_stiffness, boundary_dofs, thermal_strain_form
+from brakewear.errors import ThermalError
+from brakewear.fem import (
+    HeatConduction,
+    apply_dirichlet,
+    assemble_stiffness,
+    boundary_dofs,
+    thermal_strain_form,
+)
+from brakewear.laws.base import FrictionLaw
 from brakewear.materials import MATERIALS
 from brakewear.model import BrakeModel
 from brakewear.solvers import direct_solve
-from brakewear.laws.base import FrictionLaw
-from brakewear.fem import HeatConduction
-from brakewear.errors import ThermalError
-from brakewear.thermal import ThermalModel, heat_flux, partition_effusivity, staggered_amplification, thermal_load_matrix, thermal_stress
+from brakewear.thermal import (
+    ThermalModel,
+    heat_flux,
+    partition_effusivity,
+    staggered_amplification,
+    thermal_load_matrix,
+    thermal_stress,
+)
 
 PAD = MATERIALS["pad_resin"]
 

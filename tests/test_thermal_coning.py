@@ -1,5 +1,6 @@
-"""Thermal coning (studies/thermal_coning.py): the free plate's stress-free dish, the hat
-rotor's cone against the axisymmetric model and the closed forms, on small settings."""
+"""Thermal coning (brakewear.thermal.hat_cone, studies/thermal_coning.py): the closed forms,
+the free plate's stress-free dish, the hat rotor's cone against the axisymmetric model and
+the closed forms, on small settings."""
 from __future__ import annotations
 
 import json
@@ -10,18 +11,19 @@ import skfem as fem
 
 from brakewear.geometry import load_geometry
 from brakewear.mesh import rotor_mesh
-from brakewear.thermal.strain import thermal_load_matrix
+from brakewear.thermal import hat_cone as hc
+from brakewear.thermal.strain import thermal_load, thermal_load_matrix
 from studyload import load_study
 
 tc = load_study("thermal_coning")
 
 
 def test_shell_edge_stiffness_long_shell_is_the_semi_infinite_one():
-    beta, D = tc.shell_constants(110e9, 0.27, 0.087, 0.006)
-    k_inf = tc.shell_edge_stiffness(beta, D)
-    k_long = tc.shell_edge_stiffness(beta, D, 12.0 / beta)
+    beta, D = hc.shell_constants(110e9, 0.27, 0.087, 0.006)
+    k_inf = hc.shell_edge_stiffness(beta, D)
+    k_long = hc.shell_edge_stiffness(beta, D, 12.0 / beta)
     assert np.allclose(k_long, k_inf, rtol=1e-4), (k_long, k_inf)
-    k_short = tc.shell_edge_stiffness(beta, D, 2.0 / beta)
+    k_short = hc.shell_edge_stiffness(beta, D, 2.0 / beta)
     assert np.allclose(k_short, k_short.T, rtol=1e-10)
     assert np.all(np.linalg.eigvalsh(k_short) > 0)
     # a clamped far end stiffens a short shell
@@ -31,9 +33,9 @@ def test_shell_edge_stiffness_long_shell_is_the_semi_infinite_one():
 def test_annulus_edge_narrow_ring_limit():
     """A narrow annulus stores only hoop strain: s -> ln(a/b) / b."""
     b, nu = 0.1, 0.27
-    err = [abs(tc.annulus_edge(b, b + w, nu) * b / np.log((b + w) / b) - 1) for w in (1e-2, 1e-3)]
+    err = [abs(hc.annulus_edge(b, b + w, nu) * b / np.log((b + w) / b) - 1) for w in (1e-2, 1e-3)]
     assert err[0] < 0.5 * 1e-2 / b and err[1] < 0.12 * err[0], err  # first order in the width
-    s, slope, rise = tc.annulus_edge(b, 0.15, nu, np.array([b, 0.15]))
+    s, slope, rise = hc.annulus_edge(b, 0.15, nu, np.array([b, 0.15]))
     assert slope[0] == pytest.approx(1.0) and rise[0] == 0.0 and 0 < slope[1] < 1
 
 
@@ -43,7 +45,7 @@ def test_thermal_load_reuses_the_library_matrix():
     T = np.random.default_rng(0).uniform(0, 100, m.nvertices)
     mat = g.rotor.material
     ref = thermal_load_matrix(m, mat) @ T
-    assert np.allclose(tc.thermal_load(m, mat, T), ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+    assert np.allclose(thermal_load(m, mat, T), ref, rtol=0, atol=1e-12 * np.abs(ref).max())
 
 
 @pytest.fixture(scope="module")
@@ -89,10 +91,34 @@ def test_results_written(study):
 
 def test_axisymmetric_model_converges():
     g = tc.hat_geometry()
-    cones = [tc.axisymmetric_cone(g, 100.0, h)["cone"] for h in (0.004, 0.002, 0.001)]
+    cones = [hc.axisymmetric_cone(g, 100.0, h)["cone"] for h in (0.004, 0.002, 0.001)]
     d1, d2 = abs(cones[1] - cones[0]), abs(cones[2] - cones[1])
     assert d2 < 0.7 * d1 and d2 < 0.01 * abs(cones[2]), cones
     # the section is clamped on the bolt-circle annulus only
-    m = tc.section_mesh(g, 0.002)
+    m = hc.section_mesh(g, 0.002)
     clamp = fem.FacetBasis(m, fem.ElementTriP1(), facets=m.boundaries["clamp"]).dx.sum()
     assert clamp == pytest.approx(g.rotor.hat.bolt_circle_radius - g.rotor.hat.bore_radius)
+
+
+def test_the_docstring_examples_run():
+    import doctest
+
+    res = doctest.testmod(hc)
+    assert res.attempted >= 1 and res.failed == 0
+
+
+def test_a_heated_subdomain_load_is_self_equilibrated_and_refuses_an_unknown_one():
+    from brakewear.errors import ThermalError
+    from brakewear.model import BrakeModel
+    from brakewear.thermal.strain import heated_subdomain_load
+
+    model = BrakeModel("floating", size=12e-3, layout="full")
+    f = heated_subdomain_load(model, "rotor", "ring", 100.0).reshape(-1, 3)
+    # a free thermal strain loads nothing as a whole: each direction sums to zero
+    assert np.abs(f.sum(axis=0)).max() < 1e-9 * np.abs(f).sum()
+    off, n = model.offsets["rotor"], model.meshes["rotor"].nvertices
+    assert np.abs(f[off:off + n]).sum() > 0 and not np.delete(f, np.s_[off:off + n], 0).any()
+    with pytest.raises(ThermalError, match="no subdomain 'hub'"):
+        heated_subdomain_load(model, "rotor", "hub", 100.0)
+    with pytest.raises(ThermalError, match="materials"):
+        heated_subdomain_load(model, "pad", "friction_layer", 100.0)

@@ -5,8 +5,7 @@ import pytest
 from brakewear.laws.base import WearLaw
 from brakewear.model import BrakeModel
 from brakewear.thermal import H_CONTACT_DEFAULT, ThermalModel
-from brakewear.wear import Numerics, wear_history
-from brakewear.wear import Run
+from brakewear.wear import Numerics, Run, wear_history
 
 
 @pytest.fixture(scope="module")
@@ -32,7 +31,21 @@ def test_default_drag_faces_lie_between_the_bulk_rise_and_the_fade_range(model):
     300-450 C over which the phenolic binder of resin-bonded pads decomposes
     (docs/references.md, Wear)."""
     th = ThermalModel(model)
-    steps = list(wear_history(Run(model, 1e6, 55.0, 90.0, WearLaw(5e-15), WearLaw(5e-16), mu=0.4, thermal=th, numerics=Numerics(steps=15))))
+    steps = list(
+        wear_history(
+            Run(
+                model,
+                1e6,
+                55.0,
+                90.0,
+                WearLaw(5e-15),
+                WearLaw(5e-16),
+                mu=0.4,
+                thermal=th,
+                numerics=Numerics(steps=15),
+            )
+        )
+    )
     T0 = th.T_ambient
     stored = sum(float((th.heat[b].M @ (th.T[b] - T0)).sum()) for b in th.bodies)
     mc = sum(float(th.heat[b].M.sum()) for b in th.bodies)
@@ -49,7 +62,19 @@ def test_the_fixed_partition_trips_the_bound_naming_the_key(model):
     th = ThermalModel(model, partition="effusivity", contact_conductance=0.0)
     with pytest.raises(TemperatureLimitError,
                        match=r"contact_conductance 0 .* give thermal.contact_conductance > 0"):
-        for _ in wear_history(Run(model, 1e6, 55.0, 90.0, WearLaw(5e-15), WearLaw(5e-16), mu=0.4, thermal=th, numerics=Numerics(steps=15))):
+        for _ in wear_history(
+            Run(
+                model,
+                1e6,
+                55.0,
+                90.0,
+                WearLaw(5e-15),
+                WearLaw(5e-16),
+                mu=0.4,
+                thermal=th,
+                numerics=Numerics(steps=15),
+            )
+        ):
             pass
 
 
@@ -62,7 +87,19 @@ def test_a_rigid_rotor_drag_localises_and_is_refused_with_its_figures():
     with pytest.raises(TemperatureLimitError,
                        match=r"now \d of \d+ pad nodes.*thermoelastic localisation.*"
                              r"components.rotor = 'elastic'"):
-        for _ in wear_history(Run(m, 1e6, 55.0, 30.0, WearLaw(5e-15), None, mu=0.4, thermal=ThermalModel(m), numerics=Numerics(steps=10))):
+        for _ in wear_history(
+            Run(
+                m,
+                1e6,
+                55.0,
+                30.0,
+                WearLaw(5e-15),
+                None,
+                mu=0.4,
+                thermal=ThermalModel(m),
+                numerics=Numerics(steps=10),
+            )
+        ):
             pass
 
 

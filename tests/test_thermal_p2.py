@@ -16,8 +16,7 @@ from brakewear.geometry import load_geometry
 from brakewear.interfaces import FEInterface
 from brakewear.model import BrakeModel
 from brakewear.thermal import QuadraticThermal, ThermalModel, vertex_interpolation
-from brakewear.wear import wear_history
-from brakewear.wear import Run
+from brakewear.wear import Run, wear_history
 
 SIZE = 9e-3
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
@@ -88,7 +87,20 @@ def test_a_thermal_wear_run_on_p2_agrees_with_p1(models):
     for order, m in models.items():
         th = ThermalModel(m)
         itf = FEInterface(m, 1e6, 0.4)
-        for s in wear_history(Run(m, 1e6, 55.0, 60.0, PAD, ROTOR, 0.4, interface=itf, thermal=th, numerics=Numerics(scheme="implicit", update="gap", steps=6))):
+        for s in wear_history(
+            Run(
+                m,
+                1e6,
+                55.0,
+                60.0,
+                PAD,
+                ROTOR,
+                0.4,
+                interface=itf,
+                thermal=th,
+                numerics=Numerics(scheme="implicit", update="gap", steps=6),
+            )
+        ):
             assert s.heat_balance_error < 1e-10
         T0 = th.T_ambient
         rise[order] = np.array([s.pad_temperature_max - T0, s.rotor_temperature_max - T0])

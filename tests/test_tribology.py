@@ -16,8 +16,14 @@ from brakewear.cli import main
 from brakewear.errors import SceneError, StepSizeError
 from brakewear.scene import load_scene
 from brakewear.scene.reader import available_scenes, scene_dir, scene_file
-from brakewear.tribology import (CycleResult, JumpControl, TribometerScene, cycle_jumps,
-                                 run_tribometer, tribometer_kinds)
+from brakewear.tribology import (
+    CycleResult,
+    JumpControl,
+    TribometerScene,
+    cycle_jumps,
+    run_tribometer,
+    tribometer_kinds,
+)
 
 SCENES = ("mccoll_fretting", "cruzado_block_on_ring", "pin_on_disc_cap")
 

@@ -6,8 +6,16 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from brakewear import DutyError, Numerics, WearLaw
-from brakewear.duty import (KMH, Stop, Vehicle, packaged_cycle, read_speed_trace,
-                            replay_cycle, run_schedule, study_car)
+from brakewear.duty import (
+    KMH,
+    Stop,
+    Vehicle,
+    packaged_cycle,
+    read_speed_trace,
+    replay_cycle,
+    run_schedule,
+    study_car,
+)
 from brakewear.duty.vehicle import G
 from brakewear.wear import Run
 
@@ -184,9 +192,22 @@ def test_schedule_energy_closes_with_road_load_and_regeneration():
     car = study_car(regen_share=0.5)
     model = BrakeModel("default", size=12e-3, rotor="rigid")
     sched = [Stop(80 * KMH, 30 * KMH, decel=1.5), Stop(60 * KMH, 10 * KMH, line_pressure=1.2e6)]
-    for rec in run_schedule(Run(model, pad_law=WearLaw(1e-20), mu=0.4, schedule=sched, vehicle=car, numerics=Numerics(scheme="implicit", steps=3))):
+    for rec in run_schedule(
+        Run(
+            model,
+            pad_law=WearLaw(1e-20),
+            mu=0.4,
+            schedule=sched,
+            vehicle=car,
+            numerics=Numerics(scheme="implicit", steps=3),
+        )
+    ):
         friction = rec.target_face_J * 2 * car.brakes_per_axle / car.axle_share
-        assert rec.road_J + rec.regenerated_J + friction == pytest.approx(rec.kinetic_J,
-                                                                          rel=1e-10)
+        assert rec.road_net_J + rec.regenerated_J + friction == pytest.approx(rec.kinetic_J,
+                                                                              rel=1e-10)
+        # the record's road_J is Vehicle.stop_energy's (the whole road load)
+        e = car.stop_energy(rec.v0, rec.v1, rec.decel) if sched[rec.index].decel else None
+        assert e is None or (rec.road_J == e["road_J"] and rec.propulsion_J == e["propulsion_J"])
+        assert rec.road_net_J == rec.road_J - rec.propulsion_J
         assert abs(rec.torque_drift) < 1e-8
         assert rec.road_J > 0 and rec.regenerated_J > 0

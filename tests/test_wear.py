@@ -3,12 +3,12 @@ import numpy as np
 import pytest
 
 from brakewear.contact import pair_to_surface
-from brakewear.mesh.surface import surface_nodes, tributary_areas
-from brakewear.geometry import load_geometry
-from brakewear.mesh import pad_mesh, rotor_mesh
 from brakewear.errors import WearError
+from brakewear.geometry import load_geometry
 from brakewear.laws.base import WearLaw
+from brakewear.mesh import pad_mesh, rotor_mesh
 from brakewear.mesh.rings import rotor_rings, rotor_wear_rate
+from brakewear.mesh.surface import surface_nodes, tributary_areas
 
 
 def test_archard_is_k_p_v_and_rhee_exponents():

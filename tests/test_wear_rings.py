@@ -12,14 +12,18 @@ interfaces.
 import numpy as np
 import pytest
 
-from brakewear.interfaces import (CondensedInterface, FEInterface, FoundationInterface,
-                                  StepCompliance, WinklerInterface)
+from brakewear.interfaces import (
+    CondensedInterface,
+    FEInterface,
+    FoundationInterface,
+    StepCompliance,
+    WinklerInterface,
+)
 from brakewear.laws.base import WearLaw
-from brakewear.model import BrakeModel
 from brakewear.mesh.rings import ring_coupling, rotor_wear_rate
-from brakewear.wear import Numerics, wear_history
+from brakewear.model import BrakeModel
+from brakewear.wear import Numerics, Run, wear_history
 from test_wear_steady import stiff_backing_model
-from brakewear.wear import Run
 
 P_LINE, OMEGA, MU = 1e6, 55.0, 0.4
 K_PAD = 5e-13       # 100 x a resin pad's k (only k times the sliding distance sets the shape)
@@ -39,7 +43,21 @@ def rings_bound(itf, k_rot) -> float:
 
 
 def history(model, itf, duration, steps, scheme="implicit"):
-    return list(wear_history(Run(model, P_LINE, OMEGA, duration, WearLaw(K_PAD), WearLaw(K_ROT), MU, interface=itf, numerics=Numerics(scheme=scheme, steps=steps))))
+    return list(
+        wear_history(
+            Run(
+                model,
+                P_LINE,
+                OMEGA,
+                duration,
+                WearLaw(K_PAD),
+                WearLaw(K_ROT),
+                MU,
+                interface=itf,
+                numerics=Numerics(scheme=scheme, steps=steps),
+            )
+        )
+    )
 
 
 @pytest.fixture(scope="module")
@@ -120,7 +138,21 @@ def test_the_step_count_does_not_grow_as_the_mesh_is_refined():
         model = stiff_backing_model(size)
         itf = FEInterface(model, P_LINE, MU)
         for scheme in ("implicit", "implicit_pad"):
-            recs = list(wear_history(Run(model, P_LINE, OMEGA, 6.0, WearLaw(K_PAD), WearLaw(K_ROT), MU, interface=itf, numerics=Numerics(scheme=scheme, dp_tol=0.1))))
+            recs = list(
+                wear_history(
+                    Run(
+                        model,
+                        P_LINE,
+                        OMEGA,
+                        6.0,
+                        WearLaw(K_PAD),
+                        WearLaw(K_ROT),
+                        MU,
+                        interface=itf,
+                        numerics=Numerics(scheme=scheme, dp_tol=0.1),
+                    )
+                )
+            )
             counts[size, scheme] = len(recs)
             if scheme == "implicit":
                 assert not any(r.limit == "rotor_stability" for r in recs)
@@ -202,8 +234,24 @@ def test_the_foundation_solves_its_ring_coupled_step(ratio):
 
 def test_fe_and_condensed_histories_agree_with_implicit_rings(interfaces):
     model, fe, cd = interfaces
-    runs = [list(wear_history(Run(model, P_LINE, OMEGA, 600.0, WearLaw(5e-15), WearLaw(5e-15), MU, interface=itf, numerics=Numerics(dp_tol=0.1))))
-            for itf in (fe, cd)]
+    runs = [
+        list(
+            wear_history(
+                Run(
+                    model,
+                    P_LINE,
+                    OMEGA,
+                    600.0,
+                    WearLaw(5e-15),
+                    WearLaw(5e-15),
+                    MU,
+                    interface=itf,
+                    numerics=Numerics(dp_tol=0.1),
+                )
+            )
+        )
+        for itf in (fe, cd)
+    ]
     assert [s.dt for s in runs[0]] == pytest.approx([s.dt for s in runs[1]], rel=1e-8)
     a, b = runs[0][-1], runs[1][-1]
     assert np.abs(a.pad_wear - b.pad_wear).max() <= 1e-8 * b.pad_wear.max()
@@ -217,9 +265,36 @@ def test_bad_input_is_refused_with_the_alternative(stiff, tmp_path):
 
     model, itf = stiff
     with pytest.raises(WearError, match=r"rotor wear law linear in p .* 'implicit_pad'"):
-        next(wear_history(Run(model, P_LINE, OMEGA, 1.0, WearLaw(K_PAD), WearLaw(K_ROT, a=0.8), MU, interface=itf)))
+        next(
+            wear_history(
+                Run(
+                    model,
+                    P_LINE,
+                    OMEGA,
+                    1.0,
+                    WearLaw(K_PAD),
+                    WearLaw(K_ROT, a=0.8),
+                    MU,
+                    interface=itf,
+                )
+            )
+        )
     # the pad-only scheme takes it (its rings are explicit)
-    next(wear_history(Run(model, P_LINE, OMEGA, 1.0, WearLaw(K_PAD), WearLaw(K_ROT, a=0.8), MU, interface=itf, numerics=Numerics(scheme="implicit_pad", steps=2))))
+    next(
+        wear_history(
+            Run(
+                model,
+                P_LINE,
+                OMEGA,
+                1.0,
+                WearLaw(K_PAD),
+                WearLaw(K_ROT, a=0.8),
+                MU,
+                interface=itf,
+                numerics=Numerics(scheme="implicit_pad", steps=2),
+            )
+        )
+    )
     import dataclasses
     sc = load_scene("default")
     with pytest.raises(SceneError, match=r"wear\.rotor\.a.*implicit_pad"):

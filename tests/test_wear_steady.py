@@ -1,4 +1,4 @@
-"""Uniform-wear steady state (docs/references.md, Wear): a pad on a stiff backing runs in to p r = const.
+"""Uniform-wear steady state (docs/references.md, Wear): a stiff-backed pad runs in to p r = const.
 
 A pad whose backplate is 1000 times stiffer than steel, on a rigid rotor,
 starts flat (first contact, no wear) and wears under constant line pressure
@@ -15,12 +15,10 @@ import pytest
 
 from brakewear.analytic import uniform_wear_torque
 from brakewear.geometry import load_geometry
-from brakewear.model import BrakeModel
 from brakewear.interfaces import FEInterface
-from brakewear.wear import wear_history
 from brakewear.laws.base import WearLaw
-from brakewear.wear import Numerics
-from brakewear.wear import Run
+from brakewear.model import BrakeModel
+from brakewear.wear import Numerics, Run, wear_history
 
 P_LINE, OMEGA, MU = 1e6, 55.0, 0.4
 K_PAD = 5e-13          # 100 x a resin pad's k: the same worn shape in 1/100 of the time
@@ -44,7 +42,19 @@ def end_state(model, scheme):
         return _RUNS[scheme]
     itf = FEInterface(model, P_LINE, MU)
     last = None
-    for last in wear_history(Run(model, P_LINE, OMEGA, DURATION, WearLaw(K_PAD), None, MU, interface=itf, numerics=Numerics(scheme=scheme))):
+    for last in wear_history(  # noqa: B007  (the last step)
+        Run(
+            model,
+            P_LINE,
+            OMEGA,
+            DURATION,
+            WearLaw(K_PAD),
+            None,
+            MU,
+            interface=itf,
+            numerics=Numerics(scheme=scheme),
+        )
+    ):
         pass
     # the pressure at the end of the last step (records hold the start-of-step pressure)
     sol = itf.solve(last.pad_wear, last.active)
@@ -72,7 +82,21 @@ def test_runs_in_to_uniform_wear(model, scheme):
     ref = uniform_wear_torque(F, MU, g.inner_radius, g.outer_radius)
     assert T / ref == pytest.approx(1.0, abs=5e-3), f"{scheme}: torque / mu F (ro+ri)/2 = {T / ref}"
     # the start is far from it: the flat pad's p r varies by more than 100 %
-    first = next(wear_history(Run(model, P_LINE, OMEGA, DURATION, WearLaw(K_PAD), None, MU, interface=itf, numerics=Numerics(scheme="explicit", steps=1000))))
+    first = next(
+        wear_history(
+            Run(
+                model,
+                P_LINE,
+                OMEGA,
+                DURATION,
+                WearLaw(K_PAD),
+                None,
+                MU,
+                interface=itf,
+                numerics=Numerics(scheme="explicit", steps=1000),
+            )
+        )
+    )
     pr0 = (first.pressure * r)[first.active]
     assert (pr0.max() - pr0.min()) / pr0.mean() > 1.0
 

@@ -3,8 +3,15 @@ import importlib.util
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
-from brakewear.wear import Run
+
+from brakewear.errors import StepSizeError, WearError
+from brakewear.interfaces import FEInterface
+from brakewear.laws.base import WearLaw
+from brakewear.mesh.rings import rotor_wear_rate
+from brakewear.model import BrakeModel
+from brakewear.wear import Numerics, Run, wear_history
 
 spec = importlib.util.spec_from_file_location(
     "wear_steps", Path(__file__).parents[1] / "studies" / "wear_steps.py")
@@ -33,23 +40,23 @@ def test_fixed_steps_converge_at_first_order(tmp_path):
 
 # --- the wear_tol step control (local wear error) --------------------------------------
 
-import numpy as np  # noqa: E402
-
-from brakewear.model import BrakeModel
-from brakewear.interfaces import FEInterface
-from brakewear.errors import StepSizeError
-from brakewear.wear import wear_history
-from brakewear.errors import WearError
-from brakewear.laws.base import WearLaw
-from brakewear.mesh.rings import rotor_wear_rate
-from brakewear.wear import Numerics
-
 
 @pytest.mark.parametrize("bad", [0.0, -1e-6, float("nan"), float("inf"), "1e-6", True])
 def test_wear_tol_is_checked_before_any_solve(bad):
     # model=None: the check must come before anything touches the model
     with pytest.raises(WearError, match=r"numerics\.wear_tol: .*(not allowed|expected a number)"):
-        next(wear_history(Run(None, 1e6, 55.0, 100.0, WearLaw(5e-15), numerics=Numerics(scheme="explicit", wear_tol=bad))))
+        next(
+            wear_history(
+                Run(
+                    None,
+                    1e6,
+                    55.0,
+                    100.0,
+                    WearLaw(5e-15),
+                    numerics=Numerics(scheme="explicit", wear_tol=bad),
+                )
+            )
+        )
 
 
 @pytest.fixture(scope="module")
@@ -71,8 +78,22 @@ def test_wear_tol_steps_keep_their_error_estimate(small, scheme, norm):
     pad, rotor = WearLaw(study.K_PAD), WearLaw(5e-16)
     v = study.OMEGA * itf.r
     counts = []
-    for tol in (1e-8, 1e-9):    # m; the run wears about 4 um
-        recs = list(wear_history(Run(model, study.P_LINE, study.OMEGA, T, pad, rotor, study.MU, interface=itf, numerics=Numerics(scheme=scheme, wear_tol=tol, norm=norm))))
+    for tol in (1e-8, 1e-9):  # m; the run wears about 4 um
+        recs = list(
+            wear_history(
+                Run(
+                    model,
+                    study.P_LINE,
+                    study.OMEGA,
+                    T,
+                    pad,
+                    rotor,
+                    study.MU,
+                    interface=itf,
+                    numerics=Numerics(scheme=scheme, wear_tol=tol, norm=norm),
+                )
+            )
+        )
         assert recs[-1].time == pytest.approx(T)
         for r in recs:
             d_rot = (rotor_wear_rate(rotor.rate(r.pressure_end, v) * itf.area, itf.W, itf.ring,
@@ -131,7 +152,21 @@ def test_wear_tol_gives_up_with_its_figures(small):
     model, itf, T = small
     with pytest.raises(StepSizeError, match=r"after 3 retries .*wear error estimate .* > "
                                             r"wear_tol 1\.000e-15 m"):
-        list(wear_history(Run(model, study.P_LINE, study.OMEGA, T, WearLaw(study.K_PAD), None, study.MU, interface=itf, numerics=Numerics(scheme="implicit", wear_tol=1e-15, max_halvings=2))))
+        list(
+            wear_history(
+                Run(
+                    model,
+                    study.P_LINE,
+                    study.OMEGA,
+                    T,
+                    WearLaw(study.K_PAD),
+                    None,
+                    study.MU,
+                    interface=itf,
+                    numerics=Numerics(scheme="implicit", wear_tol=1e-15, max_halvings=2),
+                )
+            )
+        )
 
 
 # --- implicit steps whose wear compliance is negligible are taken explicitly -----------
@@ -142,9 +177,27 @@ def test_implicit_floor_takes_stiff_steps_explicitly(small):
     to round-off; with implicit_floor = 0 the backward-Euler steps differ from it."""
     model, itf, T = small
     args = (model, study.P_LINE, study.OMEGA, T, WearLaw(study.K_PAD), None, study.MU)
-    explicit = list(wear_history(Run(*args, interface=itf, numerics=Numerics(scheme="explicit", steps=8))))
-    floored = list(wear_history(Run(*args, interface=itf, numerics=Numerics(scheme="implicit", steps=8, implicit_floor=1.0))))
-    implicit = list(wear_history(Run(*args, interface=itf, numerics=Numerics(scheme="implicit", steps=8, implicit_floor=0.0))))
+    explicit = list(
+        wear_history(Run(*args, interface=itf, numerics=Numerics(scheme="explicit", steps=8)))
+    )
+    floored = list(
+        wear_history(
+            Run(
+                *args,
+                interface=itf,
+                numerics=Numerics(scheme="implicit", steps=8, implicit_floor=1.0),
+            )
+        )
+    )
+    implicit = list(
+        wear_history(
+            Run(
+                *args,
+                interface=itf,
+                numerics=Numerics(scheme="implicit", steps=8, implicit_floor=0.0),
+            )
+        )
+    )
     h = explicit[-1].pad_wear
     assert all(r.explicit for r in floored) and not any(r.explicit for r in implicit)
     assert np.abs(floored[-1].pad_wear - h).max() <= 1e-9 * h.max()
@@ -172,8 +225,21 @@ def test_fast_rotor_layer_keeps_its_ring_wear_within_its_bound(small):
     v = study.OMEGA * itf.r
 
     def run(stability, dp_tol=1.0):
-        return list(wear_history(Run(model, study.P_LINE, study.OMEGA, 20.0, WearLaw(study.K_PAD), fast, study.MU, interface=itf, numerics=Numerics(scheme="implicit_pad", dp_tol=dp_tol,
-                                                   stability=stability))))
+        return list(
+            wear_history(
+                Run(
+                    model,
+                    study.P_LINE,
+                    study.OMEGA,
+                    20.0,
+                    WearLaw(study.K_PAD),
+                    fast,
+                    study.MU,
+                    interface=itf,
+                    numerics=Numerics(scheme="implicit_pad", dp_tol=dp_tol, stability=stability),
+                )
+            )
+        )
     recs = run(1.0)
     assert any(r.limit == "rotor_stability" for r in recs)
     for r in recs:

@@ -4,6 +4,7 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
@@ -28,7 +29,7 @@ def test_keys_and_files(res):
     for rows in res["per_time"].values():
         assert [r["j"] for r in rows] == list(range(STEPS + 1))
     for st in res["stages"]:
-        for k, pr in st["profiles"].items():
+        for pr in st["profiles"].values():
             assert len(pr["pressure_mean_radius_MPa"]) == len(res["profile_axes"]["theta_deg"])
             assert len(pr["pad_wear_centre_um"]) == len(res["profile_axes"]["centre_radius_m"])
     out = res["_out"]
@@ -46,7 +47,7 @@ def test_force_balance_of_fe_and_winkler(res):
         tol = 1e-8 if k == "fe" else 1e-12
         for r in rows:
             assert abs(r["force_rel_error"]) <= tol, (k, r["j"], r["force_rel_error"])
-    for k, recs in res["records"].items():
+    for recs in res["records"].values():
         assert len(recs) == STEPS + 1
         for s in recs:   # worn volume = Archard integral (same bookkeeping in both loops)
             assert abs(s.pad_volume - s.pad_archard) <= 1e-9 * s.pad_archard
@@ -83,3 +84,15 @@ def test_centre_of_pressure_fe_moves_inward_winkler_stays(res):
         sp = res["speed"][k]
         assert len(sp["retimed_solve_s"]) == STEPS + 1
         assert sp["retimed_median_solve_s"] < res["speed"]["fe_median_solve_s"]
+
+
+def test_pr_spread_is_zero_at_the_run_in_state():
+    from brakewear.wear.records import pr_spread
+
+    r = np.linspace(0.09, 0.14, 7)
+    area = np.linspace(1.0, 2.0, 7)
+    on = np.ones(7, dtype=bool)
+    flat = pr_spread(2e5 / r, r, on, area)
+    assert flat["range_over_mean"] < 1e-12 and flat["cv"] < 1e-12
+    steep = pr_spread(np.full(7, 1e6), r, on, area)
+    assert steep["range_over_mean"] == pytest.approx((0.14 - 0.09) / np.average(r, weights=area))

@@ -7,11 +7,17 @@ import logging
 import os
 import platform
 import sys
-from typing import Sequence
+from collections.abc import Sequence
 
-
-from .contact import (CONTACT_CASES, CONTACT_DIRECT_MAX, CONTACT_SIZES, bench_contact,
-                      format_contact_table, run_contact_case)
+from .contact import (
+    CONTACT_CASES,
+    CONTACT_DIRECT_MAX,
+    CONTACT_SIZES,
+    CONTACT_SUPERLU_MAX,
+    bench_contact,
+    format_contact_table,
+    run_contact_case,
+)
 from .elasticity import DEFAULT_SIZES, bench_elasticity, format_table, run_elasticity_case
 from .rough import ROUGH_SIZES, bench_rough, format_rough_table
 from .wear import INTERFACES, LAYOUTS, WEAR_SIZES, bench_wear, format_wear_table
@@ -121,9 +127,12 @@ def add_bench_parser(subparsers) -> None:
     ``brakewear bench elasticity|contact|wear|rough`` is then run by :func:`run_bench` (also set
     as the ``func`` default of the parsed arguments).
     """
-    e = subparsers.add_parser("elasticity", help="P1 elasticity: assembly, AMG setup and solve, memory",
-                              description="P1 elasticity benchmark: the default rotor ring half, "
-                                          "clamped inside, pad pressure; each size in a fresh process.")
+    e = subparsers.add_parser(
+        "elasticity",
+        help="P1 elasticity: assembly, AMG setup and solve, memory",
+        description="P1 elasticity benchmark: the default rotor ring half, "
+        "clamped inside, pad pressure; each size in a fresh process.",
+    )
     _add_elasticity_args(e)
     e.set_defaults(func=run_bench)
     c = subparsers.add_parser("contact", help="contact solve against one elasticity solve and "
@@ -134,14 +143,17 @@ def add_bench_parser(subparsers) -> None:
     c.add_argument("--json", action="store_true",
                    help="one JSON object per case, size and line instead of a table")
     c.add_argument("--sizes", type=float, nargs="+", default=list(CONTACT_SIZES), metavar="DOFS",
-                   help="target DOF counts (default: 5e4 1.5e5 5e5)")
+                   help="target DOF counts (default: 5e4 1.5e5; add 5e5 for the 500k class)")
     c.add_argument("--cases", nargs="+", default=list(CONTACT_CASES), choices=CONTACT_CASES,
                    help="cases to run (default: hertz brake)")
     c.add_argument("--direct-max", type=float, default=CONTACT_DIRECT_MAX, dest="direct_max",
-                   metavar="DOFS", help="largest model whose KKT system is also factorised "
-                                        "(default 200000: the 150k-class sizes)")
-    c.add_argument("--superlu-max", type=float, default=None, dest="superlu_max", metavar="DOFS",
-                   help="largest model for SuperLU on the KKT system (default: --direct-max)")
+                   metavar="DOFS", help="largest model whose KKT system PARDISO also "
+                                        "factorises, when installed (default 200000: the "
+                                        "150k-class sizes)")
+    c.add_argument("--superlu-max", type=float, default=CONTACT_SUPERLU_MAX, dest="superlu_max",
+                   metavar="DOFS", help="largest model for SuperLU on the KKT system (default "
+                                        "60000: the 50k class; 2e5 adds the 150k class, minutes "
+                                        "each)")
     c.add_argument("--repeats", type=int, default=1,
                    help="fresh processes per case and size; timings are medians (default 1)")
     c.set_defaults(bench="contact", func=run_bench)
@@ -163,8 +175,12 @@ def run_bench(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return 2
     if not args.json:
-        print(f"brakewear bench elasticity: {os.cpu_count()} CPUs, Python {platform.python_version()}, "
-              f"sizes {' '.join(f'{s:.0f}' for s in args.sizes)}", flush=True)
+        print(
+            f"brakewear bench elasticity: {os.cpu_count()} CPUs, "
+            f"Python {platform.python_version()}, "
+            f"sizes {' '.join(f'{s:.0f}' for s in args.sizes)}",
+            flush=True,
+        )
 
     def progress(row):
         if args.json:
@@ -189,9 +205,11 @@ def run_bench(args: argparse.Namespace) -> int:
 
 def _run_contact_bench(args: argparse.Namespace) -> int:
     if not args.json:
-        print(f"brakewear bench contact: {os.cpu_count()} CPUs, Python {platform.python_version()}, "
-              f"cases {' '.join(args.cases)}, sizes {' '.join(f'{s:.0f}' for s in args.sizes)}",
-              flush=True)
+        print(
+            f"brakewear bench contact: {os.cpu_count()} CPUs, Python {platform.python_version()}, "
+            f"cases {' '.join(args.cases)}, sizes {' '.join(f'{s:.0f}' for s in args.sizes)}",
+            flush=True,
+        )
 
     def progress(row):
         if args.json:

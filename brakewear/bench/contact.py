@@ -9,28 +9,42 @@ import statistics
 import subprocess
 import sys
 import time
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
 from ..errors import BenchError
+from ..static import solve_tied
 from .common import fmt, peak_rss_mb
 from .kkt import direct_active_set_row, kkt_solves, kkt_system
-from ..static import solve_tied
 
 logger = logging.getLogger(__name__)
 
 
-__all__ = ['CONTACT_SIZES', 'CONTACT_CASES', 'brake_resolution', 'run_contact_case', 'bench_contact', 'format_contact_table']
+__all__ = [
+    "CONTACT_SIZES",
+    "CONTACT_CASES",
+    "CONTACT_SUPERLU_MAX",
+    "brake_resolution",
+    "run_contact_case",
+    "bench_contact",
+    "format_contact_table",
+]
 
-CONTACT_SIZES = (50e3, 150e3, 500e3)
+#: the default sizes (``--sizes 5e4 1.5e5 5e5`` adds the 500k class, about a minute a case)
+CONTACT_SIZES = (50e3, 150e3)
 
 
 CONTACT_CASES = ("hertz", "brake")
 
 
-#: Largest system whose KKT system is also factorised (SuperLU and PARDISO).
+#: Largest system whose KKT system is also factorised (PARDISO, when installed).
 CONTACT_DIRECT_MAX = 200_000
+
+
+#: Largest system whose KKT system SuperLU factorises by default: at the 150k class its
+#: fill takes minutes (``--superlu-max 2e5`` runs it there too)
+CONTACT_SUPERLU_MAX = 60_000
 
 
 #: Brake case: line pressure (Pa), friction coefficient and contact tolerance.
@@ -52,7 +66,7 @@ _CONTACT_TIME_KEYS = ("assemble_s", "contact_solve_s", "elasticity_solve_s", "di
                       "fixed_set_solve_s", "direct_kkt_pardiso_sym_s", "direct_active_set_s")
 
 
-def brake_resolution(target_dofs: float) -> tuple[float, "object"]:
+def brake_resolution(target_dofs: float) -> tuple[float, object]:
     """Mesh size (m) of the default brake with about ``target_dofs`` DOFs and the model."""
     from ..model import BrakeModel
 
@@ -97,9 +111,6 @@ def _faster_of_two(run):
 
 
 def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> dict:
-    from ..contact.lagrange import solve_contact
-    from ..fem.boundary import apply_dirichlet
-    from ..solvers.amg import amg_solver
     from ..contact.hertz import (
         DELTA,
         GAP_TOL,
@@ -108,6 +119,9 @@ def _run_hertz(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
         hertz_resolution,
         solve_problem,
     )
+    from ..contact.lagrange import solve_contact
+    from ..fem.boundary import apply_dirichlet
+    from ..solvers.amg import amg_solver
 
     row = _contact_row_base("hertz", target)
     ha = hertz_resolution(target)
@@ -259,8 +273,10 @@ def _run_brake(target: float, direct_max_dofs: int, superlu_max_dofs: int) -> di
 
 
 def run_contact_case(case: str, target_dofs: float, direct_max_dofs: int = CONTACT_DIRECT_MAX,
-                     superlu_max_dofs: int | None = None) -> dict:
-    """Build and solve one contact case (``"hertz"`` or ``"brake"``) in this process."""
+                     superlu_max_dofs: int | None = CONTACT_SUPERLU_MAX) -> dict:
+    """Build and solve one contact case (``"hertz"`` or ``"brake"``) in this process;
+    SuperLU factorises the KKT system up to ``superlu_max_dofs`` (None: up to
+    ``direct_max_dofs``, as PARDISO)."""
     superlu_max_dofs = direct_max_dofs if superlu_max_dofs is None else superlu_max_dofs
     if case == "hertz":
         row = _run_hertz(target_dofs, direct_max_dofs, superlu_max_dofs)
@@ -318,7 +334,8 @@ def _median_contact_row(runs: list[dict]) -> dict:
 
 def bench_contact(sizes: Sequence[float] = CONTACT_SIZES, cases: Sequence[str] = CONTACT_CASES,
                   direct_max_dofs: float = CONTACT_DIRECT_MAX, repeats: int = 1,
-                  superlu_max_dofs: float | None = None, progress=None) -> list[dict]:
+                  superlu_max_dofs: float | None = CONTACT_SUPERLU_MAX,
+                  progress=None) -> list[dict]:
     """Run the contact benchmark: one dict per case and size, each in fresh processes
     (medians over ``repeats``).  A case that fails gives a row with ``error``."""
     for case in cases:

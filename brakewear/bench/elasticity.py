@@ -9,7 +9,7 @@ import statistics
 import subprocess
 import sys
 import time
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -18,7 +18,14 @@ from .common import fmt, peak_rss_mb
 logger = logging.getLogger(__name__)
 
 
-__all__ = ['DEFAULT_SIZES', 'ring_resolution', 'run_elasticity_case', 'bench_elasticity', 'fit_exponent', 'format_table']
+__all__ = [
+    "DEFAULT_SIZES",
+    "ring_resolution",
+    "run_elasticity_case",
+    "bench_elasticity",
+    "fit_exponent",
+    "format_table",
+]
 
 DEFAULT_SIZES = (30e3, 100e3, 300e3, 1e6)
 
@@ -144,8 +151,10 @@ def _run_child(target: float, direct_max_dofs: int) -> dict:
            json.dumps({"target": float(target), "direct_max_dofs": int(direct_max_dofs)})]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
-        raise RuntimeError(f"benchmark child for {target:.0f} DOFs failed (exit {proc.returncode}):\n"
-                           f"{proc.stderr.strip()[-2000:]}")
+        raise RuntimeError(
+            f"benchmark child for {target:.0f} DOFs failed (exit {proc.returncode}):\n"
+            f"{proc.stderr.strip()[-2000:]}"
+        )
     lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("{")]
     if not lines:
         raise RuntimeError(f"benchmark child for {target:.0f} DOFs printed no result:\n"
@@ -163,12 +172,16 @@ def fit_exponent(rows: Sequence[dict], key: str = "total_s") -> float | None:
 
 
 def _median_row(runs: list[dict]) -> dict:
-    """One row from repeated runs: medians of the timings and memory, the rest from the first run."""
+    """One row from repeated runs: medians of timings and memory, the rest from the first."""
     row = dict(runs[0])
     for k in _TIME_KEYS + ("peak_rss_mb", "peak_rss_direct_mb", "iterations", "rel_residual"):
         vals = [r[k] for r in runs if r.get(k) is not None]
         if vals:
-            row[k] = float(statistics.median(vals)) if k != "iterations" else int(statistics.median(vals))
+            row[k] = (
+                float(statistics.median(vals))
+                if k != "iterations"
+                else int(statistics.median(vals))
+            )
     row["repeats"] = len(runs)
     if len(runs) > 1:
         row["total_s_runs"] = [r["total_s"] for r in runs]
@@ -217,8 +230,12 @@ def format_table(rows: Sequence[dict]) -> str:
                    f"{fmt(r.get('direct_s'), '8.2f'):>8} {fmt(ratio, '7.1f'):>7} "
                    f"{fmt(r.get('direct_max_diff'), '8.1e'):>8}")
     k = fit_exponent(rows)
-    out.append(f"total time ~ dofs^{k:.2f}" if k is not None else "total time exponent: one size only")
-    out.append("dir/AMG = direct_s / (amg_setup_s + solve_s); max diff = max|u_amg - u_direct| / max|u|")
+    out.append(
+        f"total time ~ dofs^{k:.2f}" if k is not None else "total time exponent: one size only"
+    )
+    out.append(
+        "dir/AMG = direct_s / (amg_setup_s + solve_s); max diff = max|u_amg - u_direct| / max|u|"
+    )
     return "\n".join(out)
 
 

@@ -7,11 +7,17 @@ import time
 
 import numpy as np
 
-
 logger = logging.getLogger(__name__)
 
 
-__all__ = ['kkt_system', 'symmetric_upper', 'kkt_solves', 'direct_active_set', 'direct_active_set_row']
+__all__ = [
+    "kkt_system",
+    "symmetric_upper",
+    "kkt_solves",
+    "direct_active_set",
+    "direct_active_set_row",
+]
+
 
 def kkt_system(K, f, fixed, fixed_values, pair, active):
     """The saddle-point system at a fixed active set, Dirichlet DOFs removed.

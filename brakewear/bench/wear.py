@@ -82,6 +82,18 @@ def _bench_model(target_dofs: float, size: float | None, layout: str):
     return size, BrakeModel(size=size, rotor="elastic", layout=layout)
 
 
+def _plain_solve(itf) -> tuple[float, float]:
+    """Wall and CPU seconds of one plain contact solve from the initial gaps: the
+    faster of two (the first also pays for first-call set-up)."""
+    walls, cpus = [], []
+    for _ in range(2):
+        t1, c1 = time.perf_counter(), time.process_time()
+        itf.solve(np.zeros(itf.area.size), None)
+        walls.append(time.perf_counter() - t1)
+        cpus.append(time.process_time() - c1)
+    return min(walls), min(cpus)
+
+
 def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
                   duration: float = 3600.0, size: float | None = None,
                   interface: str = "fe", layout: str = "half") -> dict:
@@ -112,7 +124,10 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     ``interface``: ``"fe"``, ``"condensed"`` (its condensation timed apart as
     ``interface_s`` and as ``interface_over_contact`` contact solves, in CPU
     time as ``interface_cpu_s`` and ``interface_over_contact_cpu``; its dense
-    ``factorisations`` and Schur ``updates`` counted; gap mode only) or
+    ``factorisations`` and Schur ``updates`` counted; per step, the seconds of
+    its dense active-set solves, ``set_solves_per_step_s``, and of the rest of
+    its solves -- the step's loads, the rings' compliance, the answer --
+    ``loads_per_step_s``; gap mode only) or
     ``"winkler"`` (the elastic foundation).
     """
     from ..interfaces.fe import FEInterface
@@ -128,7 +143,7 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
     g = model.geometry
     pad_law = WearLaw(g.pad.friction_material.wear_k or MATERIALS["pad_resin"].wear_k)
     rotor_law = WearLaw(g.rotor.material.wear_k or MATERIALS["grey_cast_iron"].wear_k)
-    spent = {"assembly": 0.0, "motion": 0.0, "contact": 0.0}
+    spent = {"assembly": 0.0, "motion": 0.0, "contact": 0.0, "sets": 0.0}
     dense = {"factorisations": 0, "updates": 0}
     originals = {}
 
@@ -152,25 +167,24 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
         t0 = time.perf_counter()
         itf = FEInterface(model, 1e6, 0.4)
         build_s = time.perf_counter() - t0
-        # the plain solve twice: the first also pays for first-call set-up
-        walls, cpus = [], []
-        for _ in range(2):
-            t1, c1 = time.perf_counter(), time.process_time()
-            itf.solve(np.zeros(itf.area.size), None)
-            walls.append(time.perf_counter() - t1)
-            cpus.append(time.process_time() - c1)
-        contact_solve_s, contact_solve_cpu = min(walls), min(cpus)
+        contact_solve_s, contact_solve_cpu = _plain_solve(itf)
         spent["contact"] = 0.0
         loop_itf, interface_s, interface_cpu = _loop_interface(interface, model, itf)
         if interface != "fe":
             timed(type(loop_itf), "solve", "contact")
             _count_dense_work(loop_itf, dense)
+        if interface == "condensed":
+            # the dense active-set solves apart from the rest of each solve (its loads)
+            from ..interfaces import condensed
+            timed(condensed, "solve_dense_sets", "sets")
         if update == "geometry":     # the loop builds its own interface (timed as assembly)
             spent["assembly"] = 0.0
         t2, c2 = time.perf_counter(), time.process_time()
         record_s, solves, n = 0.0, 0, 0
-        for s in wear_history(Run(model, 1e6, 55.0, duration, pad_law, rotor_law, 0.4, interface=loop_itf if update == "gap" else None, numerics=Numerics(steps=int(steps), scheme="implicit",
-                                                update=update))):
+        run = Run(model, 1e6, 55.0, duration, pad_law, rotor_law, 0.4,
+                  interface=loop_itf if update == "gap" else None,
+                  numerics=Numerics(steps=int(steps), scheme="implicit", update=update))
+        for s in wear_history(run):
             record_s += s.solve_s
             solves += s.contact_solves
             n += 1
@@ -191,6 +205,8 @@ def run_wear_case(target_dofs: float, steps: int = 200, update: str = "gap",
             "steps": int(n), "contact_solves": int(solves), "duration_s": float(duration),
             "model_s": model_s, "total_s": total_s, "per_step_s": per_step,
             "contact_s": contact_s, "step_solves_s": record_s, "assembly_s": spent["assembly"],
+            "set_solves_per_step_s": spent["sets"] / n,
+            "loads_per_step_s": (contact_s - spent["sets"]) / n if spent["sets"] else None,
             "motion_s": spent["motion"], "contact_share": contact_s / total_s,
             "assembly_share": spent["assembly"] / total_s,
             "motion_share": spent["motion"] / total_s,

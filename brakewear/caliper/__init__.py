@@ -9,10 +9,11 @@
 - :mod:`~brakewear.caliper.rows`: the one-sided rows of a rigid piston, the
   fingers and the abutments, with friction;
 - :mod:`~brakewear.caliper.static`: a static solve of the pads held that way;
-- :mod:`~brakewear.caliper.condensation`, :mod:`~brakewear.caliper.sets` and
+- :mod:`~brakewear.caliper.condensation`, :mod:`~brakewear.caliper.joint`
+  (:mod:`~brakewear.caliper.sets`, the nested reference) and
   :mod:`~brakewear.caliper.interface`: the FE model condensed onto the contact
-  nodes and the rows, solved by nested active sets, as the wear loop's
-  ``"caliper"`` interface model.
+  nodes and the rows, solved by one active-set iteration over both on a kept
+  factorisation, as the wear loop's ``"caliper"`` interface model.
 
 The modules are imported where they are used; this package imports none of
 them itself, so that the geometry files can read the caliper's data without

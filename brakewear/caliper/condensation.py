@@ -18,7 +18,6 @@ blocks of columns) and cached on disk under a key that adds the rows' hash.
 from __future__ import annotations
 
 import logging
-import os
 import time
 from dataclasses import dataclass, field
 
@@ -28,7 +27,8 @@ import scipy.sparse as sp
 from ..contact.compliant import constraint_rows, drag_loads
 from ..errors import SolverError
 from ..interfaces.condensation import (BLOCK, Supported, body_solves, array_hash, cache_dir, condensation_key,
-                         condensation_memory)
+                         condensation_memory, read_cache)
+from ..storage import save_arrays
 
 logger = logging.getLogger(__name__)
 
@@ -77,15 +77,11 @@ def condense_caliper(cs, rows: sp.spmatrix, line_pressure: float, *, cache=None,
     folder = cache_dir(cache)
     path = None if folder is None else folder / f"caliper-{key}.npz"
     if path is not None and path.exists():
-        try:
-            with np.load(path) as z:
-                cond = CaliperCondensation(*(np.array(z[k]) for k in _KEYS), n_c=n_c, key=key,
-                                           info={"cached": str(path), "seconds": 0.0})
-            if cond.H.shape[0] == n_c + rows.shape[0]:
-                logger.info("caliper condensation read from %s", path)
-                return cond
-        except (OSError, ValueError, KeyError) as e:
-            logger.warning("condensation cache %s unreadable (%s); recomputing", path, e)
+        z = read_cache(path, _KEYS, _shapes_agree)
+        if z is not None and z["H"].shape[0] == n_c + rows.shape[0]:
+            logger.info("caliper condensation read from %s", path)
+            return CaliperCondensation(*(z[k] for k in _KEYS), n_c=n_c, key=key,
+                                       info={"cached": str(path), "seconds": 0.0})
     N, n = cs.K.shape[0], n_c + rows.shape[0]
     need = condensation_memory(n, N)
     avail, source = budget(memory_budget)
@@ -99,11 +95,15 @@ def condense_caliper(cs, rows: sp.spmatrix, line_pressure: float, *, cache=None,
     _LAST[key] = cond
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, **{k: getattr(cond, k) for k in _KEYS})
-        os.replace(tmp, path)
+        save_arrays(path, {k: getattr(cond, k) for k in _KEYS})
         cond.info["cached"] = str(path)
     return cond
+
+
+def _shapes_agree(z: dict) -> bool:
+    n, m = z["H"].shape[0], z["zf"].size
+    return (z["H"].shape == (n, n) and z["Ht"].shape[0] == n and z["hf"].shape == (n,)
+            and z["E"].shape == (n, m) and z["Dt"].shape[0] == m)
 
 
 def _compute(cs, rows: sp.csr_matrix, line_pressure: float) -> CaliperCondensation:

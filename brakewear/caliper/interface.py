@@ -24,23 +24,32 @@ import time
 
 import numpy as np
 
-from .rows import caliper_rows
-from .parts import bracket_springs
-from ..contact.supports import support_springs
 from ..checks import fail
-from ..errors import ContactError, WearError
-from .condensation import condense_caliper
-from .sets import RowSets
+from ..contact.supports import support_springs
+from ..errors import ContactError, SolverError, WearError
 from ..interfaces.condensed import CondensedInterface
 from ..interfaces.fe import METHOD, FEInterface
 from ..interfaces.protocol import InterfaceSolution, StepCompliance
-from ..interfaces.registry import InterfaceModel, capabilities_of, register_interface
+from ..interfaces.registry import register_interface
+from .condensation import condense_caliper
+from .joint import JointSets
+from .parts import bracket_springs
+from .rows import caliper_rows
+from .sets import RowSets
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["CaliperInterface"]
 
+#: the solvers of the contact and the rows: one active-set iteration over both (the
+#: default), or a fixed point of the rows' state around the contact's active sets
+SOLVERS = {"joint": JointSets, "nested": RowSets}
+#: the shares of the gap offset and the thermal load a solve that fails from the rows' last
+#: state is taken through, from the flat state
+CONTINUATION = (0.0, 0.25, 0.5, 0.75, 1.0)
 
+
+@register_interface
 class CaliperInterface(CondensedInterface):
     """Contact of the pads held by a rigid piston, fingers and abutments (see the module).
 
@@ -50,12 +59,17 @@ class CaliperInterface(CondensedInterface):
         A :class:`~brakewear.model.BrakeModel` with ``piston = "rigid"``.
     line_pressure, mu, tol, cache, valid_fraction, memory_budget
         As :class:`~brakewear.interfaces.CondensedInterface`.
+    solver
+        ``"joint"`` (default): the contact and the rows in one active-set
+        iteration on a kept factorisation (:class:`~brakewear.caliper.joint.JointSets`);
+        ``"nested"``: a fixed point of the rows' state around the contact's
+        active sets (:class:`~brakewear.caliper.sets.RowSets`), the reference.
 
     Attributes
     ----------
     rows : CaliperRows
         The caliper's rows and rigid parts.
-    sets : RowSets
+    sets : JointSets or RowSets
         The solver; its ``state`` (the rows' last state) starts the next solve.
     """
 
@@ -63,9 +77,34 @@ class CaliperInterface(CondensedInterface):
     accepts_load = True
     #: built on linear meshes (the caliper's rows are node rows of linear faces)
     quadratic = False
+    why_not = {"follows_geometry": "the condensation is of the unmoved meshes",
+               "quadratic": "the caliper's rows are built on linear meshes"}
+    #: a model of its own (the caliper's load path): FE contact's measured convergence
+    #: does not rate it
+    fe_answer = False
+
+    #: ``interface.model = "caliper"`` in a scene, with its keys of ``[interface]``
+    name = "caliper"
+    keys = (METHOD,)
+
+    @classmethod
+    def build(cls, request) -> CaliperInterface:
+        """The interface of a scene's run (:class:`~brakewear.interfaces.BuildRequest`)."""
+        return cls(request.model, request.line_pressure, request.mu, request.numerics.tol,
+                   memory_budget=request.numerics.memory_budget)
+
+    @classmethod
+    def check_scene(cls, scene) -> None:
+        """A scene's caliper needs a rigid piston (``components.piston``)."""
+        _rigid_piston(scene.piston)
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9, *,
-                 cache=None, valid_fraction: float = 0.25, memory_budget: float | None = None):
+                 cache=None, valid_fraction: float = 0.25, memory_budget: float | None = None,
+                 solver: str = "joint"):
+        if solver not in SOLVERS:
+            raise WearError(f"solver = {solver!r} is not allowed; allowed: "
+                            f"{', '.join(map(repr, SOLVERS))}")
+        self.solver = solver
         if getattr(model, "piston", None) != "rigid":
             raise WearError("the caliper interface needs BrakeModel(piston='rigid'); this model "
                             f"has piston = {getattr(model, 'piston', None)!r}")
@@ -95,7 +134,7 @@ class CaliperInterface(CondensedInterface):
 
         self.valid_fraction = float(valid_fraction)
         self.max_offset = self.valid_fraction * surface_element_height(pad, "friction")
-        self.sets = RowSets(self.cond, rows, self.gap_tol, tol)
+        self.sets = SOLVERS[solver](self.cond, rows, self.gap_tol, tol)
         self._thermal = None
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
@@ -114,8 +153,7 @@ class CaliperInterface(CondensedInterface):
         if mu is not None:
             self.set_mu(mu)
         self.sets.mu = self.mu
-        cond, rows, p = self.cond, self.rows, self.line_pressure
-        n_c = cond.n_c
+        cond = self.cond
         dq, dz = (np.zeros(cond.H.shape[0]), 0.0) if load is None else self.thermal_gap(load)
         g = self.g0 + offset
         comp = StepCompliance.of(compliance)
@@ -123,24 +161,47 @@ class CaliperInterface(CondensedInterface):
         if cc is not None and cc.shape != g.shape:
             raise ContactError(f"compliance must be ({g.size},) finite and > 0 m/Pa")
         rings = comp is not None and comp.rings
-        gap_s = rows.g0 + p * (rows.g1 + cond.hf[n_c:]) + dq[n_c:]
-        sol = self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s, p,
-                              cc, active, g,
-                              # the rings' wear over the step: a compliance among the
-                              # contact nodes alone (the caliper's rows do not wear)
-                              ring_H=comp.ring_compliance() if rings else None,
-                              ring_key=(comp.rotor.tobytes() + comp.ring_area.tobytes()
-                                        if rings else b""))
+        if isinstance(self.sets, JointSets):
+            try:
+                sol = self._sets_solve(offset, active, dq, dz, cc, comp)
+            except SolverError as e:
+                # a strongly coned state from the rows' last (or unloaded) state: reach it
+                # from the flat one, the offset and the thermal load in steps
+                logger.info("caliper: %s; solved again from the flat state in steps", e)
+                sol = None
+                for s in CONTINUATION:
+                    sol = self._sets_solve(s * offset, active if sol is None else sol.active,
+                                           s * dq, s * dz, cc, comp)
+        else:
+            sol = self._sets_solve(offset, active, dq, dz, cc, comp)
         pressure = (sol.lam if cc is None else np.maximum(sol.lam, 0.0)) / self.area
         info = {"outer_iterations": sol.outer, "normal_force": float(sol.lam.sum()),
                 "min_gap": sol.min_gap, "time_s": time.perf_counter() - t0,
                 "caliper": {"force": sol.force, "gap": sol.gap, "state": sol.state,
                             "q": sol.q, "alpha": sol.alpha, "lam": sol.lam}}
         if rings:
-            info["ring_depth"] = comp.ring_force_depth() @ sol.lam
+            info["ring_depth"] = comp.ring_depth_of_forces(sol.lam)
         return InterfaceSolution(pressure, sol.active, None, info)
 
-    def at_line_pressure(self, line_pressure: float) -> "CaliperInterface":
+    def _sets_solve(self, offset, active, dq, dz, cc, comp):
+        """The rows' and the contact's solve with ``offset`` and the thermal load's gaps
+        ``dq`` and modes' share ``dz``."""
+        cond, rows, p = self.cond, self.rows, self.line_pressure
+        n_c = cond.n_c
+        g = self.g0 + offset
+        rings = comp is not None and comp.rings
+        gap_s = rows.g0 + p * (rows.g1 + cond.hf[n_c:]) + dq[n_c:]
+        # the rings' wear over the step: a compliance among the contact nodes alone (the
+        # caliper's rows do not wear)
+        if isinstance(self.sets, JointSets):
+            return self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s,
+                                   p, cc, active, g, rings=comp if rings else None)
+        return self.sets.solve(g + p * cond.hf[:n_c] + dq[:n_c], -cond.zf * p - dz, gap_s,
+                               p, cc, active, g,
+                               ring_H=comp.ring_compliance() if rings else None,
+                               ring_key=comp.ring_key if rings else b"")
+
+    def at_line_pressure(self, line_pressure: float) -> CaliperInterface:
         """This interface under another line pressure (Pa): condensation, eliminated
         systems, factorisations and the rows' last state shared."""
         new = copy.copy(self)
@@ -148,7 +209,7 @@ class CaliperInterface(CondensedInterface):
         new.fe = self.fe.at_line_pressure(line_pressure)
         return new
 
-    def with_load_path(self, geometry) -> "CaliperInterface":
+    def with_load_path(self, geometry) -> CaliperInterface:
         """This interface for ``geometry``: the same brake (rotor, pad, piston places,
         fingers, mesh) with other load-path parameters (seal, clearance, friction,
         bridge and bore tilt, stiffnesses) on the same meshes: the rows rebuilt, the
@@ -169,7 +230,7 @@ class CaliperInterface(CondensedInterface):
             raise WearError("with_load_path: the caliper's rows moved; build a new interface")
         new = copy.copy(self)
         new.model, new.rows = model, rows
-        new.sets = RowSets(self.cond, rows, self.gap_tol, self.tol)
+        new.sets = SOLVERS[self.solver](self.cond, rows, self.gap_tol, self.tol)
         return new
 
     def supported(self):
@@ -215,15 +276,3 @@ def _rigid_piston(piston: str) -> None:
                                       f"(BrakeModel(piston='rigid')); components.piston = "
                                       f"{piston!r} builds none: run it from Python "
                                       "(brakewear.Run(model, interface='caliper'))")
-
-
-register_interface(InterfaceModel(
-    "caliper", lambda req: CaliperInterface(
-        req.model, req.line_pressure, req.mu, req.numerics.tol,
-        memory_budget=req.numerics.memory_budget),
-    keys=(METHOD,), capabilities=capabilities_of(CaliperInterface),
-    check_scene=lambda scene: _rigid_piston(scene.piston),
-    why_not={"follows_geometry": "the condensation is of the unmoved meshes",
-             "quadratic": "the caliper's rows are built on linear meshes"},
-    summary="the pads held by the caliper's rigid piston, fingers and abutments, condensed "
-            "with the caliper's rows (BrakeModel(piston='rigid'))"))

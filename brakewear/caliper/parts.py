@@ -136,8 +136,12 @@ def seal_springs(guide, radius: float) -> dict:
     3``); the radial one compresses the section with the long strip's modulus
     (:func:`~brakewear.caliper.analytic.bonded_strip_compression_modulus`), an estimate.
     """
-    from .analytic import (bonded_ring_axial_stiffness, bonded_ring_torsion_stiffness,
-                            bonded_strip_compression_modulus, ring_tilt_stiffness)
+    from .analytic import (
+        bonded_ring_axial_stiffness,
+        bonded_ring_torsion_stiffness,
+        bonded_strip_compression_modulus,
+        ring_tilt_stiffness,
+    )
 
     E, w, h = guide.seal_modulus, guide.seal_width, guide.seal_height
     G = E / 3.0

@@ -10,7 +10,8 @@ decides how far a pad may tilt.  Here each is what a brake engineer draws:
   rubber section (:func:`seal_springs`), soft in tilt;
 * the **bore wall**, a rigid cylinder ``clearance`` away from the piston,
   met only at the two ends of the guided length (unilateral rows at
-  ``n_bore`` angles each, with friction along the axis);
+  ``n_bore`` angles each, with friction along the axis on each end's ring as
+  a whole: the rigid piston slides at once);
 * the **rim**, the piston's annular face on the backplate: unilateral rows
   at points on the rim's inner and outer edge, so the pad can rock on either
   edge, each through its share of the cup wall's axial compliance
@@ -24,7 +25,8 @@ decides how far a pad may tilt.  Here each is what a brake engineer draws:
   ``bore_tilt F`` (prescribed motions, a gap change per unit line pressure);
 * the **abutments** of the bracket (push or pull support): unilateral rows
   over radial bands of each backplate end face, with friction along the
-  rotor axis (the pad's clip and the rails are springs in ``K``).
+  rotor axis on the face as a whole (its mean slip, bounded by mu times the
+  face's normal force; the pad's clip and the rails are springs in ``K``).
 
 A *row* ``k`` joins a "plus" side (a pad through the FE model, or a rigid
 part) to a "minus" side (a rigid part, or the fixed bracket) at a point
@@ -51,10 +53,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.sparse as sp
 
+from ..contact.supports import SUPPORT_ENDS, abutment_faces, end_normal, face_weights
+from ..contact.surface import project_nodes
 from ..errors import ContactError
 from .parts import CaliperParts, ring_points, seal_springs, seal_stiffness
-from ..contact.supports import SUPPORT_ENDS, face_weights, abutment_faces, end_normal
-from ..contact.surface import project_nodes
 
 logger = logging.getLogger(__name__)
 
@@ -84,8 +86,9 @@ class CaliperRows:
         normal row.
     cap : scipy.sparse.csr_matrix
         (n, n) the normal rows whose force bounds each friction row's:
-        ``|lam_k| <= mu_k (cap lam)_k`` (one row for a point's friction; every
-        rim row for the rim's friction, which acts on the rim as a whole).
+        ``|lam_k| <= mu_k (cap lam)_k``: every normal row of the surface a
+        friction row acts on as a whole (the rim, a bore end's ring, an
+        abutment's end face).
     mu : ndarray
         (n,) friction coefficient of each friction row (0 for normal rows).
     compliance : ndarray
@@ -139,7 +142,7 @@ class CaliperRows:
         """(n,) bool: the normal (unilateral) rows."""
         return self.friction_of < 0
 
-    def subset(self, keep) -> "CaliperRows":
+    def subset(self, keep) -> CaliperRows:
         """The rows ``keep`` (a mask or indices; a kept friction row's normal row must be
         kept too) with the same rigid parts."""
         idx = np.arange(self.n)[keep]
@@ -183,15 +186,6 @@ class _Rows:
                               cap=tuple(cap), mu=float(mu), compliance=float(compliance),
                               fe=fe))
         return len(self.rows) - 1
-
-    def add_with_friction(self, x, n, plus, minus, group, tangents, mu, **kw) -> int:
-        """A normal row and, with ``mu > 0``, a friction row along each of ``tangents``."""
-        k = self.add(x, n, plus, minus, group, **kw)
-        if mu > 0:
-            for t in tangents:
-                self.add(x, t, plus, minus, f"{group} friction", cap=(k,), mu=mu,
-                         fe=kw.get("fe"))
-        return k
 
     def build(self, col: np.ndarray, n_dofs: int, K_q, f_q, info) -> CaliperRows:
         P, rows = self.parts, self.rows
@@ -282,10 +276,15 @@ def _rim_and_bore(rows: _Rows, mesh, offset: int, side: str) -> None:
     wall = P.housing_part(side, "bore")
     mouth = P.mouth(side)
     for depth in (0.0, guide.engagement):
-        x, e_r = ring_points(mouth + s * depth * _EZ, 0.5 * pis.diameter, ROW_COUNTS["bore"])
-        for j in range(x.shape[1]):
-            rows.add_with_friction(x[:, j], e_r[:, j], wall, body, f"bore {side}",
-                                   (_EZ,), guide.bore_friction, g0=guide.clearance)
+        centre = mouth + s * depth * _EZ
+        x, e_r = ring_points(centre, 0.5 * pis.diameter, ROW_COUNTS["bore"])
+        ring = [rows.add(x[:, j], e_r[:, j], wall, body, f"bore {side}", g0=guide.clearance)
+                for j in range(x.shape[1])]
+        if guide.bore_friction > 0:
+            # the bore's friction on the guide ring as a whole (as the rim's): the rigid
+            # piston slides along the bore at once, however many points it touches
+            rows.add(centre, _EZ, wall, body, f"bore {side} friction", cap=ring,
+                     mu=guide.bore_friction)
 
 
 def _fingers(rows: _Rows, mesh, offset: int) -> None:
@@ -318,14 +317,23 @@ def _abutments(rows: _Rows, mesh, offset: int) -> None:
             r = np.hypot(mesh.p[0, nodes], mesh.p[1, nodes])
             edges = np.linspace(r.min(), r.max(), ROW_COUNTS["abutment_bands"] + 1)
             band = np.clip(np.searchsorted(edges, r, side="right") - 1, 0, edges.size - 2)
+            face = []
             for b in np.unique(band):
                 m = band == b
                 wb = w[m] / w[m].sum()
                 x = mesh.p[:, nodes[m]] @ wb
-                rows.add_with_friction(x, normal, "pad", "bracket",
-                                       f"abutment {end} ({pad_side})", (_EZ,),
-                                       sup.abutment_friction, g0=g0,
-                                       fe=(nodes[m] + offset, wb))
+                face.append(rows.add(x, normal, "pad", "bracket",
+                                     f"abutment {end} ({pad_side})", g0=g0,
+                                     fe=(nodes[m] + offset, wb)))
+            if sup.abutment_friction > 0:
+                # the friction on the end face as a whole: the backplate's end slides
+                # along the abutment at once (its mean slip), bounded by mu times the
+                # face's whole normal force; per band, the bands would share one slip
+                # and their stick or slip would be decided by the backplate's stiffness
+                wf = w / w.sum()
+                rows.add(mesh.p[:, nodes] @ wf, _EZ, "pad", "bracket",
+                         f"abutment {end} ({pad_side}) friction", cap=face,
+                         mu=sup.abutment_friction, fe=(nodes + offset, wf))
 
 
 

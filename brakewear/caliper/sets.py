@@ -151,7 +151,7 @@ class RowSets:
         if key in self._eff:
             self._eff.move_to_end(key)
             return self._eff[key]
-        rows, cond, c, s = self.rows, self.cond, self._c, self._s
+        rows, cond = self.rows, self.cond
         Hcc, Hsc, D = self._operators()
         ns, nq = rows.n, rows.K_q.shape[0]
         h = np.nonzero(self._holding(state))[0]
@@ -175,7 +175,7 @@ class RowSets:
         key = (self.mu_key[0], state.tobytes())
         if key in self._rows_lus:
             return self._rows_lus[key]
-        rows, cond = self.rows, self.cond
+        rows = self.rows
         ns, nq = rows.n, rows.K_q.shape[0]
         h = np.nonzero(self._holding(state))[0]
         slip = np.nonzero((~rows.normal) & ((state == SLIP_UP) | (state == SLIP_DOWN)))[0]
@@ -214,11 +214,11 @@ class RowSets:
         set to start from (else the nodes of ``start_gap <= 0``); ``ring_H`` the
         implicit rings' compliance among the contact nodes (``ring_key`` tells it
         apart in the kept factorisations)."""
-        cond, rows = self.cond, self.rows
+        rows = self.rows
         Hsc, Hss = self._operators()[1], self._Hss
         F = line_pressure * rows.hydraulic_area
         state, seen, act = self.state.copy(), set(), active
-        for outer in range(1, MAX_OUTER + 1):
+        for outer in range(1, MAX_OUTER + 1):  # noqa: B007  (the count is reported)
             self._state_key = state.tobytes()
             eff = self._effective(state)      # a state met here holds every rigid part
             b0 = np.zeros(rows.n + rows.K_q.shape[0])

@@ -1,6 +1,7 @@
 """A static solve of the brake held by its caliper's parts, and every body's balance.
 
-:func:`brakewear.static.solve_contact` of a ``BrakeModel(piston="rigid")`` comes here: one application from
+:func:`brakewear.static.solve_contact` of a ``BrakeModel(piston="rigid")`` comes here: one
+application from
 rest on :class:`~brakewear.interfaces.CaliperInterface`, the FE displacement
 recovered from the condensed solution (``u = K^+ F + Z alpha``, the
 condensation's own generalised inverse), and a
@@ -24,9 +25,9 @@ import time
 import numpy as np
 
 from ..checks import check_line_pressure
-from .parts import bracket_springs, part_loads
 from ..contact.compliant import constraint_rows, drag_loads
 from ..mesh.surface import face_nodes
+from .parts import bracket_springs, part_loads
 
 logger = logging.getLogger(__name__)
 

@@ -110,13 +110,15 @@ def read_gap_map(path) -> np.ndarray:
             rows = list(csv.DictReader(fh))
     except OSError as e:
         raise GeometryError(f"{path}: cannot read the gap map ({e.strerror})") from None
+    except (UnicodeDecodeError, csv.Error) as e:
+        raise GeometryError(f"{path}: the gap map is not a CSV text file ({e})") from None
     header = list(rows[0]) if rows else []
     missing = [c for c in GAP_COLUMNS if c not in header]
     if missing:
         raise GeometryError(f"{path}: missing column(s) {', '.join(missing)}; need "
                             f"{', '.join(GAP_COLUMNS)} (the header is "
                             f"{', '.join(header) or '(empty file)'})")
-    out = []
+    out, seen = [], {}
     for i, row in enumerate(rows, start=2):                 # row 1 is the header
         try:
             r, th, g = (float(row[c]) for c in GAP_COLUMNS)
@@ -126,10 +128,21 @@ def read_gap_map(path) -> np.ndarray:
             raise GeometryError(f"{path}, row {i}: r_mm = {row['r_mm']}, gap_um = "
                                 f"{row['gap_um']} is not allowed; need r_mm > 0 and "
                                 "|gap_um| <= 1000")
+        if (r, th) in seen:          # two gaps at one point: which one is meant?
+            other = out[seen[(r, th)] - 2][2] != g * 1e-6
+            raise GeometryError(f"{path}, row {i}: the point r_mm = {row['r_mm']}, theta_deg = "
+                                f"{row['theta_deg']} is also on row {seen[(r, th)]}"
+                                f"{' with another gap' if other else ''}; give each point once")
+        seen[(r, th)] = i
         out.append((r * 1e-3, np.radians(th), g * 1e-6))
     if len(out) < 3:
         raise GeometryError(f"{path}: a gap map needs at least three points")
-    return np.array(out)
+    pts = np.array(out)
+    span = np.c_[pts[:, 0], pts[:, 0].mean() * pts[:, 1]]
+    if np.linalg.matrix_rank(span - span.mean(0), tol=1e-9 * np.abs(span).max()) < 2:
+        raise GeometryError(f"{path}: the gap map's points lie on one line (in radius and "
+                            "angle); it needs points spread over the pad face")
+    return pts
 
 
 def map_gap(points: np.ndarray, x: np.ndarray, source: str = "gap map") -> np.ndarray:

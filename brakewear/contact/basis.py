@@ -3,7 +3,8 @@
 A quadratic slave face changes its displacement basis (Popp, Wohlmuth, Gee
 and Wall) so that every nodal integral is positive,
 :class:`~brakewear.mesh.quadratic.SlaveBasis` (``u = T u~``; the surface
-geometry in :mod:`brakewear.mesh.quadratic`).  :func:`in_slave_basis` carries a contact problem (stiffness
+geometry in :mod:`brakewear.mesh.quadratic`).  :func:`in_slave_basis` carries a contact problem
+(stiffness
 ``T^T K T``, load ``T^T f``, prescribed values ``T^-1 u``) into the transformed
 unknowns, where every slave node -- vertex or mid-edge -- is an ordinary node
 of the node-by-node elimination (:mod:`~brakewear.contact.elimination`), and

@@ -130,7 +130,7 @@ def friction_operators(N: int, pairs, active):
 
 
 def _reduce_delta(K: sp.csr_matrix, P: sp.csr_matrix) -> sp.csr_matrix:
-    """``P^T K P - K`` for a ``P`` that is the identity but in a few rows, without full-size products.
+    """``P^T K P - K`` for a ``P`` that is the identity but in a few rows, without big products.
 
     With ``D = P - I`` (nonzero only in the constrained rows) and symmetric
     ``K``: ``P^T K P - K = K D + (K D)^T + D^T K D``; every product involves

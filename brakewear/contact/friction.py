@@ -276,7 +276,7 @@ def _newton_step(prob: _AlartCurnier, F: np.ndarray, aux) -> np.ndarray:
     the generalised Jacobian is built on the nodes in contact alone (their forces,
     the approach and, under force control, the shift), the open nodes' step entering
     its right-hand side through the compliance."""
-    m, d, k, nt = prob.m, prob.d, prob.k, prob.nt
+    d, nt = prob.d, prob.nt
     act = aux[3]
     a, o = np.flatnonzero(act), np.flatnonzero(~act)
     dx = np.zeros(prob.nx)
@@ -417,7 +417,7 @@ def solve_sliding(C: np.ndarray, g0: np.ndarray, mu: float, P: float, direction,
     else:
         act = np.asarray(start, dtype=float) > 0
     it = 0
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007  (the count is reported)
         if not act.any():
             act = g0 <= np.min(g0)
         a = np.flatnonzero(act)

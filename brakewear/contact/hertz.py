@@ -39,7 +39,9 @@ Measured against Hertz at the computed ``F``:
   ``p^2 = c + m r^2`` (Hertz: ``p0^2 (1 - r^2/a^2)``) to the nodal pressures
   of the active nodes with ``r < 0.85 a``, so ``a_h^2 = -c / m`` -- uses the
   whole patch rather than the last active node, whose position is only known
-  to within ``h``;
+  to within ``h``; reported beside it, the radius of the active nodes'
+  tributary area (``a_area_err``) and of the outermost active node
+  (``a_outer_err``), as the peers read it;
 * approach: ``delta`` against ``a(F)^2 / R``;
 * L2 pressure error over the top face:
   ``sqrt(sum A_s (p_s - p_H(r_s))^2 / sum A_s p_H(r_s)^2)`` with tributary
@@ -63,14 +65,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ContactError, GeometryError, MeshError
 from ..analytic import effective_modulus, hertz_sphere, hertz_sphere_pressure
-from .lagrange import solve_contact
-from .pairs import pair_to_rigid
+from ..errors import ContactError, GeometryError, MeshError
 from ..fem.assembly import assemble_stiffness
 from ..fem.boundary import boundary_dofs
 from ..materials import Isotropic
 from ..mesh.structured import KUHN, mapped_mesh, structured_tets
+from .lagrange import solve_contact
+from .pairs import pair_to_rigid
 
 logger = logging.getLogger(__name__)
 
@@ -144,7 +146,9 @@ RECOVERY = 2.0      # pressure recovery window half-width / h (see recovered_pre
 GAP_TOL = 1e-4
 
 
-def boussinesq(x: np.ndarray, F: float, E: float = MATERIAL.E, nu: float = MATERIAL.nu) -> np.ndarray:
+def boussinesq(
+    x: np.ndarray, F: float, E: float = MATERIAL.E, nu: float = MATERIAL.nu
+) -> np.ndarray:
     """Displacement (3, n) of a half-space z < 0 under a point force ``F`` at
     the origin pressing into the body (along -z).
 
@@ -460,8 +464,14 @@ def measure(m, pair, res, F: float, h: float | None = None) -> dict:
     ph = hertz_sphere_pressure(r, F, R, ES)
     norm = np.sum(A * ph ** 2)
     inner = r < hz["a"] - RECOVERY * h
+    # the radius as the peers read it: of the active nodes' tributary area (the quarter's
+    # mirror images included) and of the outermost active node
+    copies = 4.0 if xs[0].min() >= -1e-12 * A0 and xs[1].min() >= -1e-12 * A0 else 1.0
+    a_area = float(np.sqrt(copies * A[act].sum() / np.pi))
+    a_outer = float(r[act].max()) if act.any() else float("nan")
     return {
         "p0_err": p0_h / hz["p0"] - 1.0, "a_err": a_h / hz["a"] - 1.0,
+        "a_area_err": a_area / hz["a"] - 1.0, "a_outer_err": a_outer / hz["a"] - 1.0,
         "delta_err": DELTA / hz["delta"] - 1.0,
         "l2_err": float(np.sqrt(np.sum(A * (p - ph) ** 2) / norm)),
         # nan when the mesh is too coarse to have a node inside a - 2h

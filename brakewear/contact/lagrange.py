@@ -27,14 +27,14 @@ from ..solvers.operators import ProductSum
 from .active_set import LAGRANGE, ActiveSetDriver, ActiveSetOptions, Margins
 from .basis import in_slave_basis
 from .elimination import (
-    body_labels,
-    check_disjoint,
     _contact_system,
     _dirichlet_base,
     _prolongation,
     _reduced_modes,
     _reduced_start,
     _SetOperators,
+    body_labels,
+    check_disjoint,
 )
 
 logger = logging.getLogger(__name__)

@@ -9,9 +9,8 @@ import scipy.sparse as sp
 import skfem as fem
 
 from ..errors import ContactError
-from ..mesh.surface import surface_nodes, tributary_areas
 from ..mesh.quadratic import SlaveBasis, slave_basis
-from ..mesh.surface import is_quadratic
+from ..mesh.surface import is_quadratic, surface_nodes, tributary_areas
 from .quadratic import dual_rigid_pair, dual_surface_pair
 from .surface import mortar_coupling, project_nodes
 

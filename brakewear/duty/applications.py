@@ -9,35 +9,35 @@ An application is one of
 * :class:`Dwell` -- no contact for a time (the bodies cool when thermal
   coupling is on);
 
-or any class registered by its ``kind`` (:func:`register_application`).
+or any class registered by its ``name`` (:func:`register_application`).
 Each answers :class:`Application`: it checks itself within a schedule
 (:meth:`Application.check`), names what it needs of a vehicle, and runs
 itself on the brake of a schedule (:meth:`Application.run`: the line
 pressure, speeds and energy it asks for, then the brake's wear history or
 its cooling), so the schedule's runner asks nothing of its type.  A scene
-file lists applications by kind in ``[schedule] applications``, each field in
-the units of :attr:`Application.units` (:func:`application_from_table`).
+file lists applications by kind (the class's ``name``) in ``[schedule]
+applications``, each field in the unit of its key in :attr:`Application.keys`
+(:func:`~brakewear.duty.kinds.application_from_table`).
 """
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
 from ..checks import check_plausible, user_units
 from ..errors import DutyError
-from ..registry import Registry
+from ..registry import OptionKey
 from ..wear.speed import ConstantSpeed, LinearSpeed
+from .kinds import register_application
 from .vehicle import G, _check, _finite, brake_torque, line_pressure_for_torque
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["Application", "ApplicationRecord", "ScheduleCheck", "Stop", "Drag", "Dwell",
-           "register_application", "unregister_application", "application_kinds",
-           "application_from_table", "is_application", "application_name",
-           "stop_decelerations", "TABLE_SOURCE"]
+           "application_name", "stop_decelerations", "TABLE_SOURCE"]
 
 #: One km/h in m/s.
 KMH = 1.0 / 3.6
@@ -90,7 +90,7 @@ class ApplicationRecord:
     """What one application did (SI units; energies per face unless named otherwise)."""
 
     index: int
-    kind: str                      # the application's kind: "stop", "drag", "dwell", ...
+    kind: str                      # the application's name: "stop", "drag", "dwell", ...
     t_start: float                 # s, since the schedule's start
     duration: float                # s
     line_pressure: float = 0.0     # Pa
@@ -105,7 +105,11 @@ class ApplicationRecord:
     torque: float | None = None    # N m, at the start
     kinetic_J: float | None = None
     regenerated_J: float | None = None
-    road_J: float | None = None    # taken by the road load (less what the motor drove)
+    road_J: float | None = None    # taken by the road load (all of it: Vehicle.stop_energy's)
+    propulsion_J: float | None = None  # added by the motor where the road load alone
+    #                                    decelerates more than the stop (0 mostly)
+    road_net_J: float | None = None    # road_J - propulsion_J: the road load's net part,
+    #                                    kinetic = road_net + regenerated + friction
     target_face_J: float | None = None    # the vehicle's demand on each face
     friction_face_J: float = 0.0          # the model's dissipation per face (full model: mean)
     pad_volume_m3: float = 0.0            # worn in this application
@@ -138,12 +142,15 @@ class Application(Protocol):
 
     Attributes
     ----------
-    kind : str
-        Its name in records (``applications.csv``) and scene files.
+    name : str
+        Its kind in scene files (``kind = "stop"``) and records
+        (``applications.csv``).
+    keys : tuple of OptionKey
+        Its fields as a scene file gives them: each
+        :class:`~brakewear.registry.OptionKey`'s ``unit`` and ``scale`` (the SI
+        value of one unit: km/h is ``1 / 3.6``).
     braked : bool
         Whether the brake is applied (a wear history runs).
-    units : dict
-        Field -> (unit, SI value of one unit) of its fields in a scene file.
     needs_vehicle : bool
         Whether it needs a :class:`~brakewear.duty.Vehicle` (a speed of the car).
 
@@ -152,9 +159,9 @@ class Application(Protocol):
     (:func:`application_name`).
     """
 
-    kind: ClassVar[str]
+    name: ClassVar[str]
+    keys: ClassVar[tuple[OptionKey, ...]]
     braked: ClassVar[bool]
-    units: ClassVar[dict]
 
     @property
     def needs_vehicle(self) -> bool: ...
@@ -173,90 +180,35 @@ class Application(Protocol):
         for a braked application, ``brake.cool(record, omega)`` for a pause."""
 
 
-_KINDS = Registry("application", "schedule.applications.kind")
-
-
-def register_application(cls: type) -> type:
-    """Add an application class to the kinds a schedule and a scene file know (by its
-    ``kind``); usable as a class decorator."""
-    missing = [m for m in ("kind", "braked", "units", "needs_vehicle", "check",
-                           "check_scene", "run") if not hasattr(cls, m)]
-    if missing:
-        raise DutyError(f"{cls.__name__} is not an application: it has no "
-                        f"{', '.join(missing)} (brakewear.duty.Application)")
-    _KINDS.register(cls.kind, cls)
-    return cls
-
-
-def unregister_application(kind: str) -> None:
-    """Take the kind ``kind`` out of the table (registered for a while, by a test)."""
-    _KINDS.unregister(kind)
-
-
-def application_kinds() -> tuple[str, ...]:
-    """The registered kinds, in the order of registration."""
-    return _KINDS.names()
-
-
-def is_application(app) -> bool:
-    """Whether ``app`` is of a registered kind."""
-    return any(isinstance(app, cls) for cls in _KINDS)
-
-
-def application_from_table(table: dict, where: str = "schedule", source: str = "") -> Any:
-    """An application from a scene file's table: ``kind`` and the kind's fields in
-    its :attr:`~Application.units` (a :class:`DutyError` naming ``where``); ``source``
-    (where it comes from, for messages) goes to a kind with a ``source`` field."""
-    if not isinstance(table, dict) or "kind" not in table:
-        raise DutyError(f"{where}: {table!r} is not an application; need a table with "
-                        f"kind = one of {', '.join(map(repr, application_kinds()))}")
-    kind = table["kind"]
-    if kind not in _KINDS:
-        raise DutyError(f"{where}: kind = {kind!r} is not allowed; registered kinds: "
-                        f"{', '.join(map(repr, application_kinds()))}")
-    cls = _KINDS.get(kind)
-    names = [f.name for f in fields(cls) if f.compare]
-    unknown = sorted(set(table) - set(names) - {"kind"})
-    if unknown:
-        raise DutyError(f"{where}: unknown key(s) {', '.join(unknown)} of a {kind}; allowed: "
-                        + ", ".join(f"{n} ({cls.units.get(n, ('', 1.0))[0] or '-'})"
-                                    for n in names))
-    kw = {}
-    for k, v in table.items():
-        if k == "kind":
-            continue
-        unit, factor = cls.units.get(k, ("", 1.0))
-        if factor != 1.0 and not _finite(v):
-            raise DutyError(f"{where}: {kind}.{k} = {v!r} is not a number ({unit})")
-        kw[k] = v * factor if factor != 1.0 else v
-    if source and "source" in {f.name for f in fields(cls)}:
-        kw["source"] = source
-    try:
-        return cls(**kw)
-    except TypeError as exc:
-        raise DutyError(f"{where}: {kind}: {exc}") from None
-    except DutyError as exc:
-        raise DutyError(f"{where}: {exc} (in SI units; the file's: "
-                        + ", ".join(f"{n} {u}" for n, (u, _) in cls.units.items()) + ")") from None
-
-
 @register_application
 @dataclass(frozen=True)
 class Stop:
-    """Slow from ``v0`` to ``v1`` (m/s) at ``decel`` (m/s^2) or under ``line_pressure`` (Pa)."""
+    """Slow from ``v0`` to ``v1`` at a deceleration, or under a line pressure.
+
+    Parameters
+    ----------
+    v0, v1
+        The vehicle's speeds at the start and the end (m/s).
+    decel
+        The deceleration (m/s^2); or
+    line_pressure
+        The line pressure (Pa): the deceleration follows from the brake's torque.
+    source
+        Where the application comes from in the user's words (a scene's
+        ``[schedule]``, a drive cycle's rows), named in messages; not compared.
+    """
 
     v0: float
     v1: float = 0.0
     decel: float | None = None
     line_pressure: float | None = None
-    #: where the application comes from in the user's words (a scene's ``[schedule]``,
-    #: a drive cycle's rows), named in messages; not compared
     source: str = field(default="", compare=False)
 
-    kind: ClassVar[str] = "stop"
+    name: ClassVar[str] = "stop"
+    keys: ClassVar[tuple[OptionKey, ...]] = (
+        OptionKey("v0", unit="km/h", scale=KMH), OptionKey("v1", unit="km/h", scale=KMH),
+        OptionKey("decel", unit="m/s^2"), OptionKey("line_pressure", unit="MPa", scale=1e6))
     braked: ClassVar[bool] = True
-    units: ClassVar[dict] = {"v0": ("km/h", KMH), "v1": ("km/h", KMH),
-                             "decel": ("m/s^2", 1.0), "line_pressure": ("MPa", 1e6)}
 
     def __post_init__(self):
         _check("stop.v0", self.v0, _finite(self.v0) and 0 < self.v0 <= 100,
@@ -323,7 +275,7 @@ class Stop:
 
     def run(self, brake, index):
         vehicle = brake.vehicle
-        rec = ApplicationRecord(index, self.kind, 0.0, 0.0)
+        rec = ApplicationRecord(index, self.name, 0.0, 0.0)
         if self.decel is not None:          # checked with the schedule (check_schedule)
             rec.torque = vehicle.stop_torque(self.v0, self.v1, self.decel)
             guess = line_pressure_for_torque(rec.torque, brake.mu, brake.clamp_area,
@@ -346,7 +298,8 @@ class Stop:
         if self.decel is not None:
             energy = vehicle.stop_energy(self.v0, self.v1, rec.decel)
         rec.kinetic_J, rec.regenerated_J = energy["kinetic_J"], energy["regenerated_J"]
-        rec.road_J = energy["road_J"] - energy["propulsion_J"]
+        rec.road_J, rec.propulsion_J = energy["road_J"], energy["propulsion_J"]
+        rec.road_net_J = rec.road_J - rec.propulsion_J
         rec.target_face_J = energy["face_J"]
         return brake.wear(LinearSpeed(rec.omega0, rec.omega1, rec.duration), rec)
 
@@ -354,8 +307,21 @@ class Stop:
 @register_application
 @dataclass(frozen=True)
 class Drag:
-    """Constant ``line_pressure`` (Pa) for ``duration`` (s) at a vehicle speed ``speed``
-    (m/s) or, without a vehicle (a dynamometer), a rotor speed ``omega`` (rad/s)."""
+    """A constant line pressure for a time at a constant speed.
+
+    Parameters
+    ----------
+    line_pressure
+        Pa.
+    duration
+        s.
+    speed
+        The vehicle's speed (m/s); or, without a vehicle (a dynamometer),
+    omega
+        The rotor's speed (rad/s).
+    source
+        As :class:`Stop`'s.
+    """
 
     line_pressure: float
     duration: float
@@ -363,10 +329,11 @@ class Drag:
     omega: float | None = None
     source: str = field(default="", compare=False)
 
-    kind: ClassVar[str] = "drag"
+    name: ClassVar[str] = "drag"
+    keys: ClassVar[tuple[OptionKey, ...]] = (
+        OptionKey("line_pressure", unit="MPa", scale=1e6), OptionKey("duration", unit="s"),
+        OptionKey("speed", unit="km/h", scale=KMH), OptionKey("omega", unit="rad/s"))
     braked: ClassVar[bool] = True
-    units: ClassVar[dict] = {"line_pressure": ("MPa", 1e6), "duration": ("s", 1.0),
-                             "speed": ("km/h", KMH), "omega": ("rad/s", 1.0)}
 
     def __post_init__(self):
         _check("drag.line_pressure", self.line_pressure,
@@ -395,7 +362,7 @@ class Drag:
 
     def run(self, brake, index):
         w = self.omega if self.omega is not None else brake.vehicle.rotor_speed(self.speed)
-        rec = ApplicationRecord(index, self.kind, 0.0, self.duration,
+        rec = ApplicationRecord(index, self.name, 0.0, self.duration,
                                 line_pressure=self.line_pressure, omega0=w, omega1=w,
                                 v0=self.speed, v1=self.speed)
         rec.r_eff = brake.r_eff(brake.solve(self.line_pressure).pressure, self.line_pressure)
@@ -406,12 +373,26 @@ class Drag:
 @register_application
 @dataclass(frozen=True)
 class Dwell:
-    """No contact for ``duration`` (s); with ``from_start`` until ``duration`` after
-    the previous application's start (a stop's length is known only once the
-    brake's torque is).  The car drives on at ``speed`` (m/s; needs a vehicle)
-    or the rotor spins at ``omega`` (rad/s): a speed-dependent convection
-    (:class:`~brakewear.thermal.SpeedConvection`) cools at that speed; neither
-    given: at rest."""
+    """No contact for a time: a pause, in which the bodies cool.
+
+    A speed-dependent convection (:class:`~brakewear.thermal.SpeedConvection`)
+    cools at the speed given; neither given: at rest.
+
+    Parameters
+    ----------
+    duration
+        s; with ``from_start``, until ``duration`` after the previous
+        application's start (a stop's length is known only once the brake's
+        torque is).
+    from_start
+        See ``duration``.
+    speed
+        The car drives on at this speed (m/s; needs a vehicle); or
+    omega
+        The rotor spins at this speed (rad/s).
+    source
+        As :class:`Stop`'s.
+    """
 
     duration: float
     from_start: bool = False
@@ -419,10 +400,11 @@ class Dwell:
     omega: float | None = None
     source: str = field(default="", compare=False)
 
-    kind: ClassVar[str] = "dwell"
+    name: ClassVar[str] = "dwell"
+    keys: ClassVar[tuple[OptionKey, ...]] = (
+        OptionKey("duration", unit="s"), OptionKey("from_start", "bool"),
+        OptionKey("speed", unit="km/h", scale=KMH), OptionKey("omega", unit="rad/s"))
     braked: ClassVar[bool] = False
-    units: ClassVar[dict] = {"duration": ("s", 1.0), "speed": ("km/h", KMH),
-                             "omega": ("rad/s", 1.0)}
 
     def __post_init__(self):
         _check("dwell.duration", self.duration, _finite(self.duration) and self.duration > 0,
@@ -459,7 +441,7 @@ class Dwell:
                             f"({brake.since_start:.4g} s)")
         omega = (self.omega if self.omega is not None else
                  self.speed / brake.vehicle.tyre_radius if self.speed is not None else 0.0)
-        return brake.cool(ApplicationRecord(index, self.kind, 0.0, duration), omega)
+        return brake.cool(ApplicationRecord(index, self.name, 0.0, duration), omega)
 
 
 def stop_decelerations(app: Stop, vehicle, mu: float, geometry) -> tuple[float, float]:

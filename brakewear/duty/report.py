@@ -36,8 +36,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import BrakewearError, InputError
-from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..mesh.rings import ring_profile
+from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..wear.records import end_record, temperature_field, thermal_record
 from .runner import run_schedule
 
@@ -48,7 +48,8 @@ __all__ = ["run_schedule_files", "APPLICATION_COLUMNS"]
 #: the columns of applications.csv (SI units, energies per friction face)
 APPLICATION_COLUMNS = ("index", "kind", "braked", "t_start", "duration", "line_pressure", "decel",
                        "v0", "v1", "omega0", "omega1", "rotor_angle", "r_eff", "r_eff_mean",
-                       "torque", "kinetic_J", "regenerated_J", "road_J", "target_face_J",
+                       "torque", "kinetic_J", "regenerated_J", "road_J", "propulsion_J",
+                       "road_net_J", "target_face_J",
                        "friction_face_J",
                        "pad_volume_m3", "rotor_volume_m3", "steps", "pad_temperature_max",
                        "run_s")

@@ -31,10 +31,10 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..errors import ConvergenceError, DutyError, SolverError
+from ..mesh.surface import face_nodes
 from ..wear.records import HeatTally, thermal_state
 from ..wear.run import Run
 from ..wear.stepper import wear_history
-from ..mesh.surface import face_nodes
 from .applications import ApplicationRecord
 from .schedule import check_schedule
 from .vehicle import FACES, effective_radius, line_pressure_for_torque
@@ -101,15 +101,40 @@ class _Brake:
     def pressure_for_torque(self, torque: float, guess: float, rtol: float = 1e-10,
                             max_iter: int = 30) -> tuple[float, float]:
         """Line pressure giving ``torque`` with the effective radius of its own
-        pressure field (a fixed point: the field moves little with the load)."""
-        p = guess
-        for _ in range(max_iter):
+        pressure field: the root of ``h(p) = p - g(p)``, ``g(p)`` the pressure of
+        the torque at ``p``'s radius.  Fixed-point steps ``p <- g(p)`` while they
+        contract (the field moves little with the load), secant steps once they
+        do not, always within the bracket the evaluated signs of ``h`` give, and
+        bisection when a step leaves it: a radius that jumps with the load (a pad
+        rocking onto its other edge) is bracketed instead of oscillated around."""
+        p, lo, hi = guess, None, None        # (p, h(p)) with h < 0 and h > 0
+        last = None                          # the previous (p, h)
+        for _ in range(1, max_iter + 1):
             r = self.r_eff(self.solve(p).pressure, p)
-            p_new = line_pressure_for_torque(torque, self.mu, self.clamp_area, r)
-            change = abs(p_new - p) / p_new
+            g = line_pressure_for_torque(torque, self.mu, self.clamp_area, r)
+            h = p - g
+            change = abs(h) / g
             if change <= rtol:
-                return p_new, r
-            p = p_new
+                return g, r
+            if h < 0:
+                lo = (p, h) if lo is None or p > lo[0] else lo
+            else:
+                hi = (p, h) if hi is None or p < hi[0] else hi
+            nxt = g                          # the fixed-point step
+            if last is not None and abs(h) > 0.5 * abs(last[1]):
+                # not contracting: the secant of the last two evaluations
+                dh = h - last[1]
+                nxt = p - h * (p - last[0]) / dh if dh != 0 else g
+            if lo is not None and hi is not None:
+                a, b = lo[0], hi[0]
+                if abs(b - a) <= rtol * max(abs(a), abs(b)):
+                    # the bracket has closed on a jump of the radius: the pressure where
+                    # the torque crosses its target, to the tolerance
+                    return 0.5 * (a + b), r
+                if not min(a, b) < nxt < max(a, b):
+                    nxt = 0.5 * (a + b)
+            last = (p, h)
+            p = nxt
         raise ConvergenceError(f"the line pressure for a brake torque of {torque:.4g} N m did "
                                f"not settle in {max_iter} contact solves (last {p:.6g} Pa, "
                                f"r_eff {r:.6g} m, last change {change:.2e} of it, tolerance "
@@ -229,7 +254,7 @@ def _run(run: Run, apps, on_step):
     brake = _Brake(run.resolved(p_ref), on_step)
     for i, app in enumerate(apps):
         t0 = _time.perf_counter()
-        with SolverError.located(application=f"{i} ({app.kind})"):
+        with SolverError.located(application=f"{i} ({app.name})"):
             rec = app.run(brake, i)
         rec.t_start, rec.run_s = brake.t, _time.perf_counter() - t0
         rec.pad_wear, rec.rotor_wear = brake.pad_wear.copy(), brake.rotor_wear.copy()

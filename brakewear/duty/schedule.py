@@ -19,9 +19,8 @@ from pathlib import Path
 
 from ..checks import check_int, check_number, check_order, check_plausible, fail, user_units
 from ..errors import DutyError
-from .applications import (KMH, TABLE_SOURCE, Drag, Dwell, ScheduleCheck, Stop,
-                           application_from_table, application_kinds, application_name,
-                           is_application)
+from .applications import KMH, TABLE_SOURCE, Drag, Dwell, ScheduleCheck, Stop, application_name
+from .kinds import application_from_table, application_kinds, is_application
 from .vehicle import _check, _finite
 
 logger = logging.getLogger(__name__)
@@ -66,9 +65,25 @@ def check_schedule(schedule, vehicle=None, *, mu: float | None = None,
 def repeated_stops(count: int, v0: float, v1: float = 0.0, *, decel: float | None = None,
                    line_pressure: float | None = None, interval: float | None = None,
                    dwell_speed: float | None = None) -> list:
-    """``count`` equal stops; with ``interval`` (s, start to start) a dwell after each
-    but the last fills the rest of the interval (which must exceed the stop's time),
-    driven at ``dwell_speed`` (m/s; None: at rest)."""
+    """Equal stops, each but the last followed by a dwell that fills its interval.
+
+    Parameters
+    ----------
+    count
+        How many stops (1..100000).
+    v0, v1, decel, line_pressure
+        Each stop's (:class:`~brakewear.duty.Stop`).
+    interval
+        s from a stop's start to the next one's (longer than a stop); None: no
+        dwells.
+    dwell_speed
+        The speed driven in the dwells (m/s); None: at rest.
+
+    Returns
+    -------
+    list
+        The applications: stops and dwells.
+    """
     _check("stops", count, isinstance(count, int) and not isinstance(count, bool)
            and 1 <= count <= 100_000, "need a whole number 1..100000")
     stop = Stop(v0, v1, decel, line_pressure)
@@ -186,6 +201,18 @@ V_MAX, P_MAX = 100.0, 100e6
 def read_schedule_csv(path: str | PathLike) -> list:
     """A drive cycle from a CSV file: one application per interval between rows.
 
+    Parameters
+    ----------
+    path
+        The CSV file.
+
+    Returns
+    -------
+    list
+        The applications, in order.
+
+    Notes
+    -----
     Columns: ``time_s``; the speed as ``speed_kmh`` or ``speed_m_s``; and
     ``line_pressure_MPa`` (the brake's pressure over the interval from that
     row to the next; 0 or empty: not braking).  Time must increase.  An
@@ -201,6 +228,8 @@ def read_schedule_csv(path: str | PathLike) -> list:
             header = list(rows[0]) if rows else []
     except OSError as e:
         raise DutyError(f"{path}: cannot read the schedule ({e.strerror})") from None
+    except (UnicodeDecodeError, csv.Error) as e:
+        raise DutyError(f"{path}: the schedule is not a CSV text file ({e})") from None
     speed_col = next((c for c in _CSV_SPEED if c in header), None)
     missing = [c for c, ok in (("time_s", "time_s" in header),
                                ("speed_kmh or speed_m_s", speed_col is not None),

@@ -119,6 +119,8 @@ class Vehicle:
     source : str
         Where the values come from (a scene file), named in errors.
 
+    Notes
+    -----
     The road-load and blending inputs default to none (no road load, no fade-out,
     no power limit): the brakes then take all of the kinetic energy the motor
     does not, an upper bound.  :func:`study_car` is a car with all of them.
@@ -192,7 +194,7 @@ class Vehicle:
                     (self.regen_share > 0 and (self.regen_power_limit is not None or
                                                self.regen_full_speed > 0)))
 
-    def with_friction_share(self, share: float) -> "Vehicle":
+    def with_friction_share(self, share: float) -> Vehicle:
         """The vehicle as its controller runs a routine that gives the friction brakes at
         least ``share`` (0..1) of the braking: ``regen_share`` at most ``1 - share``
         (``share = 1``: friction-only stops)."""

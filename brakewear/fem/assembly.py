@@ -18,9 +18,9 @@ from __future__ import annotations
 import logging
 import os
 from collections import deque
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -57,7 +57,7 @@ class BlockPattern:
     keys: np.ndarray
 
     @classmethod
-    def from_element_dofs(cls, sdofs: np.ndarray, n: int, chunk: int = 200_000) -> "BlockPattern":
+    def from_element_dofs(cls, sdofs: np.ndarray, n: int, chunk: int = 200_000) -> BlockPattern:
         nb, ne = sdofs.shape
         graph = None
         for s in range(0, ne, chunk):
@@ -247,7 +247,7 @@ def assemble_stiffness(mesh: fem.Mesh, materials, pattern: BlockPattern | None =
     if threads > 1:
         # skfem's affine mapping fills its per-element arrays lazily, which is
         # not thread-safe: fill them here, before any worker runs
-        mapping = mesh._mapping()
+        mapping = mesh.mapping()
         for name in ("A", "b", "detA", "invA"):
             getattr(mapping, name, None)
     if threads <= 1:

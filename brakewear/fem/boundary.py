@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import logging
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -125,7 +125,9 @@ def apply_dirichlet(K: sp.spmatrix, f: np.ndarray, dofs: np.ndarray,
         data = K.data.copy()
         data[rmask[:, :, None] | cmask[:, None, :]] = 0.0
         K_new = sp.bsr_matrix((data, K.indices.copy(), K.indptr.copy()), shape=K.shape)
-        K_new = K_new + sp.bsr_matrix(sp.diags(np.where(fixed, diag, 0.0)).tocsr(), blocksize=(R, Cb))
+        K_new = K_new + sp.bsr_matrix(
+            sp.diags(np.where(fixed, diag, 0.0)).tocsr(), blocksize=(R, Cb)
+        )
     else:
         K = K.tocsr()
         diag = K.diagonal()

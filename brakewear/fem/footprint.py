@@ -14,7 +14,7 @@ on the facet's flat image.
 from __future__ import annotations
 
 import logging
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 import skfem as fem

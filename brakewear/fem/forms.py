@@ -8,7 +8,7 @@ against it.  Extra data reaches the forms through ``w``.
 from __future__ import annotations
 
 import logging
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import skfem as fem

@@ -34,8 +34,11 @@ def element_stress(mesh: fem.Mesh, u: np.ndarray, materials) -> np.ndarray:
 
 def nodal_stress(mesh: fem.Mesh, sigma_e: np.ndarray) -> np.ndarray:
     """Volume-weighted average of element stresses at the mesh vertices (6, nvertices)."""
-    vol = fem.Basis(mesh, fem.ElementTetP1() if not isinstance(mesh, fem.MeshTet2) else fem.ElementTetP2(),
-                    intorder=1).dx.sum(axis=1)
+    vol = fem.Basis(
+        mesh,
+        fem.ElementTetP1() if not isinstance(mesh, fem.MeshTet2) else fem.ElementTetP2(),
+        intorder=1,
+    ).dx.sum(axis=1)
     t = mesh.t[:4]
     num = np.zeros((6, mesh.nvertices))
     den = np.zeros(mesh.nvertices)

@@ -21,17 +21,13 @@ import logging
 import math
 import re
 import sys
+from collections.abc import Mapping
 from os import PathLike
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..errors import GeometryError, MaterialError
 from ..materials import MATERIALS, Isotropic, Material, Thermal, TransverselyIsotropic
-from .sections import (EXTRA_FIELDS, SECTIONS, check_footprint, pad_shape, piston_guide,
-                       rim_inner_diameter)
-from .sections import caliper as _caliper
-from .sections import rotor_mount, stiffness_unit
-from .sections import support as _support
 from .parts import (
     _BASE_DEFAULT,
     ANGLE_UNITS,
@@ -46,6 +42,18 @@ from .parts import (
     PistonGeometry,
     RotorGeometry,
 )
+from .sections import (
+    EXTRA_FIELDS,
+    SECTIONS,
+    check_footprint,
+    pad_shape,
+    piston_guide,
+    rim_inner_diameter,
+    rotor_mount,
+    stiffness_unit,
+)
+from .sections import caliper as _caliper
+from .sections import support as _support
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -177,7 +185,13 @@ def geometry_file(name: str = "default"):
 
 
 def available_geometries() -> list[str]:
-    """Names of the geometry files shipped with brakewear."""
+    """The names of the geometry files shipped with brakewear.
+
+    Returns
+    -------
+    list of str
+        Names :func:`load_geometry` takes (``"default"``, ...), sorted.
+    """
     return sorted(p.name[:-5] for p in geometry_dir().iterdir() if p.name.endswith(".toml"))
 
 

@@ -3,11 +3,17 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Mapping
 
+from ..caliper.geometry import (
+    CaliperGeometry,
+    HatGeometry,
+    PistonGuide,
+    SupportGeometry,
+    VentGeometry,
+)
 from ..materials import Material
-from ..caliper.geometry import CaliperGeometry, HatGeometry, PistonGuide, SupportGeometry, VentGeometry
 
 logger = logging.getLogger(__name__)
 
@@ -263,7 +269,7 @@ class MeshSettings:
 class BrakeGeometry:
     """A checked brake geometry in SI units.
 
-    Attributes
+    Parameters
     ----------
     rotor, pad, piston, mesh
         The components and the mesh controls.

@@ -21,7 +21,8 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 from ..caliper.geometry import (
     CALIPER_TYPES,
@@ -195,10 +196,12 @@ def _vents(ck, t: dict, rotor: RotorGeometry) -> VentGeometry:
     width = ck.length(t, sec, "vane_width")
     room = 2 * math.pi * rotor.inner_radius
     if n * width >= room:
-        raise ck.fail(f"{sec}.vane_width",
-                      f"{L(width)} is not allowed with vane_count = {n}; allowed range (0, "
-                      f"{L(room / n)}) (the vanes must fit around the ring's inner "
-                      f"circumference {L(room)}: vane_count * vane_width < 2 pi rotor.inner_radius)")
+        raise ck.fail(
+            f"{sec}.vane_width",
+            f"{L(width)} is not allowed with vane_count = {n}; allowed range (0, "
+            f"{L(room / n)}) (the vanes must fit around the ring's inner "
+            f"circumference {L(room)}: vane_count * vane_width < 2 pi rotor.inner_radius)",
+        )
     return VentGeometry(cheek, int(n), width)
 
 

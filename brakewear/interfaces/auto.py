@@ -39,11 +39,12 @@ from pathlib import Path
 import numpy as np
 
 from .fe import METHOD, FEInterface
-from .registry import InterfaceModel, capabilities_of, register_interface
+from .registry import register_interface
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["InterfaceChoice", "choose_interface", "condensation_solves", "expected_steps"]
+__all__ = ["InterfaceChoice", "choose_interface", "condensation_solves", "expected_steps",
+           "AutoChoice"]
 
 #: the condensation in FE contact solves of the same model, a fit to four measured
 #: meshes of the default brake (8.8k-105k DOFs, 189-2280 contact nodes, within 13 %):
@@ -117,11 +118,18 @@ def _resumed(checkpoint) -> str | None:
     """The interface a checkpoint's run took (None: no checkpoint, or not named)."""
     import json
 
+    from ..storage import load_arrays
+
     if checkpoint is None or not Path(checkpoint).exists():
         return None
-    with np.load(checkpoint) as d:
-        prints = json.loads(str(d["fingerprint"])) if "fingerprint" in d.files else {}
-    kind = prints.get("interface.type")
+    # a damaged one is refused here, naming it
+    d = load_arrays(checkpoint, "the checkpoint", required=("fingerprint",),
+                    remedy="run again without --resume (with --overwrite)")
+    try:
+        prints = json.loads(str(d["fingerprint"]))
+    except ValueError:
+        prints = {}
+    kind = prints.get("interface.type") if isinstance(prints, dict) else None
     return {"FEInterface": "fe", "CondensedInterface": "condensed"}.get(kind)
 
 
@@ -183,28 +191,50 @@ def choose_interface(model, fe, numerics, *, line_pressure: float, omega: float,
     return InterfaceChoice("fe", figures, steps, even)
 
 
-def _decide(request) -> tuple[str, dict]:
-    """``"condensed"`` where it pays for the run (:func:`choose_interface`), ``"fe"``
-    otherwise, with the choice's record; the FE interface it weighs is handed to
-    the chosen model's builder (``request.built``), which builds on it."""
-    model, n, run = request.model, request.numerics, request.run
-    fe = FEInterface(model, request.line_pressure, request.mu, n.tol)
-    request.built["fe"] = fe
-    thermal = None if run is None else run.thermal
-    T = None if thermal is None else thermal.T_ambient
+@register_interface
+class AutoChoice:
+    """``interface.model = "auto"``: the condensed interface where the run's expected steps
+    pay for its condensation, FE contact otherwise (:func:`choose_interface`).
 
-    def rate(p, v):
-        return float(np.max(run.pad_law.rate(np.array([p]), np.array([v]), T)))
+    A choice, not an interface: it declares the FE interface's capabilities
+    (it takes FE contact wherever the condensed interface lacks one the run
+    needs) and gives the FE contact's answer either way.
+    """
 
-    choice = choose_interface(model, fe, n, line_pressure=request.line_pressure,
-                              omega=run.omega, duration=run.duration, wear_rate=rate,
-                              applications=len(run.schedule), thermal=thermal is not None,
-                              resume=request.checkpoint)
-    return choice.model, choice.record()
+    name = "auto"
+    keys = (METHOD,)
+    accepts_load = follows_geometry = per_node_friction = quadratic = True
+    any_line_pressure = implicit_rings = fe_answer = True
 
+    @staticmethod
+    def decide(request) -> tuple[str, dict]:
+        """``"condensed"`` where it pays for the run (:func:`choose_interface`), ``"fe"``
+        otherwise, with the choice's record; the FE interface it weighs is handed to
+        the chosen model's builder (``request.built``), which builds on it.
 
-register_interface(InterfaceModel(
-    "auto", decide=_decide, keys=(METHOD,), capabilities=capabilities_of(FEInterface),
-    fe_answer=True,
-    summary="the condensed interface where the run's expected steps pay for its "
-            "condensation, FE contact otherwise"))
+        Parameters
+        ----------
+        request : BuildRequest
+            The run's model, numerics and run (its speed, duration, laws).
+
+        Returns
+        -------
+        name : str
+            The model chosen.
+        record : dict
+            Why (``summary.json``'s ``interface``).
+        """
+        model, n, run = request.model, request.numerics, request.run
+        fe = FEInterface(model, request.line_pressure, request.mu, n.tol)
+        request.built["fe"] = fe
+        thermal = None if run is None else run.thermal
+        T = None if thermal is None else thermal.T_ambient
+
+        def rate(p, v):
+            return float(np.max(run.pad_law.rate(np.array([p]), np.array([v]), T)))
+
+        choice = choose_interface(model, fe, n, line_pressure=request.line_pressure,
+                                  omega=run.omega, duration=run.duration, wear_rate=rate,
+                                  applications=len(run.schedule),
+                                  thermal=thermal is not None, resume=request.checkpoint)
+        return choice.model, choice.record()

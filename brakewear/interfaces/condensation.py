@@ -44,13 +44,16 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
+from ..checks import fail, shown_value
 from ..contact.compliant import constraint_rows, drag_loads
-from ..errors import SolverError
+from ..errors import SolverError, StoredFileError
 from ..solvers.threads import blas_threads
+from ..storage import load_arrays, save_arrays
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Condensation", "condense", "cache_dir", "condensation_memory", "CACHE_ENV",
+__all__ = ["Condensation", "condense", "cache_dir", "condensation_memory", "check_scene_size",
+           "CACHE_ENV",
            "Supported"]
 
 #: environment variable naming the cache directory of condensed compliances
@@ -348,15 +351,11 @@ def condense(cs, line_pressure: float, *, cache=None, memory_budget: float | Non
     folder = cache_dir(cache)
     path = None if folder is None else folder / f"{key}.npz"
     if path is not None and path.exists():
-        try:
-            with np.load(path) as z:
-                cond = Condensation(*(np.array(z[k]) for k in _KEYS), key=key,
-                                    info={"cached": str(path), "seconds": 0.0})
-            if cond.n == cs.pair.slave.size:
-                logger.info("condensation read from %s", path)
-                return cond
-        except (OSError, ValueError, KeyError) as e:
-            logger.warning("condensation cache %s unreadable (%s); recomputing", path, e)
+        z = read_cache(path, _KEYS, _shapes_agree)
+        if z is not None and z["hf"].size == cs.pair.slave.size:
+            logger.info("condensation read from %s", path)
+            return Condensation(*(z[k] for k in _KEYS), key=key,
+                                info={"cached": str(path), "seconds": 0.0})
     N, ns = cs.K.shape[0], cs.pair.slave.size
     need = condensation_memory(ns, N)
     avail, source = budget(memory_budget)
@@ -369,11 +368,35 @@ def condense(cs, line_pressure: float, *, cache=None, memory_budget: float | Non
     cond.key = key
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, **{k: getattr(cond, k) for k in _KEYS})
-        os.replace(tmp, path)       # atomic: a parallel reader sees all or nothing
+        # atomic: a parallel reader sees all or nothing
+        save_arrays(path, {k: getattr(cond, k) for k in _KEYS})
         cond.info["cached"] = str(path)
     return cond
+
+
+def _shapes_agree(z: dict) -> bool:
+    n, m = z["hf"].size, z["zf"].size
+    return (z["Hn"].shape == z["Ht"].shape == (n, n) and z["E"].shape == (n, m)
+            and z["Dt"].shape == (m, n))
+
+
+def read_cache(path: Path, keys, agree) -> dict | None:
+    """The arrays of the cache file ``path`` (``keys``), or None -- with a warning
+    naming the file, which is removed -- when it is cut, damaged or not a cache
+    (``agree(arrays)``: whether their shapes fit together): it is then computed anew."""
+    try:
+        z = load_arrays(path, "the condensation cache", required=keys)
+        if all(z[k].dtype.kind == "f" for k in keys) and agree(z):
+            return z
+        reason = f"the condensation cache {path}'s arrays do not fit together"
+    except StoredFileError as e:
+        reason = str(e)
+    logger.warning("%s: computing it again and replacing the file", reason)
+    try:
+        path.unlink()
+    except OSError:
+        pass
+    return None
 
 
 def _compute(cs, line_pressure: float) -> Condensation:
@@ -398,3 +421,32 @@ def _compute(cs, line_pressure: float) -> Condensation:
     logger.info("condensed %d contact nodes of %d DOFs in %.1f s (%d free modes)", ns, N,
                 cond.info["seconds"], Z.shape[1])
     return cond
+
+
+def check_scene_size(scene) -> None:
+    """``interface.model = "condensed"``: the condensation of the pad's contact nodes (two
+    dense ``n x n`` compliances, :func:`condensation_memory`)
+    fits the memory budget; estimated from the geometry like the model's size (a scene
+    with its own pad mesh is checked when the run condenses)."""
+    if "pad" in scene.mesh_files:
+        return
+    import math
+
+    from ..caliper.loads import resolve_layout
+    from ..mesh.estimate import estimate_model, memory_budget
+    g = scene.meshed_geometry
+    full = resolve_layout(scene.geometry, scene.layout, scene.rotor) == "full"
+    est = estimate_model(g, scene.mesh_size, scene.rotor, scene.piston, full=full)
+    pad, h = g.pad, g.mesh.pad_size or est.size
+    nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
+    nth = max(2, math.ceil(pad.arc_angle * 0.5 * (pad.inner_radius + pad.outer_radius) / h))
+    n = (nr + 1) * (nth + 1) * (2 if full else 1)
+    need = condensation_memory(n, est.dofs)
+    avail, source = memory_budget(scene.numerics.memory_budget)
+    if need > avail:
+        raise fail("interface.model", f"'condensed' condenses about {n} pad contact nodes of "
+                                      f"a {est.dofs}-DOF model at mesh.size = "
+                                      f"{shown_value('mesh.size', est.size, 'm')}: about "
+                                      f"{need / 1e9:.1f} GB, beyond {source} "
+                                      f"({avail / 1e9:.1f} GB); use a coarser mesh or "
+                                      "interface.model = 'fe'")

@@ -35,23 +35,22 @@ from scipy.linalg import lu_factor, lu_solve
 
 from ..contact.active_set import COMPLIANT, EXACT, ActiveSetDriver, Margins
 from ..errors import CondensedRangeError, ContactError, WearError
-from ..checks import fail, shown_value
 from ..solvers.threads import blas_threads
-from .condensation import condensation_memory, condense
+from .condensation import check_scene_size, condense
 from .fe import METHOD, FEInterface
 from .protocol import InterfaceSolution, StepCompliance
-from .registry import InterfaceModel, capabilities_of, register_interface
+from .registry import register_interface
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["CondensedInterface", "check_scene_size"]
+__all__ = ["CondensedInterface"]
 
 #: factorisations kept per interface (friction x compliance, or sets x friction x
 #: compliance), and the Schur systems of the sets solved from them
 _KEEP = 4
 _SETS = 16
 #: nodes whose base columns are solved together
-_BLOCK = 64
+_BLOCK = 32
 
 
 def solve_dense_sets(problem, g: np.ndarray, active, gap_tol: float, compliant: bool,
@@ -72,6 +71,7 @@ def solve_dense_sets(problem, g: np.ndarray, active, gap_tol: float, compliant: 
     return driver.run(problem, start), driver.report()
 
 
+@register_interface
 class CondensedInterface:
     """The FE contact interface condensed onto the pad's friction nodes.
 
@@ -86,9 +86,13 @@ class CondensedInterface:
     valid_fraction
         The largest gap offset (worn depths and initial gap) allowed, as a
         share of the height of the pad's elements at its friction face.
+    fe
+        The FE interface to condense (None: one is built).
     memory_budget
         GB allowed for the condensation (checked before it starts).
 
+    Notes
+    -----
     The rotor's and the pad's surfaces, areas and rings, and the normal
     stiffness the step control uses, are those of the FE interface, so a
     history run on either takes the same steps.
@@ -102,6 +106,26 @@ class CondensedInterface:
     implicit_rings = True
     #: the condensation is of the unmoved meshes
     follows_geometry = False
+    why_not = {"follows_geometry": "the condensation is of the unmoved meshes"}
+    #: its pressure is the FE contact's, to the solvers' tolerance
+    fe_answer = True
+
+    #: ``interface.model = "condensed"`` in a scene, with its keys of ``[interface]``
+    name = "condensed"
+    keys = (METHOD,)
+
+    @classmethod
+    def build(cls, request) -> CondensedInterface:
+        """The interface of a scene's run (:class:`~brakewear.interfaces.BuildRequest`),
+        condensing the FE interface an ``"auto"`` choice built, if it did."""
+        return cls(request.model, request.line_pressure, request.mu, request.numerics.tol,
+                   memory_budget=request.numerics.memory_budget, fe=request.built.get("fe"))
+
+    @classmethod
+    def check_scene(cls, scene) -> None:
+        """The scene's condensation fits the memory
+        (:func:`~brakewear.interfaces.condensation.check_scene_size`)."""
+        check_scene_size(scene)
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9, *,
                  cache=None, valid_fraction: float = 0.25, fe: FEInterface | None = None,
@@ -134,9 +158,10 @@ class CondensedInterface:
         self._lu = OrderedDict()            # (set, mu, compliance) -> LU of the set's system
         self._bases = OrderedDict()         # (mu, compliance) -> _Base: every node's system
         self._thermal = None                # the load -> gap operator, built on first use
+        self._ringed = {}                   # (mu, rings' step) -> H with the rings' compliance
 
     # -------------------------------------------------------------- protocol --
-    def at_line_pressure(self, line_pressure: float) -> "CondensedInterface":
+    def at_line_pressure(self, line_pressure: float) -> CondensedInterface:
         """This interface under another line pressure (Pa): the condensation and
         its factorisations shared (the load's share scales)."""
         new = copy.copy(self)
@@ -183,15 +208,16 @@ class CondensedInterface:
         if c is not None and c.shape != q.shape:
             raise ContactError(f"compliance must be ({q.size},) finite and > 0 m/Pa")
         rings = comp is not None and comp.rings
-        if rings:
-            # the rings' wear over the step: the gap per newton, W diag(1/A_ring) W^T diag(eps_rot)
-            H = H + comp.ring_compliance()
-        problem = DenseSets(self, H, D, q, rhs, c,
-                             comp.rotor.tobytes() + comp.ring_area.tobytes() if rings else b"")
+        ring_key = comp.ring_key if rings else b""
         g = self.g0 + offset
         with blas_threads(1):
-            act, report = solve_dense_sets(problem, g, active, self.gap_tol, c is not None, self.tol,
-                                   "pad-rotor (condensed)")
+            if rings:
+                # the rings' wear over the step: the gap per newton,
+                # W diag(1/A_ring) W^T diag(eps_rot)
+                H = self._with_rings(H, comp, ring_key)
+            problem = DenseSets(self, H, D, q, rhs, c, ring_key)
+            act, report = solve_dense_sets(problem, g, active, self.gap_tol, c is not None,
+                                           self.tol, "pad-rotor (condensed)")
         lam = problem.lam
         pressure = (lam if c is None else np.maximum(lam, 0.0)) / self.area
         info = {**report, "factorisations": problem.factorised,
@@ -199,7 +225,7 @@ class CondensedInterface:
                 "normal_force": float(lam.sum()), "min_gap": float(problem.g.min()),
                 "time_s": time.perf_counter() - t0}
         if rings:
-            info["ring_depth"] = comp.ring_force_depth() @ lam
+            info["ring_depth"] = comp.ring_depth_of_forces(lam)
         return InterfaceSolution(pressure, act, None, info)
 
     # --------------------------------------------------------------- helpers --
@@ -250,6 +276,16 @@ class CondensedInterface:
             self._H = {key: ops}
         return self._H[key]
 
+    def _with_rings(self, H: np.ndarray, comp: StepCompliance, key: bytes) -> np.ndarray:
+        """``H`` plus the rings' compliance (dense, rank ``n_ring``), kept while the
+        friction and the rings' step stay the same: fixed steps assemble nothing."""
+        k = (self.mu_key, key)
+        got = self._ringed.get(k)
+        if got is None:
+            got = H + comp.ring_compliance()
+            self._ringed = {k: got}
+        return got
+
     def thermal_gap(self, load: np.ndarray):
         """``(gap change per contact node, the free modes' share)`` of a nodal load."""
         if self._thermal is None:
@@ -267,7 +303,7 @@ class _Base:
         self.lu, self.n, self.m = lu, n, m
         self.columns = np.zeros((n + m, n))     # base^-1 e_j, column j once solved
         self.solved = np.zeros(-(-n // _BLOCK), dtype=bool)
-        self.sets: OrderedDict = OrderedDict()  # set -> LU of its Schur system
+        self.sets: OrderedDict = OrderedDict()  # set -> (LU of its Schur system, its columns)
 
     def columns_of(self, nodes: np.ndarray) -> np.ndarray:
         """``base^-1 e_j`` of each node (the unit load that holds it), solved
@@ -294,8 +330,9 @@ class DenseSets:
     ``lam = 0`` by multipliers: ``z = y - X w`` with ``y = base^-1 b``, the
     base's solved unit columns ``X`` of ``R`` (each solved once per base)
     and the Schur system ``X_RR w = y_R`` of ``|R|`` unknowns (its LU kept
-    per set).  A settled contact meets the same set step after step at the
-    cost of a triangular solve pair and two products.  A set with more open
+    per set, with the columns it takes).  A settled contact meets the same
+    set step after step at the cost of a triangular solve pair and a
+    product with the columns of its open nodes.  A set with more open
     nodes than half its active ones, or whose Schur solve does not satisfy
     the set's equations to 1e-12 of their terms, is factorised on its own
     (the LU kept per set).  Every choice depends on the set alone, never on
@@ -318,8 +355,9 @@ class DenseSets:
         rem = np.nonzero(~active)[0]
         state = None
         if 2 * rem.size <= n - rem.size:
-            state = self._gap(self._schur(self._base(key), active, rem), active,
-                              None if rem.size else rem)
+            # the gaps of the open nodes only: the set's equations give the others
+            z, w = self._schur(self._base(key), active, rem)
+            state = self._gap(z, active, rem, w)
             if not rem.size:
                 pass
             elif self._solves(*state, active):
@@ -343,7 +381,7 @@ class DenseSets:
     # ------------------------------------------------------------------ --
     def _block(self, rows, cols):
         """Rows ``rows`` and columns ``cols`` of ``H + diag(c)`` (node numbers)."""
-        M = self.H[np.ix_(rows, cols)]
+        M = self.H.take(rows, axis=0).take(cols, axis=1)
         if self.c is not None:
             at = np.full(self.q.size, -1, dtype=np.int64)
             at[cols] = np.arange(cols.size)
@@ -389,34 +427,40 @@ class DenseSets:
         return z
 
     def _schur(self, base: _Base, active, rem):
-        """The solution ``z`` from the base, the open nodes ``rem`` held."""
+        """The solution ``z`` from the base, the open nodes ``rem`` held, and the
+        loads ``w`` that hold them."""
         y = lu_solve(base.lu, np.concatenate([-self.q, self.rhs]), check_finite=False)
         if not rem.size:
-            return y
+            return y, np.zeros(0)
         set_key = np.packbits(active).tobytes()
-        lu = base.sets.get(set_key)
-        if lu is None:
-            lu = base.sets[set_key] = lu_factor(base.columns_of(rem)[rem], check_finite=False)
+        got = base.sets.get(set_key)
+        if got is None:                          # its LU and its (n + m) x |R| columns
+            X = base.columns_of(rem)
+            got = base.sets[set_key] = (lu_factor(X[rem], check_finite=False), X)
             while len(base.sets) > _SETS:
                 base.sets.popitem(last=False)
         base.sets.move_to_end(set_key)
+        lu, X = got
         w = lu_solve(lu, y[rem], check_finite=False)
-        z = y - base.columns[:, rem] @ w
+        z = y - X @ w
         z[rem] = 0.0
-        return z
+        return z, w
 
-    def _gap(self, z, active, rows=None):
+    def _gap(self, z, active, rows=None, held=None):
         """The contact forces and gaps of a solution ``z`` of the embedded system:
-        the gaps of ``rows`` (default every node) from the compliance, the
-        others from the set's equations (``g = -c lam``, 0 when rigid), which
-        a factorised system satisfies to round-off."""
+        the gaps of ``rows`` (default every node) from the compliance, or, given
+        ``held`` (the multipliers that hold them open in the base's system), as
+        ``-held``; the others from the set's equations (``g = -c lam``, 0 when
+        rigid), which a factorised system satisfies to round-off."""
         n = self.q.size
         lam = np.where(active, z[:n], 0.0)
         self.alpha = z[n:]
         if rows is None:
             return lam, self.q + self.H @ lam + self.E @ z[n:]
         g = -self._comply(lam) * active
-        g[rows] = self.q[rows] + self.H[rows] @ lam + self.E[rows] @ z[n:]
+        # the base's row of an open node reads g_i + w_i = 0: no product with H's rows
+        g[rows] = -held if held is not None else (self.q[rows] + self.H[rows] @ lam
+                                                  + self.E[rows] @ z[n:])
         return lam, g
 
     def _solves(self, lam, g, active) -> bool:
@@ -437,43 +481,3 @@ class DenseSets:
         force = -self.g / self.c
         fmax = max(float(force[active].max()) if active.any() else 0.0, 1e-300)
         return Margins(force, band * fmax, force, band * fmax)
-
-
-def check_scene_size(scene) -> None:
-    """``interface.model = "condensed"``: the condensation of the pad's contact nodes (two
-    dense ``n x n`` compliances, :func:`~brakewear.interfaces.condensation.condensation_memory`)
-    fits the memory budget; estimated from the geometry like the model's size (a scene
-    with its own pad mesh is checked when the run condenses)."""
-    if "pad" in scene.mesh_files:
-        return
-    import math
-
-    from ..caliper.loads import resolve_layout
-    from ..mesh.estimate import estimate_model, memory_budget
-    g = scene.meshed_geometry
-    full = resolve_layout(scene.geometry, scene.layout, scene.rotor) == "full"
-    est = estimate_model(g, scene.mesh_size, scene.rotor, scene.piston, full=full)
-    pad, h = g.pad, g.mesh.pad_size or est.size
-    nr = max(2, math.ceil((pad.outer_radius - pad.inner_radius) / h))
-    nth = max(2, math.ceil(pad.arc_angle * 0.5 * (pad.inner_radius + pad.outer_radius) / h))
-    n = (nr + 1) * (nth + 1) * (2 if full else 1)
-    need = condensation_memory(n, est.dofs)
-    avail, source = memory_budget(scene.numerics.memory_budget)
-    if need > avail:
-        raise fail("interface.model", f"'condensed' condenses about {n} pad contact nodes of "
-                                      f"a {est.dofs}-DOF model at mesh.size = "
-                                      f"{shown_value('mesh.size', est.size, 'm')}: about "
-                                      f"{need / 1e9:.1f} GB, beyond {source} "
-                                      f"({avail / 1e9:.1f} GB); use a coarser mesh or "
-                                      "interface.model = 'fe'")
-
-
-register_interface(InterfaceModel(
-    "condensed", lambda req: CondensedInterface(
-        req.model, req.line_pressure, req.mu, req.numerics.tol,
-        memory_budget=req.numerics.memory_budget, fe=req.built.get("fe")),
-    keys=(METHOD,), capabilities=capabilities_of(CondensedInterface), fe_answer=True,
-    check_scene=check_scene_size,
-    why_not={"follows_geometry": "the condensation is of the unmoved meshes"},
-    summary="the FE contact condensed onto the contact nodes (the FE answer, gap-offset "
-            "wear only)"))

@@ -7,21 +7,26 @@ import logging
 
 import numpy as np
 
+from ..checks import check_line_pressure
 from ..contact.compliant import compliant_preconditioner, solve_compliant_contact
 from ..contact.lagrange import contact_preconditioner, solve_contact
 from ..mesh.quadratic import quadratic_face_areas, slave_basis
-from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from ..mesh.rings import face_rings, ring_wear_nodes
-from ..checks import check_line_pressure
-from .protocol import InterfaceSolution, StepCompliance
+from ..mesh.surface import face_nodes, is_quadratic, quadratic_faces, tributary_areas
 from ..registry import OptionKey
-from .registry import InterfaceModel, capabilities_of, register_interface
+from .protocol import InterfaceSolution, StepCompliance
+from .registry import register_interface
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["FEInterface"]
 
+#: the FE contact discretisation (a key of the models built on FE contact)
+METHOD = OptionKey("method", "str", "segment", choices=("segment",),
+                   doc="FE contact discretisation")
 
+
+@register_interface
 class FEInterface:
     """The finite-element contact interface as the wear loop sees it.
 
@@ -43,6 +48,17 @@ class FEInterface:
     its own transformed basis, so ``W`` (pad node <- rotor node) carries the
     rotor's depths into the pad's weak gaps and volumes are ``area @ depth``
     on either face.
+
+    Parameters
+    ----------
+    model
+        The :class:`~brakewear.model.BrakeModel`.
+    line_pressure
+        The line pressure it is posed at (Pa).
+    mu
+        The friction coefficient (any mu > 0 builds the sliding directions).
+    tol
+        Relative tolerance of its contact solves.
     """
 
     #: the thermal-strain load enters its solves
@@ -51,6 +67,20 @@ class FEInterface:
     follows_geometry = per_node_friction = quadratic = any_line_pressure = True
     #: the rings' depths of an implicit step are unknowns of its compliant solve
     implicit_rings = True
+    #: its pressure is the FE contact's (the measured mesh convergence rates it)
+    fe_answer = True
+
+    #: ``interface.model = "fe"`` in a scene, with its keys of ``[interface]``
+    name = "fe"
+    keys = (METHOD,)
+
+    @classmethod
+    def build(cls, request) -> FEInterface:
+        """The interface of a scene's run (:class:`~brakewear.interfaces.BuildRequest`):
+        the one an ``"auto"`` choice built to decide, or a new one."""
+        if "fe" in request.built:
+            return request.built["fe"]
+        return cls(request.model, request.line_pressure, request.mu, request.numerics.tol)
 
     def __init__(self, model, line_pressure: float, mu: float = 0.0, tol: float = 1e-9):
         self.model, self.line_pressure, self.mu, self.tol = model, line_pressure, mu, tol
@@ -107,7 +137,7 @@ class FEInterface:
         dz = 3 * pair.slave + 2
         self.normal_stiffness = np.asarray(abs(cs.K[dz][:, dz]).sum(axis=1)).ravel()
 
-    def rebuilt(self, model, opening: float = 0.0) -> "FEInterface":
+    def rebuilt(self, model, opening: float = 0.0) -> FEInterface:
         """This interface on ``model``, the same brake in a moved (worn) geometry
         (:class:`~brakewear.motion.brake.BrakeMotion`): the reference areas, radii and
         rotor rings stay, the contact system is the moved model's.  ``opening``
@@ -117,7 +147,7 @@ class FEInterface:
         new.rebuild(opening)
         return new
 
-    def at_line_pressure(self, line_pressure: float) -> "FEInterface":
+    def at_line_pressure(self, line_pressure: float) -> FEInterface:
         """This interface under another line pressure (Pa): the load scaled, the
         assembled system, its hierarchies and the geometry shared (no assembly)."""
         check_line_pressure(line_pressure)
@@ -146,7 +176,8 @@ class FEInterface:
         layer: the implicit wear step (:mod:`brakewear.contact.compliant`; the
         rotor's rings, when the compliance has them, as extra unknowns,
         :mod:`brakewear.contact.compliant_rings`), whose Krylov solves start
-        from ``x0`` (the previous step's displacement), when given.  ``load`` is an extra nodal load of the model's DOFs (the
+        from ``x0`` (the previous step's displacement), when given.  ``load`` is an extra nodal
+        load of the model's DOFs (the
         thermal strain), ``mu`` the friction coefficient of this solve (a number
         or one per pad friction node).
 
@@ -201,12 +232,3 @@ def _face_areas(mesh, nodes: np.ndarray) -> np.ndarray:
     return tributary_areas(mesh, "friction", nodes)
 
 
-#: the FE contact discretisation (a key of the models built on FE contact)
-METHOD = OptionKey("method", "str", "segment", choices=("segment",),
-                      doc="FE contact discretisation")
-
-register_interface(InterfaceModel(
-    "fe", lambda req: req.built["fe"] if "fe" in req.built else FEInterface(
-        req.model, req.line_pressure, req.mu, req.numerics.tol),
-    keys=(METHOD,), capabilities=capabilities_of(FEInterface), fe_answer=True,
-    summary="node-to-surface finite-element contact (elastic or rigid rotor)"))

@@ -7,17 +7,18 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ContactLostError, FoundationSolveError, WearError
-from ..mesh.surface import surface_nodes
 from ..mesh.rings import ring_wear_nodes
-from .protocol import InterfaceSolution, StepCompliance
+from ..mesh.surface import surface_nodes
 from ..registry import OptionKey
-from .registry import InterfaceModel, capabilities_of, register_interface
+from .protocol import InterfaceSolution, StepCompliance
+from .registry import register_interface
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["FoundationInterface", "ring_fixed_point"]
 
 
+@register_interface
 class FoundationInterface:
     """An elastic-foundation (Winkler) interface as the wear loop's interface model.
 
@@ -26,6 +27,17 @@ class FoundationInterface:
     nodes' radii as an unmeshed rotor does.  Milliseconds per solve.  The
     implicit step puts the step's wear compliance in series with the
     foundation: modulus ``1 / (1/k + eps)``.
+
+    Parameters
+    ----------
+    model
+        The :class:`~brakewear.model.BrakeModel`.
+    winkler
+        The :class:`~brakewear.interfaces.WinklerInterface` of its pad face.
+    line_pressure
+        The line pressure it is posed at (Pa).
+    mu
+        The friction coefficient.
     """
 
     #: a nodal load (thermal strain) has no place in a foundation
@@ -34,6 +46,33 @@ class FoundationInterface:
     follows_geometry = per_node_friction = quadratic = any_line_pressure = False
     #: the rings' depths of an implicit step are iterated around its solve
     implicit_rings = True
+    #: why it lacks the others (the end of a scene's message)
+    why_not = {"accepts_load": "the foundation takes no thermal-strain load (it would be "
+                               "dropped)",
+               "per_node_friction": "the foundation takes one mu",
+               "any_line_pressure": "the foundation is built at one line pressure",
+               "follows_geometry": "the foundation does not move with the meshes",
+               "quadratic": "the foundation is built on linear faces",
+               "fe_answer": "the Winkler interface: its own modelling error dominates "
+                            "(docs/winkler_running_in.md)"}
+
+    #: ``interface.model = "winkler"`` in a scene, with its keys of ``[interface]``
+    name = "winkler"
+    keys = (OptionKey("winkler_modulus", "num", None, lo=0.0, unit="Pa/m", allow_none=True,
+                      doc="foundation modulus; none: Johnson's layer modulus of the "
+                          "friction layer"),
+            OptionKey("winkler_rotor", "str", "rigid", choices=("rigid", "foundation"),
+                      doc="the rotor's half thickness as a second layer in series"))
+
+    @classmethod
+    def build(cls, request) -> FoundationInterface:
+        """The foundation of a scene's run (:class:`~brakewear.interfaces.BuildRequest`):
+        Johnson's layer modulus unless ``winkler_modulus``."""
+        from .winkler_bed import WinklerInterface
+        opt = request.options
+        winkler = WinklerInterface.from_model(request.model, modulus=opt["winkler_modulus"],
+                                              rotor=opt["winkler_rotor"])
+        return cls(request.model, winkler, request.line_pressure, request.mu)
 
     def __init__(self, model, winkler, line_pressure: float, mu: float = 0.0):
         self.model, self.winkler, self.line_pressure, self.mu = model, winkler, line_pressure, mu
@@ -143,31 +182,3 @@ def ring_fixed_point(pressure, comp: StepCompliance, area: np.ndarray,
     raise FoundationSolveError(
         f"foundation contact: the rings' wear of the implicit step did not settle in "
         f"{max_iter} solves (last change {change:.2e} m of {size:.2e} m)")
-
-
-def _build(request) -> FoundationInterface:
-    """The foundation of a scene: Johnson's layer modulus unless ``winkler_modulus``."""
-    from .winkler_bed import WinklerInterface
-    opt = request.options
-    winkler = WinklerInterface.from_model(request.model, modulus=opt["winkler_modulus"],
-                                          rotor=opt["winkler_rotor"])
-    return FoundationInterface(request.model, winkler, request.line_pressure, request.mu)
-
-
-register_interface(InterfaceModel(
-    "winkler", _build,
-    keys=(OptionKey("winkler_modulus", "num", None, lo=0.0, unit="Pa/m", allow_none=True,
-                       doc="foundation modulus; none: Johnson's layer modulus of the "
-                           "friction layer"),
-          OptionKey("winkler_rotor", "str", "rigid", choices=("rigid", "foundation"),
-                       doc="the rotor's half thickness as a second layer in series")),
-    capabilities=capabilities_of(FoundationInterface),
-    why_not={"accepts_load": "the foundation takes no thermal-strain load (it would be "
-                             "dropped)",
-             "per_node_friction": "the foundation takes one mu",
-             "any_line_pressure": "the foundation is built at one line pressure",
-             "follows_geometry": "the foundation does not move with the meshes",
-             "quadratic": "the foundation is built on linear faces",
-             "fe_answer": "the Winkler interface: its own modelling error dominates "
-                          "(docs/winkler_running_in.md)"},
-    summary="an elastic (Winkler) foundation, milliseconds per solve"))

@@ -87,12 +87,15 @@ class StepCompliance:
                                f"shape {rotor.shape}")
         if self.ring_gap is None or self.ring_area is None:
             raise ContactError("compliance: a rotor compliance needs ring_gap and ring_area")
-        B = sp.csr_matrix(self.ring_gap)
+        B = self.ring_gap
+        if not (sp.issparse(B) and B.format == "csr"):
+            B = sp.csr_matrix(B)
         area = np.asarray(self.ring_area, dtype=float)
         if B.shape != (n, area.size):
             raise ContactError(f"compliance: ring_gap has shape {B.shape}; need ({n}, "
                                f"{area.size}), one column per ring of ring_area")
-        used = np.asarray(abs(B).sum(axis=0)).ravel() > 0
+        # the rings some pad node sees (a vector sum: this runs once per wear step)
+        used = np.bincount(B.indices, weights=np.abs(B.data), minlength=area.size) > 0
         if not np.all(np.isfinite(area)) or np.any(area[used] <= 0):
             raise ContactError("compliance: every ring under the pad needs an area > 0")
         object.__setattr__(self, "rotor", rotor)
@@ -100,7 +103,7 @@ class StepCompliance:
         object.__setattr__(self, "ring_area", area)
 
     @classmethod
-    def of(cls, compliance) -> "StepCompliance | None":
+    def of(cls, compliance) -> StepCompliance | None:
         """``compliance`` as a :class:`StepCompliance`: None stays None, an array
         is the pad's alone (m/Pa per pad node)."""
         if compliance is None or isinstance(compliance, cls):
@@ -112,17 +115,37 @@ class StepCompliance:
         """Whether the rotor's ring wear is part of the step."""
         return self.rotor is not None
 
+    def _inverse_ring_area(self) -> np.ndarray:
+        return np.divide(1.0, self.ring_area, out=np.zeros_like(self.ring_area),
+                         where=self.ring_area > 0)
+
     def ring_force_depth(self) -> sp.csr_matrix:
         """(n_ring, n_pad): each ring's depth per newton of end-of-step contact
         force at each pad node (m/N)."""
-        inv = np.divide(1.0, self.ring_area, out=np.zeros_like(self.ring_area),
-                        where=self.ring_area > 0)
-        return (sp.diags(inv) @ self.ring_gap.T @ sp.diags(self.rotor)).tocsr()
+        return (sp.diags(self._inverse_ring_area()) @ self.ring_gap.T
+                @ sp.diags(self.rotor)).tocsr()
+
+    def ring_depth_of_forces(self, force: np.ndarray) -> np.ndarray:
+        """(n_ring,) m: the rings' wear over the step under the end-of-step contact
+        forces ``force`` (N per pad node): ``ring_force_depth() @ force`` as two
+        vector products."""
+        return self._inverse_ring_area() * (self.ring_gap.T @ (self.rotor * force))
 
     def ring_depth(self, pressure: np.ndarray, area: np.ndarray) -> np.ndarray:
         """(n_ring,) m: the rings' wear over the step under the end pressure (Pa at
         the pad nodes of area ``area``)."""
-        return self.ring_force_depth() @ (np.asarray(pressure, dtype=float) * area)
+        return self.ring_depth_of_forces(np.asarray(pressure, dtype=float) * area)
+
+    @property
+    def ring_key(self) -> bytes:
+        """The rings' part of the step as bytes (the rotor's compliance, the rings'
+        areas and coupling): what tells one step's ring compliance from another's
+        in a cache of factorisations."""
+        if not self.rings:
+            return b""
+        B = self.ring_gap
+        return b"".join(np.ascontiguousarray(a).tobytes() for a in (
+            self.rotor, self.ring_area, B.data, B.indices, B.indptr))
 
     def gap(self, pressure: np.ndarray, area: np.ndarray) -> np.ndarray:
         """(n_pad,) m: how far the step's wear of both surfaces opens each pad
@@ -136,14 +159,16 @@ class StepCompliance:
         n = self.pad.size
         if not self.rings:
             return np.zeros((n, n))
-        return np.asarray((self.ring_gap @ self.ring_force_depth()).todense())
+        # B diag(1/A_ring) B^T diag(rotor), dense: rank n_ring, built from its thin factors
+        B = self.ring_gap.toarray()
+        return (B * self._inverse_ring_area()) @ (B.T * self.rotor)
 
 
 @dataclass
 class InterfaceSolution:
     """One contact solve as the wear loop sees it.
 
-    Attributes
+    Parameters
     ----------
     pressure : ndarray
         (n_pad,) contact pressure at the pad's friction nodes (Pa), 0 where open.
@@ -164,8 +189,10 @@ class InterfaceSolution:
 
 @runtime_checkable
 class Interface(Protocol):
-    """The interface model of a wear history: everything the wear loop, its
-    records and its output ask of it.
+    """The interface model of a wear history (a protocol).
+
+    Everything the wear loop, its records and its output ask of it; a class
+    answers it (:mod:`~brakewear.interfaces.registry`), none is made from it.
 
     Attributes
     ----------
@@ -194,7 +221,8 @@ class Interface(Protocol):
     settings : dict
         Its own settings (numbers, strings, arrays): a checkpoint is resumed
         only by a run whose interface reports the same.
-    accepts_load, follows_geometry, per_node_friction, quadratic, any_line_pressure, implicit_rings : bool
+    accepts_load, follows_geometry, per_node_friction, quadratic : bool
+    any_line_pressure, implicit_rings : bool
         Its capabilities (:data:`~brakewear.interfaces.registry.CAPABILITIES`;
         a missing one counts as False): a nodal load (thermal strain) in
         :meth:`solve`; :meth:`rebuilt` on a moved model; ``mu`` per pad node;
@@ -224,7 +252,7 @@ class Interface(Protocol):
     settings: dict
 
     def solve(self, offset: np.ndarray, active: np.ndarray | None, *,
-              compliance: "StepCompliance | np.ndarray | None" = None,
+              compliance: StepCompliance | np.ndarray | None = None,
               x0: np.ndarray | None = None,
               load: np.ndarray | None = None, mu: float | None = None) -> InterfaceSolution:
         """Contact with ``offset`` (m) added to the gap.

@@ -146,6 +146,9 @@ class WinklerInterface:
         with the clamp force is measured (:attr:`FoundationResult.approach`
         is at ``load_point``); default ``load_point``.  They differ only
         after a pressure calibration moves the effective load line.
+    load_nodes, load_weights
+        The pad nodes the FE model's clamp load acts on and their shares of it
+        (summing to 1; from :meth:`from_model`), or None.
     info
         Where the modulus came from (for reports).
     """
@@ -203,7 +206,7 @@ class WinklerInterface:
     # ------------------------------------------------------------ builders --
     @classmethod
     def from_model(cls, model, modulus=None, rotor: str = "rigid",
-                   lever_arm: float | None = None, constrained: bool = True) -> "WinklerInterface":
+                   lever_arm: float | None = None, constrained: bool = True) -> WinklerInterface:
         """The pad-rotor interface of a :class:`brakewear.model.BrakeModel`.
 
         Nodes are the pad's friction nodes in the order of
@@ -272,7 +275,7 @@ class WinklerInterface:
                          "pad_modulus_mean": float(k_pad.mean()),
                          "rotor_modulus": k_rot})
 
-    def with_modulus(self, modulus, offset=None, **info) -> "WinklerInterface":
+    def with_modulus(self, modulus, offset=None, **info) -> WinklerInterface:
         """A copy with another modulus (and optionally offset); ``info`` is added."""
         n = self.xy.shape[1]
         return replace(self, modulus=_positive_array("modulus", modulus, n),

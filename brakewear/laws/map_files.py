@@ -155,7 +155,7 @@ def _cells(source: str, rows: list[tuple[int, str]], cols: list[tuple],
 def _pressures_plausible(source: str, raw: np.ndarray, rownos: list[int],
                          cols: list[tuple]) -> None:
     """Refuse a pressure column whose largest value is below 1 kPa (MPa under a Pa header)."""
-    for j, (_, name, kind, unit, f, o) in enumerate(cols):
+    for j, (_, name, kind, unit, f, _o) in enumerate(cols):
         if kind != "p":
             continue
         r = int(np.argmax(raw[:, j]))

@@ -77,6 +77,8 @@ class TableMap:
     source
         Where the map came from (the CSV's path), for messages.
 
+    Notes
+    -----
     ``units`` and ``source`` do not enter a run's fingerprint: the same
     numbers from another file or in other units are the same map.
     """
@@ -284,7 +286,13 @@ class _TableLaw:
 
 @dataclass(frozen=True, eq=False)
 class FrictionMap(_TableLaw):
-    """A friction law from a measured map: ``mu(p, v, T)`` (a :class:`TableMap` of ``mu``)."""
+    """A friction law from a measured map: ``mu(p, v, T)``.
+
+    Parameters
+    ----------
+    table
+        A :class:`TableMap` of ``mu``.
+    """
 
     _quantity: ClassVar[str] = "mu"
 
@@ -297,8 +305,13 @@ class FrictionMap(_TableLaw):
 class WearMap(_TableLaw):
     """An Archard wear law from a measured map: ``dh/dt = k(p, v, T) p v``.
 
-    The map's ``k`` (a :class:`TableMap` of ``k``, m^2/N) is the specific wear
-    rate measured at each ``p, v, T``, so the exponents are ``a = b = 1``.
+    The map's ``k`` is the specific wear rate measured at each ``p, v, T``, so
+    the exponents are ``a = b = 1``.
+
+    Parameters
+    ----------
+    table
+        A :class:`TableMap` of ``k`` (m^2/N).
     """
 
     _quantity: ClassVar[str] = "k"
@@ -329,7 +342,8 @@ def _check_law(owner: str, name: str, value, lo: float, hi: float, unit: str = "
 
 @dataclass(frozen=True)
 class StribeckFriction:
-    """Friction falling with sliding speed (Stribeck-type):
+    """Friction falling with sliding speed (Stribeck-type).
+
     ``mu(v) = mu_kinetic + (mu_static - mu_kinetic) exp(-(v / v_stribeck)^delta)``.
 
     ``mu(0) = mu_static``; far above ``v_stribeck``, ``mu_kinetic``.  ``delta``

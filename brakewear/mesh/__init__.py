@@ -9,4 +9,12 @@ from .series import *  # noqa: F403
 from .structured import *  # noqa: F403
 from .topology import *  # noqa: F403
 
-__all__ = [*brake.__all__, *estimate.__all__, *io.__all__, *rotor.__all__, *series.__all__, *structured.__all__, *topology.__all__]
+__all__ = [
+    *brake.__all__,
+    *estimate.__all__,
+    *io.__all__,
+    *rotor.__all__,
+    *series.__all__,
+    *structured.__all__,
+    *topology.__all__,
+]

@@ -195,7 +195,9 @@ def _extrude(p2: np.ndarray, tri: np.ndarray, z: np.ndarray) -> tuple[np.ndarray
     return p, np.hstack(tets)
 
 
-def piston_mesh(geom: BrakeGeometry, size: float | None = None, order: int | None = None) -> fem.Mesh:
+def piston_mesh(
+    geom: BrakeGeometry, size: float | None = None, order: int | None = None
+) -> fem.Mesh:
     """The piston: a solid cylinder standing on the back of the pad.
 
     Concentric-ring triangulation of the footprint disc, extruded in z from
@@ -243,7 +245,9 @@ def piston_mesh(geom: BrakeGeometry, size: float | None = None, order: int | Non
     return m
 
 
-def brake_meshes(geom: BrakeGeometry, size: float | None = None, order: int | None = None) -> dict[str, fem.Mesh]:
+def brake_meshes(
+    geom: BrakeGeometry, size: float | None = None, order: int | None = None
+) -> dict[str, fem.Mesh]:
     """Meshes of the three bodies of a brake geometry.
 
     The bodies are separate meshes that do not match at their interfaces;

@@ -10,14 +10,15 @@ it has the named groups the model needs (:data:`MESH_GROUPS`).
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from os import PathLike
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 import skfem as fem
 
 from ..errors import MeshError, MeshFileError
+from .skfem_compat import decode_cell_data, encode_cell_data, mesh_with_sets
 from .structured import _oriented
 from .topology import _with_boundaries, _with_subdomains, ensure_topology
 
@@ -134,7 +135,7 @@ def read_mesh(path: str | PathLike, required: Sequence[str] | None = None,
                                 "triangles are not faces of the tetrahedra")
         boundaries[nm] = np.unique(f)
     subdomains = {nm: np.unique(np.concatenate(parts)) for nm, parts in sub.items()}
-    enc_b, enc_s = mesh._decode_cell_data(
+    enc_b, enc_s = decode_cell_data(mesh,
         {k: v[:1] for k, v in (mio.cell_data or {}).items() if k.startswith("skfem:")}
         if len(blocks) == 1 and blocks[0][0] == 0 else {})
     boundaries.update({k: np.asarray(v, dtype=np.int64) for k, v in enc_b.items()})
@@ -235,6 +236,7 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
     path
         Output file; without a suffix ``.vtu`` is appended.
     mesh : skfem.MeshTet or skfem.MeshTet2
+        The mesh, with its named boundaries and subdomains.
     point_data : dict of str to ndarray, optional
         Nodal fields, shape (nvertices,) or (nvertices, k) (P2 node arrays are cut).
     cell_data : dict of str to ndarray, optional
@@ -266,7 +268,7 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
             raise MeshError(f"write_mesh: cell_data[{k!r}] has {v.shape[0]} values; "
                             f"need {mesh.t.shape[1]} (one per element)")
         cdata[k] = [v]
-    m1 = fem.MeshTet(p, mesh.t, mesh._boundaries, mesh._subdomains, validate=False)
+    m1 = mesh_with_sets(fem.MeshTet, p, mesh.t, mesh.boundaries, mesh.subdomains)
     if path.suffix.lower() == ".msh":
         if cdata:
             # meshio cannot read back element data of a gmsh file with groups
@@ -277,7 +279,7 @@ def write_mesh(path: str | PathLike, mesh: fem.Mesh, point_data: dict | None = N
                                        field_data=names), file_format="gmsh22", binary=True)
     else:
         _need_h5py(path)
-        cdata.update(m1._encode_cell_data())
+        cdata.update(encode_cell_data(m1))
         meshio.write(path, meshio.Mesh(p.T, [("tetra", mesh.t.T)], point_data=pdata,
                                        cell_data=cdata))
     logger.info("wrote %s (%d nodes, %d tets)", path, nv, mesh.t.shape[1])

@@ -23,7 +23,8 @@ chamfer faces and the curved faces are represented to second order.
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING, Callable
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 import skfem as fem

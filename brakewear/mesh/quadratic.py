@@ -70,7 +70,7 @@ class SlaveBasis:
         if self.ends.shape != (2, self.edge.size):
             raise ContactError(f"ends has shape {self.ends.shape}; need (2, {self.edge.size})")
 
-    def renumbered(self, col: np.ndarray) -> "SlaveBasis":
+    def renumbered(self, col: np.ndarray) -> SlaveBasis:
         """The same basis in another node numbering (``col[old] = new``, all kept)."""
         new = replace(self, edge=col[self.edge], ends=col[self.ends])
         if np.any(new.edge < 0) or np.any(new.ends < 0):
@@ -158,7 +158,9 @@ def face_numbering(nodes: np.ndarray):
 def _basis(nodes: np.ndarray, offset: int, alpha: float) -> SlaveBasis:
     """The face's :class:`SlaveBasis` in global numbering (each mid-edge node once)."""
     edge = nodes[3:].ravel()
-    ends = np.vstack([nodes[[a for a, _ in FACE_EDGES]].ravel(), nodes[[b for _, b in FACE_EDGES]].ravel()])
+    ends = np.vstack(
+        [nodes[[a for a, _ in FACE_EDGES]].ravel(), nodes[[b for _, b in FACE_EDGES]].ravel()]
+    )
     edge, first = np.unique(edge, return_index=True)
     return SlaveBasis(edge + offset, ends[:, first] + offset, alpha)
 

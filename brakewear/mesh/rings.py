@@ -17,8 +17,8 @@ from ..errors import WearError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["rotor_rings", "face_rings", "rotor_wear_rate", "ring_coupling", "ring_wear_nodes",
-           "ring_profile"]
+__all__ = ["rotor_rings", "face_rings", "rotor_wear_rate", "RingAverage", "ring_coupling",
+           "ring_wear_nodes", "ring_profile"]
 
 
 
@@ -29,6 +29,12 @@ def rotor_rings(r_nodes: np.ndarray, tol: float | None = None) -> tuple[np.ndarr
     differ by less than ``tol`` (default 1e-9 of the largest radius) share a
     ring; the rotor meshes of brakewear are structured in r, so every ring is
     a full circle of nodes.
+
+    Examples
+    --------
+    >>> ring, radii = rotor_rings(np.array([0.12, 0.10, 0.12, 0.11, 0.10]))
+    >>> ring.tolist(), radii.tolist()
+    ([2, 0, 2, 1, 0], [0.1, 0.11, 0.12])
     """
     r = np.asarray(r_nodes, dtype=float)
     tol = 1e-9 * r.max() if tol is None else tol
@@ -74,6 +80,17 @@ def rotor_wear_rate(volume_rate: np.ndarray, coupling: sp.spmatrix, ring: np.nda
     per ring and spread uniformly (by area) over the whole ring: the rotor
     passes under the pad once per revolution.  The rotor's volume rate equals
     ``volume_rate.sum()`` exactly.
+
+    Examples
+    --------
+    Two pad nodes over the first of two rotor nodes of one ring: the ring's
+    volume spreads over both nodes, and none is lost.
+
+    >>> coupling = sp.csr_matrix(np.array([[1.0, 0.0], [1.0, 0.0]]))
+    >>> area = np.array([1e-4, 3e-4])
+    >>> rate = rotor_wear_rate(np.array([1e-12, 3e-12]), coupling, np.array([0, 0]), area)
+    >>> rate.tolist(), float(rate @ area) == 4e-12
+    ([1e-08, 1e-08], True)
     """
     per_node = sp.csr_matrix(coupling).T @ np.asarray(volume_rate, dtype=float)
     n_ring = int(ring.max()) + 1
@@ -82,6 +99,28 @@ def rotor_wear_rate(volume_rate: np.ndarray, coupling: sp.spmatrix, ring: np.nda
     if np.any((ring_volume > 0) & (ring_area <= 0)):
         raise WearError("a rotor ring receives wear but has no area")
     return (ring_volume / np.where(ring_area > 0, ring_area, 1.0))[ring]
+
+
+class RingAverage:
+    """:func:`rotor_wear_rate` of one coupling, its rings and areas, with their
+    transposed coupling and ring areas made once (the wear loop calls it several
+    times a step): ``RingAverage(coupling, ring, area)(volume_rate)`` equals
+    ``rotor_wear_rate(volume_rate, coupling, ring, area)``."""
+
+    def __init__(self, coupling: sp.spmatrix, ring: np.ndarray, area: np.ndarray):
+        self.ring = np.asarray(ring)
+        self.n_ring = int(self.ring.max()) + 1
+        self.coupling_t = sp.csr_matrix(sp.csr_matrix(coupling).T)
+        self.ring_area = np.bincount(self.ring, weights=area, minlength=self.n_ring)
+        self.empty = self.ring_area <= 0
+        self.divisor = np.where(self.empty, 1.0, self.ring_area)
+
+    def __call__(self, volume_rate: np.ndarray) -> np.ndarray:
+        per_node = self.coupling_t @ np.asarray(volume_rate, dtype=float)
+        ring_volume = np.bincount(self.ring, weights=per_node, minlength=self.n_ring)
+        if np.any((ring_volume > 0) & self.empty):
+            raise WearError("a rotor ring receives wear but has no area")
+        return (ring_volume / self.divisor)[self.ring]
 
 
 def ring_coupling(coupling: sp.spmatrix, ring: np.ndarray,
@@ -103,8 +142,35 @@ def ring_coupling(coupling: sp.spmatrix, ring: np.ndarray,
 
 
 def ring_wear_nodes(r: np.ndarray):
-    """Rotor wear nodes of an unmeshed rotor: one ring per distinct pad-node radius,
-    carrying the annulus between its neighbours' mid-radii.  (W, ring, area, x)."""
+    """Rotor wear nodes of an unmeshed rotor: one ring per distinct pad-node radius.
+
+    Each ring carries the annulus between its neighbours' mid-radii (the first
+    and last from their own radius), so the rings tile the swept band exactly.
+
+    Parameters
+    ----------
+    r
+        The pad nodes' radii (m).
+
+    Returns
+    -------
+    W : sparse matrix
+        (n_pad, n_ring): pad node -> its ring.
+    ring : ndarray
+        The rings' numbers (0, 1, ...).
+    area : ndarray
+        The rings' areas (m^2).
+    x : ndarray
+        (3, n_ring) a point of each ring (m).
+
+    Examples
+    --------
+    >>> W, ring, area, x = ring_wear_nodes(np.array([0.10, 0.12, 0.11, 0.12]))
+    >>> W.toarray().argmax(axis=1).tolist(), x[0].tolist()
+    ([0, 2, 1, 2], [0.1, 0.11, 0.12])
+    >>> bool(np.isclose(area.sum(), np.pi * (0.12 ** 2 - 0.10 ** 2), rtol=1e-12))
+    True
+    """
     ring, radii = rotor_rings(r)
     edges = np.concatenate([[radii[0]], 0.5 * (radii[1:] + radii[:-1]), [radii[-1]]])
     W = sp.csr_matrix((np.ones(ring.size), (np.arange(ring.size), ring)),

@@ -8,7 +8,7 @@ mapped to physical space; P2 edge nodes are placed with the same map.
 from __future__ import annotations
 
 import logging
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 import skfem as fem

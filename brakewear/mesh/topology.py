@@ -12,6 +12,7 @@ import numpy as np
 import skfem as fem
 
 from ..errors import MeshError
+from .skfem_compat import copy_topology, has_topology, set_topology
 
 logger = logging.getLogger(__name__)
 
@@ -32,9 +33,6 @@ def facet_indices(mesh: fem.Mesh, facets) -> np.ndarray:
     return np.asarray(facets)
 
 
-_TOPOLOGY_CACHE = ("_facets", "_t2f", "_f2t", "_edges", "_t2e")
-
-
 def ensure_topology(mesh: fem.Mesh) -> fem.Mesh:
     """Fill skfem's cached ``facets``, ``t2f`` and ``f2t`` of a tetrahedral mesh.
 
@@ -45,7 +43,7 @@ def ensure_topology(mesh: fem.Mesh) -> fem.Mesh:
     mesh.  Returns ``mesh`` (modified in place); leaves it alone if the
     caches exist or the key would overflow.
     """
-    if hasattr(mesh, "_facets") and hasattr(mesh, "_f2t"):
+    if has_topology(mesh):
         return mesh
     t = mesh.t
     n = int(t.max()) + 1
@@ -71,20 +69,14 @@ def ensure_topology(mesh: fem.Mesh) -> fem.Mesh:
     f2t = np.empty((2, starts.size), dtype=np.int32)
     f2t[0] = first % ne
     f2t[1] = np.where(first == last, -1, last % ne)
-    mesh._facets = np.ascontiguousarray(f[:, first])
-    mesh._t2f = inv.reshape(len(fidx), ne)
-    mesh._f2t = f2t
-    return mesh
+    return set_topology(mesh, np.ascontiguousarray(f[:, first]), inv.reshape(len(fidx), ne),
+                        f2t)
 
 
 def keep_topology(new: fem.Mesh, old: fem.Mesh) -> fem.Mesh:
     """Carry skfem's cached topology over to a copy with the same ``t`` (the
     copies made by ``with_boundaries``/``with_subdomains`` start empty)."""
-    if new.t is old.t or np.array_equal(new.t, old.t):
-        for name in _TOPOLOGY_CACHE:
-            if hasattr(old, name) and not hasattr(new, name):
-                setattr(new, name, getattr(old, name))
-    return new
+    return copy_topology(new, old)
 
 
 def _with_boundaries(mesh: fem.Mesh, boundaries: dict) -> fem.Mesh:

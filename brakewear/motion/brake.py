@@ -28,13 +28,14 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from ..mesh.quadratic import quadratic_face_areas
 from ..contact.surface import mortar_coupling
 from ..errors import MeshError, MeshQualityError, MotionError
 from ..fem.assembly import assemble_stiffness, stiffness_update
-from .follower import SurfaceFollower
+from ..mesh.quadratic import quadratic_face_areas
+from ..mesh.skfem_compat import moved_mesh
 from ..mesh.surface import is_quadratic, quadratic_faces, surface_nodes, tributary_areas
-from ..mesh.topology import facet_indices, keep_topology
+from ..mesh.topology import facet_indices
+from .follower import SurfaceFollower
 
 logger = logging.getLogger(__name__)
 
@@ -206,12 +207,6 @@ def _check_wear(name: str, h, n: int, body: str, quadratic: bool = False) -> np.
     return arr
 
 
-def _moved_mesh(mesh: fem.Mesh, p: np.ndarray) -> fem.Mesh:
-    """A new mesh with coordinates ``p`` and everything else of ``mesh``."""
-    new = type(mesh)(p, mesh.t, mesh._boundaries, mesh._subdomains, validate=False)
-    return keep_topology(new, mesh)
-
-
 class BrakeMotion:
     """Worn geometry of a :class:`brakewear.model.BrakeModel`.
 
@@ -335,7 +330,7 @@ class BrakeMotion:
             p = self.reference[b] + fol.displacement(wear[b])
             moved_n = np.any(p != old.p, axis=0)
             me = np.nonzero(moved_n[old.t].any(axis=0))[0]
-            new = _moved_mesh(old, p) if me.size else old
+            new = moved_mesh(old, p) if me.size else old
             qmin = 1.0
             if me.size:
                 h = wear[b]
@@ -381,7 +376,7 @@ class BrakeMotion:
         """Volume removed so far per body, ``sum(h A)`` with the reference tributary areas."""
         out = {}
         for b, fol in self.followers.items():
-            ref = _moved_mesh(self.model.meshes[b], self.reference[b])
+            ref = moved_mesh(self.model.meshes[b], self.reference[b])
             h = self.pad_wear if b == "pad" else self.rotor_wear
             area = (quadratic_face_areas(ref, "friction")[1] if is_quadratic(ref)
                     else tributary_areas(ref, "friction", fol.nodes))

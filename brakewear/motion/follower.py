@@ -16,11 +16,11 @@ import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from ..mesh.quadratic import slave_basis
 from ..contact.surface import project_nodes
 from ..errors import MotionError
-from ..mesh.triangle import tri6
+from ..mesh.quadratic import slave_basis
 from ..mesh.surface import face_nodes, facet_normals, is_quadratic, quadratic_faces
+from ..mesh.triangle import tri6
 
 logger = logging.getLogger(__name__)
 

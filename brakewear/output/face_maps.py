@@ -14,9 +14,9 @@ from __future__ import annotations
 import logging
 import math
 import re
+from collections.abc import Sequence
 from os import PathLike
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 import skfem as fem

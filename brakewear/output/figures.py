@@ -8,10 +8,10 @@ connection" on a machine without a display) are kept off the terminal.
 from __future__ import annotations
 
 import logging
+from collections.abc import Mapping, Sequence
 from contextlib import contextmanager
 from os import PathLike
 from pathlib import Path
-from typing import Mapping, Sequence
 
 import numpy as np
 import skfem as fem
@@ -341,7 +341,9 @@ def plot_field(mesh: fem.Mesh, values: np.ndarray, path: str | PathLike, title: 
     d = np.asarray(view, dtype=float)
     d /= np.linalg.norm(d)
     pl.camera.focal_point = tuple(focus)
-    pl.camera.position = tuple(focus + 2.0 * np.linalg.norm(b[1::2] - b[0::2]) * d)  # margin for the title
+    pl.camera.position = tuple(
+        focus + 2.0 * np.linalg.norm(b[1::2] - b[0::2]) * d
+    )  # margin for the title
     pl.camera.up = (0.0, 0.0, 1.0) if abs(d[2]) < 0.99 else (0.0, 1.0, 0.0)
     pl.set_background("white")
     pl.screenshot(str(path))

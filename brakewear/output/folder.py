@@ -29,6 +29,7 @@ RUN_FILES = ("summary.json", "checkpoint.npz", "scene.json", "history.csv",
 _WRITTEN = re.compile(
     r"(summary\.json|checkpoint\.npz|scene\.json|history\.csv|applications\.csv"
     r"|(pad|rotor)(_\d+)?\.(vtu|pvd)|\.(pad|rotor)\.pvd\.tmp|\.history\.csv\.tmp"
+    r"|\.(summary\.json|scene\.json|checkpoint\.npz|(pad|rotor)(_\d+)?\.(vtu|pvd))\.\d+\.tmp"
     r"|(pad_wear|pad_pressure|pad_temperature)(_in|_out)?\.png|rotor_temperature\.png"
     r"|history\.png|applications\.png|brake_surfaces\.png|pad_interface_pressure\.png"
     r"|rotor_von_mises\.png)$")

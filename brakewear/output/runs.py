@@ -32,10 +32,11 @@ import numpy as np
 
 from ..scene.accuracy import mesh_accuracy
 from ..checks import file_messages, shown_value
-from ..errors import SceneError, SolverError, WearError, WornThroughError
+from ..errors import SceneError, SolverError, StoredFileError, WearError, WornThroughError
 from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..mesh.rings import ring_profile
 from ..scene.spec import first_difference
+from ..storage import read_json, write_text
 from ..wear.records import end_record, step_figures, temperature_field, thermal_record
 from ..wear.run import Run
 from ..wear.state import checkpoint_progress
@@ -145,24 +146,22 @@ def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool =
                         "(run_wear(Run(model, line_pressure, omega, duration, pad_law, ...), out))")
     out = Path(out)
     ck = out / "checkpoint.npz"
-    start = None
+    csv_path = out / "history.csv"
+    start, rows = None, []
     if resume:
         if not ck.exists():
             raise WearError(f"resume=True but {ck} does not exist")
-        start, _ = checkpoint_progress(ck)
+        start, t_start = checkpoint_progress(ck)
+        rows = resumed_rows(csv_path, start, t_start)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     run = run.resolved()
     model, itf, duration = run.model, run.interface, run.duration
     pad, rotor = model.meshes["pad"], model.meshes.get("rotor")
-    pad_series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad), start)
-    rot_series = (SeriesWriter(out, "rotor", rotor.p, cell_nodes(rotor), start)
+    times = {int(r["step"]): float(r["time_s"]) for r in rows}
+    pad_series = SeriesWriter(out, "pad", pad.p, cell_nodes(pad), start, times)
+    rot_series = (SeriesWriter(out, "rotor", rotor.p, cell_nodes(rotor), start, times)
                   if model.rotor == "elastic" and itf.rotor_nodes is not None else None)
-    csv_path = out / "history.csv"
-    rows = []
-    if resume and csv_path.exists():
-        with open(csv_path, newline="") as fh:
-            rows = [r for r in csv.DictReader(fh) if int(r["step"]) <= start]
     # every node of the mesh (with the mid-edge nodes of a quadratic one)
     n_pad, last, thermal = pad.p.shape[1], None, run.thermal
     setup_s = time.perf_counter() - t0
@@ -177,7 +176,14 @@ def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool =
             rot_series.write(s.step, s.time,
                              {"rotor_wear": a, **temperature_field(thermal, "rotor", a.size)})
 
-    worn = None     # what ended the run before its end (None: it finished)
+    def summarise(last: WearStep, worn) -> dict:
+        return _summary(run, out, rows, last, worn, start=start, run_s=time.perf_counter() - t0,
+                        setup_s=setup_s, rotor=rot_series is not None)
+
+    # Order on disk: a step's VTU and history row, then (on the last step) the summary,
+    # then the checkpoint (written by wear_history when the next step is asked for):
+    # a kill at any point leaves a checkpoint that the history and files reach
+    worn, summary = None, None     # what ended the run before its end (None: it finished)
     try:
         for s in wear_history(run, checkpoint=ck, resume=resume, every=every):
             rows.append(step_figures(s, itf, run.mu))
@@ -186,6 +192,8 @@ def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool =
                 write_vtu(s)
             _write_csv(csv_path, rows)
             last = s
+            if final and not getattr(s, "worn_through", False):
+                summary = summarise(s, None)
             if progress is not None:
                 progress(s)
     except (WornThroughError, SolverError, KeyboardInterrupt) as exc:
@@ -199,12 +207,24 @@ def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool =
     if last is None:
         raise WearError(f"{out}: the checkpoint holds a finished run (t = {duration:g} s); "
                          "nothing to resume. Run without resume, or into another folder")
-    total_s = time.perf_counter() - t0
+    if worn is not None or summary is None:
+        summary = summarise(last, worn)
+    if worn is not None:
+        worn.summary = summary
+        raise worn
+    return summary
+
+
+def _summary(run, out: Path, rows: list, last: WearStep, worn, *, start, run_s: float,
+             setup_s: float, rotor: bool) -> dict:
+    """The summary of a run that ended at ``last`` (``worn``: what ended it early, None:
+    it finished), written to ``out/summary.json``."""
+    model, itf, thermal = run.model, run.interface, run.thermal
     summary = {
         **end_record(worn),
         "worn_through": worn.record() if isinstance(worn, WornThroughError) else None,
         "line_pressure_Pa": run.line_pressure, "omega_rad_s": run.omega,
-        "duration_s": duration, "mu": law_record(run.mu), "rotor": model.rotor,
+        "duration_s": run.duration, "mu": law_record(run.mu), "rotor": model.rotor,
         "dofs": int(model.dofs), "pad_law": law_record(run.pad_law),
         "rotor_law": law_record(run.rotor_law),
         "steps": last.step, "final": rows[-1],
@@ -213,16 +233,48 @@ def run_wear(run, out: str | os.PathLike, *, vtu_every: int = 10, resume: bool =
         "pad_archard_m3": last.pad_archard, "rotor_archard_m3": last.rotor_archard,
         "rotor_wear_profile": dict(zip(("r_m", "wear_m"), (
             a.tolist() for a in ring_profile(itf, last.rotor_wear)))),
-        "run_s": total_s, "setup_s": setup_s, "resumed_from_step": start,
-        "files": {"pad": "pad.pvd", "rotor": "rotor.pvd" if rot_series else None,
+        "run_s": run_s, "setup_s": setup_s, "resumed_from_step": start,
+        "files": {"pad": "pad.pvd", "rotor": "rotor.pvd" if rotor else None,
                   "history": "history.csv", "checkpoint": "checkpoint.npz"},
         "thermal": None if thermal is None else thermal_record(thermal, last),
     }
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
-    if worn is not None:
-        worn.summary = summary
-        raise worn
+    write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     return summary
+
+
+def resumed_rows(path: Path, step: int, time_s: float) -> list[dict]:
+    """The rows of ``history.csv`` a resume from a checkpoint at ``step``, ``time_s``
+    keeps: steps 1 to ``step``, each once, the last at the checkpoint's time (the rows
+    after it, written before a kill, are dropped: the resumed run writes them again).
+    A history that is missing, cut short or does not belong to the checkpoint is a
+    :class:`~brakewear.errors.StoredFileError` naming it: continuing it would lose
+    or repeat steps."""
+    remedy = ("run again without --resume (with --overwrite) to start the history from "
+              "the beginning")
+    if not path.exists():
+        raise StoredFileError(f"--resume: {path} is missing, but the checkpoint is at step "
+                              f"{step}: the history of steps 1 to {step} is lost; {remedy}",
+                              path=path)
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+        steps = [int(r["step"]) for r in rows]
+        times = {int(r["step"]): float(r["time_s"]) for r in rows}
+    except (OSError, UnicodeDecodeError, csv.Error, KeyError, TypeError, ValueError) as e:
+        raise StoredFileError(f"--resume: {path} is cut or damaged ({type(e).__name__}: {e}); "
+                              f"{remedy}", path=path) from None
+    kept = [r for r, s in zip(rows, steps) if s <= step]
+    if [int(r["step"]) for r in kept] != list(range(1, step + 1)):
+        have = sorted(set(s for s in steps if s <= step))
+        shown = f"steps {have[0]} to {have[-1]} ({len(kept)} rows)" if have else "no step"
+        raise StoredFileError(f"--resume: {path} holds {shown}, but the checkpoint is at step "
+                              f"{step}: it needs steps 1 to {step}, each once (the file was "
+                              f"cut or edited); {remedy}", path=path)
+    if not np.isclose(times[step], time_s, rtol=1e-12, atol=0.0):
+        raise StoredFileError(f"--resume: {path} has step {step} at t = {times[step]!r} s, the "
+                              f"checkpoint at t = {time_s!r} s: they are of different runs; "
+                              f"{remedy}", path=path)
+    return kept
 
 
 def ended_early(out: Path, exc: BaseException, summary: dict):
@@ -231,7 +283,7 @@ def ended_early(out: Path, exc: BaseException, summary: dict):
     Returns ``exc``, the summary as its ``summary`` attribute, to re-raise."""
     summary = {**summary, **end_record(exc)}
     out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     exc.summary = summary
     return exc
 
@@ -259,6 +311,25 @@ def run_scene(scene, out: str | os.PathLike, resume: bool = False,
     line that says which interface ``interface.model = "auto"`` chose and why
     (also logged, and in ``summary.json``'s ``interface``).  Every bad-input
     error names the scene file and shows its values in the file's units.
+
+    Parameters
+    ----------
+    scene
+        The :class:`~brakewear.scene.Scene`.
+    out
+        The run folder.
+    resume
+        Continue from ``out/checkpoint.npz``.
+    progress
+        Called with each step (a drag) or each application's record (a
+        schedule), or None.
+    announce
+        Called with the line naming the interface ``"auto"`` chose, or None.
+
+    Returns
+    -------
+    dict
+        The run's summary (as ``summary.json`` holds it).
     """
     with file_messages(scene.source, scene.user_units):
         return _run_scene(scene, out, resume, progress, announce)
@@ -274,7 +345,6 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
     done = _resumable(scene, out, record, rec_path) if resume else None
     # every input is checked (and the run built) before anything is written to out
     run = scene.build_run(checkpoint=out / "checkpoint.npz" if resume else None)
-    model, n = run.model, scene.numerics
     every = scene.output.checkpoint_every
     chosen = run.interface_record
     if chosen.get("reason"):
@@ -285,10 +355,14 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
                      f"{chosen['reason']}")
     if done is not None:      # finished: nothing to run, once its inputs are the same
         check_resume(run, checkpoint=out / "checkpoint.npz", every=every)
+        resumed_rows(out / "history.csv", done["steps"], checkpoint_progress(
+            out / "checkpoint.npz")[1])
         logger.info("run in %s already finished (step %d)", out, done["steps"])
+        if "accuracy" not in done:     # killed while its figures were drawn: draw them
+            done = _scene_summary(scene, run, out, done, None)
         return done
     out.mkdir(parents=True, exist_ok=True)
-    rec_path.write_text(json.dumps(record, indent=2))
+    write_text(rec_path, json.dumps(record, indent=2))
     if scene.schedule:
         return _run_schedule_scene(scene, run, out, progress)
     worn = None
@@ -299,7 +373,18 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
         if getattr(exc, "summary", None) is None:
             raise
         worn, summary = exc, exc.summary
-    summary["interface"] = chosen
+    summary = _scene_summary(scene, run, out, summary, worn)
+    if worn is not None:
+        raise worn
+    return summary
+
+
+def _scene_summary(scene, run, out: Path, summary: dict, worn) -> dict:
+    """The run's summary with the scene's part (the interface chosen, the scene, the
+    mesh's accuracy, the figures), written to ``out/summary.json``."""
+    n, model = scene.numerics, run.model
+    summary = {k: v for k, v in summary.items() if k != "already_finished"}
+    summary["interface"] = run.interface_record
     summary["scene"] = {"name": scene.name, "source": scene.source,
                         "interface": scene.interface.model, "scheme": n.scheme,
                         "update": n.update, "mesh_size_m": model.geometry.mesh.size
@@ -307,9 +392,7 @@ def _run_scene(scene, out, resume: bool, progress, announce=None) -> dict:
     summary["accuracy"] = mesh_accuracy(scene)
     if scene.output.figures and "final" in summary and not isinstance(worn, KeyboardInterrupt):
         summary["figures"] = _figures(model, out, scene)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
-    if worn is not None:
-        raise worn
+    write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     return summary
 
 
@@ -330,10 +413,13 @@ def _run_schedule_scene(scene, run, out: Path, progress=None) -> dict:
                         scene.numerics.scheme, "mesh_size_m": model.geometry.mesh.size
                         if scene.mesh_size is None else scene.mesh_size}
     summary["accuracy"] = mesh_accuracy(scene)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     if ended is not None:
         raise ended
     return summary
+
+
+_REDO = "run again without --resume (with --overwrite) to redo the run"
 
 
 def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
@@ -349,7 +435,7 @@ def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
     # step control (a longer one extends the run)
     ignore = {"output"} | ({"duration"} if scene.numerics.steps is None else set())
     if rec_path.exists():
-        old = json.loads(rec_path.read_text())
+        old = read_json(rec_path, "--resume: the scene record", remedy=_REDO)
         diff = first_difference({k: v for k, v in old.items() if k not in ignore},
                                  {k: v for k, v in record.items() if k not in ignore})
         if diff is not None:
@@ -369,7 +455,10 @@ def _resumable(scene, out: Path, record: dict, rec_path: Path) -> dict | None:
             raise SceneError(f"--resume: the run in {out} has finished (step "
                              f"{step_done}, t = {t_done:.6g} s) but its summary.json "
                              "is missing; run again without --resume to redo it")
-        s = json.loads(summ.read_text())
+        s = read_json(summ, "--resume: the summary", remedy=_REDO)
+        if "steps" not in s:
+            raise StoredFileError(f"--resume: the summary {summ} is not one of a finished run "
+                                  f"(it has no 'steps'); {_REDO}", path=summ)
         s["already_finished"] = True
         return s
     return None

@@ -100,7 +100,7 @@ class RoughConductance:
 
     @classmethod
     def of_faces(cls, pad: tuple, rotor: tuple, modulus: float, kappa_pad: float,
-                 kappa_rotor: float, law: str = "halfspace") -> "RoughConductance":
+                 kappa_rotor: float, law: str = "halfspace") -> RoughConductance:
         """From each face's ``(rms height (m), rms slope or None)`` and conductivity (W/m K)."""
         for name, k in (("kappa_pad", kappa_pad), ("kappa_rotor", kappa_rotor)):
             _positive(name, k, "W/m K")

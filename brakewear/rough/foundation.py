@@ -96,7 +96,7 @@ class FoundationBed:
         on = gf < delta
         n_on = int(np.count_nonzero(on))
         it = 0
-        for it in range(1, 200):
+        for it in range(1, 200):  # noqa: B007  (the count is reported)
             delta = (c + float(np.sum(gf, where=on))) / n_on
             on = gf < delta            # the set only shrinks: Newton from above
             n_new = int(np.count_nonzero(on))

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import RoughnessError
+from ..storage import load_array, load_arrays
 from .topography import Topography, pixel_pair
 
 logger = logging.getLogger(__name__)
@@ -130,14 +131,14 @@ def read_topography(path: str | PathLike, pixel_size=None, unit: str = "m",
     file_pixel = None
     try:
         if suffix == ".npy":
-            h = np.load(path, allow_pickle=False)
+            h = load_array(path, "the topography", kind=RoughnessError)
         elif suffix == ".npz":
-            with np.load(path, allow_pickle=False) as z:
-                if "heights" not in z:
-                    raise RoughnessError(f"{path}: no array 'heights'; arrays: "
-                                         f"{', '.join(z.files) or 'none'}")
-                h = z["heights"]
-                file_pixel = z["pixel_size"] if "pixel_size" in z else None
+            z = load_arrays(path, "the topography", kind=RoughnessError)
+            if "heights" not in z:
+                raise RoughnessError(f"{path}: no array 'heights'; arrays: "
+                                     f"{', '.join(z) or 'none'}")
+            h = z["heights"]
+            file_pixel = z.get("pixel_size")
         elif suffix in TEXT_SUFFIXES:
             h = _text_grid(path)
         else:
@@ -146,7 +147,8 @@ def read_topography(path: str | PathLike, pixel_size=None, unit: str = "m",
     except (OSError, ValueError) as exc:
         if isinstance(exc, RoughnessError):
             raise
-        raise RoughnessError(f"{path}: cannot read ({exc})") from None
+        what = "not a text file" if isinstance(exc, UnicodeDecodeError) else "cannot read"
+        raise RoughnessError(f"{path}: {what} ({exc})") from None
     h = np.asarray(h)
     if h.ndim != 2 or not np.issubdtype(h.dtype, np.number):
         raise RoughnessError(f"{path}: holds an array of shape {h.shape} ({h.dtype}); need a "

@@ -89,7 +89,7 @@ def contact_stiffness(halfspace: HalfSpace, contact, direction: str = "normal",
     d = r.copy()
     rr = _dot(r, r)
     it = 0
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007  (the count is reported)
         Kd = halfspace.displacement(d, direction) * Sf
         alpha = rr / _dot(d, Kd)
         x += alpha * d

@@ -84,8 +84,8 @@ class Topography:
         if bad.any():
             i, j = np.argwhere(bad)[0]
             raise RoughnessError(f"heights{where} hold {int(bad.sum())} non-finite values, "
-                                 f"the first at row {i}, column {j} ({h[i, j]!r}); fill or "
-                                 "crop the missing points first")
+                                 f"the first at row {i + 1}, column {j + 1} (counting from 1) "
+                                 f"({float(h[i, j])!r}); fill or crop the missing points first")
         object.__setattr__(self, "heights", h)
         object.__setattr__(self, "pixel", pixel_pair(self.pixel))
         object.__setattr__(self, "periodic", bool(self.periodic))
@@ -110,7 +110,7 @@ class Topography:
         y = (np.arange(ny) - (ny - 1) / 2) * dy
         return np.meshgrid(x, y, indexing="ij")
 
-    def scaled(self, factor: float) -> "Topography":
+    def scaled(self, factor: float) -> Topography:
         """The same surface with its heights times ``factor``."""
         return Topography(self.heights * float(factor), self.pixel, self.periodic,
                           self.source)

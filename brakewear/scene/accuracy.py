@@ -214,8 +214,8 @@ def mesh_accuracy(scene) -> dict:
         return {**base, "rated": False, "why": "the scene's own mesh files: the measured "
                 "convergence is of the parametric meshes"}
     entry = scene.interface.entry
-    if not entry.fe_answer:
-        return {**base, "rated": False, "why": entry.why_not.get(
+    if not getattr(entry, "fe_answer", False):
+        return {**base, "rated": False, "why": (getattr(entry, "why_not", None) or {}).get(
             "fe_answer", f"interface.model = {entry.name!r} does not give the FE contact's "
                          "answer: the measured convergence is of FE contact")}
     mesh = _mesh_of(scene)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import logging
 from dataclasses import replace
 
+from ..wear.bounds import check_run_bounds
 from ..wear.limits import WearLimits
 from ..wear.run import Run
 
@@ -22,9 +23,23 @@ __all__ = ["build_run"]
 
 
 def build_run(scene, model=None, checkpoint=None) -> Run:
-    """The :class:`~brakewear.wear.Run` of ``scene`` (``model``: its model, already
-    built; default: built here, which meshes).  ``checkpoint``: that of a run being
-    resumed (an ``"auto"`` interface keeps the one it was run on)."""
+    """The :class:`~brakewear.wear.Run` of a scene: what every runner takes.
+
+    Parameters
+    ----------
+    scene
+        The :class:`~brakewear.scene.Scene`.
+    model
+        Its model, already built (default: built here, which meshes).
+    checkpoint
+        That of a run being resumed (an ``"auto"`` interface keeps the one it
+        was run on), or None.
+
+    Returns
+    -------
+    Run
+        The run, its interface and laws built.
+    """
     pad_law, rotor_law = scene.wear_laws()
     model = scene.build_model() if model is None else model
     n = scene.numerics
@@ -36,6 +51,7 @@ def build_run(scene, model=None, checkpoint=None) -> Run:
               scene.friction(), numerics=n, interface=scene.interface.model, limits=limits,
               thermal=_thermal(scene, model), schedule=scene.schedule, vehicle=scene.vehicle)
     run = run.resolved(scene.line_pressure, scene.interface.options, checkpoint)
+    check_run_bounds(run)          # before anything is written
     if scene.interface.nonconforming:
         run = replace(run, initial_gap=scene.initial_gap(run.interface.x))
     logger.info("scene %r: %s interface, %d DOFs", scene.name, type(run.interface).__name__,

@@ -13,19 +13,21 @@ from __future__ import annotations
 import logging
 import math
 import sys
+from collections.abc import Mapping
 from os import PathLike
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..checks import fail, file_messages, user_units
 from ..errors import GeometryError, SceneError
 from ..geometry.files import geometry_dir, geometry_from_dict, load_geometry
 from ..geometry.parts import MESH_BODY_KEYS
-from ..interfaces.registry import model_keys
-from ..laws.base import wear_law_keys
+from ..interfaces.registry import interface_model, model_keys
+from ..laws.base import wear_law_keys, wear_law_model
+from ..parts import import_parts
 from ..wear.numerics import Numerics
 from .spec import Scene
-from .tables import UNITS, InterfaceSpec, OutputSpec, ThermalSpec, WearSpec
+from .tables import UNITS, InterfaceSpec, OutputSpec, ThermalSpec, WearSpec, scene_keys
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -43,23 +45,18 @@ __all__ = ["load_scene", "scene_from_dict", "scene_dir", "scene_file", "availabl
 #: sign), "face_length" (a signed length, or a table of one per friction face).
 _SCHEMA: dict[str, dict[str, str]] = {
     "units": {q: "unit" for q in UNITS},
-    "scene": {"name": "str", "description": "str", "geometry": "geometry"},
+    "scene": {"name": "str", "description": "str", "geometry": "geometry", "import": "raw"},
     "components": {"rotor": "str", "pad": "str", "piston": "str", "layout": "str"},
     "mesh": {"size": "length", "order": "int", "pad_file": "path", "rotor_file": "path",
              "piston_file": "path", "pad_size": "length", "rotor_size": "length",
              "friction_layers": "int", "backplate_layers": "int", "rotor_layers": "int"},
     "environment": {"line_pressure": "pressure", "omega": "angular_speed", "duration": "time",
                     "ambient": "temperature"},
-    # and the keys of the registered interface models (:func:`_schema`)
-    "interface": {"model": "str", "surfaces": "surfaces", "mu": "num",
-                  "coning": "face_length", "pad_taper": "signed_length", "gap_file": "path",
-                  "mu_map": "path", "map_outside": "str"},
-    "wear.pad": {"k": "k", "a": "num", "b": "num", "T_threshold": "temperature",
-                 "activation_energy": "num", "limit": "length", "k_map": "path",
-                 "map_outside": "str", "model": "str"},
-    "wear.rotor": {"enabled": "bool", "k": "k", "a": "num", "b": "num",
-                   "T_threshold": "temperature", "activation_energy": "num", "limit": "length",
-                   "k_map": "path", "map_outside": "str", "model": "str"},
+    # the built-in keys of the tables a registered part is named in (the fields of
+    # their dataclasses), and the part's own keys (:func:`_schema`)
+    "interface": scene_keys(InterfaceSpec),
+    "wear.pad": scene_keys(WearSpec),
+    "wear.rotor": {"enabled": "bool", **scene_keys(WearSpec)},
     "thermal": {"enabled": "bool", "partition": "partition", "h_conv": "h_conv",
                 "T_initial": "temperature", "T_ref": "temperature",
                 "contact_conductance": "conductance", "mass": "str", "T_max": "temperature",
@@ -105,13 +102,39 @@ _SCHEDULED = {"line_pressure", "omega", "duration"}
 
 
 def _schema(table: str) -> dict[str, str]:
-    """The keys of ``table`` and their kinds; ``[interface]`` holds those of every
-    registered interface model too (:mod:`brakewear.interfaces.registry`)."""
+    """The keys of ``table`` and their kinds; ``[interface]`` and ``[wear.*]`` hold
+    those of every registered part too (the named part refuses the others' keys)."""
     if table == "interface":
         return {**_SCHEMA[table], **model_keys()}
     if table.startswith("wear."):
         return {**_SCHEMA[table], **wear_law_keys()}
     return _SCHEMA[table]
+
+
+def _part(table: str, tab: Mapping[str, Any]):
+    """The registered part ``tab`` names (``interface.model``, ``wear.pad.model``), checked
+    before its keys: an unknown name is named as such, not through a key of its own;
+    None for a built-in wear law."""
+    if table == "interface":
+        return interface_model(tab.get("model", InterfaceSpec.model))
+    if "model" in tab:
+        return wear_law_model(tab["model"], f"{table}.model")
+    return None
+
+
+def _imports(d: Any, base: Path | None) -> tuple[str, ...]:
+    """Import the modules of ``[scene] import`` (a user's parts), before any table is read."""
+    sc = d.get("scene") if isinstance(d, Mapping) else None
+    names = sc.get("import") if isinstance(sc, Mapping) else None
+    if names is None:
+        return ()
+    if isinstance(names, str):
+        names = [names]
+    if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+        raise fail("scene.import", f"{names!r} is not allowed; need a list of module names or "
+                                   ".py files, e.g. [\"my_parts\"]")
+    import_parts(names, "scene.import", base)
+    return tuple(names)
 
 
 def scene_dir():
@@ -134,7 +157,13 @@ def scene_file(name: str = "default"):
 
 
 def available_scenes() -> list[str]:
-    """Names of the scene files shipped with brakewear."""
+    """The names of the scene files shipped with brakewear.
+
+    Returns
+    -------
+    list of str
+        Names :func:`load_scene` takes (``"default"``, ...), sorted.
+    """
     return sorted(p.name[:-5] for p in scene_dir().iterdir() if p.name.endswith(".toml"))
 
 
@@ -146,6 +175,11 @@ def load_scene(path_or_name: str | PathLike = "default") -> Scene:
     path_or_name
         A packaged scene name (``"default"``) or the path of a TOML file; a
         string with a path separator or ending in ``.toml`` is a path.
+
+    Returns
+    -------
+    Scene
+        The checked scene, in SI units.
 
     Raises
     ------
@@ -194,6 +228,11 @@ def scene_from_dict(d: Mapping[str, Any], source: str = "<dict>",
     base
         Folder that relative geometry paths are relative to (the scene
         file's folder); default the working directory.
+
+    Returns
+    -------
+    Scene
+        The checked scene, in SI units.
     """
     with file_messages(source, {}):         # every message about the file names it
         return _parse(d, source, None if base is None else Path(base))
@@ -226,10 +265,12 @@ def _tables(d: Any) -> dict[str, dict]:
             tables[f"wear.{b}"] = _table(wear[b], f"wear.{b}")
     for t, tab in tables.items():
         allowed = _schema(t)
+        part = _part(t, tab) if t == "interface" or t.startswith("wear.") else None
         unknown = sorted(set(tab) - set(allowed))
         if unknown:
+            own = [k.name for k in getattr(part, "keys", ())]
             raise fail(f"{t}.{unknown[0]}", f"unknown key {unknown[0]!r} in [{t}]; allowed "
-                                             f"keys: {', '.join(allowed)}")
+                                             f"keys: {', '.join([*_SCHEMA[t], *own])}")
         required = _REQUIRED_KEYS.get(t, set())
         if t == "environment" and "schedule" in d:
             given = sorted(_SCHEDULED & set(tab))
@@ -283,10 +324,11 @@ def _scene_geometry(d: Any, tables: dict, source: str, base: Path | None):
 
 
 def _parse(d: Any, source: str, base: Path | None) -> Scene:
+    _imports(d, base)
     tables = _tables(d)
     units = _units(tables)
 
-    shown: dict[str, tuple] = {}      # key -> (unit, factor, offset, value as written)
+    shown = _units_shown(units)      # key -> (unit, factor, offset, value as written)
 
     def val(t: str, k: str, default: Any = None) -> Any:
         tab = tables.get(t, {})
@@ -389,6 +431,14 @@ def _table(v: Any, name: str) -> dict:
     if not isinstance(v, Mapping):
         raise fail(name, f"expected a table [{name}], got {type(v).__name__} {v!r}")
     return dict(v)
+
+
+def _units_shown(units: Mapping[str, str]) -> dict[str, tuple]:
+    """The ``[units]`` table as entries ``units.<quantity>`` of the messages' unit map:
+    what a message about a computed value speaks (:func:`brakewear.checks.shown_in`)."""
+    return {f"units.{q}": ((u, 1.0, UNITS[q][u], None) if q == "temperature"
+                           else (u, UNITS[q][u], 0.0, None))
+            for q, u in units.items() if q in UNITS and u in UNITS[q]}
 
 
 def _convert(key: str, v: Any, kind: str, units: Mapping[str, str]) -> Any:

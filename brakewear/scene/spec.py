@@ -1,12 +1,11 @@
 """Scenes: one brake model plus what to compute, in SI units.
 
-A scene names the brake geometry, the **components** (rigid or elastic
-rotor, piston as a traction or a body), the **interface** (FE contact or a
-Winkler foundation, the surfaces it joins, friction), the **environment**
-(line pressure, rotor speed, duration, ambient temperature), the **wear
-laws** of pad and rotor, optional **thermal** coupling, the **numerics** of
-the wear loop and the **output**.  :class:`Scene` and its tables check their
-values on construction and raise :class:`~brakewear.errors.SceneError`
+A scene names the brake geometry, the **components** (rigid or elastic rotor, piston as
+a traction or a body), the **interface** (FE contact or a Winkler foundation, the
+surfaces it joins, friction), the **environment** (line pressure, rotor speed, duration,
+ambient temperature), the **wear laws** of pad and rotor, optional **thermal** coupling,
+the **numerics** of the wear loop and the **output**. :class:`Scene` and its tables
+check their values on construction and raise :class:`~brakewear.errors.SceneError`
 naming the key; files are read by :mod:`brakewear.scene.reader` and run by
 :func:`brakewear.output.runs.run_scene`.
 """
@@ -15,9 +14,10 @@ from __future__ import annotations
 import json
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from os import PathLike
-from typing import Any, Mapping
+from typing import Any
 
 from ..checks import (
     check_choice,
@@ -31,7 +31,7 @@ from ..checks import (
 )
 from ..geometry.files import load_geometry
 from ..geometry.parts import MAX_LAYERS, MESH_BODY_KEYS, BrakeGeometry
-from ..interfaces.registry import allowed_for
+from ..interfaces.registry import allowed_for, capabilities_of, lacks
 from ..wear.numerics import Numerics
 from .bounds import check_bounds
 from .tables import (
@@ -164,8 +164,8 @@ class Scene:
         check_bounds(self)
         nodes = self._check_mesh_files()
         # last: the model must fit the memory (no meshing: an estimate from the geometry)
-        from ..mesh.estimate import check_model_size
         from ..caliper.loads import resolve_layout
+        from ..mesh.estimate import check_model_size
         check_model_size(self.meshed_geometry, self.mesh_size, self.rotor, self.piston,
                          nodes=nodes,
                          full=resolve_layout(self.geometry, self.layout, self.rotor) == "full",
@@ -175,9 +175,9 @@ class Scene:
                          user_value=shown_value("mesh.size", self.mesh_size, "m")
                          if user_unit("mesh.size") else None,
                          budget_gb=self.numerics.memory_budget)
-        entry = self.interface.entry
-        if entry.check_scene is not None:       # the interface model's own (its size)
-            entry.check_scene(self)
+        check = getattr(self.interface.entry, "check_scene", None)
+        if check is not None:                   # the interface model's own (its size)
+            check(self)
 
     # ------------------------------------------------------------ checks --
     @property
@@ -196,15 +196,15 @@ class Scene:
                                           "thermal model of a P2 mesh does not move); use "
                                           "numerics.update = 'gap', or mesh.order = 1")
         if order == 2 and not self._can("quadratic"):
-            why = self.interface.entry.lacks("quadratic")
+            why = lacks(self.interface.entry, "quadratic")
             raise fail("interface.model", f"interface.model = {self.interface.model!r} with "
                                           "mesh.order = 2 is not supported (quadratic meshes: "
                                           f"{why}); use interface.model = "
                                           f"{_models('quadratic')}, or mesh.order = 1")
 
     def _can(self, capability: str) -> bool:
-        """Whether the scene's interface model has ``capability`` (its registry entry)."""
-        return capability in self.interface.entry.capabilities
+        """Whether the scene's interface model has ``capability`` (its class declares it)."""
+        return capability in capabilities_of(self.interface.entry)
 
     def _check_resolution(self) -> None:
         """Check the per-body mesh keys (names, types, ranges)."""
@@ -291,7 +291,7 @@ class Scene:
                  "the pad's end pressure; 'implicit_pad': explicit rings)")):
             if asked and not self._can(cap):
                 raise fail(key, f"{what} needs interface.model = {_models(cap)}: "
-                                f"{self.interface.entry.lacks(cap)}")
+                                f"{lacks(self.interface.entry, cap)}")
         self._check_duty()
         if self.thermal.convection != "constant" and self.rotor != "elastic":
             raise fail("thermal.convection", f"{self.thermal.convection!r} is the convection "
@@ -334,7 +334,7 @@ class Scene:
                                            "carries the wear from one application to the "
                                            "next; allowed: 'gap'")
         if not self._can("any_line_pressure"):
-            why = self.interface.entry.lacks("any_line_pressure")
+            why = lacks(self.interface.entry, "any_line_pressure")
             allowed = ", ".join(map(repr, allowed_for("any_line_pressure")))
             raise fail("interface.model", "a [schedule] needs an interface that solves at "
                                            "each application's line pressure (its torque "
@@ -420,7 +420,7 @@ class Scene:
                                 "thermal.enabled = true, or a map without a T column")
         if self.interface.mu_map is not None:
             if not self._can("per_node_friction"):
-                why = self.interface.entry.lacks("per_node_friction")
+                why = lacks(self.interface.entry, "per_node_friction")
                 raise fail("interface.mu_map", "a friction map per node needs interface.model "
                                                f"= {_models('per_node_friction')} ({why})")
             if self.schedule:
@@ -442,7 +442,7 @@ class Scene:
         if self.schedule:
             d["vehicle"] = None if self.vehicle is None else {
                 k: v for k, v in asdict(self.vehicle).items() if k != "source"}
-            d["schedule"] = [{"kind": a.kind,
+            d["schedule"] = [{"kind": a.name,
                               **{k: v for k, v in asdict(a).items() if k != "source"}}
                              for a in self.schedule]
         for k in ("interface", "pad_wear", "rotor_wear", "thermal", "numerics", "output"):

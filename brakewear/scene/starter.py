@@ -126,8 +126,12 @@ def write_new_scene(name: str, folder: str | PathLike = ".",
     scene = _replace(scene, r'^geometry = .*$',
                      f'geometry = "{name}.toml"'.ljust(27) + "# the brake, relative to this file")
     if start == "default":
-        scene = _replace(scene, r"^# Fine where the pad wear's error is(?:.*\n)*?# changes the pad's "
-                                r"answer little and stays coarser\.\n", _MESH_NOTE)
+        scene = _replace(
+            scene,
+            r"^# Fine where the pad wear's error is(?:.*\n)*?# changes the pad's "
+            r"answer little and stays coarser\.\n",
+            _MESH_NOTE,
+        )
     scene = _SCENE_HEADER.format(name=name, start=start, what=what_scene) + scene
     folder.mkdir(parents=True, exist_ok=True)
     geo.write_text(geometry)

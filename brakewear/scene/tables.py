@@ -5,16 +5,17 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field
-from typing import Any, Mapping
+from collections.abc import Mapping
+from dataclasses import MISSING, dataclass, field, fields
+from typing import Any
 
 from ..checks import check_bool, check_choice, check_int, check_number, check_plausible, fail
-from ..interfaces.registry import interface_model
+from ..interfaces.registry import interface_model, model_options
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["InterfaceSpec", "WearSpec", "ThermalSpec", "OutputSpec", "SURFACES", "UNITS",
-           "MAX_NONCONFORMITY", "FACES"]
+           "MAX_NONCONFORMITY", "FACES", "scene_keys"]
 
 
 #: Units a scene file may state, per quantity: name -> factor to SI (temperatures: offset).
@@ -47,6 +48,34 @@ FACES = ("inboard", "outboard")
 
 # the one sliding interface the wear loop integrates
 _WEAR_INTERFACE = ("pad.friction", "rotor.friction")
+
+
+def _key(kind: str, default: Any = MISSING, *, law: bool = False, **kw: Any) -> Any:
+    """A field of a table's dataclass that is a key of the scene file: ``kind`` is how
+    the reader reads it (:mod:`brakewear.scene.reader`); ``law``: a key of the built-in
+    wear law, which a registered one does not take.  The one place a built-in key of
+    ``[interface]`` or ``[wear.*]`` is declared."""
+    return field(default=default, metadata={"kind": kind, "law": law}, **kw)
+
+
+def scene_keys(spec: type, law: bool | None = None) -> dict[str, str]:
+    """The keys of a table's dataclass as a scene file gives them.
+
+    Parameters
+    ----------
+    spec
+        :class:`InterfaceSpec` or :class:`WearSpec`.
+    law
+        True: only the built-in wear law's keys; False: only the others;
+        None: all.
+
+    Returns
+    -------
+    dict
+        Key -> how the scene reader reads it, in the order of the fields.
+    """
+    return {f.name: f.metadata["kind"] for f in fields(spec) if "kind" in f.metadata
+            and (law is None or f.metadata["law"] == law)}
 
 
 def read_law(key: str, path: str, quantity: str, outside: str):
@@ -113,15 +142,15 @@ class InterfaceSpec:
         (default) or ``"error"``.  Read and checked when the scene is made.
     """
 
-    model: str = "auto"
-    surfaces: tuple[str, str] = _WEAR_INTERFACE
-    mu: float = 0.0
+    model: str = _key("str", "auto")
+    surfaces: tuple[str, str] = _key("surfaces", _WEAR_INTERFACE)
+    mu: float = _key("num", 0.0)
     options: Mapping[str, Any] = field(default_factory=dict)
-    coning: float | Mapping[str, float] = 0.0
-    pad_taper: float = 0.0
-    gap_file: str | None = None
-    mu_map: str | None = None
-    map_outside: str = "clamp"
+    coning: float | Mapping[str, float] = _key("face_length", 0.0)
+    pad_taper: float = _key("signed_length", 0.0)
+    gap_file: str | None = _key("path", None)
+    mu_map: str | None = _key("path", None)
+    map_outside: str = _key("str", "clamp")
 
     def __post_init__(self):
         entry = interface_model(self.model)
@@ -138,11 +167,12 @@ class InterfaceSpec:
         _check_nonconformity("interface.pad_taper", self.pad_taper)
         if not isinstance(self.options, Mapping):
             raise fail("interface", f"options = {self.options!r}; expected key -> value")
-        object.__setattr__(self, "options", entry.options(self.options))
+        object.__setattr__(self, "options", model_options(entry, self.options))
 
     @property
     def entry(self):
-        """The registered interface model (:class:`~brakewear.interfaces.InterfaceModel`)."""
+        """The registered interface model's class (:func:`~brakewear.interfaces.interface_model`
+        of :attr:`model`)."""
         return interface_model(self.model)
 
     @property
@@ -210,15 +240,15 @@ class WearSpec:
     surface's material, and takes none of the keys above but ``limit``.
     """
 
-    k: float | None = None
-    a: float = 1.0
-    b: float = 1.0
-    T_threshold: float = 503.15
-    activation_energy: float = 0.0
-    limit: float | None = None
-    k_map: str | None = None
-    map_outside: str = "clamp"
-    model: str | None = None
+    k: float | None = _key("k", None, law=True)
+    a: float = _key("num", 1.0, law=True)
+    b: float = _key("num", 1.0, law=True)
+    T_threshold: float = _key("temperature", 503.15, law=True)
+    activation_energy: float = _key("num", 0.0, law=True)
+    limit: float | None = _key("length", None)
+    k_map: str | None = _key("path", None, law=True)
+    map_outside: str = _key("str", "clamp", law=True)
+    model: str | None = _key("str", None)
     options: Mapping[str, Any] = field(default_factory=dict)
 
     def check(self, sec: str) -> None:
@@ -244,21 +274,20 @@ class WearSpec:
 
     def _check_registered(self, sec: str) -> None:
         """A registered law: its own keys checked, none of the built-in law's given."""
-        from ..laws.base import wear_law_model
+        from ..laws.base import wear_law_model, wear_law_options
         entry = wear_law_model(self.model, f"{sec}.model")
-        builtin = {"k": None, "a": 1.0, "b": 1.0, "T_threshold": 503.15,
-                   "activation_energy": 0.0, "k_map": None, "map_outside": "clamp"}
+        law = scene_keys(WearSpec, law=True)
+        builtin = {f.name: f.default for f in fields(self) if f.name in law}
+        own = ", ".join(k.name for k in getattr(entry, "keys", ())) or "none"
         for key, default in builtin.items():
             if getattr(self, key) != default:
                 raise fail(f"{sec}.{key}", f"{getattr(self, key)!r} is not allowed with "
                                            f"{sec}.model = {self.model!r} (it builds itself "
-                                           "from "
-                                           f"its own keys: "
-                                           f"{', '.join(k.name for k in entry.keys) or 'none'})")
+                                           f"from its own keys: {own})")
         check_number(f"{sec}.limit", self.limit, 0.0, unit="m", allow_none=True)
         if not isinstance(self.options, Mapping):
             raise fail(sec, f"options = {self.options!r}; expected key -> value")
-        object.__setattr__(self, "options", entry.options(self.options, sec))
+        object.__setattr__(self, "options", wear_law_options(entry, self.options, sec))
 
     def law(self, material, sec: str, geometry_source: str = "<python>"):
         """The :class:`~brakewear.laws.base.WearLaw` (``material`` supplies a missing k), the

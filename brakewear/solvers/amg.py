@@ -93,8 +93,8 @@ def rigid_body_modes(coords: np.ndarray, fixed: np.ndarray | None = None) -> np.
 
 #: pyamg ``smoothed_aggregation_solver`` options of every hierarchy.  Node
 #: aggregation on the 3x3-block matrix with a small strength threshold (0.02
-#: or 0.1 instead of 0.05 cost more in all: docs/performance.md, "AMG
-#: settings").  Energy-minimising prolongation (2 CG steps) instead of one
+#: or 0.1 instead of 0.05 cost more in all: docs/amg_settings.md).
+#: Energy-minimising prolongation (2 CG steps) instead of one
 #: Jacobi step: on the brake systems sparser coarse operators and 25-30 % fewer
 #: iterations for about the same setup (on the structured rotor ring of the
 #: elasticity benchmark it saves no iterations and its setup costs ~40 % more;
@@ -194,8 +194,8 @@ class AMGSolver:
         # pyamg's spectral-radius estimate starts from np.random: a fixed seed
         # makes every hierarchy, and so every solve, exactly repeatable (a
         # resumed wear history must repeat the uninterrupted one)
-        rng_state = np.random.get_state()
-        np.random.seed(20091)
+        rng_state = np.random.get_state()  # noqa: NPY002  (pyamg draws from it)
+        np.random.seed(20091)  # noqa: NPY002
         try:
             with _single_pass_spectral_radius(), _single_threaded_blas(), _batched_block_pinv(), \
                     _vectorised_bsr_dedupe(), \
@@ -203,7 +203,7 @@ class AMGSolver:
                 self.ml = pyamg.smoothed_aggregation_solver(self.A, B=self.B, presmoother=None,
                                                             postsmoother=None, **self.options)
         finally:
-            np.random.set_state(rng_state)
+            np.random.set_state(rng_state)  # noqa: NPY002
         for i, level in enumerate(self.ml.levels):  # point smoothers: faster on CSR than BSR
             level.A = self._fine_csr if i == 0 and self._fine_csr is not None else level.A.tocsr()
             if hasattr(level, "P"):  # CSR transfers: refreshed() restricts with them
@@ -240,7 +240,7 @@ class AMGSolver:
 
     def refreshed(self, A: sp.spmatrix, depth: int | None = None,
                   dA: sp.spmatrix | None = None,
-                  buffers: LevelBuffers | None = None) -> "AMGSolver":
+                  buffers: LevelBuffers | None = None) -> AMGSolver:
         """A new solver for ``A`` on this hierarchy's aggregates; ``self`` is not changed.
 
         Keeps the aggregates and prolongators and updates the level operators
@@ -298,7 +298,9 @@ class AMGSolver:
             levels.append(lv)
         new = copy.copy(self)
         new.A = A
-        new.ml = pyamg.multilevel.MultilevelSolver(levels, coarse_solver=self.options["coarse_solver"])
+        new.ml = pyamg.multilevel.MultilevelSolver(
+            levels, coarse_solver=self.options["coarse_solver"]
+        )
         if levels[-1].A is base[-1].A:  # unchanged coarsest operator: share its factorisation
             new.ml.coarse_solver = self.ml.coarse_solver
         change_smoothers(new.ml, *self.smoothers)

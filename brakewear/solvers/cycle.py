@@ -57,7 +57,7 @@ class _BackwardSweeps:
     the reversed vectors (:func:`_reversed_csr`): the same updates in the
     same order, the sums within a row taken in reverse order (equal to
     rounding).  pyamg's backward kernel walks memory downwards and runs
-    2.2x slower than its forward one on these matrices (docs/performance.md).
+    2.2x slower than its forward one on these matrices (docs/solvers.md).
     A copy costs about three forward sweeps, and much more where fresh
     memory is slow (the same 8M-entry copy has been measured at 13 to 300 ms
     on one shared machine), so:
@@ -74,7 +74,7 @@ class _BackwardSweeps:
     serve the levels the two share and whose pool it uses.
     """
 
-    def __init__(self, n_levels: int, inherit: "_BackwardSweeps | None" = None):
+    def __init__(self, n_levels: int, inherit: _BackwardSweeps | None = None):
         self.copies: list = [None] * n_levels  # (A, indptr, indices, data) per level
         self.uses: list = [(None, 0)] * n_levels  # (A, backward sweeps so far) per level
         self.inherit = inherit

@@ -15,8 +15,8 @@ list.  The library never prints: what a beat shows is the listener's choice::
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import Callable, Iterator
 
 __all__ = ["beat", "listening"]
 

@@ -121,7 +121,7 @@ class PatchedMatrix:
 
 
 class LevelBuffers:
-    """In-place coarse operators for :meth:`AMGSolver.refreshed` (:meth:`AMGSolver.level_buffers`)."""
+    """In-place coarse operators for :meth:`AMGSolver.refreshed` (``level_buffers``)."""
 
     def __init__(self, ml, levels: list):
         self.ml = ml          # the hierarchy they belong to

@@ -53,7 +53,7 @@ def _single_pass_spectral_radius():
     until the Ritz value settles to 1 %; on elasticity it always takes the
     restart, and the estimates cost about a third of the whole setup.  One
     pass of 15 steps changes the iteration count by at most one (measured on
-    the 1M-DOF rotor ring, docs/performance.md).  pyamg offers no option for
+    the 1M-DOF rotor ring, docs/solvers.md).  pyamg offers no option for
     this, so its module-level function is swapped for the time of the call.
     """
     if not _fits(_pyamg_smooth, "approximate_spectral_radius", ("A", "maxiter", "restart")):

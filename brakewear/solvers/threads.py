@@ -36,7 +36,7 @@ def _single_threaded_blas():
     threaded.  With OpenBLAS's default threads each such call costs
     milliseconds of spinning and waking on a loaded machine: measured on the
     105k brake with 2 threads, twice the CPU time of the solve with 1
-    (docs/performance.md, "AMG settings").
+    (docs/amg_settings.md).
     """
     with blas_threads(1):
         yield

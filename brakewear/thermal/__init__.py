@@ -1,4 +1,4 @@
-"""Frictional heating of the brake: heat partition, temperatures of pad and rotor, thermal strain."""
+"""Frictional heating of the brake: heat partition, pad and rotor temperatures, thermal strain."""
 
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
 from . import coning, convection, model, partition, quadratic, reduced, stability, strain

@@ -86,7 +86,7 @@ class SpeedConvection:
                                f"allowed; need 0 <= h_static <= h_ref = {self.h_ref!r}")
 
     @classmethod
-    def solid(cls, h_static: float = 10.0) -> "SpeedConvection":
+    def solid(cls, h_static: float = 10.0) -> SpeedConvection:
         """A solid rotor: von Karman's laminar rotating disc, ``h = 0.33 k_air
         sqrt(omega / nu_air)`` (16.2 W/m^2 K at 55 rad/s), on top of ``h_static``."""
         omega_ref = 55.0
@@ -94,7 +94,7 @@ class SpeedConvection:
         return cls(h_static + h, omega_ref, 0.5, h_static)
 
     @classmethod
-    def vented(cls, h_ref: float = 100.0, h_static: float = 10.0) -> "SpeedConvection":
+    def vented(cls, h_ref: float = 100.0, h_static: float = 10.0) -> SpeedConvection:
         """A vented rotor: turbulent vane flow, ``h ~ omega^0.8``, ``h_ref`` at 55 rad/s
         (about 70 km/h on a 0.32 m tyre; illustrative: 50-150 W/m^2 K is the usual
         range over the whole rotor surface at that speed)."""

@@ -12,9 +12,10 @@ explanation page of the docs.
 """
 from __future__ import annotations
 
+import inspect
 import logging
 from collections import OrderedDict
-from typing import Mapping, Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -23,8 +24,8 @@ from ..checks import check_order
 from ..errors import ThermalError
 from ..fem.heat import THERMAL_FIELDS, HeatConduction, body_label, check_thermal
 from ..materials import H_CONV_DEFAULT, T_AMBIENT_DEFAULT
-from ..mesh.topology import ensure_topology
 from ..mesh.rings import face_rings, rotor_wear_rate
+from ..mesh.topology import ensure_topology
 from .convection import SpeedConvection, radiation_coefficient, rounded
 from .partition import heat_flux, partition_effusivity
 from .strain import model_thermal_load, thermal_stress
@@ -136,7 +137,7 @@ class ThermalModel:
             raise ThermalError("the brake model has no pad body")
         # ---- input checks first (nothing is assembled before they pass)
         for b in self.bodies:
-            for e, m in model.materials[b]:
+            for _, m in model.materials[b]:
                 check_thermal(m, body_label(b, m), THERMAL_FIELDS)
         g = model.geometry
         rotor_mat = (self._face_material("rotor") if "rotor" in self.bodies
@@ -417,6 +418,11 @@ class ThermalModel:
         """Element stresses ``C (eps - alpha dT I)`` per thermal body (6, n_elements)."""
         return {b: thermal_stress(self.model.meshes[b], u[b], self.model.materials[b],
                                   self.T[b] - self.T_ref, b) for b in self.bodies}
+
+
+# the constructor's parameters are __init__'s (__new__ only hands a P2 model on)
+ThermalModel.__signature__ = inspect.signature(ThermalModel.__init__).replace(  # type: ignore
+    parameters=list(inspect.signature(ThermalModel.__init__).parameters.values())[1:])
 
 
 def _convection(h_conv, emissivity, bodies) -> tuple[dict, dict]:

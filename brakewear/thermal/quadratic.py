@@ -32,14 +32,14 @@ built.
 from __future__ import annotations
 
 import logging
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
-from ..mesh.quadratic import quadratic_face_areas
 from ..errors import ThermalError
+from ..mesh.quadratic import quadratic_face_areas
 from ..mesh.surface import face_nodes, surface_nodes
 from .partition import heat_flux
 from .strain import model_thermal_load, thermal_stress

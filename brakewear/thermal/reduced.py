@@ -211,7 +211,8 @@ class ReducedRotorHeat:
         ``power`` (W, friction power of each node) into the rotor's friction faces
         (``outboard``: a mask of the nodes on the outboard face; None: all on the
         inboard face), times the rotor's share: each node's power to the two
-        rings either side of its radius on its face, linearly in radius.  ``mirror``: the inboard nodes stand for
+        rings either side of its radius on its face, linearly in radius.  ``mirror``: the inboard
+        nodes stand for
         both faces (a half model), their power also put into the outboard face."""
         r, power = np.asarray(r, dtype=float), np.asarray(power, dtype=float)
         out = np.zeros(r.size, dtype=bool) if outboard is None else np.asarray(outboard, bool)

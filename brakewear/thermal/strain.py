@@ -2,20 +2,22 @@
 from __future__ import annotations
 
 import logging
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 import scipy.sparse as sp
 import skfem as fem
 
 from ..errors import ThermalError
+from ..fem.forms import scalar_element
 from ..fem.heat import body_label, check_thermal, material_groups, thermal_coupling
 from ..fem.stress import element_stress
 from ..materials import Material
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["thermal_load_matrix", "model_thermal_load", "thermal_stress"]
+__all__ = ["thermal_load_matrix", "model_thermal_load", "thermal_load", "heated_subdomain_load",
+           "thermal_stress"]
 
 
 def _elastic_groups(mesh: fem.Mesh, materials, name: str) -> list[tuple[np.ndarray, Material]]:
@@ -64,6 +66,71 @@ def model_thermal_load(model, bodies, T: Mapping[str, np.ndarray], T_ref: float,
         o = 3 * model.offsets[b]
         f[o:o + fb.size] = fb
     return f
+
+
+def thermal_load(mesh: fem.Mesh, material, T: np.ndarray, elements=None) -> np.ndarray:
+    """The load of the thermal strain ``alpha T I`` on one body of one material.
+
+    Parameters
+    ----------
+    mesh
+        A P1 or P2 tetrahedral mesh.
+    material
+        Its material (elastic and thermal data).
+    T
+        Temperature rise per scalar DOF (K).
+    elements
+        An element subset (default: all).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``G T``, with ``G`` of :func:`brakewear.fem.heat.thermal_coupling` on the
+        mesh's own elements.
+    """
+    el = scalar_element(mesh)
+    # the library's rule: one point is exact for P1; degree 4 on the curved P2 elements
+    kw = {"intorder": 1 if el.maxdeg == 1 else 4, "elements": elements}
+    G = thermal_coupling(material.voigt(), material.thermal.alpha).assemble(
+        fem.Basis(mesh, el, **kw), fem.Basis(mesh, fem.ElementVector(el), **kw))
+    return G @ T
+
+
+def heated_subdomain_load(model, body: str, subdomain: str, dT: float) -> np.ndarray:
+    """The load, on every DOF of ``model``, of one subdomain of a body heated by ``dT``.
+
+    Parameters
+    ----------
+    model
+        A :class:`~brakewear.model.BrakeModel`.
+    body
+        The body (``"rotor"``, ``"pad"``).
+    subdomain
+        A subdomain of the body's mesh (the rotor's ``"ring"``: its friction ring,
+        without the hat).
+    dT
+        Uniform temperature rise of the subdomain (K); the rest stays at the
+        reference.
+
+    Returns
+    -------
+    numpy.ndarray
+        The load of the subdomain's thermal strain (:func:`thermal_load`), zero
+        on the other bodies.
+    """
+    mesh, off = model.meshes[body], model.offsets[body]
+    if subdomain not in (mesh.subdomains or {}):
+        raise ThermalError(f"{body} mesh has no subdomain {subdomain!r}; it has "
+                           f"{sorted(mesh.subdomains or {})}")
+    groups = model.materials[body]
+    if len(groups) != 1:
+        raise ThermalError(f"{body}: {len(groups)} materials; a heated subdomain needs a body "
+                           "of one material")
+    unit = thermal_load(mesh, groups[0][1], np.ones(mesh.p.shape[1]),
+                        elements=mesh.subdomains[subdomain])
+    load = np.zeros(model.dofs)
+    load[3 * off:3 * off + unit.size] = dT * unit
+    return load
 
 
 def thermal_stress(mesh: fem.Mesh, u: np.ndarray, materials, dT: np.ndarray,

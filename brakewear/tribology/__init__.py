@@ -18,8 +18,13 @@ validated on (docs/validation.md):
 """
 from . import reciprocating, sliding  # noqa: F401  (the built-in kinds register themselves)
 from .jump import Jump, JumpControl, cycle_jumps
-from .kinds import (CycleResult, TribometerKind, register_tribometer, tribometer_kind,
-                    tribometer_kinds)
+from .kinds import (
+                    CycleResult,
+                    TribometerKind,
+                    register_tribometer,
+                    tribometer_kind,
+                    tribometer_kinds,
+)
 from .runner import run_tribometer, worn_figures
 from .scene import TribometerScene, is_tribometer, tribometer_from_dict
 

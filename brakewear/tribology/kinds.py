@@ -28,7 +28,7 @@ logger = logging.getLogger(__name__)
 __all__ = ["TribometerKind", "CycleResult", "register_tribometer", "tribometer_kind",
            "tribometer_kinds"]
 
-_TESTS = Registry("tribometer test", "scene.test")
+_TESTS = Registry("tribometer test", "scene.test", members=("bodies", "capabilities"))
 
 
 @dataclass
@@ -148,10 +148,7 @@ def register_tribometer(cls: type[TribometerKind], *,
                         replace: bool = False) -> type[TribometerKind]:
     """Register a test kind by its class (its ``name``, ``keys``, ``bodies`` and
     ``capabilities`` are read from it); usable as a class decorator."""
-    for attr in ("name", "keys", "bodies", "capabilities"):
-        if not getattr(cls, attr, None):
-            raise TypeError(f"{cls.__name__}: a test kind needs the class attribute {attr}")
-    return _TESTS.register(cls.name, cls, replace=replace)
+    return _TESTS.register(cls, replace=replace)
 
 
 def tribometer_kind(name: str) -> type[TribometerKind]:

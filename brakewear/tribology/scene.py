@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from ..checks import check_bool, check_int, check_number, fail, file_messages, shown_value
 from ..errors import InputError
@@ -95,7 +96,7 @@ class TribometerScene:
     #: what a runner asks to tell a tribometer test from a brake scene
     tribometer = True
 
-    def with_options(self, **changes) -> "TribometerScene":
+    def with_options(self, **changes) -> TribometerScene:
         """A copy with ``test``, ``mesh`` or ``numerics`` keys changed (SI), e.g.
         ``scene.with_options(cycles=100, size=5e-6, wear_tol=0.05)``."""
         test, mesh, num = dict(self.test.options), dict(self.mesh), dict(self.numerics)

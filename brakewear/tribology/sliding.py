@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from ..analytic_tribometer import conforming_block_on_ring, spherical_cap_height
+from ..analytic.tribometer import conforming_block_on_ring, spherical_cap_height
 from ..checks import fail
 from ..contact.friction import solve_sliding
 from ..registry import OptionKey
@@ -155,7 +155,7 @@ class PinOnDisc(TribometerKind):
 
     def closed_form(self, scene) -> dict | None:
         """A spherical pin on a disc that does not wear wears a flat cap of volume
-        ``k F s`` (:func:`~brakewear.analytic_tribometer.spherical_cap_height`)."""
+        ``k F s`` (:func:`~brakewear.analytic.tribometer.spherical_cap_height`)."""
         if self.pin != "sphere" or scene.bodies["disc"].k > 0:
             return None
         R = self.radius
@@ -251,7 +251,7 @@ class BlockOnRing(TribometerKind):
 
     def closed_form(self, scene) -> dict | None:
         """The block worn into the ring's shape, both rigid
-        (:func:`~brakewear.analytic_tribometer.conforming_block_on_ring`)."""
+        (:func:`~brakewear.analytic.tribometer.conforming_block_on_ring`)."""
         R = self.ring_radius
         c = conforming_block_on_ring(self.line_load, R, self.distance, scene.bodies["block"].k,
                                      scene.bodies["ring"].k)

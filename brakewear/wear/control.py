@@ -39,8 +39,8 @@ tributary area and the steps do not multiply as the mesh is refined.
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

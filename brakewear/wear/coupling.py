@@ -8,7 +8,8 @@ never asks for thermal coupling never imports :mod:`brakewear.thermal`.
 from __future__ import annotations
 
 import logging
-from typing import Any, Mapping, Protocol, runtime_checkable
+from collections.abc import Mapping
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import shown_in
 from ..errors import TemperatureLimitError, WearError, WornThroughError
 
 logger = logging.getLogger(__name__)
@@ -40,10 +41,14 @@ GEOMETRY_MARGIN = 0.05
 
 @dataclass
 class WearLimits:
-    """Largest wear depths (m) of the pad's and the rotor's friction faces.
+    """Largest wear depths of the pad's and the rotor's friction faces.
 
-    ``None`` for a surface means no limit.  Build the defaults of a model
-    with :meth:`for_model`.
+    Build the defaults of a model with :meth:`for_model`.
+
+    Parameters
+    ----------
+    pad, rotor
+        The depths (m) at which each face is worn through; None: no limit.
     """
 
     pad: float | None
@@ -60,7 +65,7 @@ class WearLimits:
 
     @classmethod
     def for_model(cls, model, pad: float | None = None, rotor: float | None = None,
-                  update: str = "gap") -> "WearLimits":
+                  update: str = "gap") -> WearLimits:
         """The limits of ``model`` (a BrakeModel): the given ones, else the defaults.
 
         With ``update = "geometry"`` the pad's limit is at most
@@ -107,12 +112,16 @@ class WearLimits:
                 theta = float(np.degrees(np.arctan2(x[1, i], x[0, i])))
             what = ("pad worn through its friction layer" if body == "pad"
                     else "rotor worn to its limit")
+            # the time the node reached the limit goes with the limit; the step's end
+            # time with the depth the step left it at
             return WornThroughError(
-                f"{what} at t = {t:.6g} s (step {step.step}): node at r = {r * 1e3:.2f} mm, "
-                f"theta = {theta:.1f} deg has worn {depth[i] * 1e3:.4g} mm, limit "
-                f"{limit * 1e3:.4g} mm (wear.{body}.limit); the run ends here",
+                f"{what} at t = {shown_in('time', t, 6)}: the node at r = "
+                f"{shown_in('length', r)}, theta = {theta:.1f} deg reached the limit "
+                f"{shown_in('length', limit)} (wear.{body}.limit) within step {step.step}, "
+                f"which ended at t = {shown_in('time', step.time, 6)} with it worn "
+                f"{shown_in('length', float(depth[i]))}; the run ends here",
                 body=body, time=t, step=step.step, r=r, theta=theta,
-                depth=float(depth[i]), limit=float(limit))
+                depth=float(depth[i]), limit=float(limit), step_end=float(step.time))
         return None
 
 
@@ -130,13 +139,15 @@ def check_temperature(step, thermal) -> None:
         rigid = ("; with a rigid rotor nothing expands to meet the pad's hot spot: use "
                  "components.rotor = 'elastic'" if "rotor" not in thermal.bodies else "")
         raise TemperatureLimitError(
-            f"step {step.step} (t = {step.time:.6g} s): the {body} face reached "
-            f"{T - 273.15:.0f} C, beyond the plausibility bound T_max = "
-            f"{thermal.T_max - 273.15:.0f} C (thermal.T_max). Likely causes: the heat "
+            f"step {step.step} (t = {shown_in('time', step.time, 6)}): the {body} face "
+            f"reached {shown_in('temperature', T, decimals=0)}, beyond the plausibility bound "
+            f"T_max = {shown_in('temperature', thermal.T_max, decimals=0)} (thermal.T_max). "
+            "Likely causes: the heat "
             f"partition (pad share {float(np.mean(thermal.partition)):.3g}{backflow}), a duty "
             "beyond the brake's thermal capacity (line pressure x speed x duration), or a "
             f"contact concentrated on a few nodes (now {int(np.count_nonzero(act))} of "
-            f"{act.size} pad nodes, up to {float(np.max(p)) / 1e6:.3g} MPa: thermoelastic "
+            f"{act.size} pad nodes, up to {shown_in('pressure', float(np.max(p)), 3)}: "
+            "thermoelastic "
             f"localisation{rigid}); raise thermal.T_max only if such temperatures are meant",
             body=body, temperature=float(T), T_max=thermal.T_max, step=step.step,
             time=step.time)

@@ -19,10 +19,12 @@ class NumericsError(SceneError, WearError):
 
 @dataclass(frozen=True)
 class Numerics:
-    """How the wear loop integrates (SI units): the one set of defaults shared by
-    :func:`brakewear.wear.wear_history` and a scene's ``[numerics]`` table.
+    """How the wear loop integrates (SI units).
 
-    Attributes
+    The one set of defaults shared by :func:`brakewear.wear.wear_history` and a
+    scene's ``[numerics]`` table.
+
+    Parameters
     ----------
     scheme : {"implicit", "explicit", "implicit_pad"}
         ``"implicit"`` (backward Euler for both surfaces: the pad and the

@@ -1,5 +1,7 @@
 """The figures of a wear run as its files hold them, one set for drags and schedules.
 
+* :class:`WearStep` -- the state after an accepted step, what
+  :func:`~brakewear.wear.wear_history` yields;
 * :func:`thermal_state` -- the thermal figures after a thermal solve (face
   temperatures, heat into and convected from each body, balance error), as
   the fields of a :class:`~brakewear.wear.WearStep`;
@@ -10,11 +12,14 @@
 * :func:`temperature_field` -- a body's ``temperature_C`` for its VTU;
 * :func:`thermal_record` -- the summary's ``thermal`` entry;
 * :func:`end_record` -- the summary's ``status`` and ``ended`` entries: how
-  the run ended and, when it ended early, why.
+  the run ended and, when it ended early, why;
+* :func:`archard_volumes` -- the worn volumes the step records imply;
+* :func:`pr_spread` -- how far a pressure field is from ``p r = const``.
 """
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -22,8 +27,86 @@ from ..errors import InputError, TemperatureLimitError, WornThroughError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["thermal_state", "step_figures", "thermal_columns", "HeatTally",
-           "temperature_field", "thermal_record", "end_record"]
+__all__ = ["WearStep", "thermal_state", "step_figures", "thermal_columns", "HeatTally",
+           "temperature_field", "thermal_record", "end_record", "archard_volumes", "pr_spread"]
+
+@dataclass
+class WearStep:
+    """State after an accepted step (cumulative quantities).
+
+    Parameters
+    ----------
+    step, time, dt
+        The step's number, the time at its end and its length (s).
+    sliding_distance
+        m at the pad's mean radius, since the start.
+    pressure, active
+        The pressure (Pa) and contact status at the pad's friction nodes at the
+        start of the step.
+    pad_wear, rotor_wear
+        Cumulative depths (m) per pad friction node and per rotor wear node
+        (face node or ring).
+    pad_volume, rotor_volume
+        m^3 worn from the pad and the rotor (sum of depth times area).
+    pad_archard, rotor_archard
+        m^3, the sum over the steps of ``k int p v dA dt`` with each law's ``k``.
+    rejected, contact_solves
+        Retries before this step was accepted; contact solves of this step
+        (1 + rejected).
+    solve_s
+        s spent in contact solves in this step.
+    limit
+        What set the step: ``max_dh``, ``stability``, ``rotor_stability``,
+        ``growth``, ``wear_tol``, ``first``, ``end``, ``fixed``.
+    mu
+        Friction coefficient in this step (with a friction law per node:
+        friction force over normal force, ``sum mu p A / sum p A``).
+    pad_temperature_max, rotor_temperature_max
+        K, pad and rotor face, at the end of the step (thermal only).
+    heat_balance_error
+        ``|heat in - friction power| / power`` of this step.
+    pressure_end, active_end
+        The pressure (Pa) and contact status at the end of the step (the next
+        one's start).
+    explicit
+        Whether the implicit scheme took this step explicitly (``implicit_floor``).
+    mu_nodes
+        mu per pad node in this step (a friction law's), or None.
+    heat
+        Thermal only: mean face temperatures (K) and the step's heat into pad
+        and rotor and convected from each body (W).
+    friction_work
+        J on the modelled faces: ``friction_power`` at the start pressure and
+        the mean speed, times ``dt`` (the heat put in).
+    """
+
+    step: int
+    time: float
+    dt: float
+    sliding_distance: float
+    pressure: np.ndarray
+    active: np.ndarray
+    pad_wear: np.ndarray
+    rotor_wear: np.ndarray
+    pad_volume: float
+    rotor_volume: float
+    pad_archard: float
+    rotor_archard: float
+    rejected: int
+    contact_solves: int
+    solve_s: float
+    limit: str
+    mu: float = 0.0
+    pad_temperature_max: float = float("nan")
+    rotor_temperature_max: float = float("nan")
+    heat_balance_error: float = float("nan")
+    pressure_end: np.ndarray | None = None
+    active_end: np.ndarray | None = None
+    explicit: bool = False
+    mu_nodes: np.ndarray | None = None
+    heat: dict | None = None
+    friction_work: float = 0.0
+
 
 C0 = 273.15         # K at 0 C
 
@@ -175,6 +258,68 @@ def end_record(exc: BaseException | None) -> dict:
         "figures": _plain(exc.record() if isinstance(exc, WornThroughError) else
                           getattr(exc, "figures", None) or {}),
         "where": dict(getattr(exc, "where", None) or {})}}
+
+
+def archard_volumes(itf, history: list, pad_law, rotor_law, omega: float,
+                    scheme: str) -> tuple[float, float]:
+    """The worn volumes a wear history's records imply: ``sum k p v A dt`` per surface.
+
+    The implicit schemes wear the pad with the end-of-step pressure (unless the
+    step was taken explicitly), ``"implicit"`` the rotor too, ``"implicit_pad"``
+    the rotor with the start's.  Against the history's own ``pad_volume`` and
+    ``rotor_volume`` this checks the bookkeeping of a run (conservation).
+
+    Parameters
+    ----------
+    itf
+        The run's interface (its pad nodes' ``r`` and ``area``).
+    history
+        The :class:`~brakewear.wear.WearStep` records of the run, in order.
+    pad_law, rotor_law
+        The wear laws (``rate(p, v)``); ``rotor_law`` None: the rotor does not wear.
+    omega
+        Rotor speed (rad/s), constant over the run.
+    scheme
+        The run's ``Numerics.scheme``.
+
+    Returns
+    -------
+    tuple of float
+        Pad and rotor volume (m^3).
+    """
+    v = omega * itf.r
+    pad = rot = 0.0
+    for s in history:
+        end = scheme != "explicit" and not s.explicit
+        p_pad = s.pressure_end if end else s.pressure
+        p_rot = s.pressure_end if end and scheme == "implicit" else s.pressure
+        pad += float((pad_law.rate(p_pad, v) * itf.area).sum()) * s.dt
+        if rotor_law is not None:
+            rot += float((rotor_law.rate(p_rot, v) * itf.area).sum()) * s.dt
+    return pad, rot
+
+
+def pr_spread(p: np.ndarray, r: np.ndarray, active: np.ndarray, area: np.ndarray) -> dict:
+    """How far a pressure field is from the run-in state ``p r = const`` over the contact.
+
+    Parameters
+    ----------
+    p, r, area
+        Nodal pressure (Pa), radius (m) and area (m^2) of the pad's friction nodes.
+    active
+        The nodes in contact (boolean mask).
+
+    Returns
+    -------
+    dict
+        ``range_over_mean``: ``(max - min) / mean`` of ``p r``; ``cv``: its
+        area-weighted coefficient of variation.  Both are 0 at the steady state
+        of uniform wear on a disc.
+    """
+    pr, A = (p * r)[active], area[active]
+    m = float((A * pr).sum() / A.sum())
+    return {"range_over_mean": float((pr.max() - pr.min()) / m),
+            "cv": float(np.sqrt((A * (pr - m) ** 2).sum() / A.sum()) / m)}
 
 
 def _plain(d: dict) -> dict:

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import WearError
 from ..interfaces.protocol import capability, check_interface
-from ..interfaces.registry import BuildRequest, build_interface, interface_model
+from ..interfaces.registry import BuildRequest, build_interface, capabilities_of, interface_model
 from ..laws.base import check_wear_law, friction_law
 from .coupling import check_thermal
 from .limits import WearLimits
@@ -141,7 +141,7 @@ class Run:
 
     # ------------------------------------------------------------- resolve --
     def resolved(self, line_pressure: float | None = None, options: dict | None = None,
-                 checkpoint=None) -> "Run":
+                 checkpoint=None) -> Run:
         """This run with its interface built, or the given interface at the run's
         line pressure; checked against the :class:`~brakewear.interfaces.Interface`
         protocol and the run's needs.  The one place a run's interface is built:
@@ -161,7 +161,7 @@ class Run:
         return self if itf is self.interface else replace(self, interface=itf,
                                                           interface_record=record)
 
-    def at(self, **changes) -> "Run":
+    def at(self, **changes) -> Run:
         """This run with ``changes`` (a schedule's application: its line pressure,
         speed, duration and gap), its interface posed at the new line pressure."""
         run = replace(self, **changes)
@@ -249,7 +249,7 @@ def _check_geometry(run: Run) -> None:
 def _can(itf, cap: str) -> bool:
     """Whether ``itf`` (an interface, a registered name or None: FE) has ``cap``."""
     if itf is None or isinstance(itf, str):
-        return cap in interface_model(itf or "fe").capabilities
+        return cap in capabilities_of(interface_model(itf or "fe"))
     return capability(itf, cap)
 
 

@@ -25,7 +25,13 @@ __all__ = ["ConstantSpeed", "LinearSpeed", "as_speed"]
 
 @dataclass(frozen=True)
 class ConstantSpeed:
-    """A rotor turning at ``omega`` rad/s."""
+    """A rotor turning at a constant speed.
+
+    Parameters
+    ----------
+    omega
+        The speed (rad/s), > 0.
+    """
 
     omega: float
 
@@ -56,7 +62,13 @@ class LinearSpeed:
     """A speed falling (or rising) linearly from ``omega0`` to ``omega1`` over ``duration``.
 
     A stop at constant deceleration: ``omega(t) = omega0 + (omega1 - omega0) t / duration``.
-    Both speeds >= 0 and not both zero.
+
+    Parameters
+    ----------
+    omega0, omega1
+        The speeds at the start and the end (rad/s), both >= 0, not both zero.
+    duration
+        Its length (s), > 0.
     """
 
     omega0: float

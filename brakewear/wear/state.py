@@ -25,11 +25,13 @@ from pathlib import Path
 import numpy as np
 
 from ..checks import user_scale
-from ..errors import WearError
+from ..errors import StoredFileError, WearError
+from ..storage import load_arrays, save_arrays
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WearState", "fingerprint", "checkpoint_progress", "check_fingerprint"]
+__all__ = ["WearState", "fingerprint", "checkpoint_progress", "check_fingerprint",
+           "read_checkpoint"]
 
 _ARRAYS = ("pad_wear", "rotor_wear", "pressure", "active", "u", "u_prev")
 _SCALARS = ("step", "time", "pad_archard", "rotor_archard", "dt_next", "dt_last")
@@ -39,11 +41,22 @@ _SCALARS = ("step", "time", "pad_archard", "rotor_archard", "dt_next", "dt_last"
 class WearState:
     """Where a wear history stands after an accepted step (cumulative quantities).
 
-    ``pressure`` and ``active`` are the contact state the next step starts
-    from (None before the first solve); ``dt_next`` the next step's target
-    (None: the limits decide); ``u``, ``u_prev`` and ``dt_last`` the last two
-    displacements of the implicit scheme and the step between them, from
-    which the next solve's start is extrapolated.
+    Parameters
+    ----------
+    step, time
+        The accepted steps so far and the time reached (s).
+    pad_wear, rotor_wear
+        Cumulative depths (m) per pad friction node and per rotor wear node.
+    pad_archard, rotor_archard
+        The Archard volumes so far (m^3).
+    pressure, active
+        The contact state the next step starts from (None before the first
+        solve).
+    dt_next
+        The next step's target (None: the limits decide).
+    u, u_prev, dt_last
+        The last two displacements of the implicit scheme and the step between
+        them, from which the next solve's start is extrapolated.
     """
 
     step: int
@@ -60,7 +73,7 @@ class WearState:
     dt_last: float = float("nan")
 
     @classmethod
-    def fresh(cls, n_pad: int, n_rotor: int, dt_next: float | None = None) -> "WearState":
+    def fresh(cls, n_pad: int, n_rotor: int, dt_next: float | None = None) -> WearState:
         """The unworn start."""
         return cls(0, 0.0, np.zeros(n_pad), np.zeros(n_rotor), dt_next=dt_next)
 
@@ -79,23 +92,21 @@ class WearState:
                     for k in _SCALARS})
         out["fingerprint"] = np.asarray(json.dumps(prints, sort_keys=True))
         out.update({k: np.asarray(v) for k, v in (extra or {}).items()})
-        tmp = path.with_name(path.name + ".tmp.npz")
-        np.savez(tmp, **out)
-        os.replace(tmp, path)
+        save_arrays(path, out)
 
     @classmethod
     def load(cls, path: str | os.PathLike, prints: dict, n_pad: int,
-             n_rotor: int, units: dict | None = None) -> tuple["WearState", dict]:
+             n_rotor: int, units: dict | None = None) -> tuple[WearState, dict]:
         """The state in ``path`` and its other arrays (thermal state), after checking
         it belongs to this run: same fingerprint (:func:`check_fingerprint`, changed
         values shown in ``units``), same numbers of wear nodes."""
         path = Path(path)
-        with _open(path) as d:
-            _compare(path, json.loads(str(d["fingerprint"])), prints, units)
-            arrays = {k: d[k].copy() for k in _ARRAYS}
-            scalars = {k: d[k].item() for k in _SCALARS}
-            extra = {k: d[k].copy() for k in d.files
-                     if k not in _ARRAYS and k not in _SCALARS and k != "fingerprint"}
+        d = read_checkpoint(path)
+        _compare(path, _prints(path, d), prints, units)
+        arrays = {k: d[k] for k in _ARRAYS}
+        scalars = {k: d[k].item() for k in _SCALARS}
+        extra = {k: d[k] for k in d if k not in _ARRAYS and k not in _SCALARS
+                 and k != "fingerprint"}
         for k in _ARRAYS:
             if arrays[k].size == 0:
                 arrays[k] = None
@@ -112,10 +123,51 @@ class WearState:
         return state, extra
 
 
+#: what to do with a checkpoint that cannot be used
+REMEDY = ("run again without --resume (with --overwrite), or resume=False, to start from "
+          "the beginning")
+
+
+def read_checkpoint(path: str | os.PathLike) -> dict:
+    """The arrays of the checkpoint ``path``, checked (:func:`brakewear.storage.load_arrays`:
+    a file that is cut, damaged, foreign or not one a run wrote raises a
+    :class:`~brakewear.errors.StoredFileError` naming it)."""
+    path = Path(path)
+    if not path.exists():
+        raise WearError(f"resume=True but the checkpoint {path} does not exist")
+    d = load_arrays(path, "the checkpoint", remedy=REMEDY)
+    if "fingerprint" not in d:
+        raise StoredFileError(f"the checkpoint {path} has no fingerprint of its inputs "
+                              f"(written by an older brakewear, or not a checkpoint); {REMEDY}",
+                              path=path)
+    missing = [k for k in _ARRAYS + _SCALARS if k not in d]
+    bad = [k for k in _SCALARS if k in d and d[k].shape != ()]
+    if missing or bad:
+        raise StoredFileError(f"the checkpoint {path} lacks "
+                              f"{', '.join(missing) or ', '.join(bad) + ' as numbers'}: it is "
+                              f"not a checkpoint of a wear history; {REMEDY}", path=path)
+    step, time = d["step"].item(), d["time"].item()
+    if not (float(step) == int(step) >= 0 and np.isfinite(time) and time >= 0):
+        raise StoredFileError(f"the checkpoint {path} holds step {step}, t = {time} s: not a "
+                              f"state a run reaches; {REMEDY}", path=path)
+    return d
+
+
+def _prints(path: Path, d: dict) -> dict:
+    try:
+        prints = json.loads(str(d["fingerprint"]))
+    except ValueError:
+        prints = None
+    if not isinstance(prints, dict):
+        raise StoredFileError(f"the checkpoint {path} has a damaged fingerprint of its inputs; "
+                              f"{REMEDY}", path=path)
+    return prints
+
+
 def checkpoint_progress(path: str | os.PathLike) -> tuple[int, float]:
-    """``(step, time)`` a checkpoint has reached."""
-    with np.load(path) as d:
-        return int(d["step"]), float(d["time"])
+    """``(step, time)`` a checkpoint has reached (read checked: :func:`read_checkpoint`)."""
+    d = read_checkpoint(path)
+    return int(d["step"]), float(d["time"])
 
 
 def check_fingerprint(path: str | os.PathLike, prints: dict,
@@ -129,19 +181,7 @@ def check_fingerprint(path: str | os.PathLike, prints: dict,
     significant digits (more where 4 would not tell them apart).
     """
     path = Path(path)
-    with _open(path) as d:
-        _compare(path, json.loads(str(d["fingerprint"])), prints, units)
-
-
-def _open(path: Path):
-    if not path.exists():
-        raise WearError(f"resume=True but the checkpoint {path} does not exist")
-    d = np.load(path)
-    if "fingerprint" not in d:
-        d.close()
-        raise WearError(f"checkpoint {path} has no fingerprint of its inputs (written "
-                        "by an older brakewear); run again without resume")
-    return d
+    _compare(path, _prints(path, read_checkpoint(path)), prints, units)
 
 
 #: SI units of fingerprint keys outside the geometry file's units (by the whole key,
@@ -159,8 +199,8 @@ _LENGTHS = ("radius", "thickness", "diameter", "length", "size", "clearance", "w
 
 def _file_unit(key: str, units: dict | None) -> tuple[str, float] | None:
     """``(unit, SI value of one unit)`` the geometry file gives ``key`` in, or None."""
-    from ..geometry.sections import STIFFNESS_UNITS
     from ..geometry.parts import ANGLE_UNITS, LENGTH_UNITS, MODULUS_UNITS
+    from ..geometry.sections import STIFFNESS_UNITS
 
     if not units or not key.startswith("geometry."):
         return None

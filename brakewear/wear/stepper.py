@@ -22,7 +22,6 @@ import logging
 import os
 import time as _time
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -30,53 +29,18 @@ from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, Solver
                       StepSizeError, WearError)
 from ..interfaces import StepCompliance
 from ..laws.base import friction_power
-from ..mesh.rings import ring_coupling, rotor_wear_rate
+from ..mesh.rings import RingAverage, ring_coupling
+from .bounds import check_explicit_step, check_run_bounds
 from .control import StepControl
 from .limits import WearLimits, check_temperature
 from .nodal import NodalLaws
-from .records import thermal_state
+from .records import WearStep, thermal_state
 from .run import Run
 from .state import WearState, check_fingerprint, fingerprint
 
 logger = logging.getLogger(__name__)
 
 __all__ = ["WearStep", "wear_history", "check_resume"]
-
-
-@dataclass
-class WearStep:
-    """State after an accepted step (cumulative quantities)."""
-
-    step: int
-    time: float                 # s
-    dt: float                   # s, of this step
-    sliding_distance: float     # m, at the pad's mean radius, since the start
-    pressure: np.ndarray        # Pa at the pad's friction nodes, at the start of the step
-    active: np.ndarray          # contact status at the start of the step
-    pad_wear: np.ndarray        # m, cumulative, per pad friction node
-    rotor_wear: np.ndarray      # m, cumulative, per rotor wear node (face node or ring)
-    pad_volume: float           # m^3 worn from the pad (sum of depth x area)
-    rotor_volume: float         # m^3 worn from the rotor
-    pad_archard: float          # m^3, sum over steps of k_pad int p v dA dt
-    rotor_archard: float        # m^3, the same with k_rotor
-    rejected: int               # retries before this step was accepted
-    contact_solves: int         # contact solves of this step (1 + rejected)
-    solve_s: float              # s spent in contact solves in this step
-    limit: str                  # what set the step: max_dh, stability, rotor_stability,
-                                # growth, wear_tol, first, end, fixed
-    mu: float = 0.0             # friction coefficient in this step (with a friction law per
-                                # node: friction force over normal force, sum mu p A / sum p A)
-    pad_temperature_max: float = float("nan")    # K, pad face, end of step (thermal only)
-    rotor_temperature_max: float = float("nan")  # K, rotor face, end of step (thermal only)
-    heat_balance_error: float = float("nan")     # |heat in - friction power| / power, this step
-    pressure_end: np.ndarray | None = None       # Pa, at the end of the step (= next start)
-    active_end: np.ndarray | None = None
-    explicit: bool = False      # the implicit scheme took this step explicitly (implicit_floor)
-    mu_nodes: np.ndarray | None = None   # mu per pad node in this step (a friction law's)
-    heat: dict | None = None    # thermal only: mean face temperatures (K) and the step's
-                                # heat into pad and rotor and convected from each body (W)
-    friction_work: float = 0.0  # J on the modelled faces: friction_power at the start
-                                # pressure and the mean speed, times dt (the heat put in)
 
 
 def wear_history(run: Run, *, checkpoint: str | os.PathLike | None = None, every: int = 10,
@@ -90,7 +54,10 @@ def wear_history(run: Run, *, checkpoint: str | os.PathLike | None = None, every
         the interface, the thermal coupling, the initial gap, the limits and
         the numerics (:class:`~brakewear.wear.Run`).
     checkpoint : str or os.PathLike, optional
-        ``.npz`` file written every ``every`` accepted steps (and at the end).
+        ``.npz`` file written every ``every`` accepted steps (and at the end),
+        each time once the step has been yielded and the caller has asked for
+        the next (so that whatever the caller records of a step is written
+        before a checkpoint past it).
     every : int
         Accepted steps between checkpoints.
     resume : bool
@@ -130,6 +97,7 @@ def wear_history(run: Run, *, checkpoint: str | os.PathLike | None = None, every
     """
     loop = _checked_loop(run, checkpoint, every, resume)
     run, duration = loop.run, loop.run.duration
+    loop.stability_ratio = check_run_bounds(run)
     control = StepControl(loop.numerics, duration, loop.dh_limit(), loop.speed, loop.A_pad)
     prints = loop.fingerprint()
     n_pad, n_rot = loop.A_pad.size, loop.A_rot.size
@@ -150,12 +118,15 @@ def wear_history(run: Run, *, checkpoint: str | os.PathLike | None = None, every
             record.contact_solves += 1
             record.solve_s += first_s
             first_s = None
-        if checkpoint is not None and (state.step % every == 0
-                                       or state.time >= duration * (1 - 1e-12)):
-            state.save(checkpoint, prints, loop.thermal.state_arrays() if loop.thermal else None)
+        # the step is yielded before it is checkpointed: what the caller writes of it
+        # (a history row) is on disk before a checkpoint that is past it
+        # (a step that wore a surface through is not checkpointed: a resume ends there again)
         yield record
         if loop.worn is not None:
             raise loop.worn
+        if checkpoint is not None and (state.step % every == 0
+                                       or state.time >= duration * (1 - 1e-12)):
+            state.save(checkpoint, prints, loop.thermal.state_arrays() if loop.thermal else None)
 
 
 def check_resume(run: Run, *, checkpoint: str | os.PathLike, every: int = 10) -> None:
@@ -208,6 +179,7 @@ class _WearLoop:
         self.limits = (WearLimits.for_model(model, update=numerics.update)
                        if run.limits is None else run.limits)
         self.worn = None
+        self.stability_ratio = 1.0     # the sharp explicit bound over the row-sum one
         mu_law = run.mu_law
         self.pad_law, self.rotor_law, self.mu_law = run.pad_law, run.rotor_law, mu_law
         self.mu = 0.0 if mu_law is not None else float(run.mu)
@@ -220,6 +192,8 @@ class _WearLoop:
             self.motion = BrakeMotion(model)
         self.A_pad, self.ring, self.A_rot = self.itf.area, self.itf.ring, self.itf.rotor_area
         self.W = self.itf.W
+        self._rings = None          # the rings' coupling of an implicit step, built once
+        self.ring_rate = RingAverage(self.W, self.ring, self.A_rot)    # rotor_wear_rate
         initial_gap = run.initial_gap
         if initial_gap is not None and np.shape(initial_gap) != self.A_pad.shape:
             raise WearError(f"initial_gap has {np.size(initial_gap)} values; the pad has "
@@ -331,7 +305,7 @@ class _WearLoop:
             self.mu = self.laws.mu(p, self.v, T_pad)
         rate_pad = self.laws.pad_rate(p, self.v)
         q_rot = self.laws.rotor_rate(p, self.v) * self.A_pad
-        return rate_pad, q_rot, rotor_wear_rate(q_rot, self.W, self.ring, self.A_rot)
+        return rate_pad, q_rot, self.ring_rate(q_rot)
 
     def worst(self, p, act) -> float:
         """The largest ``c_i s_i / A_i`` over the contact: d(rate)/dp of both laws
@@ -346,7 +320,7 @@ class _WearLoop:
         if self.rotor_law is None or not act.any():
             return 0.0
         q = np.where(act, self.laws.rotor_slope(p, self.v) * self.itf.normal_stiffness, 0.0)
-        return float(rotor_wear_rate(q, self.W, self.ring, self.A_rot).max())
+        return float(self.ring_rate(q).max())
 
     def step(self, state: WearState, control: StepControl) -> WearStep:
         """One accepted step from ``state`` (updated in place); its record."""
@@ -359,6 +333,8 @@ class _WearLoop:
                                     rate_pad + self.W @ rate_rot,
                                     lambda: self.worst(p, act),
                                     lambda: self.worst_rotor(p, act), lambda: self.explicit_below(p))
+        if control.fixed and self.numerics.scheme == "explicit":
+            check_explicit_step(self, state, dt, p, act)
         rejected, solve_s = 0, 0.0
         saved = self.thermal.state_arrays() if self.thermal is not None else None
         while True:
@@ -410,6 +386,7 @@ class _WearLoop:
         record.mu_nodes = None if np.ndim(mu_step) == 0 else mu_step
         record.friction_work = friction_power(p, self.v, mu_step, self.A_pad) * dt
         self.worn = self.limits.check(record, self.itf)      # a WornThroughError or None
+        record.worn_through = self.worn is not None
         if self.thermal is not None:
             check_temperature(record, self.thermal)     # a TemperatureLimitError
         self.finish(state, record, sol, dt)
@@ -432,12 +409,19 @@ class _WearLoop:
             return sol, pad_w, rot_w, p0, q_rot, s
         eps = dt * self.laws.pad_slope(p0, self.v)    # backward Euler, a = 1: k v^b
         comp = StepCompliance(eps, dt * self.laws.rotor_slope(p0, self.v),   # and the rings
-                              *ring_coupling(self.W, self.ring, self.A_rot)) if rings else eps
+                              *self.ring_coupling()) if rings else eps
         sol, s = self.solve(state, state.pad_wear, rot_w, act, comp, dt)
         if rings:
             q_rot = self.laws.rotor_rate(sol.pressure, self.v) * self.A_pad
-            rot_w = rot_w + rotor_wear_rate(q_rot, self.W, self.ring, self.A_rot) * dt
+            rot_w = rot_w + self.ring_rate(q_rot) * dt
         return sol, state.pad_wear + eps * sol.pressure, rot_w, sol.pressure, q_rot, s
+
+    def ring_coupling(self):
+        """``(ring_gap, ring_area)`` of the rings (:func:`~brakewear.rings.ring_coupling`
+        of the loop's coupling, built once: the rings do not move)."""
+        if self._rings is None:
+            self._rings = ring_coupling(self.W, self.ring, self.A_rot)
+        return self._rings
 
     def rate_change(self, p_new, rate_pad, rate_rot) -> np.ndarray:
         """The change over the step of the wear rate each pad node sees (pad + rotor, m/s):
@@ -445,7 +429,7 @@ class _WearLoop:
         d_rate = self.laws.pad_rate(p_new, self.v) - rate_pad
         if self.rotor_law is not None:
             q_new = self.laws.rotor_rate(p_new, self.v) * self.A_pad
-            d_rate = d_rate + self.W @ (rotor_wear_rate(q_new, self.W, self.ring, self.A_rot)
+            d_rate = d_rate + self.W @ (self.ring_rate(q_new)
                                         - rate_rot)
         return d_rate
 

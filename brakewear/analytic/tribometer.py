@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from .errors import ContactError
+from ..errors import ContactError
 
 __all__ = [
     "cattaneo_mindlin_cylinder",
