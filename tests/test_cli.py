@@ -36,7 +36,7 @@ from pathlib import Path  # noqa: E402
 
 import pytest  # noqa: E402
 
-import brakewear.cli as cli  # noqa: E402
+import brakewear.output.progress as progress  # noqa: E402
 from brakewear.scene import scene_file  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -81,17 +81,17 @@ def test_interrupted_run_resumes_to_the_same_end(tmp_path, capsys, monkeypatch):
     ref, out = tmp_path / "ref", tmp_path / "out"
     assert main(["run", scene, "--out", str(ref), "--quiet"]) == 0
     ref_s = json.loads((ref / "summary.json").read_text())
-    calls = cli._Progress.__call__
+    calls = progress.Progress.__call__
 
     def ctrl_c_at_step_3(self, s):
         calls(self, s)
         if s.step == 3:
             raise KeyboardInterrupt
-    monkeypatch.setattr(cli._Progress, "__call__", ctrl_c_at_step_3)
+    monkeypatch.setattr(progress.Progress, "__call__", ctrl_c_at_step_3)
     assert main(["run", scene, "--out", str(out), "--quiet"]) == 130
     err = capsys.readouterr().err
     assert "interrupted at step 3" in err and f"--out {out} --resume" in err
-    monkeypatch.setattr(cli._Progress, "__call__", calls)
+    monkeypatch.setattr(progress.Progress, "__call__", calls)
     assert main(["run", scene, "--out", str(out), "--resume", "--quiet"]) == 0
     s = json.loads((out / "summary.json").read_text())
     assert s["resumed_from_step"] == 2 and s["steps"] == 4
@@ -187,7 +187,7 @@ def test_resume_with_a_longer_duration_extends_the_run(tmp_path, capsys):
 def test_interrupt_before_the_first_checkpoint_says_start_again(tmp_path, capsys, monkeypatch):
     def ctrl_c(self, s):
         raise KeyboardInterrupt
-    monkeypatch.setattr(cli._Progress, "__call__", ctrl_c)
+    monkeypatch.setattr(progress.Progress, "__call__", ctrl_c)
     out = tmp_path / "out"
     assert main(["run", str(_tiny(tmp_path)), "--out", str(out), "--quiet"]) == 130
     assert "no checkpoint was written yet: run again without --resume" in capsys.readouterr().err

@@ -7,8 +7,9 @@ import types
 import numpy as np
 import pytest
 
-from brakewear.cli import _Progress, main
+from brakewear.cli import main
 from brakewear.output.folder import check_new_out, clear_run, finished_run, held_run
+from brakewear.output.progress import Progress
 from brakewear.scene import scene_file
 
 
@@ -104,7 +105,7 @@ def test_held_run_clear_run_and_finished_run(tmp_path):
 def test_the_first_estimate_leaves_out_the_first_step():
     """A first step of 20 s wall (setup, first solve) for 1 s simulated, then 1 s wall per
     10 s simulated: the estimate is the later rate's, not the first step's."""
-    bar = _Progress(types.SimpleNamespace(duration=3600.0, name="x", schedule=()), quiet=True)
+    bar = Progress(types.SimpleNamespace(duration=3600.0, name="x", schedule=()), quiet=True)
     assert bar.remaining(1, 1.0, now=20.0) is None           # the first step: no rate yet
     assert bar.remaining(2, 11.0, now=21.0) is None
     assert bar.remaining(3, 21.0, now=22.0) is None
@@ -115,7 +116,7 @@ def test_the_first_estimate_leaves_out_the_first_step():
 
 
 def test_the_progress_bar_shows_the_estimate(capsys):
-    bar = _Progress(types.SimpleNamespace(duration=600.0, name="x", schedule=()), quiet=False)
+    bar = Progress(types.SimpleNamespace(duration=600.0, name="x", schedule=()), quiet=False)
     bar.bar.mininterval, bar.bar.miniters = 0.0, 0          # draw every step
     for k, t in enumerate((1.0, 100.0, 200.0, 300.0, 400.0, 600.0), 1):
         bar(types.SimpleNamespace(step=k, time=t, dt=100.0, limit="steps", rejected=0,

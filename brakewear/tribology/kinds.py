@@ -16,6 +16,7 @@ scene's ``scene.test`` names it.  The built-in kinds: ``"reciprocating"``
 from __future__ import annotations
 
 import logging
+from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -63,7 +64,7 @@ class CycleResult:
     offset: float = 0.0
 
 
-class TribometerKind:
+class TribometerKind(ABC):
     """A kind of test: subclass it, give the class attributes, register it.
 
     Attributes
@@ -102,35 +103,35 @@ class TribometerKind:
 
     # what a kind answers -------------------------------------------------
     @property
+    @abstractmethod
     def cycles(self) -> float:
         """How many cycles the test runs."""
-        raise NotImplementedError
 
     @property
+    @abstractmethod
     def cycle_time(self) -> float:
         """Seconds per cycle (for the record)."""
-        raise NotImplementedError
 
-    def check(self, scene) -> None:
+    def check(self, scene) -> None:  # noqa: B027  (an optional hook)
         """Cross-checks of the kind's keys with the rest of the scene (SceneError)."""
 
+    @abstractmethod
     def build(self, scene):
         """The :class:`~brakewear.tribology.pair.ContactPair` of the scene's bodies."""
-        raise NotImplementedError
 
+    @abstractmethod
     def start(self, scene, pair) -> CycleResult:
         """The loaded state the first cycle starts from (no wear)."""
-        raise NotImplementedError
 
+    @abstractmethod
     def advance(self, scene, pair, depths: dict, last: CycleResult, jump: float) -> CycleResult:
         """One simulated cycle from ``last`` at the worn ``depths`` (body name -> (n,)
         m) standing for ``jump`` cycles; its ``rates`` are the jump's mean wear per
         cycle (m) of each body's face nodes."""
-        raise NotImplementedError
 
+    @abstractmethod
     def profiles(self, pair, depths: dict) -> dict:
         """Body name -> (coordinate (m), depth (m)) of its worn profile's section."""
-        raise NotImplementedError
 
     def closed_form(self, scene) -> dict | None:
         """The rigid-body limit the test's worn shape approaches, where there is one:
