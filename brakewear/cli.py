@@ -20,7 +20,9 @@ written; the message says when and where); 130 interrupted (Ctrl-C; the
 message says how to resume).  ``brakewear --version`` prints the version;
 ``python -m brakewear`` is the same command.  ``brakewear new-scene NAME``
 writes a starting geometry and scene for your own brake
-(:mod:`brakewear.scene.starter`).
+(:mod:`brakewear.scene.starter`).  ``brakewear clean`` answers which
+friction-only stops clean a corroded rotor, and with what probability
+(:mod:`brakewear.cleaning.command`).
 """
 from __future__ import annotations
 
@@ -300,6 +302,8 @@ def _parser() -> argparse.ArgumentParser:
                         "seconds of drag into OUT/running_in (default: the scene's own 3600 s; "
                         "0 skips it)")
     d.add_argument("--quiet", action="store_true", help="no progress bar")
+    from .cleaning.command import add_clean_parser
+    add_clean_parser(sub)
     b = sub.add_parser("bench", help="benchmarks (timings and errors)")
     try:
         from .bench import add_bench_parser
@@ -364,6 +368,9 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         if args.command == "new-scene":
             return _new_scene(args)
+        if args.command == "clean":
+            from .cleaning.command import clean_main
+            return clean_main(args)
         if args.command == "bench":
             from .bench import run_bench
             return run_bench(args)

@@ -45,8 +45,8 @@ from brakewear import (MATERIALS, BrakeModel, CaliperInterface, FEInterface, Num
                        load_geometry)
 from brakewear import analytic as an
 from brakewear.cleaning.corrosion import nonconformity_gap
-from brakewear.duty import KMH, repeated_stops, study_car
-from brakewear.cleaning.routine import run_routine
+from brakewear.duty import KMH, repeated_stops, run_schedule, study_car
+from brakewear.cleaning.routine import routine_run
 from brakewear.cleaning.rust import RustLaw, RustLayer
 from brakewear.thermal import SpeedConvection, ThermalModel
 from brakewear.thermal.coning import RotorConing
@@ -134,10 +134,9 @@ def main(out=None, **settings) -> dict:
 
     rust = RustLayer(itf, RustLaw(thickness=1e-3 - 1e-9), MATERIALS["grey_cast_iron"].wear_k,
                      WearLaw(MATERIALS["pad_resin"].wear_k))
-    for res in run_routine(model, itf, sched, car, rust, st["mu"],
-                           numerics=Numerics(scheme="implicit", steps=st["steps"]),
-                           gap0=gap, thermal=thermal, shift_faces=True, on_step=on_step):
-        rec = res.record
+    run = routine_run(model, itf, car, rust, st["mu"], sched, gap0=gap, thermal=thermal,
+                      numerics=Numerics(scheme="implicit", steps=st["steps"]))
+    for rec in run_schedule(run, on_step=on_step):
         if rec.kind == "stop":
             # the stop's friction power at its start, distributed as p r A of its pressure
             shape = np.maximum(rec.pressure, 0.0) * itf.r * itf.area

@@ -1,6 +1,5 @@
 """The studies of the caliper's load path on coarse meshes: the pads' tilt stiffness
-(studies/pad_tilt_stiffness.py), what the pads wear (studies/caliper_wear.py) and
-the cleaning answer over the load path's ranges (studies/cleaning_stops.py)."""
+(studies/pad_tilt_stiffness.py) and what the pads wear (studies/caliper_wear.py)."""
 import numpy as np
 import pytest
 
@@ -51,21 +50,3 @@ def test_what_the_pads_wear_on_the_floating_caliper():
     # carries more, and wears more
     assert held["face_force_share"]["in"] > free["face_force_share"]["in"] + 0.02
     assert held["pads"]["in"]["volume_mm3"] > held["pads"]["out"]["volume_mm3"]
-
-
-def test_the_cleaning_answer_over_the_load_path_ranges():
-    study = load_study("cleaning_stops")
-
-    class Serial:
-        def map(self, fn, items):
-            return [fn(x) for x in items]
-    res = study.load_path_spread(decels=(1.0,), stops=2, executor=Serial(),
-                                 keys=("support.abutment_friction",), size=SIZE,
-                                 k_corrosion=8e-12)
-    assert set(res["cases"]) == {"nominal", "support.abutment_friction low",
-                                 "support.abutment_friction high"}
-    lo, hi = (res["cases"][f"support.abutment_friction {e}"]["overrides"]
-              ["support.abutment_friction"] for e in ("low", "high"))
-    assert (lo, hi) == pytest.approx((0.08, 0.5))
-    for c in res["cases"].values():
-        assert c["failed"] == [] and set(c["cleaned_faces"]["1.0"]) == {"in", "out"}

@@ -9,7 +9,8 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from brakewear import MATERIALS, BrakeModel, FEInterface, Numerics, WearLaw, load_geometry
-from brakewear.cleaning.routine import run_routine
+from brakewear.duty import KMH, Dwell, Stop, repeated_stops, run_schedule, study_car
+from brakewear.cleaning.routine import routine_run
 from brakewear.cleaning.rust import RustLaw, RustLayer
 from brakewear.duty import KMH, Dwell, Stop, run_schedule, study_car
 from brakewear.thermal import SpeedConvection, ThermalModel
@@ -105,10 +106,11 @@ def test_the_elastic_hat_cones_toward_its_figure(hat):
     assert red.coning_scale == pytest.approx(66e-6 / np.mean(list(c8.values())), rel=1e-9)
 
 
-def test_the_routine_run_stop_by_stop_is_the_schedule_run_whole():
-    """Without heat and with the plain layered law the routine's stop-by-stop calls (each
-    from the wear before it, the friction of the layer, a warm start) wear as one
-    run_schedule call (1e-9)."""
+def test_the_routine_with_its_states_is_the_schedule_run_by_hand():
+    """Without heat and with the plain layered law the routine's run (the rust layer, the
+    pads' touch and a warm start as schedule states and interface) wears as one
+    run_schedule call that updates a layered rotor by hand in its on_step (1e-9): the
+    touch moves a pad held by tractions rigidly."""
     from brakewear.cleaning.corrosion import CorrodedRotor
 
     model = BrakeModel("default", size=12e-3, rotor="rigid")
@@ -138,8 +140,7 @@ def test_the_routine_run_stop_by_stop_is_the_schedule_run_whole():
         )
     ]
     layer = RustLayer(itf, RustLaw(thickness=3e-6, k_rust=1e-12), k_iron, pad)
-    parts = [s.record for s in run_routine(model, itf, sched, car, layer, 0.4,
-                                           numerics=num)]
+    parts = list(run_schedule(routine_run(model, itf, car, layer, 0.4, sched, numerics=num)))
     assert old.through.any() and (old.through == layer.through).all()
     for a, b in zip(whole, parts):
         assert a.kind == b.kind

@@ -1,86 +1,119 @@
-"""The cleaning routine's design curve and its sensitivity (studies/cleaning_routine.py,
-studies/cleaning_sensitivity.py): the routine picked as stated, the probabilities and
-their intervals, the inputs at their priors' points, SALib's Sobol indices against a
-function with known ones, and a small design curve run end to end."""
-import sys
-from pathlib import Path
+"""The cleaning routine as package API: a routine as a car maker states it, run through
+the one schedule runner with its states, its draws and their priors, the design curve's
+probabilities and the routine picked from it, and the sensitivity's Sobol indices."""
+import json
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
-import cleaning_routine as cr  # noqa: E402
-import cleaning_sensitivity as cs  # noqa: E402
+from brakewear import DutyError
+from brakewear.cleaning.brake import level
+from brakewear.cleaning.priors import STARTS, cleaning_inputs, draw, medians
+from brakewear.cleaning.routine import Routine
+from brakewear.cleaning.sensitivity import routine_outputs, sobol_indices
+from brakewear.cleaning.sweep import best_routine, map_tasks, wilson
+from brakewear.duty import KMH, Dwell, Stop
+
+
+def test_a_routine_is_stops_and_the_dwells_between_them():
+    r = Routine(3, 80 * KMH, 2.0, 300.0)
+    sched = r.schedule()
+    assert [type(a) for a in sched] == [Stop, Dwell, Stop, Dwell, Stop]
+    assert sched[1].duration == pytest.approx(300.0 - 80 * KMH / 2.0, rel=1e-12)
+    assert sched[1].speed == pytest.approx(80 * KMH)
+    assert r.words() == "3 friction-only stops from 80 km/h at 2 m/s^2, 300 s apart"
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(interval=30.0), r"routine\.interval: 30\.0 s is not allowed"),
+    (dict(interval=900.0), r"routine\.interval: 900\.0 s is not allowed"),
+    (dict(decel=0.1, interval=100.0), r"a stop from 100 km/h at 0\.1 m/s\^2 lasts 278 s"),
+    (dict(stops=0), r"routine\.stops"),
+])
+def test_a_routine_out_of_its_ranges_is_refused(kw, match):
+    args = {**dict(stops=3, speed=100 * KMH, decel=2.0, interval=120.0), **kw}
+    with pytest.raises(DutyError, match=match):
+        Routine(**args)
 
 
 def test_wilson_interval_holds_its_point_and_narrows():
-    lo, hi = cr.wilson(180, 200)
+    lo, hi = wilson(180, 200)
     assert lo < 0.9 < hi and hi - lo < 0.09
-    lo2, hi2 = cr.wilson(1800, 2000)
+    lo2, hi2 = wilson(1800, 2000)
     assert hi2 - lo2 < (hi - lo) / 3
-    assert cr.wilson(0, 10)[0] == 0.0 and cr.wilson(10, 10)[1] == 1.0
+    assert wilson(0, 10)[0] == 0.0 and wilson(10, 10)[1] == 1.0
 
 
 def test_the_routine_is_the_fewest_stops_then_the_lowest_deceleration_then_speed():
-    def pt(v, a, P):
-        return {"speed": v, "decel": a, "P": P, "line_pressure_MPa": 1.0,
-                "interval_95": [cr.wilson(round(p * 100), 100) for p in P]}
+    def pt(v, a, P, t=120.0):
+        return {"speed_kmh": v, "decel": a, "interval": t, "P": P, "line_pressure_MPa": 1.0,
+                "interval_95": [wilson(round(p * 100), 100) for p in P]}
     points = [pt(50, 1.0, [0.1, 0.5, 0.85, 0.92]), pt(50, 2.0, [0.2, 0.6, 0.91, 0.95]),
-              pt(80, 1.0, [0.3, 0.91, 0.96, 0.99]), pt(80, 2.0, [0.3, 0.93, 0.97, 0.99])]
-    r = cr.routine(points, 0.9)
-    assert (r["stops"], r["decel"], r["speed_kmh"]) == (2, 1.0, 80)
-    assert r["words"].startswith("2 friction-only stops from 80 km/h at 1 m/s^2")
-    assert cr.routine(points, 0.95)["stops"] == 3
-    assert cr.routine(points, 0.999) is None
+              pt(80, 1.0, [0.3, 0.91, 0.96, 0.99]), pt(80, 2.0, [0.3, 0.93, 0.97, 0.99]),
+              pt(80, 1.0, [0.3, 0.91, 0.96, 0.99], t=300.0)]
+    r = best_routine(points, 0.9)
+    assert (r["stops"], r["decel"], r["speed_kmh"], r["interval"]) == (2, 1.0, 80, 300.0)
+    assert r["words"].startswith("2 friction-only stops from 80 km/h at 1 m/s^2, 300 s apart")
+    assert best_routine(points, 0.95)["stops"] == 3
+    assert best_routine(points, 0.999) is None
 
 
-def test_inputs_come_from_their_priors():
-    pri = cr.inputs()
-    assert {
-        "thickness",
-        "k_rust",
-        "threshold",
-        "mu_factor",
-        "pad_wear_factor",
-        "mu",
-        "coning",
-        "thermal_coning_factor",
-        "convection_factor",
-        "pad_modulus",
-        "mass",
-        "rolling_resistance",
-        "drag_area",
-        "drivetrain_drag",
-    } <= set(pri)
-    med = cr.medians()
-    assert med["k_rust"] == pytest.approx(1e-12, rel=1e-12)
-    assert med["threshold"] == pytest.approx(0.05e6, rel=1e-12)
-    xs = cr.draw(400, seed=3)
-    k = np.array([x["k_rust"] for x in xs])
-    assert np.median(k) == pytest.approx(1e-12, rel=0.2)
-    assert all(1600 <= x["mass"] <= 2100 for x in xs)
-    assert cr._level(0.6) == 0.7 and cr._level(1.1) == 1.0 and cr._level(1.9) == 1.4
+def test_inputs_come_from_their_priors_with_their_sources():
+    for start in STARTS:
+        pri = cleaning_inputs(start)
+        assert all(len(p.source) > 20 for p in pri.values())
+        assert {"thickness", "k_rust", "mu", "finger_radius", "finger_diameter"} <= set(pri)
+    bed = cleaning_inputs("bedded")
+    assert {"bedding_heat", "static_coning"} <= set(bed) and "coning" not in bed
+    assert "coning" in cleaning_inputs("new")
+    assert sum(k.startswith("load_path:") for k in bed) == 11
+    med = medians(bed)
+    assert med["k_rust"] == pytest.approx(2e-12, rel=1e-12)
+    assert med["static_coning"] == pytest.approx(0.0, abs=1e-18)
+    xs = draw(400, seed=3, priors=bed)
+    assert all(1600 <= x["mass"] <= 2100 and 118 <= x["finger_radius"] <= 134 for x in xs)
+    assert np.median([x["k_rust"] for x in xs]) == pytest.approx(2e-12, rel=0.2)
+    assert level(0.6, (0.7, 1.0, 1.4)) == 0.7 and level(131.0, (120.0, 126.0, 132.0)) == 132.0
 
 
-def test_tornado_moves_one_input_to_its_priors_points(monkeypatch):
+def test_the_outputs_of_a_routine_count_a_failure_as_not_clean():
+    runs = [{"stops_to_clean": 2, "criteria": {"volume_removed": {"values": [0.5, 0.96]}}},
+            {"stops_to_clean": None, "criteria": {"volume_removed": {"values": [0.3, 0.6]}}},
+            {"error": "SolverError: ...", "stops_to_clean": None, "criteria": {}}]
+    out = routine_outputs(runs, 2, "volume_removed")
+    assert out == {"criterion_value": [1.0, 0.6, 0.0], "cleaned": [1.0, 0.0, 0.0]}
+
+
+def _square(task):
+    return {"y": task["x"] ** 2}
+
+
+def test_a_journalled_sweep_resumes_without_running_again(tmp_path):
+    journal = tmp_path / "runs.jsonl"
+    tasks = [{"x": x} for x in range(4)]
+
+    class Serial:
+        def submit(self, fn, t):
+            from concurrent.futures import Future
+            f = Future()
+            f.set_result(fn(t))
+            return f
+    first = map_tasks(tasks[:2], Serial(), journal=journal, function=_square)
     seen = []
 
-    def fake(tasks, executor):
-        seen.extend(tasks)
-        return [{"stops_to_clean": None, "cleaned": [0.5, t["k_rust"] * 1e11]} for t in tasks]
-    monkeypatch.setattr(cr, "map_tasks", fake)
-    t = cs.tornado(1.0, 50.0, 2)
-    pri = cr.inputs()
-    assert len(seen) == 1 + 2 * len(pri)
-    row = next(r for r in t["rows"] if r["input"] == "k_rust" and r["quantile"] == 0.95)
-    assert row["value"] == pytest.approx(float(pri["k_rust"].sample(np.array([0.95]))[0]))
-    assert row["cleaned_share"] == pytest.approx(row["value"] * 1e11)
-    med = t["rows"][0]
-    assert med["input"] == "median" and seen[0]["mass"] == pytest.approx(1850.0)
+    def counted(t):
+        seen.append(t["x"])
+        return _square(t)
+    again = map_tasks(tasks, Serial(), journal=journal, function=counted)
+    assert [r["y"] for r in again] == [0, 1, 4, 9] and first == again[:2]
+    assert sorted(seen) == [2, 3]
+    assert len(journal.read_text().splitlines()) == 4
+    assert sorted(json.loads(x)["result"]["y"] for x in journal.read_text().splitlines()) == \
+        [0, 1, 4, 9]
 
 
 def test_sobol_indices_of_the_ishigami_function():
-    """SALib through the study's wrapper (priors in probability space): the Ishigami
+    """SALib through the package's wrapper (priors in probability space): the Ishigami
     function's first-order and total indices (a = 7, b = 0.1: S1 = 0.314, 0.442, 0;
     ST = 0.558, 0.442, 0.244) lie within three of their bootstrap half-widths."""
     pytest.importorskip("SALib")
@@ -92,42 +125,7 @@ def test_sobol_indices_of_the_ishigami_function():
         x = np.array([[d["x1"], d["x2"], d["x3"]] for d in xs])
         return {"y": np.sin(x[:, 0]) + 7 * np.sin(x[:, 1]) ** 2
                 + 0.1 * x[:, 2] ** 4 * np.sin(x[:, 0])}
-    res = cs.sobol_indices(list(pri), pri, f, 2048, seed=5)["indices"]["y"]
+    res = sobol_indices(list(pri), pri, f, 2048, seed=5)["indices"]["y"]
     for name, s1, st in (("x1", 0.314, 0.558), ("x2", 0.442, 0.442), ("x3", 0.0, 0.244)):
         assert abs(res[name]["S1"] - s1) < 3 * res[name]["S1_conf"] + 0.01
         assert abs(res[name]["ST"] - st) < 3 * res[name]["ST_conf"] + 0.01
-
-
-@pytest.mark.slow
-def test_a_small_design_curve_runs_end_to_end(tmp_path):
-    """Idealised brake at 8 mm, heat on: two decelerations from 80 km/h, three draws,
-    four stops.  P(clean within N) never falls with N, friction on rust is above the
-    iron's, the stops heat the ring and cone it, files written."""
-    r = cr.design_curve([2.0, 3.0], [80.0], n=3, out=tmp_path, stops=4, size=8.0)
-    for p in r["points"]:
-        assert all(b >= a for a, b in zip(p["P"], p["P"][1:]))
-        assert p["failed"] == 0
-    assert r["routines"].keys() == {"0.9", "0.95"}
-    one = cr.run_sample(dict(cr.DEFAULTS, **cr.medians(), decel=2.0, speed=80.0, stops=2,
-                             size=8.0))
-    rows = one["rows"]
-    assert rows[0]["mu"] > cr.medians()["mu"]
-    assert rows[1]["T_ring_C"] > rows[0]["T_ring_C"] > 20.0
-    assert rows[1]["thermal_coning_um"] > 0
-    assert (tmp_path / "data" / "cleaning_routine.json").exists()
-    assert (tmp_path / "figures" / "cleaning_routine.png").exists()
-
-
-@pytest.mark.slow
-def test_the_curve_on_a_dask_cluster_is_the_curve_in_processes():
-    """The same tiny design curve on a local dask.distributed cluster of two worker
-    processes and on the default process pool: the same stops and cleaned shares."""
-    distributed = pytest.importorskip("dask.distributed")
-    kw = dict(n=2, stops=2, size=8.0, seed=4)
-    here = cr.design_curve([3.0], [80.0], **kw)
-    with distributed.Client(n_workers=2, threads_per_worker=1, processes=True,
-                            dashboard_address=None) as client:
-        there = cr.design_curve([3.0], [80.0], executor=client.get_executor(), **kw)
-    a, b = here["points"][0], there["points"][0]
-    assert a["stops_to_clean"] == b["stops_to_clean"]
-    assert a["cleaned_last"] == pytest.approx(b["cleaned_last"], rel=1e-9)

@@ -171,24 +171,6 @@ def test_offsets_beyond_the_range_are_refused_with_the_alternative(pair):
         )
 
 
-def test_the_cleaning_study_answers_the_same_on_either_interface():
-    from studyload import load_study
-
-    study = load_study("cleaning_stops")
-    task = dict(study.DEFAULTS, decel=1.0, stops=2, size=12.0, k_corrosion=8e-12,
-                geometry="default")         # the idealised brake: FE and condensed
-    fe = study.run_decel(dict(task, interface="fe"))
-    cd = study.run_decel(dict(task, interface="condensed"))
-    assert fe["line_pressure_MPa"] == pytest.approx(cd["line_pressure_MPa"], rel=1e-6)
-    for a, b in zip(fe["rows"], cd["rows"]):
-        assert a["steps"] == b["steps"]
-        for key in ("cleaned_fraction", "touched_fraction", "pad_volume_mm3",
-                    "rotor_volume_mm3", "friction_face_kJ"):
-            # the study's FE solves run to its default tolerance (1e-9), and the layered
-            # rotor law switches its rate where a ring wears through: a few 1e-6
-            assert a[key] == pytest.approx(b[key], rel=1e-5, abs=1e-9 * abs(a[key])), key
-
-
 def test_the_cost_study_measures_both_interfaces(tmp_path):
     from studyload import load_study
 
@@ -211,27 +193,6 @@ def test_the_cost_study_times_amg_columns_against_the_lu():
     assert len(row["amg_iterations"]) + len(row["amg_stalled_residuals"]) == 3
     assert row["lu_s_per_column"] > 0 and row["amg_s_per_column"] > 0
     assert row["amg_all_columns_s"] > row["amg_setup_s"]
-
-
-def test_the_monte_carlo_runs_on_a_dask_cluster_as_in_one_process():
-    from dask.distributed import Client, LocalCluster
-
-    from studyload import load_study
-
-    study = load_study("cleaning_stops")
-    kw = dict(n=2, stops=1, size=12.0, interface="condensed", geometry="default")
-
-    class Serial:
-        def map(self, fn, items):
-            return [fn(x) for x in items]
-
-    here = study.probability_of_clean(1.0, executor=Serial(), **kw)
-    with LocalCluster(processes=True, n_workers=2, threads_per_worker=1,
-                      dashboard_address=None) as cluster, Client(cluster) as client:
-        there = study.probability_of_clean(1.0, executor=client.get_executor(), **kw)
-    assert there["failed"] == here["failed"] == 0
-    for a, b in zip(here["rows"], there["rows"]):
-        assert a["cleaned_fraction"] == pytest.approx(b["cleaned_fraction"], rel=1e-12)
 
 
 def test_a_resumed_condensed_run_repeats_the_uninterrupted_one(tmp_path):

@@ -32,15 +32,18 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "checks", "parts", "registry", "storage", "analytic", "materials", "laws",
      "caliper.analytic",
      "cleaning.corrosion", "cleaning.rust", "cleaning.rust_fit", "cleaning.rust_model",
-     "cleaning.rust_record"),
+     "cleaning.rust_record", "cleaning.criteria"),
     ("geometry", "caliper.geometry"),
     ("mesh", "fem", "solvers", "rough", "caliper.loads", "caliper.parts"),
     ("contact", "caliper.rows"),
     ("model",),
     ("interfaces", "thermal", "motion", "caliper.condensation", "caliper.sets", "caliper.joint",
-     "caliper.interface", "tribology.bodies", "tribology.pair"),
-    ("static", "caliper.static", "duty", "cleaning.routine", "wear", "scene", "tribology"),
-    ("output", "cli", "bench", "tribology.runner", "tribology.output", "tribology.command"),
+     "caliper.interface"),
+    ("static", "caliper.static", "duty", "cleaning.routine", "cleaning.heat",
+     "cleaning.bedding", "cleaning.steady", "cleaning.priors", "cleaning.brake",
+     "cleaning.car", "cleaning.sample", "cleaning.sweep", "cleaning.sensitivity", "wear",
+     "scene"),
+    ("output", "cli", "bench", "cleaning.report", "cleaning.command"),
 )
 
 #: the most climbs the path may take (distinct caller -> callee module pairs)

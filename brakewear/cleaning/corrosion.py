@@ -213,19 +213,26 @@ class BandCriterion:
         z = np.bincount(self.ring, weights=x[2], minlength=n_ring) / count
         self.face = np.where(outboard_nodes(np.vstack([self.radii, 0 * z, z]), t), "out", "in") \
             if t is not None else np.full(n_ring, "in")
-        self.band_area = np.zeros(n_ring)
+        self.band_area = self.areas_within(r_in, r_out)
+        for f in self.faces:
+            if not self.band_area[self.face == f].sum() > 0:
+                raise WearError(f"no rotor ring of face {f!r} lies in the friction band "
+                                f"{r_in}..{r_out} m")
+        self._ring_nodes = np.asarray(self.W.T @ self.area).ravel()    # pad area over a node
+
+    def areas_within(self, lo: float, hi: float) -> np.ndarray:
+        """Each ring's area between radii ``lo`` and ``hi`` on its face (m^2): a ring
+        reaches halfway to its neighbours."""
+        out = np.zeros(self.radii.size)
         for f in self.faces:
             idx = np.nonzero(self.face == f)[0]
             idx = idx[np.argsort(self.radii[idx])]
             r = self.radii[idx]
             mid = 0.5 * (r[1:] + r[:-1])
-            lo = np.clip(np.concatenate([[r[0]], mid]), r_in, r_out)
-            hi = np.clip(np.concatenate([mid, [r[-1]]]), r_in, r_out)
-            self.band_area[idx] = np.pi * (hi ** 2 - lo ** 2)
-            if not self.band_area[idx].sum() > 0:
-                raise WearError(f"no rotor ring of face {f!r} lies in the friction band "
-                                f"{r_in}..{r_out} m")
-        self._ring_nodes = np.asarray(self.W.T @ self.area).ravel()    # pad area over a node
+            a = np.clip(np.concatenate([[r[0]], mid]), lo, hi)
+            b = np.clip(np.concatenate([mid, [r[-1]]]), lo, hi)
+            out[idx] = np.pi * (b ** 2 - a ** 2)
+        return out
 
     @property
     def faces(self) -> list:

@@ -1,80 +1,164 @@
-"""A cleaning routine run stop by stop: the rust law's friction and wear, and the
-heat that cones the rotor, entering each stop.
+"""A cleaning routine: the stops a car maker programs, run as one schedule.
 
-:func:`run_routine` runs a schedule of :class:`~brakewear.duty.Stop` and
-:class:`~brakewear.duty.Dwell` applications one at a time through
-:func:`brakewear.duty.run_schedule`, each from the wear of the ones before
-(exact: the contact problem depends on the wear only through the gap,
-docs/duty.md), so that between two stops
+A routine is what the car's controller commands: ``stops`` friction-only stops
+from ``speed`` to rest at ``decel``, ``interval`` seconds apart (start to
+start; 60-600 s), the car driving on at ``dwell_speed`` between them
+(:class:`Routine`).  It runs as any schedule does, through
+:func:`brakewear.duty.run_schedule` and the application table: the stops
+and dwells are :class:`~brakewear.duty.Stop` and
+:class:`~brakewear.duty.Dwell` (any registered application may stand in a
+schedule of :func:`routine_run`), and what the routine carries besides the
+wear are schedule states (:mod:`brakewear.duty.states`):
 
-* the friction coefficient follows the rust layer (:class:`brakewear.cleaning.rust.RustLayer`:
-  the iron's, raised over the load's share on rust by the law's ``mu_factor``),
-  and its rotor and pad laws wear each step;
-* the heat of the stops cones the rotor: with a full
-  :class:`~brakewear.thermal.ThermalModel` (``thermal``) the temperatures load
-  every contact solve (the coning is in the elastic rotor's deformation);
-  with a :class:`~brakewear.thermal.reduced.ReducedRotorHeat` (``heat``) the
-  stop's thermal coning ``kappa_c (T_ring - T_hat)``, its mean over the stop
-  (predicted by running the reduced rotor through the stop first, and put back), is added
-  to the gap as a coning (:func:`brakewear.cleaning.corrosion.nonconformity_gap`), and
-  the reduced rotor then takes the stop's real power and cools in the dwell.
+* the rust layer (:class:`~brakewear.cleaning.rust.RustLayer`, kind
+  ``"rust"``): its laws are the run's wear laws, its friction factor each
+  stop's, and each wear step's rotor wear its removal;
+* the rotor's heat (:class:`~brakewear.cleaning.heat.RotorHeat`, name
+  ``"rotor_heat"``): each stop's thermal coning as an extra gap;
+* the pads' touch (:class:`TouchFaces`, name ``"touch"``): each application
+  starts from its pads touching their faces, the smallest gap of each face
+  zero.  Between applications the caliper retracts and the pads come back to
+  touch: the wear's uniform advance is taken up by the piston and the
+  housing sliding, not by the caliper's rows, whose state (the abutments and
+  the bore sticking) each application starts afresh.
 
-Every contact solve a stop's wear loop starts without a start set starts from
-the last set found (the torque iteration's, with the same thermal load).  With
-``shift_faces`` each face's gap offset is shifted to touch at zero before
-each stop: a uniform gap on a face whose pad is free to move along the axis
-(held by tractions) is a rigid motion of that pad, so the answer is the same,
-and every face then starts its contact solves with nodes closed.
+Every contact solve a stop's wear loop starts without a start set starts
+from the last set found (:class:`WarmStart`): the torque iteration's, with
+the same thermal gap, so that the caliper's nested active sets start near
+their answer.
 """
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
-from .corrosion import nonconformity_gap, outboard_nodes
-from ..duty import Dwell, Stop, run_schedule
+from ..checks import check_int, check_number
+from ..duty import KMH, Vehicle, repeated_stops
+from ..duty.states import register_state
 from ..errors import DutyError
 from ..wear.run import Run
+from .corrosion import outboard_nodes
+from .heat import RotorHeat
+from .rust import RustLayer
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["run_routine", "StopResult"]
+__all__ = ["Routine", "WarmStart", "TouchFaces", "routine_run", "RotorHeat", "INTERVAL_RANGE"]
+
+register_state(RustLayer)
+
+#: the stops' spacing a routine may have (s, start to start): a minute to ten minutes
+INTERVAL_RANGE = (60.0, 600.0)
 
 
-@dataclass
-class StopResult:
-    """One application of a routine: its :class:`~brakewear.duty.ApplicationRecord`
-    (wear cumulative over the routine), the friction coefficient it ran with, the
-    thermal coning added to its gap (m; reduced heat) and the reduced rotor's ring
-    and hat temperatures at its end (K)."""
+@dataclass(frozen=True)
+class Routine:
+    """A cleaning routine as a car maker states it (SI units).
 
-    record: object
-    mu: float
-    thermal_coning: float = 0.0
-    T_ring: float | None = None
-    T_hat: float | None = None
-    extra: dict = field(default_factory=dict)
+    Parameters
+    ----------
+    stops : int
+        Friction-only stops (1-100).
+    speed : float
+        Each stop's start speed (m/s); each ends at rest.
+    decel : float
+        Deceleration (m/s^2).
+    interval : float
+        Start to start (s), within :data:`INTERVAL_RANGE` and longer than a stop.
+    dwell_speed : float or None
+        The speed the car drives on at between the stops (m/s; None: ``speed``).
+    """
+
+    stops: int
+    speed: float
+    decel: float
+    interval: float = 120.0
+    dwell_speed: float | None = None
+
+    def __post_init__(self):
+        check_int("routine.stops", self.stops, 1, kind=DutyError, hi=100)
+        check_number("routine.speed", self.speed, 0.0, 100.0, unit="m/s", kind=DutyError)
+        check_number("routine.decel", self.decel, 0.0, 12.0, unit="m/s^2", kind=DutyError)
+        lo, hi = INTERVAL_RANGE
+        check_number("routine.interval", self.interval, lo, hi, lo_open=False, unit="s",
+                     kind=DutyError)
+        if not self.interval > self.speed / self.decel:
+            raise DutyError(f"routine.interval = {self.interval:g} s is not allowed; a stop "
+                            f"from {self.speed / KMH:.4g} km/h at {self.decel:g} m/s^2 lasts "
+                            f"{self.speed / self.decel:.3g} s (start to start must be longer)")
+        check_number("routine.dwell_speed", self.dwell_speed, 0.0, 100.0, lo_open=False,
+                     unit="m/s", kind=DutyError, allow_none=True)
+
+    def schedule(self) -> list:
+        """Its stops and the dwells between them (:func:`brakewear.duty.repeated_stops`)."""
+        dwell = self.speed if self.dwell_speed is None else self.dwell_speed
+        return repeated_stops(self.stops, self.speed, decel=self.decel, interval=self.interval,
+                              dwell_speed=dwell)
+
+    def words(self, stops: int | None = None) -> str:
+        """The routine in a car maker's words (with ``stops`` stops)."""
+        n = self.stops if stops is None else stops
+        return (f"{n} friction-only stop{'s' if n != 1 else ''} from {self.speed / KMH:g} km/h "
+                f"at {self.decel:g} m/s^2, {self.interval:g} s apart")
 
 
-class _WarmStart:
-    """An interface whose contact solves without a start set start from the last one it
-    found (the runner's torque iteration solves the state a stop's wear loop then
-    starts from): the active-set iteration ends on the same set, from a start the
-    thermal load has not moved.  Everything else is the wrapped interface's."""
+@register_state
+class TouchFaces:
+    """A schedule state: each application starts with each face's pad touching (its
+    smallest gap zero); see the module.
 
-    def __init__(self, itf, memory: dict | None = None):
-        self._itf = itf
+    Parameters
+    ----------
+    interface
+        The schedule's interface (``x`` of the pad friction nodes).
+    thickness
+        The rotor's thickness (m; None: one face).
+    """
+
+    name: ClassVar[str] = "touch"
+
+    def __init__(self, interface, thickness: float | None):
+        n = interface.area.size
+        out = (np.zeros(n, dtype=bool) if thickness is None
+               else outboard_nodes(interface.x, thickness))
+        self.faces = [m for m in (~out, out) if m.any()]
+
+    def before(self, app, context: dict) -> dict | None:
+        """The uniform gap per face that makes each face touch."""
+        offset = np.asarray(context["offset"], dtype=float)
+        gap = np.zeros(offset.size)
+        for m in self.faces:
+            gap[m] = -offset[m].min()
+        return {"gap": gap}
+
+    def step(self, pad_wear, rotor_wear) -> None:
+        """Nothing: the wear within an application is the rows' to take."""
+
+    def after(self, record) -> dict | None:
+        """Nothing to report."""
+        return None
+
+
+class WarmStart:
+    """An interface whose contact solves without a start set start from the last
+    set it found (see the module); everything else is the wrapped interface's."""
+
+    def __init__(self, interface, memory: dict | None = None):
+        self._itf = interface
         self._memory = {"active": None} if memory is None else memory
 
     def __getattr__(self, name):
         return getattr(self._itf, name)
 
-    def at_line_pressure(self, line_pressure: float) -> "_WarmStart":
-        return _WarmStart(self._itf.at_line_pressure(line_pressure), self._memory)
+    def at_line_pressure(self, line_pressure: float) -> "WarmStart":
+        """The wrapped interface at ``line_pressure``, sharing the last set."""
+        return WarmStart(self._itf.at_line_pressure(line_pressure), self._memory)
 
     def solve(self, offset, active, **kw):
+        """The wrapped solve, from the last set when none is given."""
         last = self._memory["active"]
         if active is None and last is not None and last.shape == np.shape(offset):
             active = last
@@ -83,136 +167,46 @@ class _WarmStart:
         return sol
 
 
-def _face_shift(offset: np.ndarray, outboard: np.ndarray) -> np.ndarray:
-    out = offset.copy()
-    for mask in (~outboard, outboard):
-        if mask.any():
-            out[mask] -= out[mask].min()
-    return out
-
-
-def run_routine(model, interface, schedule, vehicle, rust, mu_iron: float, *, numerics,
-                gap0: np.ndarray | None = None, heat=None, coning_per_k: float = 0.66e-6,
-                thermal=None, shift_faces: bool = False, on_step=None):
-    """Run ``schedule`` (stops and dwells) on ``model`` stop by stop (see the module).
+def routine_run(model, interface, vehicle: Vehicle, rust: RustLayer, mu_iron: float,
+                routine: Routine | list, *, numerics, gap0: np.ndarray | None = None,
+                heat: RotorHeat | None = None, thermal=None) -> Run:
+    """The run of a cleaning routine (:func:`brakewear.duty.run_schedule` runs it).
 
     Parameters
     ----------
     model, interface
-        The brake and its interface (an FE or condensed one; ``W``, ``ring``, ``x``).
-    schedule
-        :class:`~brakewear.duty.Stop` and :class:`~brakewear.duty.Dwell` applications.
+        The brake and its interface (built: the rust layer is of it).
     vehicle
-        The :class:`~brakewear.duty.Vehicle` (as its controller runs the routine).
+        The :class:`~brakewear.duty.Vehicle` as its controller runs the routine
+        (:meth:`~brakewear.duty.Vehicle.with_friction_share`).
     rust
-        A :class:`brakewear.cleaning.rust.RustLayer` of ``interface`` (its laws and friction).
+        The :class:`~brakewear.cleaning.rust.RustLayer` of ``interface``.
     mu_iron
-        The friction coefficient on iron.
+        The friction coefficient on iron (the rust layer's factor multiplies it).
+    routine
+        A :class:`Routine`, or a schedule of registered applications.
     numerics
-        The wear loop's :class:`~brakewear.wear.Numerics`.
+        The wear loop's :class:`~brakewear.wear.Numerics` (gap-offset update).
     gap0
-        The initial gap per pad friction node (m): the static non-conformity.
-    heat, coning_per_k
-        A :class:`~brakewear.thermal.reduced.ReducedRotorHeat` and the thermal coning
-        across the pad per kelvin of ring over hat (m/K).
+        The gap per pad friction node the routine starts from (m): the bedded
+        state and the static non-conformity.
+    heat
+        A :class:`~brakewear.cleaning.heat.RotorHeat` (the stops' thermal coning).
     thermal
-        A full :class:`~brakewear.thermal.ThermalModel` instead (not with ``heat``).
-    shift_faces
-        Shift each face's offset to touch at zero before each stop (see the module).
-    on_step
-        Called as ``on_step(record, step, pad_wear, rotor_wear)`` with the wear since
-        the routine's start, after the rust layer has taken it.
+        Full thermal coupling instead (a :class:`~brakewear.thermal.ThermalModel`).
 
-    Yields
-    ------
-    StopResult
-        One per application, as it finishes.
+    Returns
+    -------
+    Run
+        With the schedule, the vehicle, the rust layer's laws and the states.
     """
     if heat is not None and thermal is not None:
-        raise DutyError("run_routine: give heat (a reduced rotor) or thermal (the full "
-                        "model), not both")
-    itf = _WarmStart(interface)
-    g = model.geometry
-    n = itf.area.size
-    gap0 = np.zeros(n) if gap0 is None else np.asarray(gap0, dtype=float)
-    out = outboard_nodes(itf.x, g.rotor.thickness)
-    band = (g.pad.inner_radius, g.pad.outer_radius)
-    pad_w, rot_w = np.zeros(n), np.zeros(itf.rotor_area.size)
-    last_p, t, last_u = None, 0.0, None
-    for i, app in enumerate(schedule):
-        if not app.braked:              # a pause: the bodies cool
-            res = _dwell(app, model, itf, rust, mu_iron, numerics, heat, thermal, vehicle)
-        elif isinstance(app, Stop):
-            mu = rust.friction(mu_iron, last_p)
-            c_th = 0.0 if heat is None else _predicted_coning(heat, app, vehicle, last_u,
-                                                              coning_per_k)
-            offset = gap0 + pad_w + itf.W @ rot_w
-            if c_th:
-                offset = offset + nonconformity_gap(itf.x, *band, g.rotor.thickness, c_th)
-            if shift_faces:
-                offset = _face_shift(offset, out)
-            base_p, base_r = pad_w.copy(), rot_w.copy()
-
-            def step(rec, s, pw, rw, base_r=base_r, base_p=base_p):
-                rust.update(base_r + rw)
-                if on_step is not None:
-                    on_step(rec, s, base_p + pw, base_r + rw)
-            rec = next(iter(run_schedule(Run(model, pad_law=rust.pad_law, rotor_law=rust.rotor_law, mu=mu, schedule=[app], vehicle=vehicle, numerics=numerics, interface=itf, thermal=thermal, initial_gap=offset), on_step=step)))
-            pad_w, rot_w = base_p + rec.pad_wear, base_r + rec.rotor_wear
-            rec.pad_wear, rec.rotor_wear = pad_w.copy(), rot_w.copy()
-            last_p = rec.pressure
-            if heat is not None:
-                power = _stop_power(rec, itf, mu, 2 if model.full else 1)
-                last_u = heat.ring_powers(itf.r, power, out, mirror=not model.full)
-                heat.heat(last_u, rec.duration, rec.omega0, rec.omega1)
-            res = StopResult(rec, mu, c_th)
-        else:
-            raise DutyError(f"application {i}: {app!r} is not a Stop or a Dwell")
-        res.record.index, res.record.t_start = i, t
-        t += res.record.duration
-        if heat is not None:
-            res.T_ring, res.T_hat = heat.T_ring, heat.T_hat
-        yield res
-
-
-def _stop_power(rec, itf, mu: float, faces: int) -> np.ndarray:
-    """Each pad node's friction power at the stop's start (W), distributed as ``p r A``
-    of its end pressure and scaled to its friction work (a power falling linearly to
-    zero over the stop: twice the mean at the start); ``faces`` the faces modelled."""
-    shape = np.maximum(rec.pressure, 0.0) * itf.r * itf.area
-    total = rec.friction_face_J * faces
-    return shape / max(shape.sum(), 1e-300) * 2.0 * total / rec.duration
-
-
-def _predicted_coning(heat, app: Stop, vehicle, last_u, per_k: float) -> float:
-    """The reduced rotor's mean thermal coning over the coming stop: a copy run through
-    it with the last stop's ring powers scaled to this stop's demand (before any stop:
-    spread evenly over the input rings), the coning averaged over its start and end;
-    the reduced rotor is put back as it was."""
-    start = heat.coning(per_k)
-    if app.decel is None:             # its length is known only once its torque is
-        return start
-    e = vehicle.stop_energy(app.v0, app.v1, app.decel)
-    power0 = 2.0 * (2 * e["face_J"]) / e["duration"] * heat.share   # into the rotor, W
-    if last_u is None or not last_u.sum() > 0:
-        u = np.full(heat.inputs.size, power0 / heat.inputs.size)
-    else:
-        u = last_u * (power0 / last_u.sum())
-    saved = heat.state()
-    heat.heat(u, e["duration"], vehicle.rotor_speed(app.v0), vehicle.rotor_speed(app.v1))
-    end = heat.coning(per_k)
-    heat.restore(saved)
-    return 0.5 * (start + end)
-
-
-def _dwell(app: Dwell, model, itf, rust, mu_iron, numerics, heat, thermal, vehicle):
-    omega = (app.omega if app.omega is not None else
-             vehicle.rotor_speed(app.speed) if app.speed is not None else 0.0)
-    if thermal is not None:
-        rec = next(iter(run_schedule(Run(model, pad_law=rust.pad_law, rotor_law=rust.rotor_law, mu=mu_iron, schedule=[app], vehicle=vehicle, numerics=numerics, interface=itf, thermal=thermal))))
-    else:
-        from ..duty import ApplicationRecord
-        rec = ApplicationRecord(0, "dwell", 0.0, app.duration, omega0=omega, omega1=omega)
-        if heat is not None:
-            heat.cool(app.duration, omega)
-    return StopResult(rec, mu_iron)
+        raise DutyError("routine_run: give heat (the reduced rotor's coning) or thermal "
+                        "(the full model), not both")
+    schedule = routine.schedule() if isinstance(routine, Routine) else list(routine)
+    touch = TouchFaces(interface, model.geometry.rotor.thickness if model.full else None)
+    states = (rust, touch) if heat is None else (rust, heat, touch)
+    return Run(model, pad_law=rust.pad_law, rotor_law=rust.rotor_law, mu=mu_iron,
+               schedule=schedule, vehicle=vehicle, numerics=numerics,
+               interface=WarmStart(interface), thermal=thermal, initial_gap=gap0,
+               states=states)

@@ -119,6 +119,7 @@ class ApplicationRecord:
     rotor_temperature_max: float | None = None   # K, rotor face (a rigid one's: the ambient)
     run_s: float = 0.0
     braked: bool = True            # the brake was applied (False: a pause, no contact)
+    mu: float | None = None        # the friction coefficient it ran with
     pad_wear: np.ndarray | None = field(default=None, repr=False)    # cumulative, m
     rotor_wear: np.ndarray | None = field(default=None, repr=False)
     pressure: np.ndarray | None = field(default=None, repr=False)    # at the end, Pa
@@ -127,6 +128,8 @@ class ApplicationRecord:
     #: and convected from each body (J) and the largest balance error of its steps
     #: (:class:`~brakewear.wear.records.HeatTally`)
     heat: dict | None = field(default=None, repr=False)
+    #: what the run's schedule states reported, by kind (:mod:`brakewear.duty.states`)
+    states: dict = field(default_factory=dict, repr=False)
 
     @property
     def torque_drift(self) -> float | None:

@@ -37,6 +37,7 @@ from ..wear.run import Run
 from ..wear.stepper import wear_history
 from .applications import ApplicationRecord
 from .schedule import check_schedule
+from .states import check_states, state_changes
 from .vehicle import FACES, effective_radius, line_pressure_for_torque
 
 logger = logging.getLogger(__name__)
@@ -67,6 +68,9 @@ class _Brake:
         self.gap0 = np.zeros(n) if initial_gap is None else np.asarray(initial_gap, dtype=float)
         self.pad_wear, self.rotor_wear = np.zeros(n), np.zeros(itf.rotor_area.size)
         self.active = None
+        self.states = run.states
+        self.base_mu = run.mu                   # the states' factors multiply it
+        self.extra = np.zeros(n)                # the states' gap for this application
 
     @property
     def since_start(self) -> float:
@@ -79,7 +83,27 @@ class _Brake:
         return float(np.average(self.itf.r, weights=self.itf.area))
 
     def offset(self) -> np.ndarray:
-        return self.gap0 + self.pad_wear + self.itf.W @ self.rotor_wear
+        return self.gap0 + self.pad_wear + self.itf.W @ self.rotor_wear + self.extra
+
+    def begin(self, app, index: int) -> None:
+        """Ask the run's states (:mod:`brakewear.duty.states`) what ``app`` changes:
+        its friction coefficient and its extra gap."""
+        self.extra = np.zeros(self.extra.size)
+        if not self.states:
+            return
+        context = {"index": index, "vehicle": self.vehicle, "mu": self.base_mu,
+                   "offset": self.offset()}
+        factor, self.extra = state_changes(self.states, app, context, self.extra.size)
+        self.mu = self.base_mu * factor
+
+    def end(self, rec: ApplicationRecord) -> None:
+        """The states' reports on the application's record."""
+        for s in self.states:
+            report = s.after(rec)
+            if report is not None:
+                rec.states[s.name] = report
+        self.extra = np.zeros(self.extra.size)
+        self.mu = self.base_mu
 
     def solve(self, line_pressure):
         # with the thermal load of the current temperatures, as the application's
@@ -149,15 +173,19 @@ class _Brake:
         self.last_start = self.t
         rec.rotor_angle = speed.angle(rec.duration)
         run = self.run.at(line_pressure=rec.line_pressure, omega=speed, duration=rec.duration,
-                          initial_gap=self.offset(), schedule=(), vehicle=None)
+                          initial_gap=self.offset(), schedule=(), vehicle=None, mu=self.mu,
+                          states=())
         last, tally, r_sum = None, HeatTally(), 0.0
         for s in wear_history(run):
             rec.friction_face_J += s.friction_work / self.faces
             r_sum += self.r_eff(s.pressure, rec.line_pressure) * (speed.angle(s.time)
                                                                   - speed.angle(s.time - s.dt))
             tally.add(s, s.dt)
+            pad_w, rot_w = self.pad_wear + s.pad_wear, self.rotor_wear + s.rotor_wear
+            for state in self.states:
+                state.step(pad_w, rot_w)
             if self.on_step is not None:
-                self.on_step(rec, s, self.pad_wear + s.pad_wear, self.rotor_wear + s.rotor_wear)
+                self.on_step(rec, s, pad_w, rot_w)
             last = s
         self.pad_wear = self.pad_wear + last.pad_wear
         self.rotor_wear = self.rotor_wear + last.rotor_wear
@@ -176,6 +204,7 @@ class _Brake:
         """A pause ``rec`` (no contact) of ``rec.duration``, the rotor turning at
         ``omega`` (rad/s): the bodies cool (with thermal coupling)."""
         rec.braked = False
+        rec.omega0 = rec.omega1 = omega
         thermal = self.run.thermal
         if thermal is not None:
             thermal.set_speed(omega)
@@ -203,7 +232,11 @@ def run_schedule(run: Run, *, on_step=None):
         interface (default: FE contact, built at the first braked
         application's line pressure); thermal coupling (heat in the
         applications, cooling in the dwells, temperatures carried over); the
-        extra gap per pad friction node before any wear (m): coning, taper.
+        extra gap per pad friction node before any wear (m): coning, taper;
+        the schedule states (:mod:`brakewear.duty.states`), asked before and
+        after each application and told of each wear step: the friction
+        coefficient of each application and an extra gap come from them,
+        their reports go to ``record.states``.
     on_step
         Called as ``on_step(record, step, pad_wear, rotor_wear)`` with each
         accepted :class:`~brakewear.wear.WearStep` of a braked application
@@ -222,7 +255,7 @@ def run_schedule(run: Run, *, on_step=None):
         At the call, before the interface is built or anything is solved: a
         bad numerics, ``mu`` or initial gap, or any application of the schedule
         that cannot run (:func:`~brakewear.duty.check_schedule`: its index and
-        value named).
+        value named); a state that is not a registered schedule state.
     """
     if not isinstance(run, Run):
         raise DutyError(f"run = {type(run).__name__}: need a brakewear.Run with a schedule "
@@ -230,6 +263,7 @@ def run_schedule(run: Run, *, on_step=None):
                         "vehicle=...)))")
     apps = _check_run(run.model, run.schedule, run.mu, run.vehicle, run.numerics,
                       run.interface, run.initial_gap)
+    check_states(run.states)
     return _run(run, apps, on_step)
 
 
@@ -255,7 +289,10 @@ def _run(run: Run, apps, on_step):
     for i, app in enumerate(apps):
         t0 = _time.perf_counter()
         with SolverError.located(application=f"{i} ({app.name})"):
+            brake.begin(app, i)
             rec = app.run(brake, i)
+            rec.mu = brake.mu
+            brake.end(rec)
         rec.t_start, rec.run_s = brake.t, _time.perf_counter() - t0
         rec.pad_wear, rec.rotor_wear = brake.pad_wear.copy(), brake.rotor_wear.copy()
         brake.t += rec.duration

@@ -75,6 +75,10 @@ class Run:
         :func:`brakewear.duty.run_schedule` (``line_pressure``, ``omega`` and
         ``duration``, when given, are then a nominal drag: what an ``"auto"``
         interface estimates the run's cost from).
+    states
+        What the schedule carries from one application to the next besides the
+        wear (:mod:`brakewear.duty.states`: a rust layer, the rotor's heat);
+        checked by :func:`~brakewear.duty.run_schedule`.
     interface_record
         What :meth:`resolved` asked of the interface table and got
         (``"requested"``, ``"model"``, a choosing model's ``"reason"``); None
@@ -101,12 +105,14 @@ class Run:
     limits: Any = None
     schedule: tuple = ()
     vehicle: Any = None
+    states: tuple = ()
     interface_record: dict | None = None
 
     def __post_init__(self):
         if self.numerics is None:
             object.__setattr__(self, "numerics", Numerics())
         object.__setattr__(self, "schedule", tuple(self.schedule or ()))
+        object.__setattr__(self, "states", tuple(self.states or ()))
         if self.initial_gap is not None:
             object.__setattr__(self, "initial_gap", np.asarray(self.initial_gap, dtype=float))
         _check(self)
