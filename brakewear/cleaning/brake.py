@@ -25,14 +25,14 @@ from ..errors import GeometryError
 logger = logging.getLogger(__name__)
 
 __all__ = ["cleaning_geometry", "cleaning_brake", "held_brake", "transfer_gap",
-           "reduced_rotor", "level",
+           "reduced_rotor", "level", "brake_levels",
            "PAD_MODULUS_LEVELS", "FINGER_RADIUS_LEVELS", "FINGER_DIAMETER_LEVELS"]
 
 #: the friction material's modulus is taken on these levels (times the file's)
 PAD_MODULUS_LEVELS = (0.7, 1.0, 1.4)
 #: the fingers' footprint centre radius (mm) and diameter (mm) are taken on these levels
 FINGER_RADIUS_LEVELS = (120.0, 126.0, 132.0)
-FINGER_DIAMETER_LEVELS = (16.0, 20.0, 24.0)
+FINGER_DIAMETER_LEVELS = (16.0, 24.0)
 
 #: this process's brakes and reduced rotors, by what builds them
 _BUILT: dict = {}
@@ -95,6 +95,13 @@ def _levels(draw: dict) -> tuple[float, dict]:
                (("radius", FINGER_RADIUS_LEVELS), ("diameter", FINGER_DIAMETER_LEVELS))
                if f"finger_{k}" in draw}
     return modulus, fingers
+
+
+def brake_levels(draw: dict) -> tuple:
+    """The levels a draw's brake is condensed at: the modulus, the fingers' radius and
+    diameter (None: the geometry file's)."""
+    modulus, fingers = _levels(draw)
+    return modulus, fingers.get("radius"), fingers.get("diameter")
 
 
 def cleaning_brake(draw: dict, geometry: str = "floating", size: float = 4e-3):

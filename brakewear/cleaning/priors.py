@@ -61,7 +61,7 @@ OTHER_PRIORS = {
                            "126, 132 mm"),
     "finger_diameter": Prior("uniform", 14.0, 26.0, "mm",
                              "estimate: a cast finger's pad on the backplate, 14-26 mm across "
-                             "(geometry/floating.toml, 20 mm); taken on the levels 16, 20, 24 mm"),
+                             "(geometry/floating.toml, 20 mm); taken on the levels 16 and 24 mm"),
 }
 
 #: the pads bedded to the rotor (the default start): how they were bedded, and what

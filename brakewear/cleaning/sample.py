@@ -63,6 +63,8 @@ class RoutineSettings:
 
 
 _HOT: dict = {}
+#: this process's bedded states of the pads held square, by level and friction
+_BEDDED: dict = {}
 
 
 def bedding_duty(draw: dict, settings: RoutineSettings, vehicle, mu: float, clamp_area: float,
@@ -109,29 +111,97 @@ def hot_coning(settings: RoutineSettings, vehicle) -> float:
     return _HOT[key]
 
 
+def _bedded_reference(draw, settings, vehicle, mu, k_pad, k_rotor, band, t):
+    """The held brake of the draw's levels and its bedded state, cold, at the line
+    pressure of a bedding stop (:func:`bedding_duty`, its own line pressure kept) and
+    the friction coefficient to 0.05: one solve per process and level
+    (:mod:`brakewear.cleaning.steady`)."""
+    from .brake import brake_levels, held_brake
+    from .steady import bedded_gap
+
+    mu_q = round(mu / 0.05) * 0.05
+    key = (settings.geometry, settings.size, settings.order, brake_levels(draw), mu_q)
+    _, held = held_brake(draw, settings.geometry, settings.size, settings.order)
+    if key not in _BEDDED:
+        duty = bedding_duty({}, settings, vehicle, mu_q, held.model.geometry.clamp_area,
+                            0.5 * sum(band))
+        path = _bedded_file(key, duty, k_pad, k_rotor)
+        state = _read_bedded(path, duty)
+        if state is None:
+            state = bedded_gap(held, duty, mu=mu_q, k_pad=k_pad, k_rotor=k_rotor, band=band,
+                               thickness=t)
+            _write_bedded(path, state)
+        if len(_BEDDED) > 200:
+            _BEDDED.clear()
+        _BEDDED[key] = state
+    return held, _BEDDED[key]
+
+
+def _bedded_file(key, duty, k_pad, k_rotor):
+    """The disk cache file of a bedded reference (beside the condensations; None: none)."""
+    import hashlib
+
+    from ..geometry import geometry_file
+    from ..interfaces.condensation import cache_dir
+
+    folder = cache_dir(None)
+    if folder is None:
+        return None
+    text = geometry_file(key[0]).read_text()
+    h = hashlib.sha1(repr((text, key[1:], duty.line_pressure, k_pad, k_rotor)).encode())
+    return folder / f"bedded-{h.hexdigest()[:20]}.npz"
+
+
+def _read_bedded(path, duty):
+    from .bedding import BeddedState
+
+    if path is None or not path.exists():
+        return None
+    try:
+        with np.load(path) as z:
+            return BeddedState(np.array(z["gap"]), np.array(z["pressure"]), int(z["iterations"]),
+                               int(z["solves"]), list(z["residuals"]), duty, {"cached": str(path)})
+    except (OSError, KeyError, ValueError):
+        return None
+
+
+def _write_bedded(path, state) -> None:
+    import os
+
+    if path is None:
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
+    np.savez(tmp, gap=state.gap, pressure=state.pressure, iterations=state.iterations,
+             solves=state.solves, residuals=np.array(state.residuals))
+    os.replace(tmp, path)
+
+
 def _start_gap(draw, settings, model, itf, vehicle, mu, k_pad, k_rotor) -> tuple:
     """The gap the routine starts from and what the bedding solve reported."""
     from ..duty.vehicle import effective_radius
-    from .bedding import face_masks, face_radii
-    from .brake import held_brake, transfer_gap
-    from .steady import bedded_gap
+    from .bedding import coning_gap_of, face_masks, face_radii, gauged
+    from .brake import transfer_gap
     from .corrosion import nonconformity_gap
 
     g = model.geometry
     band, t = (g.pad.inner_radius, g.pad.outer_radius), g.rotor.thickness
     if settings.start == "new":
         return nonconformity_gap(itf.x, *band, t, draw["coning"]), {"start": "new pad"}
-    r_eff = 0.5 * sum(band)
-    duty = bedding_duty(draw, settings, vehicle, mu, g.clamp_area, r_eff)
-    _, held = held_brake(draw, settings.geometry, settings.size, settings.order)
-    state = bedded_gap(held, duty, mu=mu, k_pad=k_pad, k_rotor=k_rotor, band=band,
-                       thickness=t)
-    gap = state.gap if held is itf else transfer_gap(state.gap, held, itf)
-    gap = gap + nonconformity_gap(itf.x, *band, t, draw.get("static_coning", 0.0))
+    duty = bedding_duty(draw, settings, vehicle, mu, g.clamp_area, 0.5 * sum(band))
+    held, ref = _bedded_reference(draw, settings, vehicle, mu, k_pad, k_rotor, band, t)
+    # the pads held square are linear: the steady pressure scales with the line
+    # pressure and so does the gap that carries it; bedded under a coning the gap is
+    # the cold one less the coning's (tests/test_bedding.py)
+    P, coning = duty.line_pressure[0], duty.coning[0]
     faces = face_masks(held, t)
+    shape = gauged(ref.gap * (P / ref.duty.line_pressure[0])
+                   - coning_gap_of(held, band, t, coning), faces)
+    gap = shape if held is itf else transfer_gap(shape, held, itf)
+    gap = gap + nonconformity_gap(itf.x, *band, t, draw.get("static_coning", 0.0))
+    state = ref
     return gap, {"start": "bedded", "iterations": state.iterations, "solves": state.solves,
-                 "duty_line_pressure_MPa": duty.line_pressure[0] / 1e6,
-                 "duty_coning_um": duty.coning[0] * 1e6,
+                 "duty_line_pressure_MPa": P / 1e6, "duty_coning_um": coning * 1e6,
                  "radii_mm": [r * 1e3 for r in face_radii(state.pressure, held, faces)],
                  "r_eff_mm": effective_radius(state.pressure, held.area, held.r) * 1e3}
 

@@ -113,7 +113,7 @@ class _Faces:
 
 def bedded_gap(itf, duty: BeddingDuty, *, mu: float, k_pad: float, k_rotor: float = 0.0,
                band: tuple[float, float], thickness: float | None = None,
-               gap0: np.ndarray | None = None, tol: float = 2e-3, max_iter: int = 80,
+               gap0: np.ndarray | None = None, tol: float = 5e-3, max_iter: int = 120,
                depth: int = 8, free_tilts: bool = False) -> BeddedState:
     """The bedded state of ``itf`` under ``duty`` (see the module).
 

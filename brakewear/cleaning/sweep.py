@@ -34,7 +34,7 @@ from .criteria import CRITERIA
 logger = logging.getLogger(__name__)
 
 __all__ = ["wilson", "executor", "map_tasks", "design_curve", "curve_point", "best_routine",
-           "routine_task", "run_task"]
+           "routine_task", "run_task", "prepare_task", "prepare"]
 
 
 def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -85,6 +85,48 @@ def run_task(task: dict) -> dict:
     st["criteria"] = CriteriaSettings(**st["criteria"])
     routine = Routine(task["stops"], task["speed_kmh"] * KMH, task["decel"], task["interval"])
     return run_routine(task["draw"], routine, Vehicle(**task["car"]), RoutineSettings(**st))
+
+
+def prepare_task(task: dict) -> dict:
+    """Build what the routines of a task's draw share -- its brake's condensations (the
+    caliper's and, bedded, the pads held square with their bedded state) and the reduced
+    rotor -- into the disk caches; returns the seconds it took."""
+    from ..duty import Vehicle
+    from ..materials import MATERIALS
+    from .brake import cleaning_brake, reduced_rotor
+    from .criteria import CriteriaSettings
+    from .sample import RoutineSettings, _bedded_reference
+
+    t0 = time.perf_counter()
+    st = dict(task["settings"])
+    st["criteria"] = CriteriaSettings(**st["criteria"])
+    settings = RoutineSettings(**st)
+    draw = task["draw"]
+    model, _ = cleaning_brake(draw, settings.geometry, settings.size)
+    if settings.start == "bedded":
+        g = model.geometry
+        car = Vehicle(**task["car"]).with_friction_share(1.0)
+        _bedded_reference(draw, settings, car, draw.get("mu", 0.4),
+                          MATERIALS["pad_resin"].wear_k, MATERIALS["grey_cast_iron"].wear_k,
+                          (g.pad.inner_radius, g.pad.outer_radius), g.rotor.thickness)
+    if settings.heat:
+        reduced_rotor(settings.geometry, settings.size, settings.blocks)
+    return {"seconds": time.perf_counter() - t0}
+
+
+def prepare(draws: list, settings, car, ex: Executor | None = None, workers: int = 2) -> int:
+    """:func:`prepare_task` once for each brake the draws use (their levels and
+    friction to 0.05), on ``ex``: the routines that follow read it from the caches."""
+    from .brake import brake_levels
+
+    seen, tasks = set(), []
+    for d in draws:
+        key = (brake_levels(d), round(d.get("mu", 0.4) / 0.05))
+        if key not in seen:
+            seen.add(key)
+            tasks.append(routine_task(d, 50.0, 1.0, 120.0, 1, settings, car))
+    map_tasks(tasks, ex, workers=workers, function=prepare_task)
+    return len(tasks)
 
 
 def _key(task: dict) -> str:
@@ -209,6 +251,8 @@ def design_curve(draws: list, speeds, decels, intervals, stops: int, settings, c
             for a in sorted(decels)]
     tasks = [routine_task(d, v, a, t, stops, settings, car) for v, a, t in grid for d in draws]
     t0 = time.perf_counter()
+    brakes = prepare(draws, settings, car, ex, workers)
+    t_prepare = time.perf_counter() - t0
     runs = map_tasks(tasks, ex, journal=journal, progress=progress, workers=workers)
     wall = time.perf_counter() - t0
     n = len(draws)
@@ -221,4 +265,5 @@ def design_curve(draws: list, speeds, decels, intervals, stops: int, settings, c
             "routines": {str(t): best_routine(points, t) for t in targets},
             "failed": sum(p["failed"] for p in points), "runs": len(tasks),
             "cost_per_routine_s": float(np.mean(times)) if times else None,
+            "brakes": brakes, "prepare_s": t_prepare,
             "wall_s": wall, "settings": asdict(settings), "car": asdict(car)}
