@@ -3,10 +3,13 @@
 
 On one brake and interface, the pads bed from new: blocks of ordinary stops
 (``stops`` stops from ``speed`` km/h at ``decel`` m/s^2, ``interval`` s apart, the
-study car braking by friction; each application standing for ``compress``
-of them) run by :func:`brakewear.cleaning.bedding.bedding_history` until the
-first cold stop's pressure settles, and the steady state of the same duty
-solved directly (:func:`brakewear.cleaning.steady.bedded_gap`).  Compared: the
+study car braking through its blending controller: the friction brakes take
+what the motor does not; each application standing for ``compress`` of them;
+with ``hot`` the stops' heat cones the rotor, :class:`brakewear.cleaning.heat.RotorHeat`)
+run by :func:`brakewear.cleaning.bedding.bedding_history` until the first cold
+stop's pressure settles, and the steady state of the same duty (its mean line
+pressure and thermal coning) solved directly
+(:func:`brakewear.cleaning.steady.bedded_gap`).  Compared: the
 first cold stop's pressure map (L2 over the history's, area-weighted), each
 face's effective radius, and the cost in contact solves.
 
@@ -14,7 +17,9 @@ face's effective radius, and the cost in contact solves.
 held in-plane, clamped by tractions on the piston's and the fingers'
 footprints; the condensed FE contact), where the steady state is ``p r``
 constant: its effective radius is the band's mid radius.  ``--brake caliper``:
-the pads as the caliper holds them (:class:`brakewear.CaliperInterface`).
+the pads as the caliper holds them (:class:`brakewear.CaliperInterface`),
+against what the cleaning routines start from: the state the pads bed to held
+square (:func:`brakewear.cleaning.brake.held_brake`), its gap under the caliper.
 
 Run ``python studies/cleaning_bedding.py --brake held --size 8 --out docs``.
 """
@@ -30,14 +35,15 @@ import numpy as np
 
 from brakewear import MATERIALS, Numerics, WearLaw
 from brakewear.cleaning import bedding as bd
+from brakewear.cleaning.brake import held_brake, transfer_gap
 from brakewear.cleaning.corrosion import outboard_nodes
 from brakewear.cleaning.routine import TouchFaces, WarmStart
 from brakewear.cleaning.steady import bedded_gap
 from brakewear.duty import KMH, repeated_stops, study_car
 from brakewear.wear import Run
 
-DEFAULTS = dict(brake="held", size=8.0, stops=5, speed=80.0, decel=2.0, interval=120.0,
-                compress=5.0, blocks=40, tol=0.005, mu=0.4)
+DEFAULTS = dict(brake="held", size=8.0, stops=5, speed=80.0, decel=3.0, interval=60.0,
+                compress=5.0, blocks=60, tol=0.002, direct_tol=1e-3, mu=0.4, hot=False)
 
 
 def brake(kind: str, size: float):
@@ -62,10 +68,17 @@ def main(out=None, **settings) -> dict:
     k_pad, k_iron = MATERIALS["pad_resin"].wear_k, MATERIALS["grey_cast_iron"].wear_k
     block = repeated_stops(st["stops"], st["speed"] * KMH, decel=st["decel"],
                            interval=st["interval"], dwell_speed=st["speed"] * KMH)
+    states = (TouchFaces(itf, t),)
+    if st["hot"]:
+        from brakewear.cleaning.brake import reduced_rotor
+        from brakewear.cleaning.heat import RotorHeat
+        from brakewear.thermal.reduced import HAT_CONING_PER_K
+        heat = RotorHeat(reduced_rotor("floating", st["size"] * 1e-3), itf, band, t,
+                         HAT_CONING_PER_K)
+        states = (heat, TouchFaces(itf, t))
     run = Run(model, pad_law=WearLaw(k_pad), rotor_law=WearLaw(k_iron), mu=st["mu"],
-              schedule=block, vehicle=study_car().with_friction_share(1.0),
-              numerics=Numerics(scheme="implicit", dp_tol=0.05), interface=WarmStart(itf),
-              states=(TouchFaces(itf, t),))
+              schedule=block, vehicle=study_car(), interface=WarmStart(itf),
+              numerics=Numerics(scheme="implicit", dp_tol=0.05), states=states)
     t0 = time.perf_counter()
     hist = bd.bedding_history(run, cold_line_pressure=_duty_pressure(run, itf),
                               tol=st["tol"], max_blocks=st["blocks"], compress=st["compress"],
@@ -73,8 +86,12 @@ def main(out=None, **settings) -> dict:
     t_hist = time.perf_counter() - t0
     duty = hist.extra["duty"]
     t0 = time.perf_counter()
-    direct = bedded_gap(itf, duty, mu=st["mu"], k_pad=k_pad, k_rotor=k_iron, band=band,
-                        thickness=t)
+    solver = itf if st["brake"] == "held" else held_brake({}, "floating", st["size"] * 1e-3)[1]
+    direct = bedded_gap(solver, duty, mu=st["mu"], k_pad=k_pad, k_rotor=k_iron, band=band,
+                        thickness=t, tol=st["direct_tol"])
+    if solver is not itf:
+        direct.gap = transfer_gap(direct.gap, solver, itf)
+        direct.pressure = transfer_gap(direct.pressure, solver, itf)
     t_direct = time.perf_counter() - t0
     P = hist.extra["cold_line_pressure"]
     faces = bd.face_masks(itf, t)
@@ -91,6 +108,8 @@ def main(out=None, **settings) -> dict:
                          "residuals": direct.residuals, "wall_s": t_direct,
                          "extra": {k: v for k, v in direct.extra.items() if k != "changes"}},
               "l2_direct_vs_history": bd.pressure_change(p_dir, p_hist, itf.area),
+              "radii_history_last10_mm": [float(np.mean([r[j] for r in hist.radii[-10:]]) * 1e3)
+                                          for j in range(len(faces))],
               "radii_history_mm": [r * 1e3 for r in r_hist],
               "radii_direct_mm": [r * 1e3 for r in r_dir],
               "mid_radius_mm": 0.5e3 * sum(band),
@@ -99,7 +118,8 @@ def main(out=None, **settings) -> dict:
                        "flat": (itf.g0 <= bd.OFF_FACE).tolist(),
                        "history_MPa": (p_hist / 1e6).tolist(), "direct_MPa": (p_dir / 1e6).tolist()}}
     if out is not None:
-        _write(result, Path(out), f"cleaning_bedding_{st['brake']}")
+        _write(result, Path(out), f"cleaning_bedding_{st['brake']}" + ("_hot" if st["hot"]
+                                                                       else ""))
     return result
 
 
@@ -107,7 +127,8 @@ def _duty_pressure(run, itf) -> float:
     """The line pressure of the block's first stop on a flat pad (the cold stop's)."""
     from brakewear.duty import run_schedule
 
-    first = replace(run, schedule=run.schedule[:1], pad_law=WearLaw(1e-30), rotor_law=None)
+    first = replace(run, schedule=run.schedule[:1], pad_law=WearLaw(1e-30), rotor_law=None,
+                    states=())
     (rec,) = run_schedule(first)
     return rec.line_pressure
 
@@ -152,9 +173,10 @@ def _write(result: dict, out: Path, name: str) -> None:
 def _cli(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--brake", choices=("held", "caliper"), default=DEFAULTS["brake"])
-    for k in ("size", "compress", "tol", "speed", "decel", "interval"):
-        ap.add_argument(f"--{k}", type=float, default=DEFAULTS[k])
+    for k in ("size", "compress", "tol", "direct_tol", "speed", "decel", "interval"):
+        ap.add_argument(f"--{k.replace('_', '-')}", dest=k, type=float, default=DEFAULTS[k])
     ap.add_argument("--blocks", type=int, default=DEFAULTS["blocks"])
+    ap.add_argument("--hot", action="store_true", help="the stops' heat cones the rotor")
     ap.add_argument("--out", default=None)
     a = vars(ap.parse_args(argv))
     r = main(a.pop("out"), **a)

@@ -2,11 +2,13 @@
 order (docs/cleaning.md, "A criterion that converges").
 
 One routine (``stops`` friction-only stops from ``speed`` km/h at ``decel`` m/s^2,
-``interval`` s apart, the inputs at their priors' medians, the pads bedded,
-heat on) runs to its end on each mesh of ``cases`` -- the floating caliper
-(P1: its rows are built on linear meshes) and its pads held square (P1 and
-P2) -- and every candidate criterion of :mod:`brakewear.cleaning.criteria`
-is read after each stop.  The table: each criterion's value after
+``interval`` s apart, the inputs at their priors' medians, heat on) runs to
+its end on each mesh of ``cases`` -- the floating caliper from its pads bedded
+(P1: its rows are built on linear meshes), and its pads held square from a new
+pad against the median coning on P1 and P2 meshes (the element order's
+effect: the bedded state of a quadratic face is not solved to the tolerance
+of a linear one) -- and every candidate criterion of
+:mod:`brakewear.cleaning.criteria` is read after each stop.  The table: each criterion's value after
 ``table_stop`` stops per mesh, and its relative change between the two finest
 meshes of each brake.
 
@@ -28,26 +30,27 @@ from brakewear.cleaning.sample import RoutineSettings, run_routine
 from brakewear.duty import KMH
 
 DEFAULTS = dict(stops=5, speed=80.0, decel=1.5, interval=120.0, table_stop=2,
-                cases=("caliper:8", "caliper:6", "caliper:4", "caliper:3", "held:8", "held:6",
-                       "held:4", "held:3", "held:8:2", "held:6:2"))
+                cases=("caliper:8", "caliper:6", "caliper:4", "caliper:3", "held:8:1:new",
+                       "held:6:1:new", "held:4:1:new", "held:8:2:new", "held:6:2:new"))
 
 
-def parse_case(case: str) -> tuple[str, float, int]:
-    """``"brake:size_mm[:order]"`` -> (brake, size in m, order)."""
+def parse_case(case: str) -> tuple[str, float, int, str]:
+    """``"brake:size_mm[:order[:start]]"`` -> (brake, size in m, order, start)."""
     parts = case.split(":")
-    return parts[0], float(parts[1]) * 1e-3, int(parts[2]) if len(parts) > 2 else 1
+    return (parts[0], float(parts[1]) * 1e-3, int(parts[2]) if len(parts) > 2 else 1,
+            parts[3] if len(parts) > 3 else "bedded")
 
 
 def main(out=None, **settings) -> dict:
     st = {**DEFAULTS, **settings}
-    draw = medians(cleaning_inputs("bedded"))
     routine = Routine(st["stops"], st["speed"] * KMH, st["decel"], st["interval"])
     rows = {}
     for case in st["cases"]:
-        brake, size, order = parse_case(case)
+        brake, size, order, start = parse_case(case)
         t0 = time.perf_counter()
-        res = run_routine(draw, routine, packaged_car(), RoutineSettings(
-            brake=brake, size=size, order=order, run_to_end=True))
+        res = run_routine(medians(cleaning_inputs(start)), routine, packaged_car(),
+                          RoutineSettings(brake=brake, size=size, order=order, start=start,
+                                          run_to_end=True))
         rows[case] = {"values": {c: res["criteria"].get(c, {}).get("values", [])
                                  for c in CRITERIA},
                       "stops_to_meet": {c: res["criteria"].get(c, {}).get("stops_to_meet")
@@ -70,19 +73,19 @@ def table(rows: dict, stop: int) -> dict:
     out = {c: {"values": {}, "change": {}} for c in CRITERIA}
     groups: dict = {}
     for case, r in rows.items():
-        brake, size, order = parse_case(case)
-        groups.setdefault((brake, order), []).append((size, case))
+        brake, size, order, start = parse_case(case)
+        groups.setdefault((brake, order, start), []).append((size, case))
         for c in CRITERIA:
             v = r["values"][c]
             out[c]["values"][case] = v[stop - 1] if len(v) >= stop else None
-    for (brake, order), cases in groups.items():
+    for (brake, order, start), cases in groups.items():
         cases.sort()
         if len(cases) < 2:
             continue
         (_, fine), (_, next_) = cases[0], cases[1]
         for c in CRITERIA:
             a, b = out[c]["values"][fine], out[c]["values"][next_]
-            key = f"{brake} P{order} {next_.split(':')[1]} -> {fine.split(':')[1]} mm"
+            key = f"{brake} P{order} {start}: {next_.split(':')[1]} -> {fine.split(':')[1]} mm"
             out[c]["change"][key] = (None if a is None or b is None or max(abs(a), abs(b)) == 0
                                      else abs(a - b) / max(abs(a), abs(b)))
     return out

@@ -35,7 +35,7 @@ def test_pads_held_square_bed_to_p_r_constant_in_a_few_dozen_solves(held):
     mid radius (95-138 mm: 116.5 mm) within 0.3 mm, and p r is flat within 5 % (rms)."""
     m, itf = held
     st = _solve(itf, m)
-    assert st.solves <= 60 and st.residuals[-1] <= 2e-3
+    assert st.solves <= 60 and st.residuals[-1] <= 5e-3
     t = m.geometry.rotor.thickness
     for face, flat in zip(bd.face_masks(itf, t), bd.face_masks(itf, t, on_face=True)):
         p = st.pressure[face]
@@ -67,6 +67,20 @@ def test_a_hot_duty_beds_the_reverse_of_its_coning(held):
         assert slope == pytest.approx(sign * 40e-6, rel=0.1), slope
 
 
+def test_the_bedded_gap_of_pads_held_square_scales_with_the_load(held):
+    """The pads held square are linear: the steady pressure, and the gap that carries it,
+    scale with the line pressure (a draw's bedded gap is its level's, scaled:
+    brakewear.cleaning.sample), to the solve's tolerance."""
+    m, itf = held
+    g = m.geometry
+    kw = dict(mu=0.4, k_pad=K_PAD, k_rotor=K_IRON, band=(g.pad.inner_radius,
+              g.pad.outer_radius), thickness=g.rotor.thickness, tol=1e-4, max_iter=200)
+    one = bedded_gap(itf, bd.BeddingDuty((1e6,), (1.0,), (0.0,)), **kw)
+    two = bedded_gap(itf, bd.BeddingDuty((2e6,), (1.0,), (0.0,)), **kw)
+    assert np.abs(two.gap - 2 * one.gap).max() < 0.01 * np.abs(two.gap).max()
+    assert bd.pressure_change(two.pressure, 2 * one.pressure, itf.area) < 1e-3
+
+
 def test_a_state_that_does_not_settle_raises_with_its_figures(held):
     m, itf = held
     with pytest.raises(ConvergenceError, match="did not settle in 2 iterations"):
@@ -85,16 +99,23 @@ def test_the_duty_mean_weighs_by_the_angle_slid():
 
 @pytest.mark.slow
 def test_the_direct_solve_is_the_bedding_history():
-    """studies/cleaning_bedding.py on the pads held square (8 mm): the bedding history
-    (blocks of five stops from 80 km/h at 2 m/s^2, each application five of them) until
-    the first cold stop's pressure settles to 0.5 %, and the direct solve of its duty:
-    the first cold stop's pressure maps within 5 % (L2), each face's effective radius
-    within 0.5 mm, the direct solve in at most 60 contact solves."""
+    """studies/cleaning_bedding.py on the pads held square (8 mm), cold and hot: the
+    bedding history (blocks of five stops from 80 km/h at 3 m/s^2 through the study car's
+    blending, 60 s apart, each application five of them; hot: the stops' heat cones the
+    rotor) until the first cold stop's pressure changes by less than 0.2 % over a block,
+    and the direct solve of its duty: the first cold stop's pressure maps within 5 % (L2),
+    each face's effective radius within 0.5 mm, the direct solve in at most 100 contact
+    solves.  Hot, the pads bed to the coning's reverse: against the cold rotor the inboard
+    pad bears outward of the mid radius and the outboard one inward."""
     from studyload import load_study
 
-    r = load_study("cleaning_bedding").main(brake="held", size=8.0)
-    assert r["history"]["settled"]
-    assert r["l2_direct_vs_history"] < 0.05
-    for a, b in zip(r["radii_history_mm"], r["radii_direct_mm"]):
-        assert abs(a - b) < 0.5
-    assert r["direct"]["solves"] <= 60
+    study = load_study("cleaning_bedding")
+    for hot in (False, True):
+        r = study.main(brake="held", size=8.0, hot=hot)
+        assert r["history"]["settled"]
+        assert r["l2_direct_vs_history"] < 0.05, r["l2_direct_vs_history"]
+        for a, b in zip(r["radii_history_mm"], r["radii_direct_mm"]):
+            assert abs(a - b) < 0.5
+        assert r["direct"]["solves"] <= 100
+    inboard, outboard = r["radii_direct_mm"]
+    assert inboard > r["mid_radius_mm"] + 5 > r["mid_radius_mm"] - 5 > outboard
