@@ -150,8 +150,13 @@ def main(out=None, **settings) -> dict:
               "coning_scale": reduced.coning_scale, "coning_step_per_K": reduced.coning_step,
               "run_s": time.perf_counter() - t0}
     if out is not None:
-        from cleaning_routine import write_result
-        write_result(out, "cleaning_heat", result, plot)
+        import json
+        out = Path(out)
+        (out / "data").mkdir(parents=True, exist_ok=True)
+        (out / "data" / "cleaning_heat.json").write_text(json.dumps(result, indent=1))
+        if plot is not None:
+            (out / "figures").mkdir(parents=True, exist_ok=True)
+            plot(result, out / "figures" / "cleaning_heat.png")
     return result
 
 

@@ -141,14 +141,17 @@ def test_the_torque_iteration_brackets_a_jump_of_the_radius():
 
 @pytest.mark.slow
 def test_the_reproduction_draw_runs_through(monkeypatch, tmp_path):
-    """Draw 17 of the cleaning routine's sampler (seed 37), stops from 100 km/h at
-    1 m/s^2 at 8 mm, heat on: the outboard pad rocks on its fingers' edge in the
-    first two stops; the routine runs through without a solver error."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
-    import cleaning_routine as cr
+    """Draw 17 of the new-pad priors (seed 37), stops from 100 km/h at 1 m/s^2 at 8 mm,
+    heat on: the outboard pad rocks on its fingers' edge in the first two stops; the
+    routine runs through without a solver error."""
+    from brakewear.cleaning.car import packaged_car
+    from brakewear.cleaning.priors import cleaning_inputs, draw
+    from brakewear.cleaning.routine import Routine
+    from brakewear.cleaning.sample import RoutineSettings, run_routine
+    from brakewear.duty import KMH
 
-    x = cr.draw(20, 37)[17]
-    task = dict(cr.DEFAULTS, **x, decel=1.0, speed=100.0, size=8.0, stops=2)
-    r = cr.run_sample(task)
+    x = draw(20, 37, cleaning_inputs("new"))[17]
+    r = run_routine(x, Routine(2, 100 * KMH, 1.0, 120.0), packaged_car(),
+                    RoutineSettings(size=8e-3, start="new", run_to_end=True))
     assert "error" not in r, r.get("error")
     assert len(r["rows"]) == 2 and all(row["line_pressure_MPa"] > 0 for row in r["rows"])
