@@ -109,8 +109,9 @@ def test_the_elastic_hat_cones_toward_its_figure(hat):
 def test_the_routine_with_its_states_is_the_schedule_run_by_hand():
     """Without heat and with the plain layered law the routine's run (the rust layer, the
     pads' touch and a warm start as schedule states and interface) wears as one
-    run_schedule call that updates a layered rotor by hand in its on_step (1e-9): the
-    touch moves a pad held by tractions rigidly."""
+    run_schedule call that updates a layered rotor by hand in its on_step (1e-9; the pads'
+    wear 1e-8, the two paths' contact solves agreeing to their tolerance): the touch moves
+    a pad held by tractions rigidly."""
     from brakewear.cleaning.corrosion import CorrodedRotor
 
     model = BrakeModel("default", size=12e-3, rotor="rigid")
@@ -147,7 +148,7 @@ def test_the_routine_with_its_states_is_the_schedule_run_by_hand():
         if a.kind == "stop":
             assert b.line_pressure == pytest.approx(a.line_pressure, rel=1e-9)
             assert np.abs(b.rotor_wear - a.rotor_wear).max() < 1e-9 * a.rotor_wear.max()
-            assert np.abs(b.pad_wear - a.pad_wear).max() < 1e-9 * a.pad_wear.max()
+            assert np.abs(b.pad_wear - a.pad_wear).max() < 1e-8 * a.pad_wear.max()
 
 
 @pytest.mark.slow
