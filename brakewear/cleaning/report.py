@@ -52,20 +52,22 @@ def check_clean_out(out, overwrite: bool = False, resume: bool = False) -> Path:
 
 
 class _Bar:
-    """A progress bar in routines run, with its ETA (tqdm on stderr)."""
+    """A progress bar in routines run (or brakes built), with its ETA (tqdm on stderr)."""
 
-    def __init__(self, quiet: bool):
-        self.quiet, self.bar = quiet, None
+    def __init__(self, quiet: bool, unit: str = "routine", desc: str = "brakewear clean"):
+        self.quiet, self.bar, self.unit, self.desc = quiet, None, unit, desc
 
     def __call__(self, done: int, total: int) -> None:
         if self.quiet:
             return
         if self.bar is None:
             from tqdm import tqdm
-            self.bar = tqdm(total=total, unit="routine", desc="brakewear clean",
+            self.bar = tqdm(total=total, unit=self.unit, desc=self.desc,
                             initial=done, smoothing=0.05)
         self.bar.n = done
         self.bar.refresh()
+        if done >= total:
+            self.close()
 
     def close(self) -> None:
         if self.bar is not None:
@@ -88,14 +90,16 @@ def clean_and_report(inp, out: Path, *, dask=None, workers: int = 2, quiet: bool
                                heat=inp.heat)
     priors = cleaning_inputs(inp.start, inp.geometry)
     draws = draw(inp.samples, inp.seed, priors)
-    bar = _Bar(quiet)
+    bar, built = _Bar(quiet), _Bar(quiet, "brake", "building the brakes")
     t0 = time.perf_counter()
     try:
         with executor(dask, workers) as ex:
             curve = design_curve(draws, inp.speeds, inp.decels, inp.intervals, inp.stops,
                                  settings, inp.car, ex=ex, journal=out / "runs.jsonl",
-                                 progress=bar, targets=inp.targets)
+                                 progress=bar, targets=inp.targets,
+                                 prepared=built)
     finally:
+        built.close()
         bar.close()
     files = write_curve(curve, out)
     files += write_maps(curve, medians(priors), settings, inp, out)

@@ -114,9 +114,11 @@ def prepare_task(task: dict) -> dict:
     return {"seconds": time.perf_counter() - t0}
 
 
-def prepare(draws: list, settings, car, ex: Executor | None = None, workers: int = 2) -> int:
+def prepare(draws: list, settings, car, ex: Executor | None = None, workers: int = 2,
+            progress: Callable | None = None) -> int:
     """:func:`prepare_task` once for each brake the draws use (their levels and
-    friction to 0.05), on ``ex``: the routines that follow read it from the caches."""
+    friction to 0.05), on ``ex``: the routines that follow read it from the caches.
+    ``progress(done, total)`` is called as each brake is built; returns their count."""
     from .brake import brake_levels
 
     seen, tasks = set(), []
@@ -125,7 +127,8 @@ def prepare(draws: list, settings, car, ex: Executor | None = None, workers: int
         if key not in seen:
             seen.add(key)
             tasks.append(routine_task(d, 50.0, 1.0, 120.0, 1, settings, car))
-    map_tasks(tasks, ex, workers=workers, function=prepare_task)
+    logger.info("building %d brakes' condensations and bedded states", len(tasks))
+    map_tasks(tasks, ex, workers=workers, function=prepare_task, progress=progress)
     return len(tasks)
 
 
@@ -228,7 +231,7 @@ def best_routine(points: list, target: float) -> dict | None:
 def design_curve(draws: list, speeds, decels, intervals, stops: int, settings, car, *,
                  ex: Executor | None = None, journal: Path | None = None,
                  progress: Callable | None = None, targets=(0.9, 0.95),
-                 workers: int = 2) -> dict:
+                 workers: int = 2, prepared: Callable | None = None) -> dict:
     """Every routine of the grid on the same ``draws`` (see the module).
 
     Parameters
@@ -244,6 +247,8 @@ def design_curve(draws: list, speeds, decels, intervals, stops: int, settings, c
         :class:`~brakewear.duty.Vehicle`.
     ex, journal, progress, workers
         As :func:`map_tasks`.
+    prepared
+        Called with ``(done, total)`` as each brake is built (:func:`prepare`).
     targets
         The probabilities whose routines are picked (:func:`best_routine`).
     """
@@ -251,7 +256,7 @@ def design_curve(draws: list, speeds, decels, intervals, stops: int, settings, c
             for a in sorted(decels)]
     tasks = [routine_task(d, v, a, t, stops, settings, car) for v, a, t in grid for d in draws]
     t0 = time.perf_counter()
-    brakes = prepare(draws, settings, car, ex, workers)
+    brakes = prepare(draws, settings, car, ex, workers, progress=prepared)
     t_prepare = time.perf_counter() - t0
     runs = map_tasks(tasks, ex, journal=journal, progress=progress, workers=workers)
     wall = time.perf_counter() - t0
