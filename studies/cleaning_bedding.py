@@ -116,7 +116,8 @@ def main(out=None, **settings) -> dict:
               "maps": {"r_mm": (itf.r * 1e3).tolist(), "y_mm": (itf.x[1] * 1e3).tolist(),
                        "face": np.where(outboard_nodes(itf.x, t), "out", "in").tolist(),
                        "flat": (itf.g0 <= bd.OFF_FACE).tolist(),
-                       "history_MPa": (p_hist / 1e6).tolist(), "direct_MPa": (p_dir / 1e6).tolist()}}
+                       "history_MPa": (p_hist / 1e6).tolist(),
+                       "direct_MPa": (p_dir / 1e6).tolist()}}
     if out is not None:
         _write(result, Path(out), f"cleaning_bedding_{st['brake']}" + ("_hot" if st["hot"]
                                                                        else ""))

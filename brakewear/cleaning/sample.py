@@ -8,7 +8,8 @@ rust layer, its start -- the pads bedded square to the rotor
 pads held square, :func:`~brakewear.cleaning.brake.held_brake`, under the
 bedding duty of the draw's ``bedding_heat``; plus the face's
 ``static_coning``) or, as a labelled scenario, a new pad against a coned
-rotor (``coning``) -- and the rotor's heat, runs the routine through :func:`brakewear.duty.run_schedule`
+rotor (``coning``) -- and the rotor's heat, runs the routine through
+:func:`brakewear.duty.run_schedule`
 (:func:`~brakewear.cleaning.routine.routine_run`) and judges every candidate
 criterion after each stop (:class:`~brakewear.cleaning.criteria.CleaningCriteria`).
 It stops once the chosen criterion is met (or runs every stop with
