@@ -38,12 +38,13 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("contact", "caliper.rows"),
     ("model",),
     ("interfaces", "thermal", "motion", "caliper.condensation", "caliper.sets", "caliper.joint",
-     "caliper.interface"),
+     "caliper.interface", "tribology.bodies", "tribology.pair"),
     ("static", "caliper.static", "duty", "cleaning.routine", "cleaning.heat",
      "cleaning.bedding", "cleaning.steady", "cleaning.priors", "cleaning.brake",
      "cleaning.car", "cleaning.sample", "cleaning.sweep", "cleaning.sensitivity", "wear",
-     "scene"),
-    ("output", "cli", "bench", "cleaning.report", "cleaning.command"),
+     "scene", "tribology"),
+    ("output", "cli", "bench", "tribology.runner", "tribology.output", "tribology.command",
+     "cleaning.report", "cleaning.command"),
 )
 
 #: the most climbs the path may take (distinct caller -> callee module pairs)
