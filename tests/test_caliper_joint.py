@@ -152,3 +152,32 @@ def test_the_reproduction_draw_runs_through(monkeypatch, tmp_path):
     r = cr.run_sample(task)
     assert "error" not in r, r.get("error")
     assert len(r["rows"]) == 2 and all(row["line_pressure_MPa"] > 0 for row in r["rows"])
+
+
+def test_the_torque_iteration_closes_on_a_jump_it_approaches_by_secants():
+    """A radius with a slope on both sides of its jump (the pad rocking onto its
+    other edge while the contact spreads): secant steps inside the bracket shorten
+    one side at a time; the iteration bisects when the bracket does not halve in
+    two steps and closes on the jump to the tolerance."""
+    from brakewear.duty.runner import _Brake
+
+    jump = 2.047e6
+
+    class Rocking(_Brake):
+        def __init__(self):
+            self.mu, self.clamp_area, self.calls = 0.4, 1e-3, 0
+
+        def solve(self, p):
+            self.calls += 1
+            return type("Solution", (), {"pressure": p})()
+
+        def r_eff(self, pressure, p):
+            low = pressure < jump
+            return (0.0959 if low else 0.1008) + 0.02 * (pressure / 1e6 - 2.0)
+
+    b = Rocking()
+    k = 2 * 0.4 * 1e-3
+    target = k * jump * 0.0985                # inside the jump of k p r at ``jump``
+    p, _ = b.pressure_for_torque(target, 2.2e6)
+    assert p == pytest.approx(jump, rel=1e-9)
+    assert b.calls <= 2 * int(np.log2(0.2 / 1e-10)) + 4
