@@ -181,3 +181,55 @@ def test_the_torque_iteration_closes_on_a_jump_it_approaches_by_secants():
     p, _ = b.pressure_for_torque(target, 2.2e6)
     assert p == pytest.approx(jump, rel=1e-9)
     assert b.calls <= 2 * int(np.log2(0.2 / 1e-10)) + 4
+
+
+@pytest.mark.parametrize("case", ["rigid", "rings"])
+def test_the_complementarity_fallback_finds_the_active_set_state(pair, monkeypatch, case):
+    """The rows' iteration refused: the damped Newton fallback, from rest, finds the
+    state the active-set iteration finds, to its accuracy; the answer holds
+    complementarity (no tension, no penetration, Coulomb on the friction rows)
+    and the caliper's rigid parts' equilibrium (forces and moments)."""
+    from brakewear.caliper.joint import JointSets
+    from brakewear.errors import SolverError
+
+    model, joint, _, offset = pair
+    kw = {"mu": 0.4}
+    if case == "rings":
+        kw["compliance"] = _compliance(joint)
+    joint.sets.state = joint.sets._initial_state()
+    a = joint.solve(offset, None, **kw)
+    counts = dict(joint.sets.counts)
+
+    def refuse(*args, **kwargs):
+        raise SolverError("the rows' iteration refused (test)")
+    monkeypatch.setattr(JointSets, "_row_iteration", refuse)
+    joint.sets.state = joint.sets._initial_state()
+    b = joint.solve(offset, None, **kw)
+    used = sum(joint.sets.counts.get(k, 0) - counts.get(k, 0) for k in ("newton", "fischer"))
+    assert used == 1
+    assert np.array_equal(a.active, b.active)
+    assert 0 < b.active.sum() < b.active.size
+    ca, cb = a.info["caliper"], b.info["caliper"]
+    assert np.array_equal(ca["state"], cb["state"])
+    assert _rel(b.pressure, a.pressure) < REL
+    F = 1e6 * model.geometry.clamp_area
+    assert np.abs(ca["force"] - cb["force"]).max() < 1e-8 * F
+    # complementarity, from the answer alone
+    rows, lam, lam_s, g_s = joint.rows, cb["lam"], cb["force"], cb["gap"]
+    assert lam[b.active].min() >= -1e-9 * F
+    # no penetration beyond the tolerance; with a wear step's compliance a node in
+    # contact closes by its own wear, c lam, and no further
+    closing = 0.0 if case == "rigid" else float((kw["compliance"].pad / joint.area * lam).max())
+    assert b.info["min_gap"] >= -closing * (1 + 1e-9) - joint.gap_tol
+    nrm, closed = rows.normal, cb["state"] == 1
+    assert lam_s[nrm & closed].min(initial=0.0) >= -1e-9 * F
+    assert np.abs(lam_s[nrm & ~closed]).max(initial=0.0) <= 1e-12 * F
+    assert g_s[nrm & ~closed].min(initial=0.0) >= -joint.gap_tol
+    bound = rows.mu * (rows.cap @ np.maximum(lam_s, 0.0))
+    assert np.all(np.abs(lam_s[~nrm]) <= bound[~nrm] + 1e-9 * F)
+    # the rigid parts' equilibrium: R^T lam_s + K_q q = p f_q
+    p = joint.line_pressure
+    res = rows.R.T @ lam_s + rows.K_q @ cb["q"] - p * rows.f_q
+    terms = np.abs(rows.R.T) @ np.abs(lam_s) + np.abs(rows.K_q) @ np.abs(cb["q"]) \
+        + np.abs(p * rows.f_q)
+    assert np.abs(res).max() <= 1e-10 * terms.max()
