@@ -110,13 +110,12 @@ def test_stops_of_a_schedule_agree(pair):
         assert _rel(a.rotor_wear, b.rotor_wear) < REL
 
 
-def test_the_torque_iteration_brackets_a_jump_of_the_radius():
-    """A radius that jumps up with the load (a pad rocking onto its other edge) leaves
-    the torque's target inside the jump: the plain fixed point oscillates between
-    the two sides, the bracketed iteration closes on the jump."""
+def _brake_with_radius(radius):
+    """A brake whose contact solve returns its line pressure as the pressure field
+    and whose effective radius is ``radius(pressure)`` (it counts its solves)."""
     from brakewear.duty.runner import _Brake
 
-    class Jump(_Brake):
+    class Brake(_Brake):
         def __init__(self):
             self.mu, self.clamp_area, self.calls = 0.4, 1e-3, 0
 
@@ -125,16 +124,21 @@ def test_the_torque_iteration_brackets_a_jump_of_the_radius():
             return type("Solution", (), {"pressure": p})()
 
         def r_eff(self, pressure, p):
-            return 0.10 if pressure < 1.0e6 else 0.12
+            return radius(pressure)
+    return Brake()
 
-    b = Jump()
+
+def test_the_torque_iteration_brackets_a_jump_of_the_radius():
+    """A radius that jumps up with the load (a pad rocking onto its other edge) leaves
+    the torque's target inside the jump: the plain fixed point oscillates between
+    the two sides, the bracketed iteration closes on the jump."""
+    b = _brake_with_radius(lambda pressure: 0.10 if pressure < 1.0e6 else 0.12)
     k = 2 * 0.4 * 1e-3                       # the torque per Pa and m of radius
     p, r = b.pressure_for_torque(k * 0.11e6, 0.8e6, rtol=1e-10, max_iter=80)
     assert p == pytest.approx(1.0e6, rel=1e-9)
     assert b.calls < 80
     # a smooth radius: the fixed point's answer, to the tolerance
-    smooth = Jump()
-    smooth.r_eff = lambda pressure, p: 0.11 + 0.01 * (pressure / 1e6 - 1.0)
+    smooth = _brake_with_radius(lambda pressure: 0.11 + 0.01 * (pressure / 1e6 - 1.0))
     p, r = smooth.pressure_for_torque(k * 0.11e6, 0.8e6)
     assert k * p * r == pytest.approx(k * 0.11e6, rel=1e-9)
 
@@ -159,23 +163,9 @@ def test_the_torque_iteration_closes_on_a_jump_it_approaches_by_secants():
     other edge while the contact spreads): secant steps inside the bracket shorten
     one side at a time; the iteration bisects when the bracket does not halve in
     two steps and closes on the jump to the tolerance."""
-    from brakewear.duty.runner import _Brake
-
     jump = 2.047e6
-
-    class Rocking(_Brake):
-        def __init__(self):
-            self.mu, self.clamp_area, self.calls = 0.4, 1e-3, 0
-
-        def solve(self, p):
-            self.calls += 1
-            return type("Solution", (), {"pressure": p})()
-
-        def r_eff(self, pressure, p):
-            low = pressure < jump
-            return (0.0959 if low else 0.1008) + 0.02 * (pressure / 1e6 - 2.0)
-
-    b = Rocking()
+    b = _brake_with_radius(lambda pressure: (0.0959 if pressure < jump else 0.1008)
+                           + 0.02 * (pressure / 1e6 - 2.0))
     k = 2 * 0.4 * 1e-3
     target = k * jump * 0.0985                # inside the jump of k p r at ``jump``
     p, _ = b.pressure_for_torque(target, 2.2e6)
