@@ -5,7 +5,11 @@ torque iteration meets a jump of the effective radius.  Each routine runs to
 the first stop past the one where its solves failed without the complementarity
 fallback (92: stop 2; 94 and 98: stop 12), with the fallback used and a
 line pressure for every stop.  Routine 92 (seconds) runs by default, the
-others (about 20 s each) with the slow tests."""
+others (15-25 s each) with the slow tests.  Routine 740 is a known failure
+(strict xfail): in one of its stops a bore row and a finger row tip against
+each other, and the best states the methods meet leave 9-53 nm of
+penetration, far beyond the active-set tolerance (1e-10 of the model's size,
+0.04 nm): ComplementarityError."""
 import sys
 from pathlib import Path
 
@@ -14,7 +18,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "studies"))
 
 #: routine -> stops run (the failing stop and none after)
-CASES = {92: 2, 94: 12, 98: 12}
+CASES = {92: 2, 94: 12, 98: 12, 740: 20}
 
 
 @pytest.fixture(scope="module")
@@ -24,7 +28,12 @@ def routines():
 
 
 @pytest.mark.parametrize("index", [92] + [pytest.param(i, marks=pytest.mark.slow)
-                                         for i in CASES if i != 92])
+                                         for i in CASES if i not in (92, 740)] + [
+    pytest.param(740, marks=[pytest.mark.slow, pytest.mark.xfail(
+        strict=True, raises=AssertionError,
+        reason="a bore row and a finger row tip against each other: no state meets the "
+               "active-set tolerances (penetration 9-53 nm against 0.04 nm); "
+               "ComplementarityError")])])
 def test_the_routine_runs_through_its_rocking_stop(routines, index, monkeypatch):
     import cleaning_routine as cr
 
