@@ -59,6 +59,7 @@ __all__ = [
     "CondensedRangeError",
     "ActiveSetError",
     "ContactLostError",
+    "ComplementarityError",
     "ContactSearchError",
     "StepSizeError",
     "TemperatureLimitError",
@@ -302,6 +303,18 @@ class ActiveSetError(SolverError):
 
 class ContactLostError(SolverError):
     """No node is left in contact: the load separates the bodies.
+
+    Parameters
+    ----------
+    message, figures
+        As :class:`SolverError`.
+    """
+
+
+class ComplementarityError(SolverError):
+    """No state of a complementarity problem (contact nodes and one-sided rows) was
+    found that satisfies its sign conditions, by any of its methods (names their
+    iterations and merits).
 
     Parameters
     ----------

@@ -84,9 +84,14 @@ def _run(task: dict) -> dict:
 def main(routines: int = 1000, tail: float = 0.25, executor=None, workers: int = 2,
          out=None, seed: int = 37, progress=None, size: float = 4.0) -> dict:
     """Run the routines (see the module); the figures, written to
-    ``data/caliper_robustness.json`` in ``out``.  ``progress(done, total, run, wall_s)``
-    is called as each routine ends."""
+    ``data/caliper_robustness.json`` in ``out`` (and each routine, as it ends, to
+    ``data/caliper_robustness.jsonl``).  ``progress(done, total, run, wall_s)`` is
+    called as each routine ends."""
     todo = tasks(routines, tail, seed, size)
+    journal = None
+    if out is not None:
+        (Path(out) / "data").mkdir(parents=True, exist_ok=True)
+        journal = (Path(out) / "data" / "caliper_robustness.jsonl").open("w")
     t0 = time.perf_counter()
     own = executor is None
     ctx = sweep_executor(None, workers) if own else None
@@ -96,11 +101,18 @@ def main(routines: int = 1000, tail: float = 0.25, executor=None, workers: int =
         runs = []
         for r in ex.map(_run, todo, **kw):
             runs.append(r)
+            if journal is not None:
+                t = todo[len(runs) - 1]
+                journal.write(json.dumps({"index": len(runs) - 1, "tail": t["tail"],
+                                          "cpu_s": r["cpu_s"], "error": r.get("error")}) + "\n")
+                journal.flush()
             if progress is not None:
                 progress(len(runs), len(todo), r, time.perf_counter() - t0)
     finally:
         if own:
             ctx.__exit__(None, None, None)
+        if journal is not None:
+            journal.close()
     wall = time.perf_counter() - t0
     failed = [{"index": i, "tail": t["tail"], "decel": t["decel"], "speed": t["speed_kmh"],
                "error": r["error"]} for i, (t, r) in enumerate(zip(todo, runs)) if "error" in r]

@@ -110,13 +110,12 @@ def test_stops_of_a_schedule_agree(pair):
         assert _rel(a.rotor_wear, b.rotor_wear) < REL
 
 
-def test_the_torque_iteration_brackets_a_jump_of_the_radius():
-    """A radius that jumps up with the load (a pad rocking onto its other edge) leaves
-    the torque's target inside the jump: the plain fixed point oscillates between
-    the two sides, the bracketed iteration closes on the jump."""
+def _brake_with_radius(radius):
+    """A brake whose contact solve returns its line pressure as the pressure field
+    and whose effective radius is ``radius(pressure)`` (it counts its solves)."""
     from brakewear.duty.runner import _Brake
 
-    class Jump(_Brake):
+    class Brake(_Brake):
         def __init__(self):
             self.mu, self.clamp_area, self.calls = 0.4, 1e-3, 0
 
@@ -125,16 +124,21 @@ def test_the_torque_iteration_brackets_a_jump_of_the_radius():
             return type("Solution", (), {"pressure": p})()
 
         def r_eff(self, pressure, p):
-            return 0.10 if pressure < 1.0e6 else 0.12
+            return radius(pressure)
+    return Brake()
 
-    b = Jump()
+
+def test_the_torque_iteration_brackets_a_jump_of_the_radius():
+    """A radius that jumps up with the load (a pad rocking onto its other edge) leaves
+    the torque's target inside the jump: the plain fixed point oscillates between
+    the two sides, the bracketed iteration closes on the jump."""
+    b = _brake_with_radius(lambda pressure: 0.10 if pressure < 1.0e6 else 0.12)
     k = 2 * 0.4 * 1e-3                       # the torque per Pa and m of radius
     p, r = b.pressure_for_torque(k * 0.11e6, 0.8e6, rtol=1e-10, max_iter=80)
     assert p == pytest.approx(1.0e6, rel=1e-9)
     assert b.calls < 80
     # a smooth radius: the fixed point's answer, to the tolerance
-    smooth = Jump()
-    smooth.r_eff = lambda pressure, p: 0.11 + 0.01 * (pressure / 1e6 - 1.0)
+    smooth = _brake_with_radius(lambda pressure: 0.11 + 0.01 * (pressure / 1e6 - 1.0))
     p, r = smooth.pressure_for_torque(k * 0.11e6, 0.8e6)
     assert k * p * r == pytest.approx(k * 0.11e6, rel=1e-9)
 
@@ -155,3 +159,70 @@ def test_the_reproduction_draw_runs_through(monkeypatch, tmp_path):
                     RoutineSettings(size=8e-3, start="new", run_to_end=True))
     assert "error" not in r, r.get("error")
     assert len(r["rows"]) == 2 and all(row["line_pressure_MPa"] > 0 for row in r["rows"])
+
+
+def test_the_torque_iteration_closes_on_a_jump_it_approaches_by_secants():
+    """A radius with a slope on both sides of its jump (the pad rocking onto its
+    other edge while the contact spreads): secant steps inside the bracket shorten
+    one side at a time; the iteration bisects when the bracket does not halve in
+    two steps and closes on the jump to the tolerance."""
+    jump = 2.047e6
+    b = _brake_with_radius(lambda pressure: (0.0959 if pressure < jump else 0.1008)
+                           + 0.02 * (pressure / 1e6 - 2.0))
+    k = 2 * 0.4 * 1e-3
+    target = k * jump * 0.0985                # inside the jump of k p r at ``jump``
+    p, _ = b.pressure_for_torque(target, 2.2e6)
+    assert p == pytest.approx(jump, rel=1e-9)
+    assert b.calls <= 2 * int(np.log2(0.2 / 1e-10)) + 4
+
+
+@pytest.mark.parametrize("case", ["rigid", "rings"])
+def test_the_complementarity_fallback_finds_the_active_set_state(pair, monkeypatch, case):
+    """The rows' iteration refused: the damped Newton fallback, from rest, finds the
+    state the active-set iteration finds, to its accuracy; the answer holds
+    complementarity (no tension, no penetration, Coulomb on the friction rows)
+    and the caliper's rigid parts' equilibrium (forces and moments)."""
+    from brakewear.caliper.joint import JointSets
+    from brakewear.errors import SolverError
+
+    model, joint, _, offset = pair
+    kw = {"mu": 0.4}
+    if case == "rings":
+        kw["compliance"] = _compliance(joint)
+    joint.sets.state = joint.sets._initial_state()
+    a = joint.solve(offset, None, **kw)
+    counts = dict(joint.sets.counts)
+
+    def refuse(*args, **kwargs):
+        raise SolverError("the rows' iteration refused (test)")
+    monkeypatch.setattr(JointSets, "_row_iteration", refuse)
+    joint.sets.state = joint.sets._initial_state()
+    b = joint.solve(offset, None, **kw)
+    used = sum(joint.sets.counts.get(k, 0) - counts.get(k, 0) for k in ("newton", "fischer"))
+    assert used == 1
+    assert np.array_equal(a.active, b.active)
+    assert 0 < b.active.sum() < b.active.size
+    ca, cb = a.info["caliper"], b.info["caliper"]
+    assert np.array_equal(ca["state"], cb["state"])
+    assert _rel(b.pressure, a.pressure) < REL
+    F = 1e6 * model.geometry.clamp_area
+    assert np.abs(ca["force"] - cb["force"]).max() < 1e-8 * F
+    # complementarity, from the answer alone
+    rows, lam, lam_s, g_s = joint.rows, cb["lam"], cb["force"], cb["gap"]
+    assert lam[b.active].min() >= -1e-9 * F
+    # no penetration beyond the tolerance; with a wear step's compliance a node in
+    # contact closes by its own wear, c lam, and no further
+    closing = 0.0 if case == "rigid" else float((kw["compliance"].pad / joint.area * lam).max())
+    assert b.info["min_gap"] >= -closing * (1 + 1e-9) - joint.gap_tol
+    nrm, closed = rows.normal, cb["state"] == 1
+    assert lam_s[nrm & closed].min(initial=0.0) >= -1e-9 * F
+    assert np.abs(lam_s[nrm & ~closed]).max(initial=0.0) <= 1e-12 * F
+    assert g_s[nrm & ~closed].min(initial=0.0) >= -joint.gap_tol
+    bound = rows.mu * (rows.cap @ np.maximum(lam_s, 0.0))
+    assert np.all(np.abs(lam_s[~nrm]) <= bound[~nrm] + 1e-9 * F)
+    # the rigid parts' equilibrium: R^T lam_s + K_q q = p f_q
+    p = joint.line_pressure
+    res = rows.R.T @ lam_s + rows.K_q @ cb["q"] - p * rows.f_q
+    terms = np.abs(rows.R.T) @ np.abs(lam_s) + np.abs(rows.K_q) @ np.abs(cb["q"]) \
+        + np.abs(p * rows.f_q)
+    assert np.abs(res).max() <= 1e-10 * terms.max()

@@ -254,3 +254,19 @@ def test_fast_rotor_layer_keeps_its_ring_wear_within_its_bound(small):
         err(run(None)[-1].rotor_wear)
     assert e1 < 0.25 * e_none, f"bounded {e1:.2e}, unbounded {e_none:.2e}"
     assert 0.3 < e_half / e1 < 0.7, f"half the bound: {e_half:.2e} against {e1:.2e}"
+
+
+def test_a_change_that_does_not_shrink_with_the_step_is_a_jump():
+    """Halving the step shrinks a change the step resolves; a change that stays
+    within a factor 1.5 over four halvings is a jump of the contact state,
+    taken in the shortest step, and only under the dp_tol control."""
+    from brakewear.wear.control import StepControl
+    from brakewear.wear.numerics import Numerics
+
+    ctl = StepControl(Numerics(), 1.0, np.ones(3))
+    assert ctl.spans_jump([0.9, 0.25, 0.22, 0.2, 0.19, 0.19])  # the last five: a jump
+    assert not ctl.spans_jump([0.3, 0.22, 0.2, 0.19])                 # too few halvings
+    assert not ctl.spans_jump([0.8, 0.4, 0.2, 0.1, 0.05])             # resolved: shrinks
+    assert not ctl.spans_jump([0.3, np.inf, 0.2, 0.19, 0.19])         # contact lost
+    assert not StepControl(Numerics(steps=10), 1.0, np.ones(3)).spans_jump([0.2] * 6)
+    assert not StepControl(Numerics(wear_tol=1e-7), 1.0, np.ones(3)).spans_jump([0.2] * 6)

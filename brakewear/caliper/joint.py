@@ -18,7 +18,10 @@ its end (the condensed solves' driver); the rows' state is then updated from
 that solution (the primal-dual rule on the normal rows, Coulomb's law on the
 friction rows).  A change that leaves a rigid part free, leads back to a state
 met before, or loses the contact is replaced by a smaller one: its worse half
-by violation, ..., one row (from the last state that settled).
+by violation, ..., one row (from the last state that settled).  A rows' state
+that still does not settle is found by the damped Newton methods of
+:mod:`~brakewear.caliper.complementarity` on the whole system, checked for its
+equations' residuals (:class:`~brakewear.errors.ComplementarityError` if not).
 
 Every state's system is solved from one kept factorisation
 (:class:`~brakewear.solvers.kept_factorisation.KeptFactorisation`): the
@@ -39,12 +42,16 @@ from __future__ import annotations
 import logging
 
 import numpy as np
+import scipy.sparse as sp
 
-from ..contact.active_set import Margins
-from ..errors import ActiveSetError, ContactLostError, SolverError
+from ..contact.active_set import EXACT, Margins, pdas_update
+from ..errors import ActiveSetError, ComplementarityError, ContactLostError, SolverError
 from ..interfaces.condensed import solve_dense_sets
-from ..solvers.kept_factorisation import FULL, IDENT, KeptFactorisation, SingularState, gmres
-from .sets import MAX_OUTER, SLIP_DOWN, SLIP_UP, RowSets, RowSolution
+from ..solvers.kept_factorisation import (FULL, IDENT, KeptFactorisation, SingularState,
+                                          equilibrate, gmres)
+from .complementarity import SLIP_DOWN_CODE, SLIP_UP_CODE, StateProblem, solve_states
+from .sets import (CLOSED, MAX_OUTER, OFF, OPEN, SLIP_DOWN, SLIP_UP, STICK, RowSets,
+                   RowSolution)
 
 logger = logging.getLogger(__name__)
 
@@ -54,20 +61,9 @@ __all__ = ["JointSets"]
 #: factorised instead
 _GMRES_TOL, _GMRES_ACCEPT, _GMRES_MAX = 1e-14, 1e-12, 40
 #: equation codes of slipping friction rows (beyond IDENT and FULL)
-_SLIP_UP, _SLIP_DOWN = 2, 3
-
-
-def _equilibrate(M: np.ndarray, sweeps: int = 4):
-    """Row and column scales ``(r, c)`` making ``r M c`` near 1 in every row and
-    column's largest entry (Ruiz's iteration)."""
-    r, c = np.ones(M.shape[0]), np.ones(M.shape[1])
-    A = np.abs(M)
-    for _ in range(sweeps):
-        S = A * r[:, None] * c[None, :]
-        rm, cm = S.max(axis=1), S.max(axis=0)
-        r /= np.sqrt(np.where(rm > 0, rm, 1.0))
-        c /= np.sqrt(np.where(cm > 0, cm, 1.0))
-    return r, c
+_SLIP_UP, _SLIP_DOWN = SLIP_UP_CODE, SLIP_DOWN_CODE
+#: a damped Newton state's residuals allowed, relative to its equations' terms
+_EQUILIBRIUM = 1e-10
 
 
 class JointSets(RowSets):
@@ -147,7 +143,7 @@ class JointSets(RowSets):
         """A kept factorisation of the system at ``mu``, ``c``, ``comp`` (made now)."""
         M = self._full(mu, c, comp)
         if self.scale is None:
-            self.scale = _equilibrate(M)
+            self.scale = equilibrate(M)
         dr, dc = self.scale
         kf = KeptFactorisation(dr[:, None] * M * dc[None, :], self._special, self.max_changes)
         ref = (self._key(mu, c, comp), np.array(mu, dtype=float), c, comp, kf)
@@ -272,23 +268,44 @@ class JointSets(RowSets):
               rings=None) -> RowSolution:
         """As :meth:`RowSets.solve`; the rings' step comes as ``rings`` (a
         :class:`~brakewear.interfaces.StepCompliance` whose rings are on), not as
-        a dense ``ring_H``."""
+        a dense ``ring_H``; a rows' state that does not settle as the module says."""
         rows = self.rows
         F = line_pressure * rows.hydraulic_area
         b = np.concatenate([-q_c, rhs_c, -gap_s, line_pressure * rows.f_q])
         comp = rings if rings is not None and rings.rings else None
         problem = _RowState(self, b, compliance, comp, q_c, gap_s)
+        damped = False
+        try:
+            st, act, outer = self._row_iteration(problem, start_gap, active, compliance, F)
+        except SolverError as e:
+            logger.info("caliper: %s; the contact and the rows by damped Newton", e)
+            st, act, outer = self._damped(problem, F, e)
+            damped = True
+        problem.st = st
+        problem.solve(act, self.tol, None, refine=True)
+        lam, alpha, lam_s, q, g, g_s = problem.result()
+        if damped:
+            res = self._equilibrium(problem, act, st)
+            if max(res.values()) > _EQUILIBRIUM:
+                raise ComplementarityError(
+                    f"caliper: the state found by damped Newton leaves residuals "
+                    f"{', '.join(f'{k} {v:.1e}' for k, v in res.items())} of its equations' "
+                    f"terms (allowed {_EQUILIBRIUM:.0e})", figures=res)
+        self.state = st
+        return RowSolution(lam, act, alpha, lam_s, g_s, st.copy(), q, outer, float(g.min()))
+
+    def _row_iteration(self, problem, start_gap, active, compliance, F):
+        """The rows' state iterated around the contact's active sets (see the module):
+        ``(rows' state, contact set, outer iterations)``."""
         st, act = self.state.copy(), active
         seen: set = set()
         back = None              # (the last settled rows' state, its contact set, moves left)
-        its = 0
-        for outer in range(1, MAX_OUTER + 1):  # noqa: B007  (the count is reported)
+        for outer in range(1, MAX_OUTER + 1):
             problem.st = st
             try:
-                act_new, report = solve_dense_sets(problem, start_gap, act, self.gap_tol,
-                                                   compliance is not None, self.tol,
-                                                   "pad-rotor (caliper)")
-                its += report["active_set_iterations"]
+                act_new, _ = solve_dense_sets(problem, start_gap, act, self.gap_tol,
+                                              compliance is not None, self.tol,
+                                              "pad-rotor (caliper)")
             except (ContactLostError, ActiveSetError, SingularState) as e:
                 # this rows' state does not hold the pads on the rotor: back to the last
                 # settled state, and the next smaller change from it
@@ -311,9 +328,7 @@ class JointSets(RowSets):
             lam, alpha, lam_s, q, g, g_s = problem.result()
             new = self._update(st, lam_s, g_s, F)
             if np.array_equal(new, st):
-                problem.solve(act, self.tol, None, refine=True)
-                lam, alpha, lam_s, q, g, g_s = problem.result()
-                break
+                return st, act, outer
             seen.add(st.tobytes())
             # the change, or (when it leaves a rigid part free or leads back to a state met
             # before) the worse half of it, ..., one row: the largest violation first
@@ -324,11 +339,76 @@ class JointSets(RowSets):
                 raise SolverError(f"caliper rows: every change of their state leads back to "
                                   f"one met before ({self._violations(st, lam_s, g_s)})")
             st = nxt
-        else:
-            raise SolverError(f"caliper rows: their state did not settle in {MAX_OUTER} "
-                              f"iterations ({self._violations(st, lam_s, g_s)})")
-        self.state = st
-        return RowSolution(lam, act, alpha, lam_s, g_s, st.copy(), q, outer, float(g.min()))
+        raise SolverError(f"caliper rows: their state did not settle in {MAX_OUTER} "
+                          f"iterations ({self._violations(st, lam_s, g_s)})")
+
+    def _damped(self, problem, F: float, cause: SolverError):
+        """The state by :func:`~brakewear.caliper.complementarity.solve_states` from the
+        last solution ``problem`` holds (or from rest), checked: ``(rows' state,
+        contact set, iterations)``.  Raises
+        :class:`~brakewear.errors.ComplementarityError`."""
+        if self.scale is None:
+            self.scale = equilibrate(self._full(self.mu, None, None))
+        z0 = np.zeros(self.N)
+        if problem.lam is not None:
+            z0[self.C], z0[self.Mo] = problem.lam, problem.alpha
+            z0[self.S], z0[self.Q] = problem.lam_s, problem.q
+        band = EXACT.release_tol
+        M = self._full(self.mu, problem.cc, problem.comp)
+
+        def accept(code, z) -> bool:
+            act, st = self._state_of(code)
+            problem.st = st
+            problem.set_solution(act, code, z)
+            if not np.array_equal(pdas_update(act, problem.margins(act, band)), act):
+                return False
+            lam, alpha, lam_s, q, g, g_s = problem.result()
+            return bool(np.array_equal(self._update(st, lam_s, g_s, F), st))
+
+        rows, dr, dc = self.rows, *self.scale
+        fr = np.nonzero(~rows.normal)[0]
+        normal = sp.hstack([sp.csr_matrix((fr.size, self.S.start)), rows.cap[fr],
+                            sp.csr_matrix((fr.size, self.nq))]).tocsr()
+        prob = StateProblem(M, problem.b, dr, dc,
+                            np.concatenate([np.arange(self.n_c),
+                                            self.S.start + np.nonzero(rows.normal)[0]]),
+                            self.S.start + fr, normal, rows.mu[fr],
+                            lambda code: self._solve_code(code, problem.b, self.mu, problem.cc,
+                                                          problem.comp))
+        try:
+            code, _, its, method = solve_states(prob, z0, accept, "caliper")
+        except ComplementarityError as e:
+            raise ComplementarityError(f"{cause}; {e}", figures=e.figures) from e
+        self.counts[method] = self.counts.get(method, 0) + 1
+        act, st = self._state_of(code)
+        return st, act, its
+
+    def _equilibrium(self, problem, act, st) -> dict:
+        """The refined solution's residuals, each relative to its equations' terms: the
+        pads' free modes' and the rigid parts' equilibrium (forces and moments), the
+        contact nodes in contact and the rows that hold."""
+        M = self._full(self.mu, problem.cc, problem.comp)
+        z = np.concatenate([problem.lam, problem.alpha, problem.lam_s, problem.q])
+        r = np.abs(M @ z - problem.b)
+        size = np.abs(M) @ np.abs(z) + np.abs(problem.b)
+        rel = r / np.where(size > 0, size, 1.0)
+        hold = self._code(act, st) == FULL
+        return {"modes": float(rel[self.Mo].max(initial=0.0)),
+                "rigid_parts": float(rel[self.Q].max(initial=0.0)),
+                "contact": float(rel[self.C][hold[self.C]].max(initial=0.0)),
+                "rows": float(rel[self.S][hold[self.S]].max(initial=0.0))}
+
+    def _state_of(self, code: np.ndarray):
+        """``(contact set, rows' state)`` of equation codes (:meth:`_code`'s inverse)."""
+        rows = self.rows
+        act = code[self.C] == FULL
+        rc = code[self.S]
+        st = np.where(rows.normal, np.where(rc == FULL, CLOSED, OPEN), OFF)
+        fr = ~rows.normal
+        st[fr & (rc == FULL)] = STICK
+        st[fr & (rc == _SLIP_UP)] = SLIP_UP
+        st[fr & (rc == _SLIP_DOWN)] = SLIP_DOWN
+        return act, st.astype(np.int8)
 
     # ---------------------------------------------------------------- helpers --
     def _contact_gaps(self, act, lam, lam_s, alpha, q_c, cc, comp, Hc) -> np.ndarray:
@@ -381,12 +461,18 @@ class _RowState:
     def __init__(self, js: JointSets, b, cc, comp, q_c, gap_s):
         self.js, self.b, self.cc, self.comp, self.q_c, self.gap_s = js, b, cc, comp, q_c, gap_s
         self.st = None
+        self.lam = None
         self.Hc = js._hc(js.mu)
 
     def solve(self, active: np.ndarray, tol: float, rtol0, refine: bool = False) -> None:
         js = self.js
         code = js._code(active, self.st)
         z = js._solve_code(code, self.b, js.mu, self.cc, self.comp, refine)
+        self.set_solution(active, code, z)
+
+    def set_solution(self, active: np.ndarray, code: np.ndarray, z: np.ndarray) -> None:
+        """Take ``z`` (unscaled, of the state ``code``) as the last solve's solution."""
+        js = self.js
         self.active = active
         self.lam = np.where(active, z[js.C], 0.0)
         self.alpha, self.q = z[js.Mo], z[js.Q]

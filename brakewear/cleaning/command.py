@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError, SceneError
+from ..errors import DutyError, SceneError
 
 logger = logging.getLogger(__name__)
 
@@ -195,7 +195,7 @@ def input_from_args(args) -> CleanInput:
     if given and args.file:
         source = f"{args.file} with the command line's {', '.join(given)}"
     if not isinstance(args.workers, int) or args.workers < 1:
-        raise InputError(f"--workers = {args.workers!r} is not allowed; need a whole number >= 1")
+        raise DutyError(f"--workers = {args.workers!r} is not allowed; need a whole number >= 1")
     return clean_input({**table, **given}, source)
 
 

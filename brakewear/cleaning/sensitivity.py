@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import DependencyError
 
 logger = logging.getLogger(__name__)
 
@@ -53,7 +53,7 @@ def sobol_indices(names: list, priors: dict, model: Callable, n_base: int, seed:
         from SALib.analyze import sobol as analyze
         from SALib.sample import sobol as sample
     except ImportError:
-        raise InputError("Sobol indices need SALib: pip install 'brakewear[study]'") from None
+        raise DependencyError("Sobol indices need SALib: pip install 'brakewear[study]'") from None
     problem = {"num_vars": len(names), "names": list(names), "bounds": [[0.0, 1.0]] * len(names)}
     U = sample.sample(problem, n_base, calc_second_order=False, scramble=True, seed=seed)
     # the inverse distributions are infinite at 0 and 1 (normal, lognormal)

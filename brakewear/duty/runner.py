@@ -123,16 +123,20 @@ class _Brake:
         return effective_radius(pressure, self.itf.area, self.itf.r) * share
 
     def pressure_for_torque(self, torque: float, guess: float, rtol: float = 1e-10,
-                            max_iter: int = 30) -> tuple[float, float]:
+                            max_iter: int = 80) -> tuple[float, float]:
         """Line pressure giving ``torque`` with the effective radius of its own
         pressure field: the root of ``h(p) = p - g(p)``, ``g(p)`` the pressure of
         the torque at ``p``'s radius.  Fixed-point steps ``p <- g(p)`` while they
         contract (the field moves little with the load), secant steps once they
         do not, always within the bracket the evaluated signs of ``h`` give, and
-        bisection when a step leaves it: a radius that jumps with the load (a pad
-        rocking onto its other edge) is bracketed instead of oscillated around."""
+        bisection when a step leaves it or when the bracket has not halved in
+        two steps (secant steps across a jump shorten one side only): a radius
+        that jumps with the load (a pad rocking onto its other edge) is bracketed
+        instead of oscillated around, and the bracket closes at least as fast as
+        by bisection every other step."""
         p, lo, hi = guess, None, None        # (p, h(p)) with h < 0 and h > 0
         last = None                          # the previous (p, h)
+        widths: list = []                    # the bracket's width after each step
         for _ in range(1, max_iter + 1):
             r = self.r_eff(self.solve(p).pressure, p)
             g = line_pressure_for_torque(torque, self.mu, self.clamp_area, r)
@@ -155,8 +159,11 @@ class _Brake:
                     # the bracket has closed on a jump of the radius: the pressure where
                     # the torque crosses its target, to the tolerance
                     return 0.5 * (a + b), r
-                if not min(a, b) < nxt < max(a, b):
+                width = abs(b - a)
+                if not min(a, b) < nxt < max(a, b) or (len(widths) >= 2
+                                                       and width > 0.5 * widths[-2]):
                     nxt = 0.5 * (a + b)
+                widths.append(width)
             last = (p, h)
             p = nxt
         raise ConvergenceError(f"the line pressure for a brake torque of {torque:.4g} N m did "

@@ -39,7 +39,7 @@ from ..errors import SolverError
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["KeptFactorisation", "SingularState", "gmres", "IDENT", "FULL"]
+__all__ = ["KeptFactorisation", "SingularState", "equilibrate", "gmres", "IDENT", "FULL"]
 
 #: equation codes: the identity (z_k = 0) and the full row of ``Ms``; codes >= 2 are
 #: the caller's own rows
@@ -48,6 +48,32 @@ IDENT, FULL = 0, 1
 _PIVOT = 1e-13
 #: capacitance systems kept per reference
 _KEEP = 24
+
+
+def equilibrate(M: np.ndarray, sweeps: int = 4):
+    """Row and column scales ``(r, c)`` making ``r M c`` near 1 in every row and
+    column's largest entry (Ruiz's iteration).
+
+    Parameters
+    ----------
+    M
+        A dense matrix.
+    sweeps
+        Ruiz's sweeps.
+
+    Returns
+    -------
+    tuple
+        ``(r, c)``: the row and column scales.
+    """
+    r, c = np.ones(M.shape[0]), np.ones(M.shape[1])
+    A = np.abs(M)
+    for _ in range(sweeps):
+        S = A * r[:, None] * c[None, :]
+        rm, cm = S.max(axis=1), S.max(axis=0)
+        r /= np.sqrt(np.where(rm > 0, rm, 1.0))
+        c /= np.sqrt(np.where(cm > 0, cm, 1.0))
+    return r, c
 
 
 def lu_solve(lu, b, check_finite: bool = False) -> np.ndarray:

@@ -209,6 +209,23 @@ class StepControl:
             return est <= self.numerics.wear_tol
         return self.fixed or change <= self.numerics.dp_tol
 
+    #: halvings whose pressure change stays within this factor of each other: the
+    #: change does not shrink with the step, so it is a jump of the contact state
+    #: (a pad rocking onto its other edge), which the shortest step spans
+    JUMP_HALVINGS, JUMP_SPREAD = 4, 1.5
+
+    def spans_jump(self, changes: list[float]) -> bool:
+        """Whether the rejected attempts of one step met a jump rather than a step
+        too long: under the ``dp_tol`` control (automatic steps), the pressure
+        changes of the last :attr:`JUMP_HALVINGS` + 1 attempts, each at half the
+        step of the one before, lie within a factor :attr:`JUMP_SPREAD` of each
+        other (a change a step resolves shrinks with it, about in proportion)."""
+        if self.fixed or self.on_wear_error or len(changes) <= self.JUMP_HALVINGS:
+            return False
+        last = changes[-self.JUMP_HALVINGS - 1:]
+        return bool(np.all(np.isfinite(last)) and min(last) > 0
+                    and max(last) <= self.JUMP_SPREAD * min(last))
+
     def retry(self, dt: float, est: float, rejected: int, step: int,
               change: float) -> tuple[float, str | None]:
         """The smaller step after ``rejected`` retries (and the limit it sets,

@@ -335,7 +335,7 @@ class _WearLoop:
                                     lambda: self.worst_rotor(p, act), lambda: self.explicit_below(p))
         if control.fixed and self.numerics.scheme == "explicit":
             check_explicit_step(self, state, dt, p, act)
-        rejected, solve_s = 0, 0.0
+        rejected, solve_s, changes = 0, 0.0, []
         saved = self.thermal.state_arrays() if self.thermal is not None else None
         while True:
             if self.set_speed(state.time, dt):
@@ -369,7 +369,15 @@ class _WearLoop:
                     raise
                 logger.info("step %d: %s; retrying with dt/2", state.step + 1, e)
                 change, est, ok = np.inf, np.inf, False
+            changes.append(change)
             if ok:
+                break
+            if control.spans_jump(changes):
+                logger.warning("step %d: the pressure changes by %.2f however short the step "
+                               "(%.3g s after %d halvings): a jump of the contact state, "
+                               "taken in the shortest step", state.step + 1, change, dt,
+                               rejected)
+                limit = "jump"
                 break
             rejected += 1
             dt, new_limit = control.retry(dt, est, rejected, state.step + 1, change)
