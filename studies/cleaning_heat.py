@@ -41,13 +41,20 @@ from pathlib import Path
 
 import numpy as np
 
-from brakewear import (MATERIALS, BrakeModel, CaliperInterface, FEInterface, Numerics, WearLaw,
-                       load_geometry)
+from brakewear import (
+    MATERIALS,
+    BrakeModel,
+    CaliperInterface,
+    FEInterface,
+    Numerics,
+    WearLaw,
+    load_geometry,
+)
 from brakewear import analytic as an
 from brakewear.cleaning.corrosion import nonconformity_gap
-from brakewear.duty import KMH, repeated_stops, run_schedule, study_car
 from brakewear.cleaning.routine import routine_run
 from brakewear.cleaning.rust import RustLaw, RustLayer
+from brakewear.duty import KMH, repeated_stops, run_schedule, study_car
 from brakewear.thermal import SpeedConvection, ThermalModel
 from brakewear.thermal.coning import RotorConing
 from brakewear.thermal.reduced import HAT_CONING_PER_K, ReducedRotorHeat, hat_nodes

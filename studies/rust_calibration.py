@@ -31,8 +31,14 @@ from pathlib import Path
 import numpy as np
 
 from brakewear.cleaning.rust import RUST_PRIORS, RustLaw
-from brakewear.cleaning.rust_fit import (DynoRecord, calibrate, predict_record,
-                                         read_dyno_record, synthetic_record, write_dyno_record)
+from brakewear.cleaning.rust_fit import (
+    DynoRecord,
+    calibrate,
+    predict_record,
+    read_dyno_record,
+    synthetic_record,
+    write_dyno_record,
+)
 from brakewear.errors import IdentifiabilityError
 
 #: the synthetic record's known parameters (SI units) and its design
@@ -129,12 +135,14 @@ def make_synthetic(path: Path) -> Path:
     p = np.resize(np.array(PRESSURES_MPA) * 1e6, STOPS)
     rec = synthetic_record(law, TRUTH["mu_iron"], p, np.full(STOPS, DISTANCE_M),
                            PAD_ARC_DEG / 360.0, seed=SEED)
-    header = (f"SYNTHETIC dynamometer record, not a measurement: made by "
-              f"studies/rust_calibration.py --make-synthetic\n"
-              f"(brakewear.cleaning.rust_fit.synthetic_record, seed {SEED}) with the known parameters "
-              f"thickness 25 um, k_rust 1.2e-12 1/Pa,\nthreshold 0.06 MPa, mu_factor 1.15, "
-              f"mu_iron 0.40; a {PAD_ARC_DEG:g} degree pad; noise: friction 0.01, "
-              f"removed depth 0.2 um.")
+    header = (
+        f"SYNTHETIC dynamometer record, not a measurement: made by "
+        f"studies/rust_calibration.py --make-synthetic\n"
+        f"(brakewear.cleaning.rust_fit.synthetic_record, seed {SEED}) with the known parameters "
+        f"thickness 25 um, k_rust 1.2e-12 1/Pa,\nthreshold 0.06 MPa, mu_factor 1.15, "
+        f"mu_iron 0.40; a {PAD_ARC_DEG:g} degree pad; noise: friction 0.01, "
+        f"removed depth 0.2 um."
+    )
     return write_dyno_record(path, rec, header)
 
 

@@ -8,7 +8,6 @@ from brakewear import FEInterface, WearError
 from brakewear.cleaning.corrosion import CorrodedRotor, coning_gap
 from brakewear.cleaning.criteria import CRITERIA, CleaningCriteria, CriteriaSettings
 from brakewear.model import BrakeModel
-from studyload import load_study
 
 
 @pytest.fixture(scope="module")

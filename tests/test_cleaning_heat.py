@@ -9,7 +9,6 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from brakewear import MATERIALS, BrakeModel, FEInterface, Numerics, WearLaw, load_geometry
-from brakewear.duty import KMH, Dwell, Stop, repeated_stops, run_schedule, study_car
 from brakewear.cleaning.routine import routine_run
 from brakewear.cleaning.rust import RustLaw, RustLayer
 from brakewear.duty import KMH, Dwell, Stop, run_schedule, study_car

@@ -4,25 +4,36 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 import skfem as fem
-from test_contact_solve import P_APPLIED, block, check_solution
 
-from brakewear.contact import (compliant_preconditioner, contact_preconditioner, pair_to_rigid,
-                               pair_to_surface, solve_compliant_contact, solve_contact)
+from brakewear import static
+from brakewear.contact import (
+    compliant_preconditioner,
+    contact_preconditioner,
+    pair_to_rigid,
+    pair_to_surface,
+    solve_compliant_contact,
+    solve_contact,
+)
 from brakewear.contact.basis import in_slave_basis
-from brakewear.mesh.quadratic import (SlaveBasis, face_quadrature, quadratic_face_areas,
-                                      slave_basis, transformed)
-from brakewear.mesh.triangle import tri6
 from brakewear.errors import ContactLostError, SceneError, ThermalError, WearError
 from brakewear.fem import assemble_stiffness, assemble_traction, boundary_dofs
 from brakewear.fem.boundary import _vector_facet_basis
 from brakewear.laws.base import WearLaw
 from brakewear.materials import Isotropic
 from brakewear.mesh import annulus_mesh
+from brakewear.mesh.quadratic import (
+    SlaveBasis,
+    face_quadrature,
+    quadratic_face_areas,
+    slave_basis,
+    transformed,
+)
 from brakewear.mesh.surface import quadratic_faces
+from brakewear.mesh.triangle import tri6
 from brakewear.model import BrakeModel
-from brakewear import static
 from brakewear.static import solve_tied, static_summary
 from brakewear.wear import Run
+from test_contact_solve import P_APPLIED, block, check_solution
 
 
 def drag_x(x):
@@ -317,7 +328,21 @@ def test_p2_brake_refuses_what_it_cannot_do(brake2):
         ThermalModel(brake2).follow(brake2)
     assert BrakeMotion(brake2).followers["pad"].basis is not None
     with pytest.raises(WearError, match="gap"):
-        next(wear_history(Run(brake2, 1e6, 50.0, 10.0, WearLaw(5e-14), None, 0.4, thermal=ThermalModel(brake2), numerics=Numerics(update="geometry", steps=1))))
+        next(
+            wear_history(
+                Run(
+                    brake2,
+                    1e6,
+                    50.0,
+                    10.0,
+                    WearLaw(5e-14),
+                    None,
+                    0.4,
+                    thermal=ThermalModel(brake2),
+                    numerics=Numerics(update="geometry", steps=1),
+                )
+            )
+        )
     # run_wear writes P2 models (tetra10 VTU): tests/test_scene_p2.py
 
 
@@ -331,7 +356,21 @@ def test_p2_wear_history_conserves_the_worn_volumes(brake2, scheme):
 
     itf = FEInterface(brake2, 1e6, 0.4)
     # (30 s: three explicit steps within the scheme's stability bound, 12 s)
-    steps = list(wear_history(Run(brake2, 1e6, 50.0, 30.0, WearLaw(5e-14), WearLaw(1e-15), 0.4, numerics=Numerics(scheme=scheme, steps=3), interface=itf)))
+    steps = list(
+        wear_history(
+            Run(
+                brake2,
+                1e6,
+                50.0,
+                30.0,
+                WearLaw(5e-14),
+                WearLaw(1e-15),
+                0.4,
+                numerics=Numerics(scheme=scheme, steps=3),
+                interface=itf,
+            )
+        )
+    )
     last = steps[-1]
     assert last.pad_wear.shape == itf.area.shape == (face_nodes_count(brake2, "pad"),)
     assert last.pad_volume == pytest.approx(last.pad_archard, rel=1e-10)
@@ -354,7 +393,9 @@ def test_p2_rigid_rotor_wear_and_pressure():
     model = BrakeModel("default", size=12e-3, order=2, rotor="rigid")
     res = static.solve_contact(model, 1e6, mu=0.4)
     assert res.normal_force == pytest.approx(res.clamp_force, rel=1e-8)
-    *_, last = wear_history(Run(model, 1e6, 50.0, 30.0, WearLaw(5e-14), WearLaw(1e-15), 0.4, numerics=Numerics(steps=2)))
+    *_, last = wear_history(
+        Run(model, 1e6, 50.0, 30.0, WearLaw(5e-14), WearLaw(1e-15), 0.4, numerics=Numerics(steps=2))
+    )
     assert last.rotor_volume == pytest.approx(last.rotor_archard, rel=1e-10)
     assert last.pad_volume == pytest.approx(last.pad_archard, rel=1e-10)
 

@@ -1,4 +1,6 @@
-"""Wear histories on disk: a run killed with SIGKILL and resumed ends where an uninterrupted one does."""
+"""Wear histories on disk: a run killed with SIGKILL and resumed ends where an
+uninterrupted one does."""
+
 import json
 import os
 import signal
@@ -10,13 +12,12 @@ import meshio
 import numpy as np
 import pytest
 
-from brakewear.mesh.surface import surface_nodes, tributary_areas
-from brakewear.output.runs import run_wear
-from brakewear.model import BrakeModel
 from brakewear.errors import WearError
 from brakewear.laws.base import WearLaw
-from brakewear.wear import Numerics
-from brakewear.wear import Run
+from brakewear.mesh.surface import surface_nodes, tributary_areas
+from brakewear.model import BrakeModel
+from brakewear.output.runs import run_wear
+from brakewear.wear import Numerics, Run
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
 ARGS = (1e6, 55.0, 3000.0, PAD, ROTOR)
@@ -40,7 +41,9 @@ def model():
 
 
 def test_outputs_open_and_hold_the_fields(model, tmp_path):
-    summ = run_wear(Run(model, *ARGS, numerics=Numerics(scheme="implicit", steps=3)), tmp_path, vtu_every=1)
+    summ = run_wear(
+        Run(model, *ARGS, numerics=Numerics(scheme="implicit", steps=3)), tmp_path, vtu_every=1
+    )
     assert summ["steps"] == 3 and summ["contact_solves"] == 4   # 3 steps + the first solve
     assert json.loads((tmp_path / "summary.json").read_text())["steps"] == 3
     pvd = (tmp_path / "pad.pvd").read_text()
@@ -61,13 +64,20 @@ def test_outputs_open_and_hold_the_fields(model, tmp_path):
 
 def test_resume_needs_a_checkpoint(model, tmp_path):
     with pytest.raises(WearError, match="does not exist"):
-        run_wear(Run(model, *ARGS, numerics=Numerics(scheme="implicit", steps=3)), tmp_path, resume=True)
+        run_wear(
+            Run(model, *ARGS, numerics=Numerics(scheme="implicit", steps=3)), tmp_path, resume=True
+        )
 
 
 @pytest.mark.slow
 def test_kill_9_and_resume_gives_the_same_wear(model, tmp_path):
     ref_dir, run_dir = tmp_path / "ref", tmp_path / "run"
-    run_wear(Run(model, *ARGS, numerics=Numerics(scheme="implicit", steps=6)), ref_dir, every=1, vtu_every=1)
+    run_wear(
+        Run(model, *ARGS, numerics=Numerics(scheme="implicit", steps=6)),
+        ref_dir,
+        every=1,
+        vtu_every=1,
+    )
     script = tmp_path / "run.py"
     script.write_text(SCRIPT)
     proc = subprocess.Popen([sys.executable, str(script), str(run_dir)], stdout=subprocess.PIPE,
@@ -82,7 +92,13 @@ def test_kill_9_and_resume_gives_the_same_wear(model, tmp_path):
     assert proc.returncode == -signal.SIGKILL
     with np.load(run_dir / "checkpoint.npz") as d:     # step 3 was reported, 2 is saved
         assert 2 <= int(d["step"]) < 6
-    run_wear(Run(model, *ARGS, numerics=Numerics(scheme="implicit", steps=6)), run_dir, every=1, vtu_every=1, resume=True)
+    run_wear(
+        Run(model, *ARGS, numerics=Numerics(scheme="implicit", steps=6)),
+        run_dir,
+        every=1,
+        vtu_every=1,
+        resume=True,
+    )
     with np.load(ref_dir / "checkpoint.npz") as a, np.load(run_dir / "checkpoint.npz") as b:
         assert int(a["step"]) == int(b["step"]) == 6
         for k in ("pad_wear", "rotor_wear"):

@@ -8,8 +8,13 @@ import pytest
 from brakewear import MATERIALS, Numerics, WearError, WearLaw
 from brakewear.cleaning.corrosion import CorrodedRotor
 from brakewear.cleaning.rust import RUST_PRIORS, RustedRotorLaw, RustLaw, RustLayer
-from brakewear.cleaning.rust_fit import (calibrate, predict_record, read_dyno_record,
-                                         synthetic_record, write_dyno_record)
+from brakewear.cleaning.rust_fit import (
+    calibrate,
+    predict_record,
+    read_dyno_record,
+    synthetic_record,
+    write_dyno_record,
+)
 from brakewear.duty import Drag, run_schedule
 from brakewear.errors import IdentifiabilityError
 from brakewear.wear import Run
@@ -95,7 +100,18 @@ def small():
 def _wear(model, itf, pad_law, rotor_law, update, mu=0.4):
     sched = [Drag(1.5e6, 20.0, omega=40.0)]
     last = None
-    for rec in run_schedule(Run(model, pad_law=pad_law, rotor_law=rotor_law, mu=mu, schedule=sched, interface=itf, numerics=Numerics(scheme="implicit", steps=6)), on_step=lambda r, s, pw, rw: update(rw)):
+    for rec in run_schedule(
+        Run(
+            model,
+            pad_law=pad_law,
+            rotor_law=rotor_law,
+            mu=mu,
+            schedule=sched,
+            interface=itf,
+            numerics=Numerics(scheme="implicit", steps=6),
+        ),
+        on_step=lambda r, s, pw, rw: update(rw),
+    ):
         last = rec
     return last
 

@@ -7,8 +7,16 @@ import numpy as np
 import pytest
 
 from brakewear import DutyError, Numerics, WearLaw
-from brakewear.duty import (Dwell, Stop, Vehicle, brake_torque, check_states, register_state,
-                            run_schedule, state_kinds)
+from brakewear.duty import (
+    Dwell,
+    Stop,
+    Vehicle,
+    brake_torque,
+    check_states,
+    register_state,
+    run_schedule,
+    state_kinds,
+)
 from brakewear.model import BrakeModel
 from brakewear.wear import Run
 

@@ -5,16 +5,12 @@ import sys
 import numpy as np
 import pytest
 
-from brakewear.interfaces import WinklerInterface
-from brakewear.model import BrakeModel
-from brakewear.interfaces import FoundationInterface
-from brakewear.wear import wear_history
-from brakewear.laws.base import FrictionLaw
-from brakewear.thermal import ThermalModel
 from brakewear.errors import WearError
-from brakewear.laws.base import WearLaw
-from brakewear.wear import Numerics
-from brakewear.wear import Run
+from brakewear.interfaces import FoundationInterface, WinklerInterface
+from brakewear.laws.base import FrictionLaw, WearLaw
+from brakewear.model import BrakeModel
+from brakewear.thermal import ThermalModel
+from brakewear.wear import Numerics, Run, wear_history
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
 HOT_PAD = WearLaw(5e-15, activation_energy=5e4, T_threshold=320.0)
@@ -27,9 +23,25 @@ def model():
 
 
 def test_thermal_energy_balance_every_step_and_hotter_wear(model):
-    cold = list(wear_history(Run(model, *ARGS, HOT_PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3, scheme="implicit"))))
+    cold = list(
+        wear_history(
+            Run(model, *ARGS, HOT_PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3, scheme="implicit"))
+        )
+    )
     th = ThermalModel(model, contact_conductance=1e5)
-    hot = list(wear_history(Run(model, *ARGS, HOT_PAD, ROTOR, mu=0.4, thermal=th, numerics=Numerics(steps=3, scheme="implicit"))))
+    hot = list(
+        wear_history(
+            Run(
+                model,
+                *ARGS,
+                HOT_PAD,
+                ROTOR,
+                mu=0.4,
+                thermal=th,
+                numerics=Numerics(steps=3, scheme="implicit"),
+            )
+        )
+    )
     for s in hot:
         assert s.heat_balance_error <= 1e-8
         # worn volume = Archard integral with k(T), still to round-off
@@ -45,10 +57,37 @@ def test_thermal_resume_repeats_the_run(model, tmp_path):
     ck = tmp_path / "t.npz"
 
     def run(**kw):
-        return list(wear_history(Run(model, *ARGS, PAD, ROTOR, mu=0.4, thermal=ThermalModel(model, contact_conductance=1e5), numerics=Numerics(steps=4, scheme="implicit")), checkpoint=ck, every=1, **kw))
+        return list(
+            wear_history(
+                Run(
+                    model,
+                    *ARGS,
+                    PAD,
+                    ROTOR,
+                    mu=0.4,
+                    thermal=ThermalModel(model, contact_conductance=1e5),
+                    numerics=Numerics(steps=4, scheme="implicit"),
+                ),
+                checkpoint=ck,
+                every=1,
+                **kw,
+            )
+        )
 
     full = run()
-    for s in wear_history(Run(model, *ARGS, PAD, ROTOR, mu=0.4, thermal=ThermalModel(model, contact_conductance=1e5), numerics=Numerics(steps=4, scheme="implicit")), checkpoint=ck, every=1):
+    for s in wear_history(
+        Run(
+            model,
+            *ARGS,
+            PAD,
+            ROTOR,
+            mu=0.4,
+            thermal=ThermalModel(model, contact_conductance=1e5),
+            numerics=Numerics(steps=4, scheme="implicit"),
+        ),
+        checkpoint=ck,
+        every=1,
+    ):
         if s.step == 3:     # stopped while step 3 is handled: the checkpoint holds step 2
             break
     rest = run(resume=True)
@@ -59,14 +98,36 @@ def test_thermal_resume_repeats_the_run(model, tmp_path):
 
 def test_friction_law_follows_temperature(model):
     law = FrictionLaw(0.4, slope=-5e-4, T_ref=293.15, mu_min=0.2)
-    steps = list(wear_history(Run(model, *ARGS, PAD, ROTOR, mu=law, thermal=ThermalModel(model, contact_conductance=1e5), numerics=Numerics(steps=3, scheme="implicit"))))
+    steps = list(
+        wear_history(
+            Run(
+                model,
+                *ARGS,
+                PAD,
+                ROTOR,
+                mu=law,
+                thermal=ThermalModel(model, contact_conductance=1e5),
+                numerics=Numerics(steps=3, scheme="implicit"),
+            )
+        )
+    )
     mus = [s.mu for s in steps]
     assert mus[0] == pytest.approx(0.4) and mus[-1] < mus[0] and min(mus) >= 0.2
 
 
 def test_friction_law_needs_thermal(model):
     with pytest.raises(WearError, match="thermal"):
-        next(wear_history(Run(model, *ARGS, PAD, mu=FrictionLaw(0.4, slope=-5e-4), numerics=Numerics(scheme="explicit"))))
+        next(
+            wear_history(
+                Run(
+                    model,
+                    *ARGS,
+                    PAD,
+                    mu=FrictionLaw(0.4, slope=-5e-4),
+                    numerics=Numerics(scheme="explicit"),
+                )
+            )
+        )
 
 
 def test_a_constant_friction_law_per_node_is_the_number(model):
@@ -74,7 +135,11 @@ def test_a_constant_friction_law_per_node_is_the_number(model):
     bit for bit: the same friction operator, pressures and wear."""
 
     def run(mu):
-        return list(wear_history(Run(model, *ARGS, PAD, ROTOR, mu=mu, numerics=Numerics(steps=2, scheme="implicit"))))
+        return list(
+            wear_history(
+                Run(model, *ARGS, PAD, ROTOR, mu=mu, numerics=Numerics(steps=2, scheme="implicit"))
+            )
+        )
 
     a, b = run(0.4), run(FrictionLaw(0.4))
     for x, y in zip(a, b):
@@ -98,7 +163,20 @@ def test_winkler_interface_in_the_loop_conserves_and_balances(model):
     w = WinklerInterface.from_model(model)
     itf = FoundationInterface(model, w, 1e6)
     for scheme in ("explicit", "implicit"):
-        steps = list(wear_history(Run(model, 1e6, 55.0, 600.0, PAD, ROTOR, interface=itf, numerics=Numerics(steps=6, scheme=scheme))))
+        steps = list(
+            wear_history(
+                Run(
+                    model,
+                    1e6,
+                    55.0,
+                    600.0,
+                    PAD,
+                    ROTOR,
+                    interface=itf,
+                    numerics=Numerics(steps=6, scheme=scheme),
+                )
+            )
+        )
         s = steps[-1]
         F = 1e6 * model.geometry.piston.hydraulic_area
         assert (s.pressure * itf.area).sum() == pytest.approx(F, rel=1e-8)
@@ -113,7 +191,22 @@ def test_thermal_with_the_geometry_update(model):
     runs = {}
     for update in ("gap", "geometry"):
         th = ThermalModel(model)
-        runs[update] = (th, list(wear_history(Run(model, *ARGS, PAD, ROTOR, mu=0.4, thermal=th, numerics=Numerics(steps=4, update=update)))))
+        runs[update] = (
+            th,
+            list(
+                wear_history(
+                    Run(
+                        model,
+                        *ARGS,
+                        PAD,
+                        ROTOR,
+                        mu=0.4,
+                        thermal=th,
+                        numerics=Numerics(steps=4, update=update),
+                    )
+                )
+            ),
+        )
     (th_gap, gap), (th_geo, geo) = runs["gap"], runs["geometry"]
     assert th_gap.model is model and th_geo.model is not model     # moved with the faces
     for s in geo:
@@ -126,4 +219,6 @@ def test_thermal_with_the_geometry_update(model):
     # the moved pad face carries the temperatures of the reference one, node by node
     z0 = model.meshes["pad"].p[2, th_gap.pad_nodes]
     z1 = th_geo.model.meshes["pad"].p[2, th_geo.pad_nodes]
-    assert np.abs((z1 - z0) - b.pad_wear).max() <= 1e-9 * b.pad_wear.max() + 1e-12 * np.abs(z0).max()
+    assert (
+        np.abs((z1 - z0) - b.pad_wear).max() <= 1e-9 * b.pad_wear.max() + 1e-12 * np.abs(z0).max()
+    )

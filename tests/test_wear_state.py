@@ -9,9 +9,15 @@ from brakewear.geometry import SupportGeometry, load_geometry
 from brakewear.interfaces import FEInterface, FoundationInterface, Interface, WinklerInterface
 from brakewear.laws.base import WearLaw
 from brakewear.model import BrakeModel
-from brakewear.wear import (Numerics, StepControl, WearState, check_fingerprint, fingerprint,
-                            wear_history)
-from brakewear.wear import Run
+from brakewear.wear import (
+    Numerics,
+    Run,
+    StepControl,
+    WearState,
+    check_fingerprint,
+    fingerprint,
+    wear_history,
+)
 
 PAD, ROTOR = WearLaw(5e-15), WearLaw(5e-16)
 
@@ -24,7 +30,11 @@ def model():
 def _killed_run(model, ck, law=PAD):
     """Three equal steps with a checkpoint every step, stopped while the third is handled
     (a step is checkpointed once its caller asks for the next: the checkpoint is at 2)."""
-    for s in wear_history(Run(model, 1e6, 55.0, 600.0, law, ROTOR, mu=0.4, numerics=Numerics(steps=3)), checkpoint=ck, every=1):
+    for s in wear_history(
+        Run(model, 1e6, 55.0, 600.0, law, ROTOR, mu=0.4, numerics=Numerics(steps=3)),
+        checkpoint=ck,
+        every=1,
+    ):
         if s.step == 3:
             break
 
@@ -87,7 +97,22 @@ def test_resume_with_another_wear_law_is_refused(model, tmp_path):
     ck = tmp_path / "run.npz"
     _killed_run(model, ck)
     with pytest.raises(WearError, match=r"pad_law\.k"):
-        next(wear_history(Run(model, 1e6, 55.0, 600.0, replace(PAD, k=2e-14), ROTOR, mu=0.4, numerics=Numerics(steps=3)), checkpoint=ck, resume=True))
+        next(
+            wear_history(
+                Run(
+                    model,
+                    1e6,
+                    55.0,
+                    600.0,
+                    replace(PAD, k=2e-14),
+                    ROTOR,
+                    mu=0.4,
+                    numerics=Numerics(steps=3),
+                ),
+                checkpoint=ck,
+                resume=True,
+            )
+        )
 
 
 def test_resume_with_a_changed_material_is_refused(model, tmp_path):
@@ -101,13 +126,31 @@ def test_resume_with_a_changed_material_is_refused(model, tmp_path):
     other = replace(mat, elastic=replace(el, **{field: 0.97 * getattr(el, field)}))
     changed = BrakeModel(replace(g, pad=replace(g.pad, friction_material=other)), size=12e-3)
     with pytest.raises(WearError, match=rf"geometry\.pad\.friction_material\.elastic\.{field}"):
-        next(wear_history(Run(changed, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3)), checkpoint=ck, resume=True))
+        next(
+            wear_history(
+                Run(changed, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3)),
+                checkpoint=ck,
+                resume=True,
+            )
+        )
     # the load path is the brake too: another bracket is another brake
     push = BrakeModel(replace(g, support=SupportGeometry("push", 2e-4)), size=12e-3)
     with pytest.raises(WearError, match=r"geometry\.support\.type: bilateral -> push"):
-        next(wear_history(Run(push, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3)), checkpoint=ck, resume=True))
+        next(
+            wear_history(
+                Run(push, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3)),
+                checkpoint=ck,
+                resume=True,
+            )
+        )
     # the same inputs resume
-    rest = list(wear_history(Run(model, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3)), checkpoint=ck, resume=True))
+    rest = list(
+        wear_history(
+            Run(model, 1e6, 55.0, 600.0, PAD, ROTOR, mu=0.4, numerics=Numerics(steps=3)),
+            checkpoint=ck,
+            resume=True,
+        )
+    )
     assert [s.step for s in rest] == [3]
 
 
@@ -147,14 +190,40 @@ def test_thermal_with_a_foundation_is_refused_before_solving(model):
 
     fd = FoundationInterface(model, WinklerInterface.from_model(model), 1e6, 0.4)
     with pytest.raises(WearError, match="thermal coupling needs an interface"):
-        next(wear_history(Run(model, 1e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=fd, thermal=ThermalModel(model, contact_conductance=1e5), numerics=Numerics(scheme="explicit"))))
+        next(
+            wear_history(
+                Run(
+                    model,
+                    1e6,
+                    55.0,
+                    60.0,
+                    PAD,
+                    ROTOR,
+                    mu=0.4,
+                    interface=fd,
+                    thermal=ThermalModel(model, contact_conductance=1e5),
+                    numerics=Numerics(scheme="explicit"),
+                )
+            )
+        )
 
 
 def test_an_interface_of_another_line_pressure_runs_at_the_run_s(model):
     """An interface built for 1 MPa in a 0.5 MPa run: the run's pressure, not its own."""
     def last(itf):
         for s in wear_history(  # noqa: B007  (the last step)
-                Run(model, 0.5e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=itf, numerics=Numerics(scheme="implicit", steps=2))):
+            Run(
+                model,
+                0.5e6,
+                55.0,
+                60.0,
+                PAD,
+                ROTOR,
+                mu=0.4,
+                interface=itf,
+                numerics=Numerics(scheme="implicit", steps=2),
+            )
+        ):
             pass
         return s.pressure
     p_half = last(FEInterface(model, 0.5e6, 0.4))
@@ -163,7 +232,21 @@ def test_an_interface_of_another_line_pressure_runs_at_the_run_s(model):
     fd = FoundationInterface(model, WinklerInterface.from_model(model), 1e6, 0.4)
     with pytest.raises(WearError, match="built for a line pressure of 1 MPa and the run asks "
                                         "for 0.5 MPa"):
-        next(wear_history(Run(model, 0.5e6, 55.0, 60.0, PAD, ROTOR, mu=0.4, interface=fd, numerics=Numerics(scheme="explicit"))))
+        next(
+            wear_history(
+                Run(
+                    model,
+                    0.5e6,
+                    55.0,
+                    60.0,
+                    PAD,
+                    ROTOR,
+                    mu=0.4,
+                    interface=fd,
+                    numerics=Numerics(scheme="explicit"),
+                )
+            )
+        )
 
 
 def test_run_wear_resumed_after_its_end_says_so_in_the_hierarchy(tmp_path):

@@ -4,14 +4,14 @@ from __future__ import annotations
 import logging
 import os
 import time
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
 from ..errors import BenchError
+from ..wear.run import Run
 from .common import peak_rss_mb
 from .contact import brake_resolution
-from ..wear.run import Run
 
 logger = logging.getLogger(__name__)
 

@@ -26,8 +26,16 @@ import scipy.sparse as sp
 
 from ..contact.compliant import constraint_rows, drag_loads
 from ..errors import SolverError
-from ..interfaces.condensation import (BLOCK, Supported, body_solves, array_hash, cache_dir, condensation_key,
-                         condensation_memory, read_cache)
+from ..interfaces.condensation import (
+    BLOCK,
+    Supported,
+    array_hash,
+    body_solves,
+    cache_dir,
+    condensation_key,
+    condensation_memory,
+    read_cache,
+)
 from ..storage import save_arrays
 
 logger = logging.getLogger(__name__)

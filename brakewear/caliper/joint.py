@@ -47,11 +47,16 @@ import scipy.sparse as sp
 from ..contact.active_set import EXACT, Margins, pdas_update
 from ..errors import ActiveSetError, ComplementarityError, ContactLostError, SolverError
 from ..interfaces.condensed import solve_dense_sets
-from ..solvers.kept_factorisation import (FULL, IDENT, KeptFactorisation, SingularState,
-                                          equilibrate, gmres)
+from ..solvers.kept_factorisation import (
+    FULL,
+    IDENT,
+    KeptFactorisation,
+    SingularState,
+    equilibrate,
+    gmres,
+)
 from .complementarity import SLIP_DOWN_CODE, SLIP_UP_CODE, StateProblem, solve_states
-from .sets import (CLOSED, MAX_OUTER, OFF, OPEN, SLIP_DOWN, SLIP_UP, STICK, RowSets,
-                   RowSolution)
+from .sets import CLOSED, MAX_OUTER, OFF, OPEN, SLIP_DOWN, SLIP_UP, STICK, RowSets, RowSolution
 
 logger = logging.getLogger(__name__)
 

@@ -33,8 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ConvergenceError, SolverError, WearError
-from ..mesh.rings import rotor_wear_rate
+from ..errors import WearError
 from .corrosion import nonconformity_gap, outboard_nodes
 
 logger = logging.getLogger(__name__)
@@ -80,7 +79,7 @@ class BeddingDuty:
             if bad:
                 raise WearError(f"bedding duty: {name} = {bad[0]!r} is not allowed")
 
-    def mean(self) -> "BeddingDuty":
+    def mean(self) -> BeddingDuty:
         """One case: the weighted mean line pressure and coning (the same steady state
         for a brake whose pressure is linear in them)."""
         w = np.asarray(self.weight, dtype=float) / np.sum(self.weight)

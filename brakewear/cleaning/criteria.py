@@ -149,7 +149,7 @@ class CleaningCriteria:
         rings = {f: np.nonzero((b.face == f) & inside)[0] for f in self.faces}
         r0 = np.sort(b.radii[rings[self.faces[0]]])
         total = np.zeros(r0.size)
-        for f, idx in rings.items():
+        for idx in rings.values():
             order = np.argsort(b.radii[idx])
             total += np.interp(r0, b.radii[idx][order], left[idx][order])
         return float(total.max() - total.min())

@@ -216,8 +216,8 @@ def write_maps(curve: dict, draw: dict, settings, inp, out: Path) -> list[str]:
 
 
 def _face_pictures(maps, settings, draw, out: Path, words: str) -> list[str]:
-    from .brake import cleaning_brake
     from ..output.face_maps import plot_face_map
+    from .brake import cleaning_brake
 
     model, itf = cleaning_brake(draw, settings.geometry, settings.size)
     pad, files = model.meshes["pad"], []

@@ -153,7 +153,7 @@ class WarmStart:
     def __getattr__(self, name):
         return getattr(self._itf, name)
 
-    def at_line_pressure(self, line_pressure: float) -> "WarmStart":
+    def at_line_pressure(self, line_pressure: float) -> WarmStart:
         """The wrapped interface at ``line_pressure``, sharing the last set."""
         return WarmStart(self._itf.at_line_pressure(line_pressure), self._memory)
 

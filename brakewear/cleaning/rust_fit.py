@@ -234,7 +234,7 @@ def _by_columns(record: DynoRecord, names) -> dict:
     return out
 
 
-def _by_data(resid: "_Residuals", sol, evidence: dict) -> dict:
+def _by_data(resid: _Residuals, sol, evidence: dict) -> dict:
     """What this record's values do not constrain (see :func:`calibrate`)."""
     names, out = resid.names, {}
     has_f, has_r = "friction" in resid.obs, "removed" in resid.obs
@@ -284,7 +284,7 @@ def _by_data(resid: "_Residuals", sol, evidence: dict) -> dict:
     return out
 
 
-def _evidence(resid: "_Residuals", sol, chi2) -> dict:
+def _evidence(resid: _Residuals, sol, chi2) -> dict:
     """Chi-square gains of the fit over a record with nothing removed and over a layer that
     lasts (both fitted with the same noise), and the critical values they must pass."""
     from scipy.optimize import least_squares
@@ -330,7 +330,7 @@ _BOUNDS = {"k_rust": (np.log(1e-18), np.log(1e-8)), "threshold": (0.0, 10e6),
            "mu_iron": (1e-3, 2.0)}
 
 
-def _starts(resid: "_Residuals", values: dict, never: bool | None = None) -> list:
+def _starts(resid: _Residuals, values: dict, never: bool | None = None) -> list:
     """Start vectors of the fitted coordinates: ``values`` and the best pieces of
     the model (:func:`brakewear.cleaning.rust_model.screen`)."""
     rec, names = resid.rec, resid.names

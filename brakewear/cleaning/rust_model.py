@@ -156,7 +156,7 @@ def screen(pressure, distance, pad_share: float, removed=None, friction=None, *,
                           None if ab is None else ab[N], act, float(phi_N[N])))
     found.sort(key=lambda t: t[0])
     best, seen = [], set()
-    for chi, N, j, th, ab, act, ph in found:      # the best piece of each run-out stop
+    for _chi, N, _j, th, ab, act, ph in found:     # the best piece of each run-out stop
         if N not in seen:
             seen.add(N)
             best.append(_piece_start(th, ab, N, n, a, p, act, held, ph))

@@ -14,8 +14,8 @@ SALib is optional (``pip install "brakewear[study]"``); it is imported only here
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from concurrent.futures import Executor
-from typing import Callable
 
 import numpy as np
 

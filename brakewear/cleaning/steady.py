@@ -29,8 +29,7 @@ import numpy as np
 
 from ..errors import ConvergenceError, SolverError, WearError
 from ..mesh.rings import rotor_wear_rate
-from .bedding import (BeddedState, BeddingDuty, coning_gap_of, face_masks, gauged,
-                      pressure_change)
+from .bedding import BeddedState, BeddingDuty, coning_gap_of, face_masks, gauged, pressure_change
 
 logger = logging.getLogger(__name__)
 
@@ -78,7 +77,7 @@ class _Faces:
         n = itf.area.size
         self.modes = []                  # (face, column of the basis) -> gap shape
         self.basis = []
-        for f, (m_all, m) in enumerate(zip(self.all, self.flat)):
+        for m_all, m in zip(self.all, self.flat):
             xi = itf.r - itf.r[m].mean()
             eta = itf.x[1] - itf.x[1][m].mean()
             cols = []

@@ -23,18 +23,17 @@ import csv
 import json
 import logging
 import os
-
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
-from ..scene.accuracy import mesh_accuracy
 from ..checks import file_messages, shown_value
 from ..errors import SceneError, SolverError, StoredFileError, WearError, WornThroughError
-from ..mesh.series import SeriesWriter, cell_nodes, face_fields
 from ..mesh.rings import ring_profile
+from ..mesh.series import SeriesWriter, cell_nodes, face_fields
+from ..scene.accuracy import mesh_accuracy
 from ..scene.spec import first_difference
 from ..storage import read_json, write_text
 from ..wear.records import end_record, step_figures, temperature_field, thermal_record

@@ -25,8 +25,14 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..errors import (ActiveSetError, ContactLostError, ConvergenceError, SolverError,
-                      StepSizeError, WearError)
+from ..errors import (
+    ActiveSetError,
+    ContactLostError,
+    ConvergenceError,
+    SolverError,
+    StepSizeError,
+    WearError,
+)
 from ..interfaces import StepCompliance
 from ..laws.base import friction_power
 from ..mesh.rings import RingAverage, ring_coupling
@@ -149,7 +155,7 @@ def check_resume(run: Run, *, checkpoint: str | os.PathLike, every: int = 10) ->
     check_fingerprint(checkpoint, loop.fingerprint(), loop.model.geometry.units)
 
 
-def _checked_loop(run: Run, checkpoint, every, resume) -> "_WearLoop":
+def _checked_loop(run: Run, checkpoint, every, resume) -> _WearLoop:
     """The runner's own inputs checked, and the loop of ``run`` (a drag)."""
     if not isinstance(run, Run):
         raise WearError(f"run = {type(run).__name__}: need a brakewear.Run (the model, the "
@@ -329,10 +335,14 @@ class _WearLoop:
         self.set_speed(state.time, None)
         rate_pad, q_rot, rate_rot = self.rates(p, T_pad, T_rot)
         mu_step = self.mu
-        dt, limit = control.propose(state.dt_next, control.duration - state.time,
-                                    rate_pad + self.W @ rate_rot,
-                                    lambda: self.worst(p, act),
-                                    lambda: self.worst_rotor(p, act), lambda: self.explicit_below(p))
+        dt, limit = control.propose(
+            state.dt_next,
+            control.duration - state.time,
+            rate_pad + self.W @ rate_rot,
+            lambda: self.worst(p, act),
+            lambda: self.worst_rotor(p, act),
+            lambda: self.explicit_below(p),
+        )
         if control.fixed and self.numerics.scheme == "explicit":
             check_explicit_step(self, state, dt, p, act)
         rejected, solve_s, changes = 0, 0.0, []
@@ -406,7 +416,8 @@ class _WearLoop:
         return self.numerics.implicit_floor / lam if lam > 0 else np.inf
 
     def attempt(self, state, dt, rate_pad, q_rot, rate_rot, act):
-        """A trial step: ``(solution, pad and rotor wear, the p and rotor m^3/s it wore with, s)``."""
+        """A trial step: ``(solution, pad and rotor wear, the p and rotor m^3/s it wore
+        with, s)``."""
         p0, scheme = state.pressure, self.numerics.scheme
         self.took_explicit = scheme == "explicit" or dt < self.explicit_below(p0)
         rings = not self.took_explicit and scheme == "implicit" and self.rotor_law is not None
