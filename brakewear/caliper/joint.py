@@ -35,8 +35,7 @@ perturbation that does not converge is factorised as a reference of its own,
 and another friction coefficient is a new reference.  The state found is
 solved once more with one step of iterative refinement against its own
 equations: the answer is the direct FE solve of the state to 1e-14 of the
-clamp force in the contact forces (tests).
-"""
+clamp force in the contact forces (tests)."""
 from __future__ import annotations
 
 import logging

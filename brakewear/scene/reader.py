@@ -208,7 +208,6 @@ def load_scene(path_or_name: str | PathLike = "default") -> Scene:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise SceneError(f"{source}: not a valid TOML file: {exc}") from None
     from ..tribology.scene import is_tribometer, tribometer_from_dict
-
     if is_tribometer(d):  # a tribometer test (docs/validation.md)
         return tribometer_from_dict(d, source=source, base=base or Path(str(scene_dir())))
     scene = scene_from_dict(d, source=source, base=base)
