@@ -75,7 +75,7 @@ class Body:
     compliance: np.ndarray
     whole_face: bool = False
     _solve: Callable = field(repr=False, default=None)
-    _dofs: np.ndarray = field(repr=False, default=None)
+    nodal_dofs: np.ndarray = field(repr=False, default=None)
 
     @property
     def dim(self) -> int:
@@ -84,9 +84,9 @@ class Body:
     def displacement(self, forces: np.ndarray) -> np.ndarray:
         """(nnodes, dim) displacement field under the face forces ``forces``
         ((n, dim), N) -- for the output files."""
-        f = np.zeros(self._dofs.shape[1] * self.dim)
-        f[self._dofs[:, self.face].T.ravel()] = np.asarray(forces, dtype=float).ravel()
-        return self._solve(f)[self._dofs].T
+        f = np.zeros(self.nodal_dofs.shape[1] * self.dim)
+        f[self.nodal_dofs[:, self.face].T.ravel()] = np.asarray(forces, dtype=float).ravel()
+        return self._solve(f)[self.nodal_dofs].T
 
 
 def mirrored(body: Body, name: str) -> Body:
@@ -104,13 +104,13 @@ def mirrored(body: Body, name: str) -> Body:
 
     def solve(f):
         flip = np.ones_like(f)
-        flip[body._dofs[-1]] = -1.0
+        flip[body.nodal_dofs[-1]] = -1.0
         return flip * body._solve(flip * f)
 
     return Body(name=name, mesh=mesh, material=body.material, face=body.face,
                 x=p[:, body.face], area=body.area,
                 compliance=sign[:, None] * body.compliance * sign[None, :], _solve=solve,
-                _dofs=body._dofs)
+                nodal_dofs=body.nodal_dofs)
 
 
 def _diameters(mesh: fem.Mesh) -> np.ndarray:
@@ -295,7 +295,7 @@ def condense(name: str, mesh: fem.Mesh, material: Isotropic, face: np.ndarray,
         area = _face_areas(mesh, face)
     logger.info("condensed the %s: %d DOFs onto %d face nodes", name, K.shape[0], face.size)
     return Body(name=name, mesh=mesh, material=material, face=face, x=mesh.p[:, face],
-                area=area, compliance=C, _solve=solve, _dofs=dofs)
+                area=area, compliance=C, _solve=solve, nodal_dofs=dofs)
 
 
 def _face_areas(mesh: fem.Mesh, face: np.ndarray) -> np.ndarray:
